@@ -1,0 +1,1 @@
+//! Shared helpers for hemi's integration tests.
