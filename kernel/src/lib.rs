@@ -6,3 +6,5 @@
 
 #[cfg(feature = "std")]
 extern crate std;
+
+pub mod link;

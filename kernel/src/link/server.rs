@@ -1,0 +1,129 @@
+//! The board's end of the link: bytes in, reply frames out.
+//!
+//! It lives in the kernel, not the firmware, so the exact code the firmware runs is unit-tested on
+//! the host and on the target, and so an in-process board (the soft backend, tests) speaks the
+//! same protocol. It knows only link-level messages; engine messages are added beside them.
+
+use super::codec::{decode_request, encode_response, MessageError, NO_ID};
+use super::crc::crc32;
+use super::frame::{FrameError, MaxFrameDecoder};
+use super::message::{ErrorCode, HelloInfo, LinkStats, Request, Response, MAX_BULK};
+
+/// Decoder, counters and handshake of one link.
+pub struct LinkServer {
+    decoder: MaxFrameDecoder,
+    stats: LinkStats,
+    info: HelloInfo,
+}
+
+impl LinkServer {
+    /// A server that introduces itself with `info`.
+    pub const fn new(info: HelloInfo) -> Self {
+        Self {
+            decoder: MaxFrameDecoder::new(),
+            stats: zero_stats(),
+            info,
+        }
+    }
+
+    /// The counters so far.
+    pub fn stats(&self) -> LinkStats {
+        self.stats
+    }
+
+    /// Records bytes the receive path had to drop (its ring buffer was full).
+    pub fn note_rx_overrun(&mut self, lost: u32) {
+        self.stats.rx_overruns = self.stats.rx_overruns.wrapping_add(lost);
+    }
+
+    /// Consumes one received byte. When it completes a frame, writes the reply frame into `out`
+    /// (at least [`MAX_WIRE_LEN`](super::MAX_WIRE_LEN) bytes) and returns its length, which the
+    /// caller must send. Never panics, whatever the bytes.
+    pub fn push(&mut self, byte: u8, out: &mut [u8]) -> Option<usize> {
+        self.stats.bytes_rx = self.stats.bytes_rx.wrapping_add(1);
+        let decoded = match self.decoder.push(byte)? {
+            Ok(payload) => decode_request(payload),
+            Err(e) => {
+                let (counter, code) = match e {
+                    FrameError::TooLong => (&mut self.stats.too_long, ErrorCode::TooLong),
+                    FrameError::BadFraming => (&mut self.stats.bad_framing, ErrorCode::BadFraming),
+                    FrameError::BadCrc => (&mut self.stats.bad_crc, ErrorCode::BadCrc),
+                };
+                *counter = counter.wrapping_add(1);
+                return self.reply(NO_ID, &Response::Error { code }, out);
+            }
+        };
+        self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
+        match decoded {
+            Ok((id, req)) => {
+                let resp = self.handle(req);
+                self.reply(id, &resp, out)
+            }
+            Err(MessageError { id, code }) => {
+                let counter = match code {
+                    ErrorCode::Unsupported => &mut self.stats.unsupported,
+                    _ => &mut self.stats.malformed,
+                };
+                *counter = counter.wrapping_add(1);
+                self.reply(id.unwrap_or(NO_ID), &Response::Error { code }, out)
+            }
+        }
+    }
+
+    fn handle(&mut self, req: Request) -> Response {
+        match req {
+            // Answered whatever the host's version: the host decides whether it can go on.
+            Request::Hello { .. } => Response::Hello(self.info.clone()),
+            Request::Ping { nonce } => Response::Pong { nonce },
+            Request::LinkStats => Response::LinkStats(self.stats),
+            Request::Reset => {
+                let before = self.stats;
+                self.stats = zero_stats();
+                Response::ResetDone(before)
+            }
+            Request::Sink { data } => {
+                // `data` holds at most MAX_BULK (512) bytes, so the length fits a u16.
+                let len = u16::try_from(data.len()).unwrap_or(u16::MAX);
+                Response::SinkAck {
+                    len,
+                    crc: crc32(&data),
+                }
+            }
+            Request::Source { len } => {
+                let mut data = heapless::Vec::new();
+                if usize::from(len) > MAX_BULK {
+                    return Response::Error {
+                        code: ErrorCode::TooLong,
+                    };
+                }
+                for i in 0..len {
+                    // Cannot fail: len <= MAX_BULK was checked above.
+                    let _ = data.push(i as u8);
+                }
+                Response::Source { data }
+            }
+        }
+    }
+
+    fn reply(&mut self, id: u32, resp: &Response, out: &mut [u8]) -> Option<usize> {
+        // Every response fits MAX_WIRE_LEN by construction; an undersized `out` from the caller
+        // drops the reply rather than panicking, and the host times out and retries.
+        let n = encode_response(id, resp, out).ok()?;
+        self.stats.bytes_tx = self.stats.bytes_tx.wrapping_add(n as u32);
+        Some(n)
+    }
+}
+
+const fn zero_stats() -> LinkStats {
+    LinkStats {
+        frames_ok: 0,
+        bad_crc: 0,
+        bad_framing: 0,
+        too_long: 0,
+        malformed: 0,
+        unsupported: 0,
+        rx_overruns: 0,
+        bytes_rx: 0,
+        bytes_tx: 0,
+    }
+}
