@@ -1,1 +1,79 @@
-fn main() {}
+//! `cargo xtask <command>`: hemi's build and test automation (std only, so it compiles in seconds).
+//!
+//! Commands:
+//! - `setup`: install what a fresh machine lacks (thumbv7em target, qemu-system-arm, defmt-print,
+//!   rustfmt/clippy), saying what it does; stops with the exact command when it cannot.
+//! - `test`: the whole test suite, as CI runs it (`.ci/run` calls exactly `cargo xtask test`).
+//! - `qemu [ELF]`: boot the firmware in QEMU, UART on a pty, defmt log decoded on the terminal.
+//! - `flash --chip CHIP [ELF]`: flash and run the firmware on a board with probe-rs (never in CI).
+
+mod boards;
+mod setup;
+mod suite;
+mod util;
+
+use std::process::ExitCode;
+
+/// The firmware's target; the firmware is always built with an explicit `--target`.
+pub const TARGET: &str = "thumbv7em-none-eabihf";
+/// The firmware's package (a workspace member, but not a default member).
+pub const FIRMWARE: &str = "hemi-firmware";
+
+const USAGE: &str = "\
+usage: cargo xtask <command> [options]
+
+commands:
+  setup                       install what this machine lacks (thumbv7em target, qemu-system-arm,
+                              defmt-print, rustfmt, clippy), or say the command to run
+  test [options] [STEP...]    the full test suite, as CI runs it (default: every step, in order)
+      --keep-going            run the remaining steps after a failure
+      --list                  list the steps and exit
+  qemu [ELF] [-- QEMU_ARGS]   boot the firmware (default: the release build) in qemu-system-arm;
+                              UART0 on a pty, defmt log decoded on stdout; Ctrl-C to stop
+  flash --chip CHIP [--features F] [ELF]
+                              flash and run the firmware on a board through a debug probe with
+                              `probe-rs run` (needs probe-rs-tools; never run in CI)
+  help                        this text
+";
+
+fn main() -> ExitCode {
+    util::init_env();
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some((cmd, rest)) = args.split_first() else {
+        eprint!("{USAGE}");
+        return ExitCode::from(2);
+    };
+    let result = match cmd.as_str() {
+        "setup" => {
+            if let Some(extra) = rest.first() {
+                Err(util::Failure::Usage(format!(
+                    "`setup` takes no arguments, got `{extra}`"
+                )))
+            } else {
+                setup::setup().map_err(util::Failure::Failed)
+            }
+        }
+        "test" => suite::main(rest),
+        "qemu" => boards::qemu(rest),
+        "flash" => boards::flash(rest),
+        "help" | "-h" | "--help" => {
+            print!("{USAGE}");
+            Ok(())
+        }
+        other => Err(util::Failure::Usage(format!("unknown command `{other}`"))),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(util::Failure::Usage(msg)) => {
+            eprintln!("xtask: {msg}\n");
+            eprint!("{USAGE}");
+            ExitCode::from(2)
+        }
+        Err(util::Failure::Failed(msg)) => {
+            if !msg.is_empty() {
+                eprintln!("xtask: error: {msg}");
+            }
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,190 @@
+//! `cargo xtask qemu` and `cargo xtask flash`: run the firmware by hand, in QEMU or on a board.
+
+use crate::util::{cargo, display, root, run, which, Failure};
+use crate::{FIRMWARE, TARGET};
+use std::io::{BufRead, BufReader};
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+
+/// Where cargo puts the firmware ELF built with `--release` into `target_dir`.
+fn elf_in(target_dir: PathBuf) -> PathBuf {
+    target_dir.join(TARGET).join("release").join(FIRMWARE)
+}
+
+fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR")
+        .filter(|d| !d.is_empty())
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("target"))
+}
+
+/// `cargo xtask qemu [ELF] [-- QEMU_ARGS...]`
+pub fn qemu(args: &[String]) -> Result<(), Failure> {
+    let (ours, extra) = match args.iter().position(|a| a == "--") {
+        Some(i) => (&args[..i], &args[i + 1..]),
+        None => (args, &args[args.len()..]),
+    };
+    let elf = match ours {
+        [] => {
+            run(cargo([
+                "build",
+                "--release",
+                "-p",
+                FIRMWARE,
+                "--target",
+                TARGET,
+            ]))
+            .map_err(Failure::Failed)?;
+            elf_in(target_dir())
+        }
+        [elf] if !elf.starts_with('-') => PathBuf::from(elf),
+        _ => {
+            return Err(Failure::Usage(
+                "usage: cargo xtask qemu [ELF] [-- QEMU_ARGS...]".into(),
+            ))
+        }
+    };
+    if !elf.is_file() {
+        return Err(Failure::Failed(format!(
+            "no firmware ELF at {}",
+            elf.display()
+        )));
+    }
+    if which("qemu-system-arm").is_none() {
+        return Err(Failure::Failed(
+            "qemu-system-arm is not installed: `cargo xtask setup` installs it".into(),
+        ));
+    }
+
+    // UART0 on a pty (QEMU names it on stdout first); stdout carries the semihosting/defmt log.
+    let own_serial = !extra.iter().any(|a| a == "-serial" || a == "-chardev");
+    let mut q = Command::new("qemu-system-arm");
+    q.args([
+        "-machine",
+        "mps2-an386",
+        "-cpu",
+        "cortex-m4",
+        "-display",
+        "none",
+    ])
+    .args([
+        "-monitor",
+        "none",
+        "-semihosting-config",
+        "enable=on,target=native",
+    ]);
+    if own_serial {
+        q.args(["-serial", "pty"]);
+    }
+    q.arg("-kernel").arg(&elf).args(extra);
+    eprintln!("$ {}", display(&q));
+    let mut qemu = q
+        .stdout(Stdio::piped())
+        .spawn()
+        .map_err(|e| Failure::Failed(format!("cannot start qemu-system-arm: {e}")))?;
+    let mut log = BufReader::new(qemu.stdout.take().expect("piped"));
+    if own_serial {
+        let mut line = String::new();
+        // Printed when the chardev opens, before the CPU runs: no firmware output precedes it.
+        if log.read_line(&mut line).is_ok() {
+            let pty = line.trim().strip_prefix("char device redirected to ");
+            let pty = pty.and_then(|rest| rest.split_whitespace().next());
+            match pty {
+                Some(pty) => eprintln!(
+                    "xtask qemu: UART0 is on {pty}; talk to it with e.g. \
+                     `cargo run --release -p hemi -- board info --backend serial:{pty}`. \
+                     Ctrl-C stops QEMU."
+                ),
+                None => eprint!("{line}"),
+            }
+        }
+    }
+
+    let decoder = which("defmt-print").and_then(|tool| {
+        let mut d = Command::new(tool);
+        d.arg("-e").arg(&elf).stdin(Stdio::piped());
+        d.spawn().ok()
+    });
+    let mut decoder = match decoder {
+        Some(d) => Some(d),
+        None => {
+            eprintln!("xtask qemu: no defmt-print (`cargo xtask setup` installs it): raw log");
+            None
+        }
+    };
+    // Copy QEMU's stdout into the decoder (or to our stdout) until QEMU exits.
+    let copy = match decoder.as_mut().and_then(|d| d.stdin.take()) {
+        Some(mut stdin) => std::thread::spawn(move || std::io::copy(&mut log, &mut stdin)),
+        None => std::thread::spawn(move || std::io::copy(&mut log, &mut std::io::stdout())),
+    };
+    let status = qemu
+        .wait()
+        .map_err(|e| Failure::Failed(format!("waiting for QEMU: {e}")))?;
+    let _ = copy.join();
+    if let Some(mut d) = decoder {
+        let _ = d.wait();
+    }
+    if status.success() {
+        Ok(())
+    } else {
+        Err(Failure::Failed(format!("QEMU ended with {status}")))
+    }
+}
+
+/// `cargo xtask flash --chip CHIP [--features F] [ELF]`: `probe-rs run --chip CHIP ELF`.
+///
+/// Without an ELF, builds the firmware for a board (`--no-default-features`: no QEMU semihosting
+/// exits) into `target/board/`, so the QEMU build the HIL tests use is left alone.
+pub fn flash(args: &[String]) -> Result<(), Failure> {
+    const USAGE: &str = "usage: cargo xtask flash --chip CHIP [--features F] [ELF] \
+                         (`probe-rs chip list` names the chips; env PROBE_RS_CHIP works too)";
+    let mut chip = std::env::var("PROBE_RS_CHIP")
+        .ok()
+        .filter(|c| !c.is_empty());
+    let mut features: Option<String> = None;
+    let mut elf: Option<PathBuf> = None;
+    let mut it = args.iter();
+    while let Some(arg) = it.next() {
+        match arg.as_str() {
+            "--chip" => chip = Some(it.next().ok_or(Failure::Usage(USAGE.into()))?.clone()),
+            "--features" => features = Some(it.next().ok_or(Failure::Usage(USAGE.into()))?.clone()),
+            s if !s.starts_with('-') && elf.is_none() => elf = Some(PathBuf::from(s)),
+            _ => return Err(Failure::Usage(USAGE.into())),
+        }
+    }
+    let chip = chip.ok_or(Failure::Usage(USAGE.into()))?;
+    let Some(probe_rs) = which("probe-rs") else {
+        return Err(Failure::Failed(
+            "probe-rs is not installed. Install it with:\n  cargo install probe-rs-tools --locked\n\
+             (it takes 20+ minutes to build; it is never used in CI)"
+                .into(),
+        ));
+    };
+    let elf = match elf {
+        Some(elf) => elf,
+        None => {
+            let board_dir = target_dir().join("board");
+            let mut build = cargo(["build", "--release", "-p", FIRMWARE, "--target", TARGET]);
+            build
+                .arg("--no-default-features")
+                .arg("--target-dir")
+                .arg(&board_dir);
+            if let Some(f) = &features {
+                build.args(["--features", f]);
+            }
+            run(build).map_err(Failure::Failed)?;
+            elf_in(board_dir)
+        }
+    };
+    let mut probe = Command::new(probe_rs);
+    probe.args(["run", "--chip", &chip]).arg(&elf);
+    eprintln!("$ {}", display(&probe));
+    let status = probe
+        .status()
+        .map_err(|e| Failure::Failed(format!("cannot start probe-rs: {e}")))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(Failure::Failed(format!("probe-rs ended with {status}")))
+    }
+}
