@@ -43,7 +43,9 @@ pub fn setup() -> Result<(), String> {
         which("apt-get").is_some(),
     );
     apply("qemu-system-arm", plan, &mut manual)?;
-    if which("qemu-system-arm").is_some() {
+    if which("qemu-system-arm").is_none() {
+        still_missing("qemu-system-arm", &manual)?;
+    } else {
         let version = output(cmd("qemu-system-arm", ["--version"])).unwrap_or_default();
         let version = version
             .lines()
@@ -126,6 +128,18 @@ fn apply(what: &str, plan: Plan, manual: &mut Vec<String>) -> Result<(), String>
         }
     }
     Ok(())
+}
+
+/// After `apply`: a tool that was to be installed here but is still not on PATH is an error (one
+/// left to the user is already in `manual`).
+fn still_missing(tool: &str, manual: &[String]) -> Result<(), String> {
+    if manual.iter().any(|m| m.contains(tool)) {
+        Ok(())
+    } else {
+        Err(format!(
+            "setup: {tool} is still not on PATH after installing it"
+        ))
+    }
 }
 
 fn cmd<const N: usize>(program: &str, args: [&str; N]) -> Command {

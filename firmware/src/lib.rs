@@ -1,0 +1,20 @@
+//! hemi's co-processor firmware: boots on a Cortex-M4F (QEMU `mps2-an386` or an MPS2+ board),
+//! serves the link protocol of `hemi_kernel::link` over UART0 and, in later issues, runs the
+//! kernel's jobs.
+//!
+//! The library holds everything the binary and the on-target tests share: the UART driver
+//! ([`uart`], the only `unsafe` code), the job loop ([`job`]), the handshake contents
+//! ([`board`]) and the failure path ([`fault`]). Nothing that arrives on the wire can panic it.
+#![no_std]
+#![deny(unsafe_code)]
+
+// Linked for their side effects: the critical-section implementation, the vector table and
+// runtime, and the defmt logger over semihosting (field notes: without these, linking fails).
+use cortex_m as _;
+use cortex_m_rt as _;
+use defmt_semihosting as _;
+
+pub mod board;
+pub mod fault;
+pub mod job;
+pub mod uart;
