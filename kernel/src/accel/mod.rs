@@ -1,0 +1,72 @@
+//! The one seam between the kernel and the hardware: an accelerator rotates hemisphere rays onto a
+//! normal (paper §3.4) and finds the nearest hit of a ray among the loaded patches (§6.1).
+//!
+//! Three implementations exist across the workspace: [`soft`] (f32, here), the HDL model
+//! (`hemi-hdl-model`, bit-accurate fixed point with cycle counts) and the memory-mapped registers
+//! of the board (`hemi-firmware`). The tracer is generic over this trait and never knows which
+//! one it drives.
+
+pub mod soft;
+
+use crate::geometry::Vec3;
+use crate::hemisphere::Hemisphere;
+use crate::rotation::Rotation;
+use core::ops::Range;
+
+/// A ray `origin + t dir`, `dir` unit length, `t > 0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Ray {
+    /// Where the ray starts.
+    pub origin: Vec3,
+    /// Unit direction.
+    pub dir: Vec3,
+}
+
+/// The nearest intersection of a ray with the loaded patches.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit {
+    /// Index of the patch hit.
+    pub patch: u32,
+    /// Distance along the ray.
+    pub t: f32,
+    /// Parametric u of the hit on the patch (valid when asked for).
+    pub u: f32,
+    /// Parametric v of the hit on the patch.
+    pub v: f32,
+    /// Whether the ray hit the front side (the side the patch emits and reflects from).
+    pub front: bool,
+}
+
+/// A ray engine. Methods take `&mut self` because hardware ones have state (FIFOs, counters).
+pub trait Accelerator {
+    /// Rot_{θ,φ}(d): one direction of the reference hemisphere onto the frame `rot`.
+    fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3;
+
+    /// The nearest hit of `ray` with `t < t_max` among the loaded patches, with (u,v).
+    fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<Hit>;
+
+    /// Casts rings `rings` of the hemisphere `hemi`, placed at `origin` and turned by `rot`, and
+    /// reports every ray's nearest hit as `sink(ring, k, hit)`. (u,v) are filled in only when
+    /// `want_uv`. Frustums (paper §3.3) are the first rings of the same table.
+    ///
+    /// The provided method rotates and casts ray by ray; engines that can exploit the shared
+    /// origin and the fixed direction table override it.
+    fn cast_rings<F: FnMut(usize, u32, Option<Hit>)>(
+        &mut self,
+        origin: Vec3,
+        rot: &Rotation,
+        hemi: &Hemisphere<'_>,
+        rings: Range<usize>,
+        want_uv: bool,
+        mut sink: F,
+    ) {
+        let _ = want_uv;
+        for j in rings {
+            let ring = hemi.rings()[j];
+            for k in 0..ring.count {
+                let dir = self.rotate(rot, hemi.direction(j, k));
+                sink(j, k, self.nearest_hit(&Ray { origin, dir }, f32::INFINITY));
+            }
+        }
+    }
+}
