@@ -1,10 +1,24 @@
 //! The hemi ray kernel: everything of the generalized two-pass radiosity method that runs on the
 //! co-processor, written once and run unchanged on the host and in the firmware.
+//!
+//! - [`hemisphere`]: the discretised hemisphere and its delta form factors (paper §3.1–3.2)
+//! - [`rotation`]: turning the hemisphere onto a normal, as two CORDIC rotations (§3.4)
+//! - [`geometry`], [`patch`]: the surfaces rays can hit
+//! - [`accel`]: the accelerator trait and the software (f32) engine
+//! - [`sampling`]: sample points and their weights (§4.2)
+//! - [`tracer`]: form-factor rows from hemisphere shots (§3.1, §3.4)
 #![no_std]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
-#[cfg(feature = "std")]
+#[cfg(any(test, feature = "std"))]
 extern crate std;
 
+pub mod accel;
+pub mod geometry;
+pub mod hemisphere;
 pub mod link;
+pub mod patch;
+pub mod rotation;
+pub mod sampling;
+pub mod tracer;
