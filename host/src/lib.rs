@@ -2,3 +2,8 @@
 #![forbid(unsafe_code)]
 
 pub mod board;
+pub mod irradiance;
+pub mod pass1;
+pub mod radiosity;
+pub mod scene;
+pub mod solve;

@@ -1,1 +1,228 @@
-fn main() {}
+//! The `hemi` command line (spec §5).
+
+use anyhow::{bail, Context, Result};
+use clap::{Args, Parser, Subcommand};
+use hemi::pass1::{self, FormFactors, Pass1Settings, SoftWork};
+use hemi::scene::{self, Scene};
+use hemi::solve::{self, SolveSettings};
+use hemi_kernel::accel::{Accelerator, Ray};
+use hemi_kernel::geometry::Vec3;
+use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::io::{BufRead, Write};
+use std::path::PathBuf;
+
+#[derive(Parser)]
+#[command(name = "hemi", version, about = "Generalized two-pass radiosity on the hemi co-processor")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Args, Clone)]
+struct Common {
+    /// Ray engine: soft | model | qemu | serial:PATH (comma-separated to spread jobs).
+    #[arg(long, default_value = "soft")]
+    backend: String,
+    /// Hemisphere circles R (M = 4R rays on the horizon circle).
+    #[arg(long, default_value_t = 64)]
+    circles: u32,
+    /// Initial K×K sample points per polygon patch.
+    #[arg(long, default_value_t = 16)]
+    samples: u32,
+    /// Delta form factor rule: band (exact band integral, default) or paper (cos χ / K).
+    #[arg(long, default_value = "band", value_parser = ["band", "paper"])]
+    delta: String,
+}
+
+impl Common {
+    fn pass1(&self) -> Result<Pass1Settings> {
+        for b in self.backend.split(',') {
+            if b != "soft" {
+                bail!("--backend {b}: only the `soft` backend runs pass 1 so far (model: issue \"The accelerator\"; qemu/serial: issue \"The firmware as the ray engine\")");
+            }
+        }
+        if self.circles < 2 || self.circles > 1024 {
+            bail!("--circles must be between 2 and 1024");
+        }
+        if self.samples < 1 || self.samples > 256 {
+            bail!("--samples must be between 1 and 256");
+        }
+        Ok(Pass1Settings {
+            circles: self.circles,
+            samples: self.samples,
+            rule: if self.delta == "paper" { DeltaRule::Paper } else { DeltaRule::Band },
+        })
+    }
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Pass-1 form factors between the scene's patches.
+    FormFactors {
+        scene: PathBuf,
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Pass 1 and the solve: radiosity per patch.
+    Solve {
+        scene: PathBuf,
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Irradiance at points read from stdin (`x y z dx dy dz` per line), printed `r g b`.
+    Irradiance {
+        scene: PathBuf,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Nearest hit of rays read from stdin (`x y z dx dy dz`): `t patch u v` or `miss`.
+    Trace {
+        scene: PathBuf,
+        #[command(flatten)]
+        common: Common,
+    },
+}
+
+fn progress(len: u64, what: &str) -> ProgressBar {
+    let bar = ProgressBar::new(len);
+    bar.set_style(
+        ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} ({eta})")
+            .expect("static template")
+            .progress_chars("=> "),
+    );
+    bar.set_message(what.to_string());
+    bar
+}
+
+fn run_pass1(scene: &Scene, settings: &Pass1Settings) -> Result<FormFactors> {
+    let elements = scene.patches.len() as u64 * (settings.samples as u64).pow(2);
+    let bar = progress(elements, "pass 1");
+    let ff = pass1::form_factors(scene, settings, &|n| bar.inc(n))?;
+    bar.finish_and_clear();
+    Ok(ff)
+}
+
+fn solve_scene(scene: &Scene, ff: &FormFactors) -> Result<solve::Solution> {
+    let rho: Vec<[f64; 3]> = (0..scene.patches.len()).map(|i| scene.material_of(i).diffuse).collect();
+    let e: Vec<[f64; 3]> = (0..scene.patches.len()).map(|i| scene.material_of(i).emission).collect();
+    solve::gauss_seidel(&ff.matrix, &rho, &e, &SolveSettings::default())
+}
+
+fn parse_ray_line(line: &str, n: usize) -> Result<(Vec3, Vec3)> {
+    let v: Vec<f32> = line
+        .split_whitespace()
+        .map(|t| t.parse::<f32>())
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("line {n}: expected `x y z dx dy dz`, got `{line}`"))?;
+    if v.len() != 6 || v.iter().any(|x| !x.is_finite()) {
+        bail!("line {n}: expected 6 finite numbers `x y z dx dy dz`, got `{line}`");
+    }
+    let dir = Vec3::new(v[3], v[4], v[5])
+        .try_normalize()
+        .with_context(|| format!("line {n}: zero direction"))?;
+    Ok((Vec3::new(v[0], v[1], v[2]), dir))
+}
+
+fn stdin_lines() -> impl Iterator<Item = (usize, std::io::Result<String>)> {
+    std::io::stdin()
+        .lock()
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l))
+        .filter(|(_, l)| l.as_ref().map(|s| !s.trim().is_empty() && !s.trim_start().starts_with('#')).unwrap_or(true))
+}
+
+fn main() -> Result<()> {
+    let cli = Cli::parse();
+    let out = std::io::stdout();
+    let mut out = std::io::BufWriter::new(out.lock());
+    match cli.command {
+        Command::FormFactors { scene, json, common } => {
+            let settings = common.pass1()?;
+            let scene = scene::load(&scene)?;
+            let ff = run_pass1(&scene, &settings)?;
+            if json {
+                let patches: Vec<_> = scene
+                    .patches
+                    .iter()
+                    .map(|p| serde_json::json!({"name": p.name, "area": p.polygon.area}))
+                    .collect();
+                serde_json::to_writer(&mut out, &serde_json::json!({"patches": patches, "matrix": ff.matrix}))?;
+                writeln!(out)?;
+            } else {
+                for (i, p) in scene.patches.iter().enumerate() {
+                    let sum: f64 = ff.matrix[i].iter().sum();
+                    write!(out, "{:<16} sum {:.6} |", p.name, sum)?;
+                    for f in &ff.matrix[i] {
+                        write!(out, " {f:.6}")?;
+                    }
+                    writeln!(out)?;
+                }
+                eprintln!("{} rays, {} elements", ff.stats.rays, ff.elements.len());
+            }
+        }
+        Command::Solve { scene, json, common } => {
+            let settings = common.pass1()?;
+            let scene = scene::load(&scene)?;
+            let ff = run_pass1(&scene, &settings)?;
+            let sol = solve_scene(&scene, &ff)?;
+            if json {
+                let patches: Vec<_> = scene
+                    .patches
+                    .iter()
+                    .zip(&sol.radiosity)
+                    .map(|(p, b)| serde_json::json!({"name": p.name, "radiosity": b}))
+                    .collect();
+                serde_json::to_writer(
+                    &mut out,
+                    &serde_json::json!({"patches": patches, "iterations": sol.iterations, "residual": sol.residual}),
+                )?;
+                writeln!(out)?;
+            } else {
+                for (p, b) in scene.patches.iter().zip(&sol.radiosity) {
+                    writeln!(out, "{:<16} {:.6} {:.6} {:.6}", p.name, b[0], b[1], b[2])?;
+                }
+                eprintln!("Gauss-Seidel: {} sweeps, residual {:.2e}", sol.iterations, sol.residual);
+            }
+        }
+        Command::Irradiance { scene, common } => {
+            let settings = common.pass1()?;
+            let scene = scene::load(&scene)?;
+            let ff = run_pass1(&scene, &settings)?;
+            let sol = solve_scene(&scene, &ff)?;
+            let grids = hemi::radiosity::grids(&scene, &ff, &sol);
+            let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
+                .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
+            let view = hemi.view();
+            let patches = scene.kernel_patches();
+            let max_ring = view.rings().iter().map(|r| r.count as usize).max().unwrap_or(1);
+            let mut work = SoftWork::new(patches.len(), max_ring);
+            for (n, line) in stdin_lines() {
+                let (p, d) = parse_ray_line(&line?, n)?;
+                let e = hemi::irradiance::irradiance(&mut work, &patches, &view, &grids, p, d);
+                writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
+            }
+        }
+        Command::Trace { scene, common } => {
+            common.pass1()?;
+            let scene = scene::load(&scene)?;
+            let patches = scene.kernel_patches();
+            let mut work = SoftWork::new(patches.len(), 1);
+            let (mut accel, _) = work.engine(&patches);
+            for (n, line) in stdin_lines() {
+                let (origin, dir) = parse_ray_line(&line?, n)?;
+                match accel.nearest_hit(&Ray { origin, dir }, f32::INFINITY) {
+                    Some(h) => writeln!(out, "{} {} {} {}", h.t, scene.patches[h.patch as usize].name, h.u, h.v)?,
+                    None => writeln!(out, "miss")?,
+                }
+            }
+        }
+    }
+    out.flush()?;
+    Ok(())
+}

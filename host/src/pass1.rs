@@ -1,0 +1,168 @@
+//! Pass 1 on the host side (spec §2 steps 1–2): place sample points, have the backend shoot a
+//! hemisphere from each, and form patch form factors from the element rows by (4.3).
+
+use crate::scene::Scene;
+use hemi_kernel::accel::soft::{LocalPatch, SoftAccelerator, SoftScratch};
+use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
+use hemi_kernel::patch::Patch;
+use hemi_kernel::rotation::spin_for_sample;
+use hemi_kernel::sampling::{grid_sample, SamplePoint};
+use hemi_kernel::tracer::{shoot_hemisphere, ShotStats};
+use rayon::prelude::*;
+
+/// Settings of pass 1.
+#[derive(Clone, Copy, Debug)]
+pub struct Pass1Settings {
+    /// R, hemisphere circles (M = 4R rays on the horizon).
+    pub circles: u32,
+    /// K: K×K initial sample points per polygon patch.
+    pub samples: u32,
+    /// How delta form factors are assigned to rings.
+    pub rule: DeltaRule,
+}
+
+impl Default for Pass1Settings {
+    fn default() -> Self {
+        Pass1Settings {
+            circles: 64,
+            // K = 16, not 8: the K×K midpoint rule, not the hemisphere, dominates the error of
+            // patch-to-patch form factors (docs/ACCURACY.md: 1.26 % at K = 8, 0.25 % at 16 on
+            // perpendicular rectangles with a common edge).
+            samples: 16,
+            rule: DeltaRule::Band,
+        }
+    }
+}
+
+/// One element's row: F_iq,j for every patch j (sparse, ascending j).
+#[derive(Clone, Debug)]
+pub struct ElementRow {
+    /// Patch i the element belongs to.
+    pub patch: usize,
+    /// The sample point (centre of element q).
+    pub point: SamplePoint,
+    /// (j, F_iq,j) for the patches j the hemisphere saw.
+    pub row: Vec<(u32, f32)>,
+}
+
+/// The outcome of pass 1.
+#[derive(Clone, Debug)]
+pub struct FormFactors {
+    /// Element rows, grouped by patch, each patch's K×K in v-major order.
+    pub elements: Vec<ElementRow>,
+    /// Patch form factors F_ij (dense, patches × patches), from (4.3).
+    pub matrix: Vec<Vec<f64>>,
+    /// K used (elements per patch = K²).
+    pub samples: u32,
+    /// Rays cast and what they hit.
+    pub stats: ShotStats,
+}
+
+/// Per-thread working memory of the software engine.
+pub struct SoftWork {
+    local: Vec<LocalPatch>,
+    best_t: Vec<f32>,
+    best_id: Vec<u32>,
+    row: Vec<f32>,
+}
+
+impl SoftWork {
+    /// Working memory for `patches` patches and rings of at most `max_ring` rays.
+    pub fn new(patches: usize, max_ring: usize) -> Self {
+        SoftWork {
+            local: vec![LocalPatch::default(); patches],
+            best_t: vec![0.0; max_ring],
+            best_id: vec![0; max_ring],
+            row: vec![0.0; patches],
+        }
+    }
+
+    /// A software accelerator over `patches` working in this memory, and the dense row buffer.
+    pub fn engine<'p, 's>(&'s mut self, patches: &'p [Patch]) -> (SoftAccelerator<'p, 's>, &'s mut [f32]) {
+        let accel = SoftAccelerator::new(
+            patches,
+            SoftScratch {
+                local: &mut self.local,
+                best_t: &mut self.best_t,
+                best_id: &mut self.best_id,
+            },
+        )
+        .expect("scratch sized for the patch count");
+        (accel, &mut self.row)
+    }
+}
+
+/// The sample points of patch `i` at K×K.
+pub fn sample_points(scene: &Scene, i: usize, k: u32) -> Vec<SamplePoint> {
+    let poly = &scene.patches[i].polygon;
+    (0..k)
+        .flat_map(|b| (0..k).map(move |a| (a, b)))
+        .map(|(a, b)| grid_sample(poly, k, a, b))
+        .collect()
+}
+
+/// Runs pass 1 with the software engine on all cores; `progress` is called with the number of
+/// elements finished so far.
+pub fn form_factors(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    progress: &(dyn Fn(u64) + Sync),
+) -> anyhow::Result<FormFactors> {
+    anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
+    let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
+        .map_err(|e| anyhow::anyhow!("--circles {}: {e:?}", settings.circles))?;
+    let view = hemi.view();
+    let max_ring = view.rings().iter().map(|r| r.count as usize).max().unwrap_or(1);
+    let patches = scene.kernel_patches();
+    let n = patches.len();
+    let points: Vec<(usize, u32, SamplePoint)> = (0..n)
+        .flat_map(|i| {
+            sample_points(scene, i, settings.samples)
+                .into_iter()
+                .enumerate()
+                .map(move |(q, p)| (i, q as u32, p))
+        })
+        .collect();
+    let results: Vec<(ElementRow, ShotStats)> = points
+        .par_iter()
+        .map_init(
+            || SoftWork::new(n, max_ring),
+            |work, &(i, q, point)| {
+                let (mut accel, row) = work.engine(&patches);
+                row.fill(0.0);
+                let stats = shoot_hemisphere(&mut accel, &view, point.position, point.normal, spin_for_sample(q), row);
+                let sparse = row
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, f)| **f != 0.0)
+                    .map(|(j, f)| (j as u32, *f))
+                    .collect();
+                progress(1);
+                (
+                    ElementRow {
+                        patch: i,
+                        point,
+                        row: sparse,
+                    },
+                    stats,
+                )
+            },
+        )
+        .collect();
+    let mut matrix = vec![vec![0.0f64; n]; n];
+    let mut stats = ShotStats::default();
+    let mut elements = Vec::with_capacity(results.len());
+    for (e, s) in results {
+        stats += s;
+        for &(j, f) in &e.row {
+            matrix[e.patch][j as usize] += e.point.weight as f64 * f as f64;
+        }
+        elements.push(e);
+    }
+    Ok(FormFactors {
+        elements,
+        matrix,
+        samples: settings.samples,
+        stats,
+    })
+}

@@ -1,0 +1,326 @@
+//! The TOML scene format of spec §6. Every error names the file, the line and the key.
+
+use super::{Camera, Material, Scene, ScenePatch};
+use anyhow::{anyhow, bail, Context, Result};
+use hemi_kernel::geometry::{Polygon, PolygonError, Vec3};
+use serde::Deserialize;
+use std::collections::HashMap;
+use std::ops::Range;
+use std::path::Path;
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawScene {
+    #[serde(default)]
+    material: Vec<Spanned<RawMaterial>>,
+    #[serde(default)]
+    quad: Vec<Spanned<RawPolygon>>,
+    #[serde(default)]
+    triangle: Vec<Spanned<RawPolygon>>,
+    #[serde(default)]
+    bezier: Vec<Spanned<toml::Value>>,
+    camera: Option<Spanned<RawCamera>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawMaterial {
+    name: Spanned<String>,
+    diffuse: Spanned<Vec<f64>>,
+    #[serde(default)]
+    emission: Option<Spanned<Vec<f64>>>,
+    #[serde(default)]
+    specular: Option<Spanned<Vec<f64>>>,
+    #[serde(default)]
+    phong: Option<Spanned<f64>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawPolygon {
+    name: Spanned<String>,
+    material: Spanned<String>,
+    vertices: Spanned<Vec<Vec<f64>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawCamera {
+    eye: Spanned<Vec<f64>>,
+    look_at: Spanned<Vec<f64>>,
+    up: Spanned<Vec<f64>>,
+    fov_y_deg: Spanned<f64>,
+    width: Spanned<u32>,
+    height: Spanned<u32>,
+}
+
+/// Reads and validates the scene file at `path`.
+pub fn load(path: &Path) -> Result<Scene> {
+    let src = std::fs::read_to_string(path)
+        .with_context(|| format!("cannot read scene file {}", path.display()))?;
+    parse(&src, &path.display().to_string())
+}
+
+struct Ctx<'a> {
+    src: &'a str,
+    file: &'a str,
+}
+
+impl Ctx<'_> {
+    fn line(&self, span: Range<usize>) -> usize {
+        self.src[..span.start.min(self.src.len())].matches('\n').count() + 1
+    }
+    fn err(&self, span: Range<usize>, key: &str, msg: impl std::fmt::Display) -> anyhow::Error {
+        anyhow!("{}:{}: `{}`: {}", self.file, self.line(span), key, msg)
+    }
+    fn rgb(&self, v: &Spanned<Vec<f64>>, key: &str, max: Option<f64>) -> Result<[f64; 3]> {
+        let a = self.vec3(v, key)?;
+        for x in a {
+            if x < 0.0 {
+                return Err(self.err(v.span(), key, "components must not be negative"));
+            }
+            if let Some(m) = max {
+                if x >= m {
+                    return Err(self.err(
+                        v.span(),
+                        key,
+                        format!("components must be below {m} (a reflectance of 1 or more creates energy)"),
+                    ));
+                }
+            }
+        }
+        Ok(a)
+    }
+    fn vec3(&self, v: &Spanned<Vec<f64>>, key: &str) -> Result<[f64; 3]> {
+        let a = v.get_ref();
+        if a.len() != 3 {
+            return Err(self.err(v.span(), key, format!("expected 3 numbers, found {}", a.len())));
+        }
+        if a.iter().any(|x| !x.is_finite()) {
+            return Err(self.err(v.span(), key, "NaN or infinite value"));
+        }
+        Ok([a[0], a[1], a[2]])
+    }
+}
+
+fn v3(a: [f64; 3]) -> Vec3 {
+    Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32)
+}
+
+/// Parses and validates scene text; `file` names it in errors.
+pub fn parse(src: &str, file: &str) -> Result<Scene> {
+    let raw: RawScene = toml::from_str(src).map_err(|e| {
+        let line = e
+            .span()
+            .map(|s| src[..s.start.min(src.len())].matches('\n').count() + 1);
+        match line {
+            Some(l) => anyhow!("{file}:{l}: {}", e.message()),
+            None => anyhow!("{file}: {}", e.message()),
+        }
+    })?;
+    let cx = Ctx { src, file };
+
+    let mut materials = Vec::new();
+    let mut by_name = HashMap::new();
+    for m in &raw.material {
+        let span = m.span();
+        let m = m.get_ref();
+        let name = m.name.get_ref().clone();
+        if by_name.insert(name.clone(), materials.len()).is_some() {
+            return Err(cx.err(m.name.span(), "material.name", format!("material `{name}` defined twice")));
+        }
+        let phong = match &m.phong {
+            Some(p) if p.get_ref().is_nan() || *p.get_ref() < 0.0 => {
+                return Err(cx.err(p.span(), "material.phong", "must be a non-negative number or inf"))
+            }
+            Some(p) => *p.get_ref(),
+            None => 0.0,
+        };
+        let material = Material {
+            name,
+            diffuse: cx.rgb(&m.diffuse, "material.diffuse", Some(1.0))?,
+            emission: match &m.emission {
+                Some(e) => cx.rgb(e, "material.emission", None)?,
+                None => [0.0; 3],
+            },
+            specular: match &m.specular {
+                Some(s) => cx.rgb(s, "material.specular", Some(1.0))?,
+                None => [0.0; 3],
+            },
+            phong,
+        };
+        for c in 0..3 {
+            if material.diffuse[c] + material.specular[c] >= 1.0 {
+                return Err(cx.err(span.clone(), "material", "diffuse + specular must stay below 1 per channel"));
+            }
+        }
+        materials.push(material);
+    }
+
+    if let Some(b) = raw.bezier.first() {
+        bail!(
+            "{}:{}: `bezier`: Bezier patches are not supported yet (issue \"Bezier\")",
+            file,
+            cx.line(b.span())
+        );
+    }
+
+    // Quads and triangles keep their order of appearance in the file.
+    let mut polys: Vec<(usize, &Spanned<RawPolygon>, &str, usize)> = raw
+        .quad
+        .iter()
+        .map(|q| (q.span().start, q, "quad", 4))
+        .chain(raw.triangle.iter().map(|t| (t.span().start, t, "triangle", 3)))
+        .collect();
+    polys.sort_by_key(|p| p.0);
+
+    let mut patches = Vec::new();
+    let mut names = HashMap::new();
+    for (_, p, kind, n) in polys {
+        let r = p.get_ref();
+        let name = r.name.get_ref().clone();
+        if names.insert(name.clone(), ()).is_some() {
+            return Err(cx.err(r.name.span(), &format!("{kind}.name"), format!("patch `{name}` defined twice")));
+        }
+        let material = *by_name.get(r.material.get_ref()).ok_or_else(|| {
+            cx.err(
+                r.material.span(),
+                &format!("{kind}.material"),
+                format!("unknown material `{}`", r.material.get_ref()),
+            )
+        })?;
+        let key = format!("{kind}.vertices");
+        let verts = r.vertices.get_ref();
+        if verts.len() != n {
+            return Err(cx.err(
+                r.vertices.span(),
+                &key,
+                format!("a {kind} has {n} vertices, found {}", verts.len()),
+            ));
+        }
+        let mut pts = [Vec3::ZERO; 4];
+        for (i, v) in verts.iter().enumerate() {
+            if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
+                return Err(cx.err(r.vertices.span(), &key, format!("vertex {i} must be 3 finite numbers")));
+            }
+            pts[i] = v3([v[0], v[1], v[2]]);
+        }
+        let polygon = if n == 4 {
+            Polygon::quad(pts)
+        } else {
+            Polygon::triangle([pts[0], pts[1], pts[2]])
+        }
+        .map_err(|e| {
+            let why = match e {
+                PolygonError::NotFinite => "has a NaN or infinite coordinate",
+                PolygonError::Degenerate => "is degenerate: zero area or collinear vertices",
+                PolygonError::NotPlanar => "is not planar: a vertex lies off the plane by more than 1 % of its size",
+                PolygonError::NotConvex => "is not convex, or its vertices are not in order around it",
+            };
+            cx.err(r.vertices.span(), &key, format!("patch `{name}` {why}"))
+        })?;
+        patches.push(ScenePatch {
+            name,
+            material,
+            polygon,
+        });
+    }
+    if patches.is_empty() {
+        bail!("{file}: the scene has no patches ([[quad]] or [[triangle]])");
+    }
+
+    let camera = match &raw.camera {
+        None => None,
+        Some(c) => {
+            let c = c.get_ref();
+            let fov = *c.fov_y_deg.get_ref();
+            if !(fov > 0.0 && fov < 180.0) {
+                return Err(cx.err(c.fov_y_deg.span(), "camera.fov_y_deg", "must be between 0 and 180"));
+            }
+            for (w, key) in [(&c.width, "camera.width"), (&c.height, "camera.height")] {
+                if *w.get_ref() == 0 || *w.get_ref() > 16384 {
+                    return Err(cx.err(w.span(), key, "must be between 1 and 16384"));
+                }
+            }
+            let eye = v3(cx.vec3(&c.eye, "camera.eye")?);
+            let look_at = v3(cx.vec3(&c.look_at, "camera.look_at")?);
+            let up = v3(cx.vec3(&c.up, "camera.up")?);
+            let fwd = (look_at - eye)
+                .try_normalize()
+                .ok_or_else(|| cx.err(c.look_at.span(), "camera.look_at", "equals the eye position"))?;
+            if fwd.cross(up).try_normalize().is_none() {
+                return Err(cx.err(c.up.span(), "camera.up", "is parallel to the view direction"));
+            }
+            Some(Camera {
+                eye,
+                look_at,
+                up,
+                fov_y_deg: fov,
+                width: *c.width.get_ref(),
+                height: *c.height.get_ref(),
+            })
+        }
+    };
+    Ok(Scene {
+        materials,
+        patches,
+        camera,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const GOOD: &str = r#"
+[[material]]
+name = "white"
+diffuse = [0.5, 0.5, 0.5]
+
+[[material]]
+name = "light"
+diffuse = [0.0, 0.0, 0.0]
+emission = [10.0, 10.0, 10.0]
+
+[[triangle]]
+name = "t"
+material = "white"
+vertices = [[0,0,0],[1,0,0],[0,1,0]]
+
+[[quad]]
+name = "q"
+material = "light"
+vertices = [[0,0,1],[0,1,1],[1,1,1],[1,0,1]]
+"#;
+
+    #[test]
+    fn parses_and_keeps_file_order() {
+        let s = parse(GOOD, "good.toml").unwrap();
+        assert_eq!(s.patches[0].name, "t");
+        assert_eq!(s.patches[1].name, "q");
+        assert_eq!(s.material_of(1).emission, [10.0; 3]);
+    }
+
+    fn err(src: &str) -> String {
+        format!("{:#}", parse(src, "bad.toml").unwrap_err())
+    }
+
+    #[test]
+    fn errors_name_file_line_and_key() {
+        let e = err(&GOOD.replace("material = \"light\"", "material = \"lamp\""));
+        assert!(e.contains("bad.toml:18") && e.contains("quad.material") && e.contains("lamp"), "{e}");
+        let e = err(&GOOD.replace("[[0,0,1],[0,1,1],[1,1,1],[1,0,1]]", "[[0,0,1],[0,1,1],[1,1,1]]"));
+        assert!(e.contains("bad.toml:19") && e.contains("quad.vertices") && e.contains("4 vertices"), "{e}");
+        let e = err(&GOOD.replace("[0.5, 0.5, 0.5]", "[0.5, nan, 0.5]"));
+        assert!(e.contains("bad.toml:4") && e.contains("material.diffuse"), "{e}");
+        let e = err(&GOOD.replace("[[0,0,0],[1,0,0],[0,1,0]]", "[[0,0,0],[1,0,0],[2,0,0]]"));
+        assert!(e.contains("degenerate"), "{e}");
+        let e = err(&GOOD.replace("name = \"t\"", "name = \"t\"\ncolour = 3"));
+        assert!(e.contains("bad.toml:13") && e.contains("colour"), "{e}");
+        let e = err("[[quad]\n");
+        assert!(e.contains("bad.toml:1"), "{e}");
+        let e = err(&GOOD.replace("[0.5, 0.5, 0.5]", "[1.5, 0.5, 0.5]"));
+        assert!(e.contains("below 1"), "{e}");
+    }
+}

@@ -1,0 +1,80 @@
+//! Scenes: materials, patches and the camera, validated and ready for the kernel.
+
+mod load;
+
+pub use load::{load, parse};
+
+use hemi_kernel::geometry::{Polygon, Vec3};
+use hemi_kernel::patch::Patch;
+
+/// RGB triple (linear).
+pub type Rgb = [f64; 3];
+
+/// A surface material (spec §6).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Material {
+    /// Name other entries refer to it by.
+    pub name: String,
+    /// k_d ρ_d per channel: the diffuse reflectance.
+    pub diffuse: Rgb,
+    /// Radiant exitance E per channel (W/m²).
+    pub emission: Rgb,
+    /// k_r per channel (not rendered yet: issue "Specular").
+    pub specular: Rgb,
+    /// Phong power n (∞ for a perfect mirror).
+    pub phong: f64,
+}
+
+/// One named surface of the scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScenePatch {
+    /// The name from the scene file.
+    pub name: String,
+    /// Index into [`Scene::materials`].
+    pub material: usize,
+    /// The geometry.
+    pub polygon: Polygon,
+}
+
+/// The pinhole camera of pass 2.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    /// Eye position.
+    pub eye: Vec3,
+    /// Point looked at.
+    pub look_at: Vec3,
+    /// Up direction.
+    pub up: Vec3,
+    /// Vertical field of view, degrees.
+    pub fov_y_deg: f64,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+}
+
+/// A validated scene.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scene {
+    /// Materials in file order.
+    pub materials: Vec<Material>,
+    /// Patches in file order (quads and triangles interleaved as written).
+    pub patches: Vec<ScenePatch>,
+    /// The camera, if the scene has one.
+    pub camera: Option<Camera>,
+}
+
+impl Scene {
+    /// The patches as the kernel's patch memory (same order, so ids are indices).
+    pub fn kernel_patches(&self) -> Vec<Patch> {
+        self.patches.iter().map(|p| Patch::polygon(p.polygon)).collect()
+    }
+    /// The material of patch `i`.
+    pub fn material_of(&self, i: usize) -> &Material {
+        &self.materials[self.patches[i].material]
+    }
+    /// Index of the patch called `name`.
+    pub fn patch_index(&self, name: &str) -> Option<usize> {
+        self.patches.iter().position(|p| p.name == name)
+    }
+}
