@@ -13,7 +13,11 @@ use std::io::{BufRead, Write};
 use std::path::PathBuf;
 
 #[derive(Parser)]
-#[command(name = "hemi", version, about = "Generalized two-pass radiosity on the hemi co-processor")]
+#[command(
+    name = "hemi",
+    version,
+    about = "Generalized two-pass radiosity on the hemi co-processor"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -51,7 +55,11 @@ impl Common {
         Ok(Pass1Settings {
             circles: self.circles,
             samples: self.samples,
-            rule: if self.delta == "paper" { DeltaRule::Paper } else { DeltaRule::Band },
+            rule: if self.delta == "paper" {
+                DeltaRule::Paper
+            } else {
+                DeltaRule::Band
+            },
         })
     }
 }
@@ -86,6 +94,43 @@ enum Command {
         #[command(flatten)]
         common: Common,
     },
+    /// Benchmarks (speed is measured here, never asserted in tests).
+    Bench {
+        #[command(subcommand)]
+        command: BenchCommand,
+    },
+    /// The ray engine (board) itself.
+    Board {
+        #[command(subcommand)]
+        command: BoardCommand,
+    },
+}
+
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Pass-1 hemisphere rays per second of the soft backend on SCENE, on 1 thread and on all,
+    /// printed as one machine-readable line per run.
+    Rays {
+        scene: PathBuf,
+        #[command(flatten)]
+        common: Common,
+        /// Repeat each measurement this many times and keep the fastest.
+        #[arg(long, default_value_t = 3)]
+        repeat: u32,
+    },
+}
+
+#[derive(Subcommand)]
+enum BoardCommand {
+    /// The handshake of the selected backend: protocol, firmware build, accelerator, capacities.
+    Info {
+        /// Ray engine: soft | qemu | serial:PATH.
+        #[arg(long, default_value = "soft")]
+        backend: String,
+        /// Firmware ELF to boot in QEMU (default: built from this checkout if missing).
+        #[arg(long)]
+        firmware: Option<PathBuf>,
+    },
 }
 
 fn progress(len: u64, what: &str) -> ProgressBar {
@@ -108,8 +153,12 @@ fn run_pass1(scene: &Scene, settings: &Pass1Settings) -> Result<FormFactors> {
 }
 
 fn solve_scene(scene: &Scene, ff: &FormFactors) -> Result<solve::Solution> {
-    let rho: Vec<[f64; 3]> = (0..scene.patches.len()).map(|i| scene.material_of(i).diffuse).collect();
-    let e: Vec<[f64; 3]> = (0..scene.patches.len()).map(|i| scene.material_of(i).emission).collect();
+    let rho: Vec<[f64; 3]> = (0..scene.patches.len())
+        .map(|i| scene.material_of(i).diffuse)
+        .collect();
+    let e: Vec<[f64; 3]> = (0..scene.patches.len())
+        .map(|i| scene.material_of(i).emission)
+        .collect();
     solve::gauss_seidel(&ff.matrix, &rho, &e, &SolveSettings::default())
 }
 
@@ -134,7 +183,11 @@ fn stdin_lines() -> impl Iterator<Item = (usize, std::io::Result<String>)> {
         .lines()
         .enumerate()
         .map(|(i, l)| (i + 1, l))
-        .filter(|(_, l)| l.as_ref().map(|s| !s.trim().is_empty() && !s.trim_start().starts_with('#')).unwrap_or(true))
+        .filter(|(_, l)| {
+            l.as_ref()
+                .map(|s| !s.trim().is_empty() && !s.trim_start().starts_with('#'))
+                .unwrap_or(true)
+        })
 }
 
 fn main() -> Result<()> {
@@ -142,7 +195,11 @@ fn main() -> Result<()> {
     let out = std::io::stdout();
     let mut out = std::io::BufWriter::new(out.lock());
     match cli.command {
-        Command::FormFactors { scene, json, common } => {
+        Command::FormFactors {
+            scene,
+            json,
+            common,
+        } => {
             let settings = common.pass1()?;
             let scene = scene::load(&scene)?;
             let ff = run_pass1(&scene, &settings)?;
@@ -152,7 +209,10 @@ fn main() -> Result<()> {
                     .iter()
                     .map(|p| serde_json::json!({"name": p.name, "area": p.polygon.area}))
                     .collect();
-                serde_json::to_writer(&mut out, &serde_json::json!({"patches": patches, "matrix": ff.matrix}))?;
+                serde_json::to_writer(
+                    &mut out,
+                    &serde_json::json!({"patches": patches, "matrix": ff.matrix}),
+                )?;
                 writeln!(out)?;
             } else {
                 for (i, p) in scene.patches.iter().enumerate() {
@@ -166,7 +226,11 @@ fn main() -> Result<()> {
                 eprintln!("{} rays, {} elements", ff.stats.rays, ff.elements.len());
             }
         }
-        Command::Solve { scene, json, common } => {
+        Command::Solve {
+            scene,
+            json,
+            common,
+        } => {
             let settings = common.pass1()?;
             let scene = scene::load(&scene)?;
             let ff = run_pass1(&scene, &settings)?;
@@ -187,7 +251,10 @@ fn main() -> Result<()> {
                 for (p, b) in scene.patches.iter().zip(&sol.radiosity) {
                     writeln!(out, "{:<16} {:.6} {:.6} {:.6}", p.name, b[0], b[1], b[2])?;
                 }
-                eprintln!("Gauss-Seidel: {} sweeps, residual {:.2e}", sol.iterations, sol.residual);
+                eprintln!(
+                    "Gauss-Seidel: {} sweeps, residual {:.2e}",
+                    sol.iterations, sol.residual
+                );
             }
         }
         Command::Irradiance { scene, common } => {
@@ -200,7 +267,12 @@ fn main() -> Result<()> {
                 .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
             let view = hemi.view();
             let patches = scene.kernel_patches();
-            let max_ring = view.rings().iter().map(|r| r.count as usize).max().unwrap_or(1);
+            let max_ring = view
+                .rings()
+                .iter()
+                .map(|r| r.count as usize)
+                .max()
+                .unwrap_or(1);
             let mut work = SoftWork::new(patches.len(), max_ring);
             for (n, line) in stdin_lines() {
                 let (p, d) = parse_ray_line(&line?, n)?;
@@ -217,9 +289,54 @@ fn main() -> Result<()> {
             for (n, line) in stdin_lines() {
                 let (origin, dir) = parse_ray_line(&line?, n)?;
                 match accel.nearest_hit(&Ray { origin, dir }, f32::INFINITY) {
-                    Some(h) => writeln!(out, "{} {} {} {}", h.t, scene.patches[h.patch as usize].name, h.u, h.v)?,
+                    Some(h) => writeln!(
+                        out,
+                        "{} {} {} {}",
+                        h.t, scene.patches[h.patch as usize].name, h.u, h.v
+                    )?,
                     None => writeln!(out, "miss")?,
                 }
+            }
+        }
+        Command::Bench {
+            command:
+                BenchCommand::Rays {
+                    scene,
+                    common,
+                    repeat,
+                },
+        } => {
+            let settings = common.pass1()?;
+            let path = scene.display().to_string();
+            let scene = scene::load(&scene)?;
+            let all = rayon::current_num_threads();
+            for threads in [1, all] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()?;
+                let mut best = f64::INFINITY;
+                let mut rays = 0;
+                for _ in 0..repeat.max(1) {
+                    let t0 = std::time::Instant::now();
+                    let ff = pool.install(|| pass1::form_factors(&scene, &settings, &|_| {}))?;
+                    best = best.min(t0.elapsed().as_secs_f64());
+                    rays = ff.stats.rays;
+                }
+                writeln!(
+                    out,
+                    "scene={path} backend=soft circles={} samples={} threads={threads} rays={rays} seconds={best:.4} rays_per_second={:.0}",
+                    settings.circles,
+                    settings.samples,
+                    rays as f64 / best
+                )?;
+            }
+        }
+        Command::Board {
+            command: BoardCommand::Info { backend, firmware },
+        } => {
+            for b in backend.split(',') {
+                let info = hemi::board::info(b, firmware.as_deref())?;
+                writeln!(out, "{info}")?;
             }
         }
     }

@@ -203,6 +203,14 @@ impl<'a> Hemisphere<'a> {
         let (c, s) = self.azimuth(ring, k);
         Vec3::new(ring.sin_theta * c, ring.sin_theta * s, ring.cos_theta)
     }
+    /// The stored first-quarter azimuths (cos φ, sin φ) of `ring` (empty for the pole).
+    #[inline]
+    pub fn quarter_of(&self, ring: &Ring) -> &'a [[f32; 2]] {
+        let start = ring.first as usize;
+        let len = (ring.count / 4) as usize;
+        self.quarter.get(start..start + len).unwrap_or(&[])
+    }
+
     /// (cos φ_k, sin φ_k) of ray `k` on `ring`.
     #[inline]
     pub fn azimuth(&self, ring: &Ring, k: u32) -> (f32, f32) {
