@@ -5,5 +5,6 @@ pub mod board;
 pub mod irradiance;
 pub mod pass1;
 pub mod radiosity;
+pub mod render;
 pub mod scene;
 pub mod solve;

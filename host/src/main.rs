@@ -66,6 +66,24 @@ impl Common {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Both passes: writes the image (8-bit sRGB PNG, and linear EXR with --exr).
+    Render {
+        scene: PathBuf,
+        /// Output PNG.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Also write the linear radiances as OpenEXR.
+        #[arg(long)]
+        exr: Option<PathBuf>,
+        /// Eye rays per pixel (anti-aliasing).
+        #[arg(long, default_value_t = 1)]
+        spp: u32,
+        /// Exposure in stops applied before the PNG's sRGB encoding (default: automatic).
+        #[arg(long, allow_hyphen_values = true)]
+        exposure: Option<f64>,
+        #[command(flatten)]
+        common: Common,
+    },
     /// Pass-1 form factors between the scene's patches.
     FormFactors {
         scene: PathBuf,
@@ -195,6 +213,50 @@ fn main() -> Result<()> {
     let out = std::io::stdout();
     let mut out = std::io::BufWriter::new(out.lock());
     match cli.command {
+        Command::Render {
+            scene,
+            output,
+            exr,
+            spp,
+            exposure,
+            common,
+        } => {
+            let settings = common.pass1()?;
+            anyhow::ensure!(
+                (1..=4096).contains(&spp),
+                "--spp must be between 1 and 4096"
+            );
+            let scene = scene::load(&scene)?;
+            let camera = hemi::render::camera_of(&scene)?;
+            let t0 = std::time::Instant::now();
+            let ff = run_pass1(&scene, &settings)?;
+            let t1 = std::time::Instant::now();
+            let sol = solve_scene(&scene, &ff)?;
+            let grids = hemi::radiosity::grids(&scene, &ff, &sol);
+            let t2 = std::time::Instant::now();
+            let bar = progress(camera.height as u64, "pass 2");
+            let img = hemi::render::render(&scene, &grids, &camera, spp, &|n| bar.inc(n));
+            bar.finish_and_clear();
+            let t3 = std::time::Instant::now();
+            let ev = exposure.unwrap_or_else(|| hemi::render::auto_exposure(&img));
+            hemi::render::write_png(&img, ev, &output)?;
+            if let Some(exr) = exr {
+                hemi::render::write_exr(&img, &exr)?;
+            }
+            eprintln!(
+                "pass 1 {:.3} s ({} rays), solve {:.3} s ({} sweeps), pass 2 {:.3} s ({}x{}, {} spp), exposure {:+.2} EV -> {}",
+                (t1 - t0).as_secs_f64(),
+                ff.stats.rays,
+                (t2 - t1).as_secs_f64(),
+                sol.iterations,
+                (t3 - t2).as_secs_f64(),
+                camera.width,
+                camera.height,
+                spp,
+                ev,
+                output.display()
+            );
+        }
         Command::FormFactors {
             scene,
             json,

@@ -1,34 +1,77 @@
-//! From patch radiosities back to the elements (4.2) and the per-patch grids that pass 2 and the
-//! irradiance queries interpolate.
+//! From patch radiosities back to the elements (4.2), and the vertex grids of paper §4.3 that
+//! pass 2 and the irradiance queries interpolate.
 
 use crate::pass1::FormFactors;
 use crate::scene::Scene;
 use crate::solve::Solution;
 
-/// Radiosity over one patch: a K×K grid of element values at the element centres, interpolated
-/// bilinearly in (u,v) and held constant beyond the outermost centres, so the shading is
-/// continuous across the patch.
+/// Radiosity over one patch as the grid of §4.3: K×K sample points sit at the centres of the
+/// cells of a (K+1)×(K+1) vertex grid; vertex values are the mean of the (up to four) samples
+/// around them, extended linearly to the patch boundary; inside a cell B is bilinear between its
+/// four vertices. Shading is then continuous across the patch (no faceting) and a uniform
+/// patch stays exactly uniform.
 #[derive(Clone, Debug)]
 pub struct Grid {
     k: usize,
-    values: Vec<[f64; 3]>,
+    vertices: Vec<[f64; 3]>,
 }
 
 impl Grid {
+    /// Builds the vertex grid from K×K element values (v-major: index b·K + a).
+    pub fn from_samples(k: usize, samples: &[[f64; 3]]) -> Grid {
+        assert_eq!(samples.len(), k * k, "K×K samples");
+        // Pad the samples by one cell on every side with linear extrapolation (one cell is
+        // enough: a vertex only touches its four neighbouring cells).
+        let w = k + 2;
+        let mut pad = vec![[0.0f64; 3]; w * w];
+        for b in 0..k {
+            for a in 0..k {
+                pad[(b + 1) * w + a + 1] = samples[b * k + a];
+            }
+        }
+        let extend = |inner: [f64; 3], next: [f64; 3]| -> [f64; 3] {
+            if k == 1 {
+                inner
+            } else {
+                [0, 1, 2].map(|c| 2.0 * inner[c] - next[c])
+            }
+        };
+        for b in 1..=k {
+            pad[b * w] = extend(pad[b * w + 1], pad[b * w + 2.min(k)]);
+            pad[b * w + k + 1] = extend(pad[b * w + k], pad[b * w + (k - 1).max(1)]);
+        }
+        for a in 0..w {
+            pad[a] = extend(pad[w + a], pad[2.min(k) * w + a]);
+            pad[(k + 1) * w + a] = extend(pad[k * w + a], pad[(k - 1).max(1) * w + a]);
+        }
+        let vertices = (0..=k)
+            .flat_map(|j| (0..=k).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                // vertex (i, j) is the corner shared by padded cells (i|i+1, j|j+1)
+                let mut v = [0.0; 3];
+                for (a, b) in [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)] {
+                    for c in 0..3 {
+                        v[c] += 0.25 * pad[b * w + a][c];
+                    }
+                }
+                // extrapolation must not make radiosity negative
+                v.map(|x| x.max(0.0))
+            })
+            .collect();
+        Grid { k, vertices }
+    }
+
     /// B at (u, v).
     pub fn at(&self, u: f32, v: f32) -> [f64; 3] {
         let k = self.k;
-        if k == 1 {
-            return self.values[0];
-        }
-        let coord = |t: f32| {
-            let x = (t as f64 * k as f64 - 0.5).clamp(0.0, (k - 1) as f64);
-            let i = (x.floor() as usize).min(k - 2);
+        let cell = |t: f32| {
+            let x = (t as f64).clamp(0.0, 1.0) * k as f64;
+            let i = (x.floor() as usize).min(k - 1);
             (i, x - i as f64)
         };
-        let (a, fa) = coord(u);
-        let (b, fb) = coord(v);
-        let at = |a: usize, b: usize| self.values[b * k + a];
+        let (a, fa) = cell(u);
+        let (b, fb) = cell(v);
+        let at = |i: usize, j: usize| self.vertices[j * (k + 1) + i];
         let mut out = [0.0; 3];
         for (c, o) in out.iter_mut().enumerate() {
             let lo = at(a, b)[c] * (1.0 - fa) + at(a + 1, b)[c] * fa;
@@ -42,20 +85,59 @@ impl Grid {
 /// Element radiosities (4.2) `B_iq = E_i + ρ_i Σ_j F_iq,j B_j`, gathered into one grid per patch.
 pub fn grids(scene: &Scene, ff: &FormFactors, sol: &Solution) -> Vec<Grid> {
     let k = ff.samples as usize;
-    let mut grids: Vec<Grid> = (0..scene.patches.len())
-        .map(|_| Grid {
-            k,
-            values: Vec::with_capacity(k * k),
-        })
-        .collect();
+    let mut samples: Vec<Vec<[f64; 3]>> = vec![Vec::with_capacity(k * k); scene.patches.len()];
     for e in &ff.elements {
         let m = scene.material_of(e.patch);
         let mut b = m.emission;
         for (c, bc) in b.iter_mut().enumerate() {
-            let gathered: f64 = e.row.iter().map(|&(j, f)| f as f64 * sol.radiosity[j as usize][c]).sum();
+            let gathered: f64 = e
+                .row
+                .iter()
+                .map(|&(j, f)| f as f64 * sol.radiosity[j as usize][c])
+                .sum();
             *bc += m.diffuse[c] * gathered;
         }
-        grids[e.patch].values.push(b);
+        samples[e.patch].push(b);
     }
-    grids
+    samples.iter().map(|s| Grid::from_samples(k, s)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uniform_samples_give_a_uniform_grid() {
+        let g = Grid::from_samples(4, &vec![[0.3, 0.2, 0.1]; 16]);
+        for i in 0..=20 {
+            for j in 0..=20 {
+                let b = g.at(i as f32 / 20.0, j as f32 / 20.0);
+                assert!((b[0] - 0.3).abs() < 1e-12 && (b[2] - 0.1).abs() < 1e-12);
+            }
+        }
+    }
+
+    #[test]
+    fn linear_gradients_are_reproduced_exactly() {
+        let k = 5;
+        let f = |u: f64, v: f64| 1.0 + 2.0 * u + 0.5 * v;
+        let samples: Vec<[f64; 3]> = (0..k * k)
+            .map(|i| {
+                let (a, b) = (i % k, i / k);
+                let (u, v) = ((a as f64 + 0.5) / k as f64, (b as f64 + 0.5) / k as f64);
+                [f(u, v); 3]
+            })
+            .collect();
+        let g = Grid::from_samples(k, &samples);
+        for (u, v) in [
+            (0.0, 0.0),
+            (1.0, 1.0),
+            (0.37, 0.81),
+            (0.5, 0.02),
+            (0.99, 0.5),
+        ] {
+            let b = g.at(u as f32, v as f32)[0];
+            assert!((b - f(u, v)).abs() < 1e-6, "({u},{v}): {b} vs {}", f(u, v));
+        }
+    }
 }

@@ -7,6 +7,7 @@
 //! - [`accel`]: the accelerator trait and the software (f32) engine
 //! - [`sampling`]: sample points and their weights (§4.2)
 //! - [`tracer`]: form-factor rows from hemisphere shots (§3.1, §3.4)
+//! - [`camera`], [`pixels`]: eye rays of pass 2 (§5)
 #![no_std]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -15,10 +16,12 @@
 extern crate std;
 
 pub mod accel;
+pub mod camera;
 pub mod geometry;
 pub mod hemisphere;
 pub mod link;
 pub mod patch;
+pub mod pixels;
 pub mod rotation;
 pub mod sampling;
 pub mod tracer;

@@ -45,6 +45,21 @@ pub trait Accelerator {
     /// The nearest hit of `ray` with `t < t_max` among the loaded patches, with (u,v).
     fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<Hit>;
 
+    /// Casts rays that share `origin` (eye rays, paper §5) and reports `sink(i, hit)` for each
+    /// direction `dirs[i]`. The provided method casts them one by one.
+    fn cast_from<F: FnMut(usize, Option<Hit>)>(
+        &mut self,
+        origin: Vec3,
+        dirs: &[Vec3],
+        want_uv: bool,
+        mut sink: F,
+    ) {
+        let _ = want_uv;
+        for (i, &dir) in dirs.iter().enumerate() {
+            sink(i, self.nearest_hit(&Ray { origin, dir }, f32::INFINITY));
+        }
+    }
+
     /// Casts rings `rings` of the hemisphere `hemi`, placed at `origin` and turned by `rot`, and
     /// reports every ray's nearest hit as `sink(ring, k, hit)`. (u,v) are filled in only when
     /// `want_uv`. Frustums (paper §3.3) are the first rings of the same table.

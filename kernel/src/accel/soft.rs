@@ -333,6 +333,45 @@ impl Accelerator for SoftAccelerator<'_, '_> {
         })
     }
 
+    fn cast_from<F: FnMut(usize, Option<Hit>)>(
+        &mut self,
+        origin: Vec3,
+        dirs: &[Vec3],
+        want_uv: bool,
+        mut sink: F,
+    ) {
+        // One set-up per patch for the shared origin, in the scene's own frame; each ray is
+        // first checked against the patch's bounding cone (3 multiply-adds) before the edges.
+        let frame = Rotation::onto(Vec3::Z);
+        for (lp, p) in self.scratch.local.iter_mut().zip(self.patches.iter()) {
+            *lp = LocalPatch::setup(p.as_polygon(), origin, &frame);
+        }
+        let local = &self.scratch.local[..self.patches.len()];
+        for (i, &d) in dirs.iter().enumerate() {
+            let mut best_t = f32::INFINITY;
+            let mut best_id = NO_HIT;
+            for (id, lp) in local.iter().enumerate() {
+                if !lp.active || (!lp.full && d.dot(lp.axis) < lp.cos_alpha) {
+                    continue;
+                }
+                if let Some(t) = lp.hit(d) {
+                    if t < best_t {
+                        best_t = t;
+                        best_id = id as u32;
+                    }
+                }
+            }
+            if best_id == NO_HIT {
+                sink(i, None);
+            } else {
+                sink(
+                    i,
+                    Some(self.hit_with_uv(best_id, best_t, origin, d, want_uv)),
+                );
+            }
+        }
+    }
+
     fn cast_rings<F: FnMut(usize, u32, Option<Hit>)>(
         &mut self,
         origin: Vec3,
