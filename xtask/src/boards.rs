@@ -19,6 +19,10 @@ fn target_dir() -> PathBuf {
 }
 
 /// `cargo xtask qemu [ELF] [-- QEMU_ARGS...]`
+///
+/// Starts QEMU itself rather than through `firmware/qemu-run.sh`: that runner wraps QEMU in
+/// `timeout`, which moves it to its own process group, so a Ctrl-C on the terminal would not reach
+/// it. Here QEMU and defmt-print stay in our group and a Ctrl-C ends all of them.
 pub fn qemu(args: &[String]) -> Result<(), Failure> {
     let (ours, extra) = match args.iter().position(|a| a == "--") {
         Some(i) => (&args[..i], &args[i + 1..]),
