@@ -20,6 +20,8 @@ struct RawScene {
     triangle: Vec<Spanned<RawPolygon>>,
     #[serde(default)]
     bezier: Vec<Spanned<toml::Value>>,
+    #[serde(default)]
+    obj: Vec<Spanned<RawObj>>,
     camera: Option<Spanned<RawCamera>>,
 }
 
@@ -42,6 +44,21 @@ struct RawPolygon {
     name: Spanned<String>,
     material: Spanned<String>,
     vertices: Spanned<Vec<Vec<f64>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawObj {
+    /// Path of the .obj file, relative to the scene file.
+    path: Spanned<String>,
+    /// A scene material for every face (else the MTL's materials).
+    #[serde(default)]
+    material: Option<Spanned<String>>,
+    /// Uniform scale applied to the mesh, then `translate`.
+    #[serde(default)]
+    scale: Option<Spanned<f64>>,
+    #[serde(default)]
+    translate: Option<Spanned<Vec<f64>>>,
 }
 
 #[derive(Deserialize)]
@@ -69,7 +86,10 @@ struct Ctx<'a> {
 
 impl Ctx<'_> {
     fn line(&self, span: Range<usize>) -> usize {
-        self.src[..span.start.min(self.src.len())].matches('\n').count() + 1
+        self.src[..span.start.min(self.src.len())]
+            .matches('\n')
+            .count()
+            + 1
     }
     fn err(&self, span: Range<usize>, key: &str, msg: impl std::fmt::Display) -> anyhow::Error {
         anyhow!("{}:{}: `{}`: {}", self.file, self.line(span), key, msg)
@@ -95,7 +115,11 @@ impl Ctx<'_> {
     fn vec3(&self, v: &Spanned<Vec<f64>>, key: &str) -> Result<[f64; 3]> {
         let a = v.get_ref();
         if a.len() != 3 {
-            return Err(self.err(v.span(), key, format!("expected 3 numbers, found {}", a.len())));
+            return Err(self.err(
+                v.span(),
+                key,
+                format!("expected 3 numbers, found {}", a.len()),
+            ));
         }
         if a.iter().any(|x| !x.is_finite()) {
             return Err(self.err(v.span(), key, "NaN or infinite value"));
@@ -106,6 +130,142 @@ impl Ctx<'_> {
 
 fn v3(a: [f64; 3]) -> Vec3 {
     Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32)
+}
+
+/// Appends the triangles of an OBJ mesh (with its MTL materials unless the entry names one).
+fn load_obj(
+    cx: &Ctx,
+    o: &RawObj,
+    materials: &mut Vec<Material>,
+    by_name: &mut HashMap<String, usize>,
+    patches: &mut Vec<ScenePatch>,
+    names: &mut HashMap<String, ()>,
+) -> Result<()> {
+    let base = Path::new(cx.file).parent().unwrap_or(Path::new("."));
+    let path = base.join(o.path.get_ref());
+    let (models, mtls) = tobj::load_obj(
+        &path,
+        &tobj::LoadOptions {
+            triangulate: true,
+            single_index: false,
+            ..Default::default()
+        },
+    )
+    .map_err(|e| {
+        cx.err(
+            o.path.span(),
+            "obj.path",
+            format!("cannot load {}: {e}", path.display()),
+        )
+    })?;
+    let scale = match &o.scale {
+        Some(s) if !(s.get_ref().is_finite() && *s.get_ref() > 0.0) => {
+            return Err(cx.err(s.span(), "obj.scale", "must be a positive number"))
+        }
+        Some(s) => *s.get_ref(),
+        None => 1.0,
+    };
+    let translate = match &o.translate {
+        Some(t) => cx.vec3(t, "obj.translate")?,
+        None => [0.0; 3],
+    };
+    let fixed = match &o.material {
+        Some(m) => Some(*by_name.get(m.get_ref()).ok_or_else(|| {
+            cx.err(
+                m.span(),
+                "obj.material",
+                format!("unknown material `{}`", m.get_ref()),
+            )
+        })?),
+        None => None,
+    };
+    // MTL materials become scene materials named "<mtl name>" unless the scene defines that name.
+    let mtls = mtls.unwrap_or_default();
+    let mut mtl_index = Vec::with_capacity(mtls.len());
+    for m in &mtls {
+        let idx = match by_name.get(&m.name) {
+            Some(&i) => i,
+            None => {
+                let kd = m
+                    .diffuse
+                    .unwrap_or([0.8, 0.8, 0.8])
+                    .map(|x| (x as f64).clamp(0.0, 0.999));
+                let ke = m
+                    .emissive
+                    .map(|e| e.map(|x| x as f64))
+                    .filter(|e| e.iter().all(|x| x.is_finite() && *x >= 0.0))
+                    .unwrap_or([0.0; 3]);
+                materials.push(Material {
+                    name: m.name.clone(),
+                    diffuse: kd,
+                    emission: ke,
+                    specular: [0.0; 3],
+                    phong: 0.0,
+                });
+                by_name.insert(m.name.clone(), materials.len() - 1);
+                materials.len() - 1
+            }
+        };
+        mtl_index.push(idx);
+    }
+    let default_material = match fixed {
+        Some(i) => i,
+        None => match by_name.get("default") {
+            Some(&i) => i,
+            None => {
+                materials.push(Material {
+                    name: "default".into(),
+                    diffuse: [0.8; 3],
+                    emission: [0.0; 3],
+                    specular: [0.0; 3],
+                    phong: 0.0,
+                });
+                by_name.insert("default".into(), materials.len() - 1);
+                materials.len() - 1
+            }
+        },
+    };
+    let mut skipped = 0usize;
+    for model in &models {
+        let mesh = &model.mesh;
+        let material = fixed.unwrap_or_else(|| {
+            mesh.material_id
+                .and_then(|i| mtl_index.get(i).copied())
+                .unwrap_or(default_material)
+        });
+        let vert = |i: u32| {
+            let i = i as usize * 3;
+            Vec3::new(
+                (mesh.positions[i] as f64 * scale + translate[0]) as f32,
+                (mesh.positions[i + 1] as f64 * scale + translate[1]) as f32,
+                (mesh.positions[i + 2] as f64 * scale + translate[2]) as f32,
+            )
+        };
+        for (f, tri) in mesh.indices.chunks_exact(3).enumerate() {
+            match Polygon::triangle([vert(tri[0]), vert(tri[1]), vert(tri[2])]) {
+                Ok(polygon) => {
+                    let mut name = format!("{}/{f}", model.name);
+                    while names.insert(name.clone(), ()).is_some() {
+                        name.push('\'');
+                    }
+                    patches.push(ScenePatch {
+                        name,
+                        material,
+                        polygon,
+                    });
+                }
+                Err(_) => skipped += 1,
+            }
+        }
+    }
+    if skipped > 0 {
+        eprintln!(
+            "{}: {}: skipped {skipped} degenerate triangle(s) (zero area or non-finite)",
+            cx.file,
+            path.display()
+        );
+    }
+    Ok(())
 }
 
 /// Parses and validates scene text; `file` names it in errors.
@@ -128,11 +288,19 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
         let m = m.get_ref();
         let name = m.name.get_ref().clone();
         if by_name.insert(name.clone(), materials.len()).is_some() {
-            return Err(cx.err(m.name.span(), "material.name", format!("material `{name}` defined twice")));
+            return Err(cx.err(
+                m.name.span(),
+                "material.name",
+                format!("material `{name}` defined twice"),
+            ));
         }
         let phong = match &m.phong {
             Some(p) if p.get_ref().is_nan() || *p.get_ref() < 0.0 => {
-                return Err(cx.err(p.span(), "material.phong", "must be a non-negative number or inf"))
+                return Err(cx.err(
+                    p.span(),
+                    "material.phong",
+                    "must be a non-negative number or inf",
+                ))
             }
             Some(p) => *p.get_ref(),
             None => 0.0,
@@ -152,7 +320,11 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
         };
         for c in 0..3 {
             if material.diffuse[c] + material.specular[c] >= 1.0 {
-                return Err(cx.err(span.clone(), "material", "diffuse + specular must stay below 1 per channel"));
+                return Err(cx.err(
+                    span.clone(),
+                    "material",
+                    "diffuse + specular must stay below 1 per channel",
+                ));
             }
         }
         materials.push(material);
@@ -166,22 +338,49 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
         );
     }
 
-    // Quads and triangles keep their order of appearance in the file.
-    let mut polys: Vec<(usize, &Spanned<RawPolygon>, &str, usize)> = raw
+    // Quads, triangles and meshes keep their order of appearance in the file.
+    enum Entry<'a> {
+        Poly(&'a Spanned<RawPolygon>, &'static str, usize),
+        Obj(&'a Spanned<RawObj>),
+    }
+    let mut entries: Vec<(usize, Entry)> = raw
         .quad
         .iter()
-        .map(|q| (q.span().start, q, "quad", 4))
-        .chain(raw.triangle.iter().map(|t| (t.span().start, t, "triangle", 3)))
+        .map(|q| (q.span().start, Entry::Poly(q, "quad", 4)))
+        .chain(
+            raw.triangle
+                .iter()
+                .map(|t| (t.span().start, Entry::Poly(t, "triangle", 3))),
+        )
+        .chain(raw.obj.iter().map(|o| (o.span().start, Entry::Obj(o))))
         .collect();
-    polys.sort_by_key(|p| p.0);
+    entries.sort_by_key(|p| p.0);
 
     let mut patches = Vec::new();
     let mut names = HashMap::new();
-    for (_, p, kind, n) in polys {
+    for (_, entry) in entries {
+        let (p, kind, n) = match entry {
+            Entry::Poly(p, kind, n) => (p, kind, n),
+            Entry::Obj(o) => {
+                load_obj(
+                    &cx,
+                    o.get_ref(),
+                    &mut materials,
+                    &mut by_name,
+                    &mut patches,
+                    &mut names,
+                )?;
+                continue;
+            }
+        };
         let r = p.get_ref();
         let name = r.name.get_ref().clone();
         if names.insert(name.clone(), ()).is_some() {
-            return Err(cx.err(r.name.span(), &format!("{kind}.name"), format!("patch `{name}` defined twice")));
+            return Err(cx.err(
+                r.name.span(),
+                &format!("{kind}.name"),
+                format!("patch `{name}` defined twice"),
+            ));
         }
         let material = *by_name.get(r.material.get_ref()).ok_or_else(|| {
             cx.err(
@@ -202,7 +401,11 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
         let mut pts = [Vec3::ZERO; 4];
         for (i, v) in verts.iter().enumerate() {
             if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
-                return Err(cx.err(r.vertices.span(), &key, format!("vertex {i} must be 3 finite numbers")));
+                return Err(cx.err(
+                    r.vertices.span(),
+                    &key,
+                    format!("vertex {i} must be 3 finite numbers"),
+                ));
             }
             pts[i] = v3([v[0], v[1], v[2]]);
         }
@@ -215,8 +418,12 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
             let why = match e {
                 PolygonError::NotFinite => "has a NaN or infinite coordinate",
                 PolygonError::Degenerate => "is degenerate: zero area or collinear vertices",
-                PolygonError::NotPlanar => "is not planar: a vertex lies off the plane by more than 1 % of its size",
-                PolygonError::NotConvex => "is not convex, or its vertices are not in order around it",
+                PolygonError::NotPlanar => {
+                    "is not planar: a vertex lies off the plane by more than 1 % of its size"
+                }
+                PolygonError::NotConvex => {
+                    "is not convex, or its vertices are not in order around it"
+                }
             };
             cx.err(r.vertices.span(), &key, format!("patch `{name}` {why}"))
         })?;
@@ -236,7 +443,11 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
             let c = c.get_ref();
             let fov = *c.fov_y_deg.get_ref();
             if !(fov > 0.0 && fov < 180.0) {
-                return Err(cx.err(c.fov_y_deg.span(), "camera.fov_y_deg", "must be between 0 and 180"));
+                return Err(cx.err(
+                    c.fov_y_deg.span(),
+                    "camera.fov_y_deg",
+                    "must be between 0 and 180",
+                ));
             }
             for (w, key) in [(&c.width, "camera.width"), (&c.height, "camera.height")] {
                 if *w.get_ref() == 0 || *w.get_ref() > 16384 {
@@ -246,11 +457,19 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
             let eye = v3(cx.vec3(&c.eye, "camera.eye")?);
             let look_at = v3(cx.vec3(&c.look_at, "camera.look_at")?);
             let up = v3(cx.vec3(&c.up, "camera.up")?);
-            let fwd = (look_at - eye)
-                .try_normalize()
-                .ok_or_else(|| cx.err(c.look_at.span(), "camera.look_at", "equals the eye position"))?;
+            let fwd = (look_at - eye).try_normalize().ok_or_else(|| {
+                cx.err(
+                    c.look_at.span(),
+                    "camera.look_at",
+                    "equals the eye position",
+                )
+            })?;
             if fwd.cross(up).try_normalize().is_none() {
-                return Err(cx.err(c.up.span(), "camera.up", "is parallel to the view direction"));
+                return Err(cx.err(
+                    c.up.span(),
+                    "camera.up",
+                    "is parallel to the view direction",
+                ));
             }
             Some(Camera {
                 eye,
@@ -309,11 +528,23 @@ vertices = [[0,0,1],[0,1,1],[1,1,1],[1,0,1]]
     #[test]
     fn errors_name_file_line_and_key() {
         let e = err(&GOOD.replace("material = \"light\"", "material = \"lamp\""));
-        assert!(e.contains("bad.toml:18") && e.contains("quad.material") && e.contains("lamp"), "{e}");
-        let e = err(&GOOD.replace("[[0,0,1],[0,1,1],[1,1,1],[1,0,1]]", "[[0,0,1],[0,1,1],[1,1,1]]"));
-        assert!(e.contains("bad.toml:19") && e.contains("quad.vertices") && e.contains("4 vertices"), "{e}");
+        assert!(
+            e.contains("bad.toml:18") && e.contains("quad.material") && e.contains("lamp"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace(
+            "[[0,0,1],[0,1,1],[1,1,1],[1,0,1]]",
+            "[[0,0,1],[0,1,1],[1,1,1]]",
+        ));
+        assert!(
+            e.contains("bad.toml:19") && e.contains("quad.vertices") && e.contains("4 vertices"),
+            "{e}"
+        );
         let e = err(&GOOD.replace("[0.5, 0.5, 0.5]", "[0.5, nan, 0.5]"));
-        assert!(e.contains("bad.toml:4") && e.contains("material.diffuse"), "{e}");
+        assert!(
+            e.contains("bad.toml:4") && e.contains("material.diffuse"),
+            "{e}"
+        );
         let e = err(&GOOD.replace("[[0,0,0],[1,0,0],[0,1,0]]", "[[0,0,0],[1,0,0],[2,0,0]]"));
         assert!(e.contains("degenerate"), "{e}");
         let e = err(&GOOD.replace("name = \"t\"", "name = \"t\"\ncolour = 3"));
