@@ -3,8 +3,8 @@
 
 use std::f64::consts::PI;
 
-/// Howell C-11: a differential element to a parallel rectangle a × b at distance c, the element
-/// facing the rectangle and lying under one of its corners.
+/// Howell B-3: a plane element to a parallel rectangle a × b at distance c, the element's normal
+/// passing through one corner of the rectangle.
 pub fn element_to_parallel_rectangle_corner(a: f64, b: f64, c: f64) -> f64 {
     let (x, y) = (a / c, b / c);
     let sx = (1.0 + x * x).sqrt();
@@ -12,10 +12,7 @@ pub fn element_to_parallel_rectangle_corner(a: f64, b: f64, c: f64) -> f64 {
     (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * PI)
 }
 
-/// Howell C-11 (perpendicular case, C-14): a differential element to a perpendicular rectangle
-/// that shares... not used.
-/// Howell C-11's parallel-plate sibling C-11/B-? : identical, parallel, directly opposed
-/// rectangles a × b at distance c (Howell C-11 in the 3rd edition numbering: "C-11").
+/// Howell C-11: identical, parallel, directly opposed rectangles a × b at distance c.
 pub fn opposed_rectangles(a: f64, b: f64, c: f64) -> f64 {
     let (x, y) = (a / c, b / c);
     let x2 = x * x;
@@ -37,15 +34,22 @@ pub fn perpendicular_common_edge(l: f64, w: f64, h: f64) -> f64 {
     let a = (1.0 + w2) * (1.0 + h2) / (1.0 + w2 + h2);
     let b = (w2 * (1.0 + w2 + h2) / ((1.0 + w2) * (w2 + h2))).powf(w2);
     let c = (h2 * (1.0 + h2 + w2) / ((1.0 + h2) * (h2 + w2))).powf(h2);
-    (ww * (1.0 / ww).atan() + hh * (1.0 / hh).atan() - (h2 + w2).sqrt() * (1.0 / (h2 + w2).sqrt()).atan()
+    (ww * (1.0 / ww).atan() + hh * (1.0 / hh).atan()
+        - (h2 + w2).sqrt() * (1.0 / (h2 + w2).sqrt()).atan()
         + 0.25 * (a * b * c).ln())
         / (PI * ww)
 }
 
 /// TOML for one quad patch.
 pub fn quad(name: &str, material: &str, v: [[f64; 3]; 4]) -> String {
-    let vs: Vec<String> = v.iter().map(|p| format!("[{}, {}, {}]", p[0], p[1], p[2])).collect();
-    format!("[[quad]]\nname = \"{name}\"\nmaterial = \"{material}\"\nvertices = [{}]\n\n", vs.join(", "))
+    let vs: Vec<String> = v
+        .iter()
+        .map(|p| format!("[{}, {}, {}]", p[0], p[1], p[2]))
+        .collect();
+    format!(
+        "[[quad]]\nname = \"{name}\"\nmaterial = \"{material}\"\nvertices = [{}]\n\n",
+        vs.join(", ")
+    )
 }
 
 /// TOML for one material.
@@ -55,7 +59,7 @@ pub fn material(name: &str, diffuse: f64, emission: f64) -> String {
     )
 }
 
-/// A closed axis-aligned box [0,sx]×[0,sy]×[0,sz] with inward-facing walls, each wall cut into
+/// A closed axis-aligned box `[0,sx]×[0,sy]×[0,sz]` with inward-facing walls, each wall cut into
 /// n × n quads that share their vertices exactly.
 pub fn closed_box(size: [f64; 3], n: usize, material: &str) -> String {
     let mut out = String::new();

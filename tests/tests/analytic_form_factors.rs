@@ -2,6 +2,9 @@
 //! (R = 64 circles, K = 8). Tolerances are stated per test; the measured errors are reported in
 //! docs/ACCURACY.md (`cargo test -p hemi-tests --release --test analytic_form_factors -- --nocapture`).
 
+// Matrix code: F[i][j] and A[r][c] read as the equations do.
+#![allow(clippy::needless_range_loop)]
+
 use hemi::pass1::{form_factors, Pass1Settings};
 use hemi::scene::parse;
 use hemi_kernel::accel::soft::{LocalPatch, SoftAccelerator, SoftScratch};
@@ -22,30 +25,64 @@ fn rel(got: f64, want: f64) -> f64 {
 
 #[test]
 fn opposed_parallel_rectangles_within_half_a_percent() {
-    for (a, b, c) in [(1.0, 1.0, 1.0), (2.0, 1.0, 0.5), (1.0, 1.0, 3.0), (3.0, 0.5, 1.0)] {
+    for (a, b, c) in [
+        (1.0, 1.0, 1.0),
+        (2.0, 1.0, 0.5),
+        (1.0, 1.0, 3.0),
+        (3.0, 0.5, 1.0),
+    ] {
         // patch 1 at z = 0 facing +z, patch 2 at z = c facing -z
         let src = material("m", 0.5, 0.0)
-            + &quad("p1", "m", [[0.0, 0.0, 0.0], [a, 0.0, 0.0], [a, b, 0.0], [0.0, b, 0.0]])
-            + &quad("p2", "m", [[0.0, 0.0, c], [0.0, b, c], [a, b, c], [a, 0.0, c]]);
+            + &quad(
+                "p1",
+                "m",
+                [[0.0, 0.0, 0.0], [a, 0.0, 0.0], [a, b, 0.0], [0.0, b, 0.0]],
+            )
+            + &quad(
+                "p2",
+                "m",
+                [[0.0, 0.0, c], [0.0, b, c], [a, b, c], [a, 0.0, c]],
+            );
         let m = ff(&src, &Pass1Settings::default());
         let want = opposed_rectangles(a, b, c);
         let e = rel(m[0][1], want);
-        println!("opposed {a}x{b} at {c}: F = {:.6}, Howell {want:.6}, error {:.3} %", m[0][1], 100.0 * e);
+        println!(
+            "opposed {a}x{b} at {c}: F = {:.6}, Howell {want:.6}, error {:.3} %",
+            m[0][1],
+            100.0 * e
+        );
         assert!(e < 0.005, "error {e}");
     }
 }
 
 #[test]
 fn perpendicular_rectangles_with_common_edge_within_half_a_percent() {
-    for (l, w, h) in [(1.0, 1.0, 1.0), (1.0, 2.0, 1.0), (2.0, 1.0, 0.5), (1.0, 0.5, 2.0)] {
+    for (l, w, h) in [
+        (1.0, 1.0, 1.0),
+        (1.0, 2.0, 1.0),
+        (2.0, 1.0, 0.5),
+        (1.0, 0.5, 2.0),
+    ] {
         // common edge along x from 0 to l; patch 1 in the floor (y up), patch 2 the wall z = 0
         let src = material("m", 0.5, 0.0)
-            + &quad("floor", "m", [[0.0, 0.0, 0.0], [0.0, 0.0, w], [l, 0.0, w], [l, 0.0, 0.0]])
-            + &quad("wall", "m", [[0.0, 0.0, 0.0], [l, 0.0, 0.0], [l, h, 0.0], [0.0, h, 0.0]]);
+            + &quad(
+                "floor",
+                "m",
+                [[0.0, 0.0, 0.0], [0.0, 0.0, w], [l, 0.0, w], [l, 0.0, 0.0]],
+            )
+            + &quad(
+                "wall",
+                "m",
+                [[0.0, 0.0, 0.0], [l, 0.0, 0.0], [l, h, 0.0], [0.0, h, 0.0]],
+            );
         let m = ff(&src, &Pass1Settings::default());
         let want = perpendicular_common_edge(l, w, h);
         let e = rel(m[0][1], want);
-        println!("perpendicular l={l} w={w} h={h}: F = {:.6}, Howell {want:.6}, error {:.3} %", m[0][1], 100.0 * e);
+        println!(
+            "perpendicular l={l} w={w} h={h}: F = {:.6}, Howell {want:.6}, error {:.3} %",
+            m[0][1],
+            100.0 * e
+        );
         assert!(e < 0.005, "error {e}");
     }
 }
@@ -83,10 +120,26 @@ fn element_to_rectangle_within_half_a_percent_under_any_orientation() {
     // The configuration is also turned so that the element's normal lies along other axes and a
     // skew direction (the rotation must not change the answer).
     let frames: [(Vec3, Vec3, Vec3); 4] = [
-        (Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 0.0, 1.0)),
-        (Vec3::new(0.0, 1.0, 0.0), Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 0.0)),
-        (Vec3::new(0.0, 0.0, 1.0), Vec3::new(1.0, 0.0, 0.0), Vec3::new(0.0, 1.0, 0.0)),
-        (Vec3::new(0.6, 0.8, 0.0), Vec3::new(-0.48, 0.36, 0.8), Vec3::new(0.64, -0.48, 0.6)),
+        (
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(0.0, 0.0, 1.0),
+        ),
+        (
+            Vec3::new(0.0, 1.0, 0.0),
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(1.0, 0.0, 0.0),
+        ),
+        (
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ),
+        (
+            Vec3::new(0.6, 0.8, 0.0),
+            Vec3::new(-0.48, 0.36, 0.8),
+            Vec3::new(0.64, -0.48, 0.6),
+        ),
     ];
     let cases = [
         (0.2, 0.3, 1.0, 1.0, 1.0),
@@ -139,12 +192,22 @@ fn band_rule_is_more_accurate_than_the_paper_rule_on_average() {
             Vec3::new(a, 0.0, c),
         ])
         .unwrap();
-        band_sum += rel(point_ff(target, Vec3::ZERO, Vec3::Z, 32, DeltaRule::Band), want);
-        paper_sum += rel(point_ff(target, Vec3::ZERO, Vec3::Z, 32, DeltaRule::Paper), want);
+        band_sum += rel(
+            point_ff(target, Vec3::ZERO, Vec3::Z, 32, DeltaRule::Band),
+            want,
+        );
+        paper_sum += rel(
+            point_ff(target, Vec3::ZERO, Vec3::Z, 32, DeltaRule::Paper),
+            want,
+        );
         n += 1;
     }
     let (band, paper) = (band_sum / n as f64, paper_sum / n as f64);
-    println!("R=32, 200 element-to-rectangle cases: mean error band rule {:.3} %, paper rule {:.3} %", 100.0 * band, 100.0 * paper);
+    println!(
+        "R=32, 200 element-to-rectangle cases: mean error band rule {:.3} %, paper rule {:.3} %",
+        100.0 * band,
+        100.0 * paper
+    );
     assert!(band < paper, "band {band} paper {paper}");
 }
 
@@ -160,14 +223,20 @@ fn closed_box_rows_sum_to_one_and_reciprocity_holds() {
         let s: f64 = m[i].iter().sum();
         worst_sum = worst_sum.max((s - 1.0).abs());
         for j in 0..m.len() {
-            let (ai, aj) = (scene.patches[i].polygon.area as f64, scene.patches[j].polygon.area as f64);
+            let (ai, aj) = (
+                scene.patches[i].polygon.area as f64,
+                scene.patches[j].polygon.area as f64,
+            );
             let (x, y) = (ai * m[i][j], aj * m[j][i]);
             if x.max(y) > 1e-3 * ai.min(aj) {
                 worst_recip = worst_recip.max((x - y).abs() / x.max(y));
             }
         }
     }
-    println!("closed box: max |row sum - 1| = {worst_sum:.2e}, max reciprocity error {:.3} %", 100.0 * worst_recip);
+    println!(
+        "closed box: max |row sum - 1| = {worst_sum:.2e}, max reciprocity error {:.3} %",
+        100.0 * worst_recip
+    );
     assert!(worst_sum < 1e-4, "row sum off by {worst_sum}");
     assert!(worst_recip < 0.02, "reciprocity off by {worst_recip}");
 }
@@ -186,7 +255,10 @@ fn furnace_gives_e_over_one_minus_rho() {
             let err = rel(b[0], want);
             assert!(err < 1e-3, "rho {rho}: B = {} want {want}", b[0]);
         }
-        println!("furnace rho={rho}: B = {:.6} (want {want}), {} sweeps", sol.radiosity[0][0], sol.iterations);
+        println!(
+            "furnace rho={rho}: B = {:.6} (want {want}), {} sweeps",
+            sol.radiosity[0][0], sol.iterations
+        );
     }
 }
 
@@ -195,13 +267,17 @@ fn direct_solve(f: &[Vec<f64>], rho: f64, e: &[f64]) -> Vec<f64> {
     let n = f.len();
     let mut a: Vec<Vec<f64>> = (0..n)
         .map(|i| {
-            let mut row: Vec<f64> = (0..n).map(|j| if i == j { 1.0 } else { 0.0 } - rho * f[i][j]).collect();
+            let mut row: Vec<f64> = (0..n)
+                .map(|j| if i == j { 1.0 } else { 0.0 } - rho * f[i][j])
+                .collect();
             row.push(e[i]);
             row
         })
         .collect();
     for col in 0..n {
-        let p = (col..n).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs())).unwrap();
+        let p = (col..n)
+            .max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))
+            .unwrap();
         a.swap(col, p);
         for r in col + 1..n {
             let k = a[r][col] / a[col][col];
@@ -220,7 +296,11 @@ fn direct_solve(f: &[Vec<f64>], rho: f64, e: &[f64]) -> Vec<f64> {
 
 #[test]
 fn gauss_seidel_agrees_with_a_direct_solve_on_the_cornell_box() {
-    let scene = hemi::scene::load(std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../scenes/cornell.toml"))).unwrap();
+    let scene = hemi::scene::load(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../scenes/cornell.toml"
+    )))
+    .unwrap();
     let settings = Pass1Settings {
         circles: 24,
         samples: 3,
@@ -233,12 +313,19 @@ fn gauss_seidel_agrees_with_a_direct_solve_on_the_cornell_box() {
     let sol = hemi::solve::gauss_seidel(&ffs.matrix, &rho, &e, &Default::default()).unwrap();
     for c in 0..3 {
         // scale F rows by ρ_i into a uniform-ρ form: (I − diag(ρ)F)B = E
-        let scaled: Vec<Vec<f64>> = (0..n).map(|i| ffs.matrix[i].iter().map(|f| f * rho[i][c]).collect()).collect();
+        let scaled: Vec<Vec<f64>> = (0..n)
+            .map(|i| ffs.matrix[i].iter().map(|f| f * rho[i][c]).collect())
+            .collect();
         let ec: Vec<f64> = e.iter().map(|x| x[c]).collect();
         let direct = direct_solve(&scaled, 1.0, &ec);
         for i in 0..n {
             let d = (sol.radiosity[i][c] - direct[i]).abs();
-            assert!(d <= 1e-6 * direct[i].abs().max(1e-3), "patch {i} channel {c}: {} vs {}", sol.radiosity[i][c], direct[i]);
+            assert!(
+                d <= 1e-6 * direct[i].abs().max(1e-3),
+                "patch {i} channel {c}: {} vs {}",
+                sol.radiosity[i][c],
+                direct[i]
+            );
         }
     }
 }

@@ -53,7 +53,8 @@ impl LocalPatch {
             scale = scale.max(l.length());
         }
         // An origin in the patch's plane (its own patch, coplanar neighbours) can only graze it.
-        if !(h.abs() > 1e-6 * scale) {
+        // (written so that a NaN distance also counts as "in the plane")
+        if h.abs().is_nan() || h.abs() <= 1e-6 * scale {
             return lp;
         }
         let s = if h > 0.0 { 1.0 } else { -1.0 };

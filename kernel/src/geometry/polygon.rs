@@ -57,7 +57,7 @@ impl Polygon {
             (v[1] - v[0]).cross(v[2] - v[0])
         };
         let area = 0.5 * cross.length();
-        if !(scale > 0.0) || area <= 1e-10 * scale * scale {
+        if scale.is_nan() || scale <= 0.0 || area <= 1e-10 * scale * scale {
             return Err(PolygonError::Degenerate);
         }
         let normal = cross / (2.0 * area);
