@@ -78,7 +78,10 @@ impl SoftWork {
     }
 
     /// A software accelerator over `patches` working in this memory, and the dense row buffer.
-    pub fn engine<'p, 's>(&'s mut self, patches: &'p [Patch]) -> (SoftAccelerator<'p, 's>, &'s mut [f32]) {
+    pub fn engine<'p, 's>(
+        &'s mut self,
+        patches: &'p [Patch],
+    ) -> (SoftAccelerator<'p, 's>, &'s mut [f32]) {
         let accel = SoftAccelerator::new(
             patches,
             SoftScratch {
@@ -112,7 +115,12 @@ pub fn form_factors(
     let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
         .map_err(|e| anyhow::anyhow!("--circles {}: {e:?}", settings.circles))?;
     let view = hemi.view();
-    let max_ring = view.rings().iter().map(|r| r.count as usize).max().unwrap_or(1);
+    let max_ring = view
+        .rings()
+        .iter()
+        .map(|r| r.count as usize)
+        .max()
+        .unwrap_or(1);
     let patches = scene.kernel_patches();
     let n = patches.len();
     let points: Vec<(usize, u32, SamplePoint)> = (0..n)
@@ -130,7 +138,14 @@ pub fn form_factors(
             |work, &(i, q, point)| {
                 let (mut accel, row) = work.engine(&patches);
                 row.fill(0.0);
-                let stats = shoot_hemisphere(&mut accel, &view, point.position, point.normal, spin_for_sample(q), row);
+                let stats = shoot_hemisphere(
+                    &mut accel,
+                    &view,
+                    point.position,
+                    point.normal,
+                    spin_for_sample(q),
+                    row,
+                );
                 let sparse = row
                     .iter()
                     .enumerate()

@@ -67,7 +67,10 @@ pub struct Scene {
 impl Scene {
     /// The patches as the kernel's patch memory (same order, so ids are indices).
     pub fn kernel_patches(&self) -> Vec<Patch> {
-        self.patches.iter().map(|p| Patch::polygon(p.polygon)).collect()
+        self.patches
+            .iter()
+            .map(|p| Patch::polygon(p.polygon))
+            .collect()
     }
     /// The material of patch `i`.
     pub fn material_of(&self, i: usize) -> &Material {
