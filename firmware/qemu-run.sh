@@ -61,7 +61,9 @@ split_pty_line() {
     cat
 }
 
-timeout --kill-after=5 "$secs" "$QEMU" \
+# --foreground keeps QEMU in the terminal's process group, so a Ctrl-C reaches it too (without
+# it, timeout moves QEMU to a group of its own and Ctrl-C leaves it running).
+timeout --foreground --kill-after=5 "$secs" "$QEMU" \
     -machine mps2-an386 -cpu cortex-m4 \
     -display none -monitor none \
     -semihosting-config enable=on,target=native \
