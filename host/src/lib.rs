@@ -1,6 +1,7 @@
 //! hemi on the host: scenes, sample points, backends, the radiosity solve and image assembly.
 #![forbid(unsafe_code)]
 
+pub mod analytic;
 pub mod board;
 pub mod irradiance;
 pub mod pass1;

@@ -126,6 +126,16 @@ enum Command {
 
 #[derive(Subcommand)]
 enum BenchCommand {
+    /// Error against Howell's closed forms and cost, over hemisphere circles R and samples K:
+    /// a markdown table (docs/ACCURACY.md).
+    FormFactors {
+        /// Comma-separated R values.
+        #[arg(long, default_value = "16,32,64,128")]
+        circles: String,
+        /// Comma-separated K values.
+        #[arg(long, default_value = "4,8,16,32")]
+        samples: String,
+    },
     /// Pass-1 hemisphere rays per second of the soft backend on SCENE, on 1 thread and on all,
     /// printed as one machine-readable line per run.
     Rays {
@@ -178,6 +188,108 @@ fn solve_scene(scene: &Scene, ff: &FormFactors) -> Result<solve::Solution> {
         .map(|i| scene.material_of(i).emission)
         .collect();
     solve::gauss_seidel(&ff.matrix, &rho, &e, &SolveSettings::default())
+}
+
+/// The closed-form cases of the accuracy table: (name, scene TOML, Howell value of F_01).
+fn howell_cases() -> Vec<(&'static str, String, f64)> {
+    use hemi::analytic::*;
+    let mat = "[[material]]\nname = \"m\"\ndiffuse = [0.5, 0.5, 0.5]\n";
+    let quad = |name: &str, v: [[f64; 3]; 4]| {
+        let vs: Vec<String> = v
+            .iter()
+            .map(|p| format!("[{}, {}, {}]", p[0], p[1], p[2]))
+            .collect();
+        format!(
+            "[[quad]]\nname = \"{name}\"\nmaterial = \"m\"\nvertices = [{}]\n",
+            vs.join(", ")
+        )
+    };
+    let opposed = |a: f64, b: f64, c: f64| {
+        mat.to_string()
+            + &quad(
+                "p1",
+                [[0.0, 0.0, 0.0], [a, 0.0, 0.0], [a, b, 0.0], [0.0, b, 0.0]],
+            )
+            + &quad("p2", [[0.0, 0.0, c], [0.0, b, c], [a, b, c], [a, 0.0, c]])
+    };
+    let perpendicular = |l: f64, w: f64, h: f64| {
+        mat.to_string()
+            + &quad(
+                "floor",
+                [[0.0, 0.0, 0.0], [0.0, 0.0, w], [l, 0.0, w], [l, 0.0, 0.0]],
+            )
+            + &quad(
+                "wall",
+                [[0.0, 0.0, 0.0], [l, 0.0, 0.0], [l, h, 0.0], [0.0, h, 0.0]],
+            )
+    };
+    vec![
+        (
+            "opposed 1×1 at 1 (C-11)",
+            opposed(1.0, 1.0, 1.0),
+            opposed_rectangles(1.0, 1.0, 1.0),
+        ),
+        (
+            "opposed 1×1 at 3 (C-11)",
+            opposed(1.0, 1.0, 3.0),
+            opposed_rectangles(1.0, 1.0, 3.0),
+        ),
+        (
+            "opposed 2×1 at 0.5 (C-11)",
+            opposed(2.0, 1.0, 0.5),
+            opposed_rectangles(2.0, 1.0, 0.5),
+        ),
+        (
+            "perpendicular 1,1,1 (C-14)",
+            perpendicular(1.0, 1.0, 1.0),
+            perpendicular_common_edge(1.0, 1.0, 1.0),
+        ),
+        (
+            "perpendicular 1,2,1 (C-14)",
+            perpendicular(1.0, 2.0, 1.0),
+            perpendicular_common_edge(1.0, 2.0, 1.0),
+        ),
+    ]
+}
+
+fn bench_form_factors(out: &mut impl Write, circles: &[u32], samples: &[u32]) -> Result<()> {
+    let cases = howell_cases();
+    let scenes: Vec<Scene> = cases
+        .iter()
+        .map(|(n, src, _)| scene::parse(src, n))
+        .collect::<Result<_>>()?;
+    writeln!(
+        out,
+        "| R | K | rays per hemisphere | max error | mean error | rays | seconds |"
+    )?;
+    writeln!(out, "|---|---|---|---|---|---|---|")?;
+    for &r in circles {
+        for &k in samples {
+            let settings = Pass1Settings {
+                circles: r,
+                samples: k,
+                rule: DeltaRule::Band,
+            };
+            let (mut worst, mut sum, mut rays) = (0.0f64, 0.0f64, 0u64);
+            let t0 = std::time::Instant::now();
+            for (scene, (_, _, want)) in scenes.iter().zip(&cases) {
+                let ff = pass1::form_factors(scene, &settings, &|_| {})?;
+                let e = (ff.matrix[0][1] - want).abs() / want;
+                worst = worst.max(e);
+                sum += e;
+                rays += ff.stats.rays as u64;
+            }
+            let secs = t0.elapsed().as_secs_f64();
+            writeln!(
+                out,
+                "| {r} | {k} | {} | {:.3} % | {:.3} % | {rays} | {secs:.3} |",
+                hemi_kernel::hemisphere::ray_count(r),
+                100.0 * worst,
+                100.0 * sum / cases.len() as f64
+            )?;
+        }
+    }
+    Ok(())
 }
 
 fn parse_ray_line(line: &str, n: usize) -> Result<(Vec3, Vec3)> {
@@ -359,6 +471,20 @@ fn main() -> Result<()> {
                     None => writeln!(out, "miss")?,
                 }
             }
+        }
+        Command::Bench {
+            command: BenchCommand::FormFactors { circles, samples },
+        } => {
+            let list = |s: &str| -> Result<Vec<u32>> {
+                s.split(',')
+                    .map(|x| {
+                        x.trim()
+                            .parse::<u32>()
+                            .with_context(|| format!("bad number `{x}`"))
+                    })
+                    .collect()
+            };
+            bench_form_factors(&mut out, &list(&circles)?, &list(&samples)?)?;
         }
         Command::Bench {
             command:

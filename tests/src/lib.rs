@@ -1,44 +1,7 @@
 //! Shared helpers for hemi's integration tests: Howell's closed-form form factors (the reference
 //! values the accuracy tests compare against) and small scene builders.
 
-use std::f64::consts::PI;
-
-/// Howell B-3: a plane element to a parallel rectangle a × b at distance c, the element's normal
-/// passing through one corner of the rectangle.
-pub fn element_to_parallel_rectangle_corner(a: f64, b: f64, c: f64) -> f64 {
-    let (x, y) = (a / c, b / c);
-    let sx = (1.0 + x * x).sqrt();
-    let sy = (1.0 + y * y).sqrt();
-    (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * PI)
-}
-
-/// Howell C-11: identical, parallel, directly opposed rectangles a × b at distance c.
-pub fn opposed_rectangles(a: f64, b: f64, c: f64) -> f64 {
-    let (x, y) = (a / c, b / c);
-    let x2 = x * x;
-    let y2 = y * y;
-    2.0 / (PI * x * y)
-        * ((((1.0 + x2) * (1.0 + y2)) / (1.0 + x2 + y2)).sqrt().ln()
-            + x * (1.0 + y2).sqrt() * (x / (1.0 + y2).sqrt()).atan()
-            + y * (1.0 + x2).sqrt() * (y / (1.0 + x2).sqrt()).atan()
-            - x * x.atan()
-            - y * y.atan())
-}
-
-/// Howell C-14: from rectangle 1 (width w, common edge l) to rectangle 2 (height h, same common
-/// edge), perpendicular and sharing the edge l.
-pub fn perpendicular_common_edge(l: f64, w: f64, h: f64) -> f64 {
-    let (hh, ww) = (h / l, w / l);
-    let h2 = hh * hh;
-    let w2 = ww * ww;
-    let a = (1.0 + w2) * (1.0 + h2) / (1.0 + w2 + h2);
-    let b = (w2 * (1.0 + w2 + h2) / ((1.0 + w2) * (w2 + h2))).powf(w2);
-    let c = (h2 * (1.0 + h2 + w2) / ((1.0 + h2) * (h2 + w2))).powf(h2);
-    (ww * (1.0 / ww).atan() + hh * (1.0 / hh).atan()
-        - (h2 + w2).sqrt() * (1.0 / (h2 + w2).sqrt()).atan()
-        + 0.25 * (a * b * c).ln())
-        / (PI * ww)
-}
+pub use hemi::analytic::*;
 
 /// TOML for one quad patch.
 pub fn quad(name: &str, material: &str, v: [[f64; 3]; 4]) -> String {

@@ -107,14 +107,6 @@ fn point_ff(target: Polygon, origin: Vec3, normal: Vec3, circles: u32, rule: Del
     row[0] as f64
 }
 
-/// Element at the origin facing +z, rectangle [x0, x0+a] × [y0, y0+b] at height c: Howell's
-/// corner case combined by superposition, so that no corner or edge of the target sits on the
-/// hemisphere's pole ray (a configuration that gives the pole ray's whole cap to a quarter-cap).
-fn element_to_offset_rectangle(x0: f64, y0: f64, a: f64, b: f64, c: f64) -> f64 {
-    let g = |x: f64, y: f64| element_to_parallel_rectangle_corner(x, y, c);
-    g(x0 + a, y0 + b) - g(x0, y0 + b) - g(x0 + a, y0) + g(x0, y0)
-}
-
 #[test]
 fn element_to_rectangle_within_half_a_percent_under_any_orientation() {
     // The configuration is also turned so that the element's normal lies along other axes and a
