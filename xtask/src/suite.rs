@@ -71,7 +71,12 @@ fn steps() -> Vec<Step> {
                     FIRMWARE,
                     "--target",
                     TARGET,
-                    "--all-targets",
+                    // not --all-targets: that asks for a libtest harness of the lib, which
+                    // cannot exist for a no_std target (the on-target tests are --tests)
+                    "--lib",
+                    "--bins",
+                    "--examples",
+                    "--tests",
                     "--",
                     "-D",
                     "warnings",
