@@ -145,6 +145,11 @@ enum BenchCommand {
         /// Repeat each measurement this many times and keep the fastest.
         #[arg(long, default_value_t = 3)]
         repeat: u32,
+        /// Also measure the accelerator trait's provided ray-by-ray path (rotate each ray, then a
+        /// general nearest hit), on one thread over the first 64 sample points: what the
+        /// shared-origin casting of the soft engine buys.
+        #[arg(long)]
+        per_ray: bool,
     },
 }
 
@@ -290,6 +295,49 @@ fn bench_form_factors(out: &mut impl Write, circles: &[u32], samples: &[u32]) ->
         }
     }
     Ok(())
+}
+
+/// An engine that exposes only `rotate` and `nearest_hit` of the soft engine, so the tracer runs
+/// the trait's provided ray-by-ray `cast_rings`.
+struct PerRay<A>(A);
+
+impl<A: Accelerator> Accelerator for PerRay<A> {
+    fn rotate(&mut self, rot: &hemi_kernel::rotation::Rotation, d: Vec3) -> Vec3 {
+        self.0.rotate(rot, d)
+    }
+    fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<hemi_kernel::accel::Hit> {
+        self.0.nearest_hit(ray, t_max)
+    }
+}
+
+fn bench_per_ray(scene: &Scene, settings: &Pass1Settings) -> Result<(u64, f64)> {
+    let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
+        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+    let view = hemi.view();
+    let patches = scene.kernel_patches();
+    let mut work = SoftWork::new(patches.len(), 1);
+    let mut row = vec![0.0f32; patches.len()];
+    let points: Vec<_> = (0..patches.len())
+        .flat_map(|i| pass1::sample_points(scene, i, settings.samples))
+        .take(64)
+        .collect();
+    let t0 = std::time::Instant::now();
+    let mut rays = 0u64;
+    for (q, p) in points.iter().enumerate() {
+        let (accel, _) = work.engine(&patches);
+        let mut engine = PerRay(accel);
+        let spin = hemi_kernel::rotation::spin_for_sample(q as u32);
+        rays += hemi_kernel::tracer::shoot_hemisphere(
+            &mut engine,
+            &view,
+            p.position,
+            p.normal,
+            spin,
+            &mut row,
+        )
+        .rays as u64;
+    }
+    Ok((rays, t0.elapsed().as_secs_f64()))
 }
 
 fn parse_ray_line(line: &str, n: usize) -> Result<(Vec3, Vec3)> {
@@ -492,6 +540,7 @@ fn main() -> Result<()> {
                     scene,
                     common,
                     repeat,
+                    per_ray,
                 },
         } => {
             let settings = common.pass1()?;
@@ -516,6 +565,16 @@ fn main() -> Result<()> {
                     settings.circles,
                     settings.samples,
                     rays as f64 / best
+                )?;
+            }
+            if per_ray {
+                let (rays, secs) = bench_per_ray(&scene, &settings)?;
+                writeln!(
+                    out,
+                    "scene={path} backend=soft-per-ray circles={} samples={} threads=1 rays={rays} seconds={secs:.4} rays_per_second={:.0}",
+                    settings.circles,
+                    settings.samples,
+                    rays as f64 / secs
                 )?;
             }
         }

@@ -327,6 +327,13 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
                 ));
             }
         }
+        if material.specular.iter().any(|k| *k > 0.0) {
+            eprintln!(
+                "{file}:{}: warning: material `{}`: specular reflection is not simulated yet (issue \"Specular\"); its k_r is treated as absorbed",
+                cx.line(span.clone()),
+                material.name
+            );
+        }
         materials.push(material);
     }
 

@@ -41,15 +41,29 @@ pub struct LocalPatch {
 
 impl LocalPatch {
     /// Sets up `poly` as seen from `origin`, in the frame of `rot` (identity frame: pass a
-    /// rotation onto +z).
+    /// rotation onto +z), with the bounding cone used to cull bundles of rays.
     pub fn setup(poly: &Polygon, origin: Vec3, rot: &Rotation) -> LocalPatch {
+        Self::setup_with(poly, origin, Some(rot), true)
+    }
+
+    /// The set-up for a single ray: edges and plane only (the cone would cost more than it saves).
+    pub fn setup_single(poly: &Polygon, origin: Vec3) -> LocalPatch {
+        Self::setup_with(poly, origin, None, false)
+    }
+
+    /// `rot: None` is the scene's own frame (no rotation at all).
+    fn setup_with(poly: &Polygon, origin: Vec3, rot: Option<&Rotation>, cone: bool) -> LocalPatch {
+        let turn = |v: Vec3| match rot {
+            Some(r) => r.invert(v),
+            None => v,
+        };
         let mut lp = LocalPatch::default();
         let h = poly.normal.dot(poly.v[0] - origin);
         let sides = poly.sides as usize;
         let mut local = [Vec3::ZERO; 4];
         let mut scale = 0.0f32;
         for (l, v) in local.iter_mut().zip(poly.v.iter()).take(sides) {
-            *l = rot.invert(*v - origin);
+            *l = turn(*v - origin);
             scale = scale.max(l.length());
         }
         // An origin in the patch's plane (its own patch, coplanar neighbours) can only graze it.
@@ -62,9 +76,13 @@ impl LocalPatch {
             lp.edges[i] = local[i].cross(local[(i + 1) % sides]) * s;
         }
         lp.sides = poly.sides;
-        lp.normal = rot.invert(poly.normal);
+        lp.normal = turn(poly.normal);
         lp.h = h;
         lp.active = true;
+        if !cone {
+            lp.full = true;
+            return lp;
+        }
         // Bounding cone: a convex polygon lies in the cone of its vertex directions when α < 90°.
         let mut sum = Vec3::ZERO;
         for l in local.iter().take(sides) {
@@ -305,11 +323,10 @@ impl Accelerator for SoftAccelerator<'_, '_> {
     }
 
     fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let frame = Rotation::onto(Vec3::Z);
         let mut best: Option<(u32, f32, bool)> = None;
         let mut best_t = t_max;
         for (i, p) in self.patches.iter().enumerate() {
-            let lp = LocalPatch::setup(p.as_polygon(), ray.origin, &frame);
+            let lp = LocalPatch::setup_single(p.as_polygon(), ray.origin);
             if !lp.active {
                 continue;
             }
