@@ -2,24 +2,20 @@
 //! placed at the point around the given direction and every ray gathers the radiosity where it
 //! lands, so `E = Σ δD_j · B(hit)` (with L = B/π for diffuse surfaces, ∫L cos dω = Σ δD B).
 
-use crate::pass1::SoftWork;
 use crate::radiosity::Grid;
 use hemi_kernel::accel::Accelerator;
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::Hemisphere;
-use hemi_kernel::patch::Patch;
 use hemi_kernel::rotation::Rotation;
 
 /// Irradiance (W/m² per channel) at `point` for a surface facing `normal`; emitters included.
-pub fn irradiance(
-    work: &mut SoftWork,
-    patches: &[Patch],
+pub fn irradiance<A: Accelerator>(
+    accel: &mut A,
     hemi: &Hemisphere<'_>,
     grids: &[Grid],
     point: Vec3,
     normal: Vec3,
 ) -> [f64; 3] {
-    let (mut accel, _) = work.engine(patches);
     let rot = Rotation::onto(normal);
     let rings = hemi.rings();
     let mut e = [0.0f64; 3];

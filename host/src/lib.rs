@@ -3,6 +3,7 @@
 
 pub mod analytic;
 pub mod board;
+pub mod engine;
 pub mod irradiance;
 pub mod pass1;
 pub mod radiosity;

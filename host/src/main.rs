@@ -2,7 +2,8 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand};
-use hemi::pass1::{self, FormFactors, Pass1Settings, SoftWork};
+use hemi::engine::SoftEngine;
+use hemi::pass1::{self, FormFactors, Pass1Settings};
 use hemi::scene::{self, Scene};
 use hemi::solve::{self, SolveSettings};
 use hemi_kernel::accel::{Accelerator, Ray};
@@ -315,7 +316,6 @@ fn bench_per_ray(scene: &Scene, settings: &Pass1Settings) -> Result<(u64, f64)> 
         .map_err(|e| anyhow::anyhow!("{e:?}"))?;
     let view = hemi.view();
     let patches = scene.kernel_patches();
-    let mut work = SoftWork::new(patches.len(), 1);
     let mut row = vec![0.0f32; patches.len()];
     let points: Vec<_> = (0..patches.len())
         .flat_map(|i| pass1::sample_points(scene, i, settings.samples))
@@ -324,8 +324,7 @@ fn bench_per_ray(scene: &Scene, settings: &Pass1Settings) -> Result<(u64, f64)> 
     let t0 = std::time::Instant::now();
     let mut rays = 0u64;
     for (q, p) in points.iter().enumerate() {
-        let (accel, _) = work.engine(&patches);
-        let mut engine = PerRay(accel);
+        let mut engine = PerRay(SoftEngine::new(&patches));
         let spin = hemi_kernel::rotation::spin_for_sample(q as u32);
         rays += hemi_kernel::tracer::shoot_hemisphere(
             &mut engine,
@@ -489,16 +488,10 @@ fn main() -> Result<()> {
                 .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
             let view = hemi.view();
             let patches = scene.kernel_patches();
-            let max_ring = view
-                .rings()
-                .iter()
-                .map(|r| r.count as usize)
-                .max()
-                .unwrap_or(1);
-            let mut work = SoftWork::new(patches.len(), max_ring);
+            let mut engine = SoftEngine::new(&patches);
             for (n, line) in stdin_lines() {
                 let (p, d) = parse_ray_line(&line?, n)?;
-                let e = hemi::irradiance::irradiance(&mut work, &patches, &view, &grids, p, d);
+                let e = hemi::irradiance::irradiance(&mut engine, &view, &grids, p, d);
                 writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
             }
         }
@@ -506,8 +499,7 @@ fn main() -> Result<()> {
             common.pass1()?;
             let scene = scene::load(&scene)?;
             let patches = scene.kernel_patches();
-            let mut work = SoftWork::new(patches.len(), 1);
-            let (mut accel, _) = work.engine(&patches);
+            let mut accel = SoftEngine::new(&patches);
             for (n, line) in stdin_lines() {
                 let (origin, dir) = parse_ray_line(&line?, n)?;
                 match accel.nearest_hit(&Ray { origin, dir }, f32::INFINITY) {

@@ -1,10 +1,10 @@
 //! Pass 1 on the host side (spec §2 steps 1–2): place sample points, have the backend shoot a
 //! hemisphere from each, and form patch form factors from the element rows by (4.3).
 
+use crate::engine::SoftEngine;
 use crate::scene::Scene;
-use hemi_kernel::accel::soft::{LocalPatch, SoftAccelerator, SoftScratch};
+use hemi_kernel::accel::Accelerator;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
-use hemi_kernel::patch::Patch;
 use hemi_kernel::rotation::spin_for_sample;
 use hemi_kernel::sampling::{grid_sample, SamplePoint};
 use hemi_kernel::tracer::{shoot_hemisphere, ShotStats};
@@ -58,43 +58,6 @@ pub struct FormFactors {
     pub stats: ShotStats,
 }
 
-/// Per-thread working memory of the software engine.
-pub struct SoftWork {
-    local: Vec<LocalPatch>,
-    best_t: Vec<f32>,
-    best_id: Vec<u32>,
-    row: Vec<f32>,
-}
-
-impl SoftWork {
-    /// Working memory for `patches` patches and rings of at most `max_ring` rays.
-    pub fn new(patches: usize, max_ring: usize) -> Self {
-        SoftWork {
-            local: vec![LocalPatch::default(); patches],
-            best_t: vec![0.0; max_ring],
-            best_id: vec![0; max_ring],
-            row: vec![0.0; patches],
-        }
-    }
-
-    /// A software accelerator over `patches` working in this memory, and the dense row buffer.
-    pub fn engine<'p, 's>(
-        &'s mut self,
-        patches: &'p [Patch],
-    ) -> (SoftAccelerator<'p, 's>, &'s mut [f32]) {
-        let accel = SoftAccelerator::new(
-            patches,
-            SoftScratch {
-                local: &mut self.local,
-                best_t: &mut self.best_t,
-                best_id: &mut self.best_id,
-            },
-        )
-        .expect("scratch sized for the patch count");
-        (accel, &mut self.row)
-    }
-}
-
 /// The sample points of patch `i` at K×K.
 pub fn sample_points(scene: &Scene, i: usize, k: u32) -> Vec<SamplePoint> {
     let poly = &scene.patches[i].polygon;
@@ -111,18 +74,22 @@ pub fn form_factors(
     settings: &Pass1Settings,
     progress: &(dyn Fn(u64) + Sync),
 ) -> anyhow::Result<FormFactors> {
+    let patches = scene.kernel_patches();
+    form_factors_with(scene, settings, &|| SoftEngine::new(&patches), progress)
+}
+
+/// Runs pass 1 on all cores with engines made by `make` (one per worker thread).
+pub fn form_factors_with<A: Accelerator>(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    make: &(dyn Fn() -> A + Sync),
+    progress: &(dyn Fn(u64) + Sync),
+) -> anyhow::Result<FormFactors> {
     anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
     let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
         .map_err(|e| anyhow::anyhow!("--circles {}: {e:?}", settings.circles))?;
     let view = hemi.view();
-    let max_ring = view
-        .rings()
-        .iter()
-        .map(|r| r.count as usize)
-        .max()
-        .unwrap_or(1);
-    let patches = scene.kernel_patches();
-    let n = patches.len();
+    let n = scene.patches.len();
     let points: Vec<(usize, u32, SamplePoint)> = (0..n)
         .flat_map(|i| {
             sample_points(scene, i, settings.samples)
@@ -134,12 +101,11 @@ pub fn form_factors(
     let results: Vec<(ElementRow, ShotStats)> = points
         .par_iter()
         .map_init(
-            || SoftWork::new(n, max_ring),
-            |work, &(i, q, point)| {
-                let (mut accel, row) = work.engine(&patches);
+            || (make(), vec![0.0f32; n]),
+            |(engine, row), &(i, q, point)| {
                 row.fill(0.0);
                 let stats = shoot_hemisphere(
-                    &mut accel,
+                    engine,
                     &view,
                     point.position,
                     point.normal,

@@ -2,10 +2,11 @@
 //! tracer, diffuse colour from the hit patch's vertex grid at the hit's (u,v), then exposure,
 //! tone map and the image files.
 
-use crate::pass1::SoftWork;
+use crate::engine::SoftEngine;
 use crate::radiosity::Grid;
 use crate::scene::Scene;
 use anyhow::{Context, Result};
+use hemi_kernel::accel::Accelerator;
 use hemi_kernel::camera::Camera;
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::pixels::trace_pixels;
@@ -51,17 +52,27 @@ pub fn render(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Image {
     let patches = scene.kernel_patches();
+    render_with(grids, camera, spp, &|| SoftEngine::new(&patches), progress)
+}
+
+/// [`render`] with engines made by `make` (one per worker thread).
+pub fn render_with<A: Accelerator>(
+    grids: &[Grid],
+    camera: &Camera,
+    spp: u32,
+    make: &(dyn Fn() -> A + Sync),
+    progress: &(dyn Fn(u64) + Sync),
+) -> Image {
     let (w, h) = (camera.width, camera.height);
     let spp = spp.max(1);
     let rows: Vec<Vec<[f32; 3]>> = (0..h)
         .into_par_iter()
         .map_init(
-            || (SoftWork::new(patches.len(), 1), vec![Vec3::ZERO; 4096]),
-            |(work, dirs), y| {
-                let (mut accel, _) = work.engine(&patches);
+            || (make(), vec![Vec3::ZERO; 4096]),
+            |(accel, dirs), y| {
                 let mut row = vec![[0.0f32; 3]; w as usize];
                 trace_pixels(
-                    &mut accel,
+                    accel,
                     camera,
                     y * w..(y + 1) * w,
                     spp,

@@ -1,6 +1,7 @@
 //! Pass 2: images against symmetry, uniformity, the trace command's hits, and a golden image.
 
-use hemi::pass1::{form_factors, Pass1Settings, SoftWork};
+use hemi::engine::SoftEngine;
+use hemi::pass1::{form_factors, Pass1Settings};
 use hemi::radiosity::grids;
 use hemi::render::{camera_of, read_png, render, write_png, Image};
 use hemi::scene::{parse, Scene};
@@ -167,8 +168,7 @@ fn pixel_hits_agree_with_the_trace_command() {
     let scene = parse(&symmetric_scene(), "sym.toml").unwrap();
     let camera = camera_of(&scene).unwrap();
     let patches = scene.kernel_patches();
-    let mut work = SoftWork::new(patches.len(), 1);
-    let (mut accel, _) = work.engine(&patches);
+    let mut accel = SoftEngine::new(&patches);
     let dirs: Vec<Vec3> = (0..camera.height)
         .flat_map(|y| (0..camera.width).map(move |x| (x, y)))
         .map(|(x, y)| camera.direction(x as f32 + 0.5, y as f32 + 0.5))
