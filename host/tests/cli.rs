@@ -1,0 +1,215 @@
+//! The `hemi` command line as a user drives it: output shapes of spec §5, errors, and the
+//! irradiance query against a closed form.
+
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+
+fn hemi() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_hemi"))
+}
+
+/// Writes `text` to a fresh scene file and returns its path.
+fn scene(name: &str, text: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("hemi-cli-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join(name);
+    std::fs::write(&p, text).unwrap();
+    p
+}
+
+/// Runs hemi with `args`, feeding `stdin`; returns (success, stdout, stderr).
+fn run(args: &[&str], stdin: &str) -> (bool, String, String) {
+    let mut child = hemi()
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(stdin.as_bytes())
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    (
+        out.status.success(),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+const TWO_SQUARES: &str = r#"
+[[material]]
+name = "m"
+diffuse = [0.5, 0.5, 0.5]
+
+[[material]]
+name = "lamp"
+diffuse = [0.0, 0.0, 0.0]
+emission = [2.0, 3.0, 4.0]
+
+[[quad]]
+name = "p1"
+material = "m"
+vertices = [[0,0,0],[1,0,0],[1,1,0],[0,1,0]]
+
+[[quad]]
+name = "p2"
+material = "lamp"
+vertices = [[0,0,1],[0,1,1],[1,1,1],[1,0,1]]
+"#;
+
+#[test]
+fn form_factors_json_has_the_spec_shape() {
+    let p = scene("two.toml", TWO_SQUARES);
+    let (ok, out, err) = run(
+        &[
+            "form-factors",
+            p.to_str().unwrap(),
+            "--json",
+            "--circles",
+            "32",
+            "--samples",
+            "4",
+        ],
+        "",
+    );
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let names: Vec<&str> = v["patches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["p1", "p2"]);
+    assert!((v["patches"][0]["area"].as_f64().unwrap() - 1.0).abs() < 1e-6);
+    let m = v["matrix"].as_array().unwrap();
+    assert_eq!(m.len(), 2);
+    let f01 = m[0][1].as_f64().unwrap();
+    assert!((f01 - 0.1998).abs() < 0.01, "{f01}");
+    assert_eq!(m[0][0].as_f64().unwrap(), 0.0);
+}
+
+#[test]
+fn solve_json_has_the_spec_shape_and_the_lamp_keeps_its_emission() {
+    let p = scene("two-solve.toml", TWO_SQUARES);
+    let (ok, out, err) = run(
+        &[
+            "solve",
+            p.to_str().unwrap(),
+            "--json",
+            "--circles",
+            "32",
+            "--samples",
+            "4",
+        ],
+        "",
+    );
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v["patches"][1]["name"], "p2");
+    let lamp: Vec<f64> = v["patches"][1]["radiosity"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|x| x.as_f64().unwrap())
+        .collect();
+    assert_eq!(lamp, [2.0, 3.0, 4.0]);
+    // B1 = ρ F12 E2
+    let b1 = v["patches"][0]["radiosity"][2].as_f64().unwrap();
+    assert!((b1 - 0.5 * 0.1998 * 4.0).abs() < 0.01, "{b1}");
+    assert!(v["iterations"].as_u64().unwrap() >= 1);
+    assert!(v["residual"].as_f64().unwrap() < 1e-6);
+}
+
+#[test]
+fn trace_prints_t_patch_u_v_or_miss() {
+    let p = scene("two-trace.toml", TWO_SQUARES);
+    let rays = "0.25 0.75 0.5 0 0 1\n# a comment line is skipped\n0.5 0.5 0.5 -1 0 0\n0.5 0.5 0.5 0 0 -2\n";
+    let (ok, out, err) = run(&["trace", p.to_str().unwrap()], rays);
+    assert!(ok, "{err}");
+    let lines: Vec<&str> = out.lines().collect();
+    assert_eq!(lines.len(), 3, "{out}");
+    let f: Vec<&str> = lines[0].split_whitespace().collect();
+    assert_eq!(f[1], "p2");
+    let (t, u, v): (f64, f64, f64) = (
+        f[0].parse().unwrap(),
+        f[2].parse().unwrap(),
+        f[3].parse().unwrap(),
+    );
+    assert!(
+        (t - 0.5).abs() < 1e-6 && (u - 0.75).abs() < 1e-4 && (v - 0.25).abs() < 1e-4,
+        "{}",
+        lines[0]
+    );
+    assert_eq!(lines[1], "miss");
+    // the direction is normalised: t is a distance
+    let f: Vec<&str> = lines[2].split_whitespace().collect();
+    assert_eq!(f[1], "p1");
+    assert!((f[0].parse::<f64>().unwrap() - 0.5).abs() < 1e-6);
+}
+
+#[test]
+fn bad_input_gets_a_clear_error_and_a_failing_status() {
+    let p = scene(
+        "bad.toml",
+        &TWO_SQUARES.replace("material = \"lamp\"", "material = \"lamb\""),
+    );
+    let (ok, _, err) = run(&["solve", p.to_str().unwrap()], "");
+    assert!(!ok);
+    assert!(
+        err.contains("bad.toml:18") && err.contains("quad.material") && err.contains("lamb"),
+        "{err}"
+    );
+    let (ok, _, err) = run(&["solve", "/nonexistent/scene.toml"], "");
+    assert!(!ok && err.contains("cannot read scene file"), "{err}");
+    let p = scene("good.toml", TWO_SQUARES);
+    let (ok, _, err) = run(&["trace", p.to_str().unwrap()], "1 2 3 oops\n");
+    assert!(!ok && err.contains("line 1"), "{err}");
+    let (ok, _, err) = run(
+        &["solve", p.to_str().unwrap(), "--backend", "warp-drive"],
+        "",
+    );
+    assert!(!ok && err.contains("warp-drive"), "{err}");
+}
+
+#[test]
+fn irradiance_under_a_lambertian_emitter_matches_the_closed_form() {
+    // An emitting rectangle [0.2,1.2]×[0.3,1.3] at height 1, facing down, exitance M: the
+    // irradiance at the origin facing up is M·F (Howell B-3 by superposition).
+    let src = r#"
+[[material]]
+name = "lamp"
+diffuse = [0.0, 0.0, 0.0]
+emission = [1.0, 2.0, 10.0]
+
+[[quad]]
+name = "lamp"
+material = "lamp"
+vertices = [[0.2,0.3,1],[0.2,1.3,1],[1.2,1.3,1],[1.2,0.3,1]]
+"#;
+    let p = scene("lamp.toml", src);
+    let (ok, out, err) = run(
+        &["irradiance", p.to_str().unwrap()],
+        "0 0 0 0 0 1\n0 0 0 0 0 -1\n",
+    );
+    assert!(ok, "{err}");
+    let f = hemi::analytic::element_to_offset_rectangle(0.2, 0.3, 1.0, 1.0, 1.0);
+    let lines: Vec<Vec<f64>> = out
+        .lines()
+        .map(|l| l.split_whitespace().map(|x| x.parse().unwrap()).collect())
+        .collect();
+    for (c, m) in [1.0, 2.0, 10.0].iter().enumerate() {
+        let want = m * f;
+        assert!(
+            (lines[0][c] - want).abs() < 0.005 * want,
+            "channel {c}: {} vs {want}",
+            lines[0][c]
+        );
+    }
+    assert_eq!(lines[1], [0.0, 0.0, 0.0], "facing away sees nothing");
+}
