@@ -1,0 +1,420 @@
+//! Bicubic Bezier patches (paper §7) and their intersection by bounding-box subdivision (§6.1).
+//!
+//! A patch has 16 control points, row-major: `cp[4·r + c]`, c along u and r along v, so
+//! `P(u,v) = Σ_r Σ_c B_r(v) B_c(u) cp[4r + c]` with the cubic Bernstein polynomials B. The
+//! front side is the one `∂P/∂u × ∂P/∂v` points to. Only the four corners lie on the surface; the
+//! surface lies inside the convex hull of the control points, so the axis-aligned box of the
+//! control points bounds it, and so does the box of every sub-patch.
+//!
+//! Intersection (§6.1): pop a sub-patch, split it at the midpoints into four by de Casteljau,
+//! test each child's control-point box against the ray (slab test), push the children that are
+//! hit, nearest entry on top. The stack is an explicit bounded array, not recursion. At the
+//! maximum depth, or when a box is smaller than the minimum size, the leaf's four corners (points
+//! on the surface) are taken as a bilinear patch and intersected exactly: that gives t and
+//! (u,v) to second order in the leaf size. A collapsed edge (a pole, as at the teapot's lid knob
+//! and bottom) makes the leaf a triangle, which that test handles like any other.
+
+use super::Vec3;
+
+/// Largest subdivision depth the bounded stack supports.
+pub const MAX_DEPTH: u32 = 16;
+const STACK: usize = 3 * MAX_DEPTH as usize + 4;
+
+/// A bicubic Bezier patch.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Bezier {
+    /// Control points, row-major (c along u, r along v).
+    pub cp: [Vec3; 16],
+}
+
+/// Termination of the subdivision.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Subdivision {
+    /// Maximum depth (≤ [`MAX_DEPTH`]).
+    pub max_depth: u32,
+    /// A box whose largest side is below this (in scene units) is a leaf.
+    pub min_box: f32,
+}
+
+impl Default for Subdivision {
+    fn default() -> Self {
+        Subdivision {
+            max_depth: 10,
+            min_box: 0.0,
+        }
+    }
+}
+
+fn bern(t: f32) -> [f32; 4] {
+    let s = 1.0 - t;
+    [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t]
+}
+
+fn bern_d(t: f32) -> [f32; 4] {
+    let s = 1.0 - t;
+    [-3.0 * s * s, 3.0 * s * s - 6.0 * t * s, 6.0 * t * s - 3.0 * t * t, 3.0 * t * t]
+}
+
+/// Splits a cubic at t = ½ (de Casteljau), returning the left and right halves.
+#[inline]
+fn split(p: [Vec3; 4]) -> ([Vec3; 4], [Vec3; 4]) {
+    let m = |a: Vec3, b: Vec3| (a + b) * 0.5;
+    let p01 = m(p[0], p[1]);
+    let p12 = m(p[1], p[2]);
+    let p23 = m(p[2], p[3]);
+    let a = m(p01, p12);
+    let b = m(p12, p23);
+    let c = m(a, b);
+    ([p[0], p01, a, c], [c, b, p23, p[3]])
+}
+
+/// An axis-aligned box.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    /// Minimum corner.
+    pub min: Vec3,
+    /// Maximum corner.
+    pub max: Vec3,
+}
+
+impl Aabb {
+    /// The box of a set of points.
+    pub fn of(points: &[Vec3]) -> Aabb {
+        let mut b = Aabb {
+            min: points[0],
+            max: points[0],
+        };
+        for p in &points[1..] {
+            b.min = b.min.min(*p);
+            b.max = b.max.max(*p);
+        }
+        b
+    }
+    /// Largest side.
+    pub fn size(&self) -> f32 {
+        let d = self.max - self.min;
+        d.x.max(d.y).max(d.z)
+    }
+    /// The slab test (§6.1): the ray's entry and exit distances, if `t_enter ≤ t_exit`,
+    /// `t_exit ≥ t_min` and `t_enter < t_max`. A zero direction component is handled without
+    /// dividing: the ray is then inside the slab or misses it.
+    #[inline]
+    pub fn slab(&self, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
+        let mut enter = f32::NEG_INFINITY;
+        let mut exit = f32::INFINITY;
+        for k in 0..3 {
+            let (ok, dk, lo, hi) = (o[k], d[k], self.min[k], self.max[k]);
+            if dk == 0.0 {
+                if ok < lo || ok > hi {
+                    return None;
+                }
+            } else {
+                let inv = 1.0 / dk;
+                let (a, b) = ((lo - ok) * inv, (hi - ok) * inv);
+                let (a, b) = if a < b { (a, b) } else { (b, a) };
+                enter = enter.max(a);
+                exit = exit.min(b);
+            }
+        }
+        if enter <= exit && exit >= t_min && enter < t_max {
+            Some(enter.max(t_min))
+        } else {
+            None
+        }
+    }
+}
+
+/// A nearest hit on a Bezier patch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BezierHit {
+    /// Distance along the (unit) ray.
+    pub t: f32,
+    /// Parametric u.
+    pub u: f32,
+    /// Parametric v.
+    pub v: f32,
+}
+
+#[derive(Clone, Copy)]
+struct Node {
+    cp: [Vec3; 16],
+    u0: f32,
+    v0: f32,
+    size: f32,
+    depth: u32,
+    enter: f32,
+}
+
+impl Bezier {
+    /// A patch from its 16 control points; `None` if any is not finite.
+    pub fn new(cp: [Vec3; 16]) -> Option<Bezier> {
+        cp.iter().all(|p| p.is_finite()).then_some(Bezier { cp })
+    }
+
+    /// P(u, v).
+    pub fn point(&self, u: f32, v: f32) -> Vec3 {
+        let (bu, bv) = (bern(u), bern(v));
+        let mut p = Vec3::ZERO;
+        for r in 0..4 {
+            for c in 0..4 {
+                p += self.cp[4 * r + c] * (bv[r] * bu[c]);
+            }
+        }
+        p
+    }
+
+    /// (∂P/∂u, ∂P/∂v) at (u, v).
+    pub fn derivatives(&self, u: f32, v: f32) -> (Vec3, Vec3) {
+        let (bu, bv, du, dv) = (bern(u), bern(v), bern_d(u), bern_d(v));
+        let (mut pu, mut pv) = (Vec3::ZERO, Vec3::ZERO);
+        for r in 0..4 {
+            for c in 0..4 {
+                let p = self.cp[4 * r + c];
+                pu += p * (bv[r] * du[c]);
+                pv += p * (dv[r] * bu[c]);
+            }
+        }
+        (pu, pv)
+    }
+
+    /// The unit normal of the front side at (u, v), or `None` where the surface is singular
+    /// (at a pole both derivatives are parallel or one vanishes).
+    pub fn normal(&self, u: f32, v: f32) -> Option<Vec3> {
+        let (pu, pv) = self.derivatives(u, v);
+        let n = pu.cross(pv);
+        let scale = pu.length() * pv.length();
+        if n.length() > 1e-6 * scale && scale > 0.0 {
+            n.try_normalize()
+        } else {
+            None
+        }
+    }
+
+    /// The sub-patch over `[u0, u0+du] × [v0, v0+dv]` (by de Casteljau at the cell's bounds).
+    pub fn sub_patch(&self, u0: f32, v0: f32, du: f32, dv: f32) -> Bezier {
+        // Restrict each row in u, then each column in v, with the blossom-free two-cut method:
+        // cut at a then rescale the right part at (b−a)/(1−a).
+        let cut = |p: [Vec3; 4], a: f32, b: f32| -> [Vec3; 4] {
+            let right = split_at(p, a).1;
+            let t = if a < 1.0 { (b - a) / (1.0 - a) } else { 1.0 };
+            split_at(right, t).0
+        };
+        let mut rows = [[Vec3::ZERO; 4]; 4];
+        for (r, row) in rows.iter_mut().enumerate() {
+            let p = [self.cp[4 * r], self.cp[4 * r + 1], self.cp[4 * r + 2], self.cp[4 * r + 3]];
+            *row = cut(p, u0, u0 + du);
+        }
+        let mut cp = [Vec3::ZERO; 16];
+        for c in 0..4 {
+            let col = cut([rows[0][c], rows[1][c], rows[2][c], rows[3][c]], v0, v0 + dv);
+            for r in 0..4 {
+                cp[4 * r + c] = col[r];
+            }
+        }
+        Bezier { cp }
+    }
+
+    /// The box of the control points.
+    pub fn bounds(&self) -> Aabb {
+        Aabb::of(&self.cp)
+    }
+
+    /// The nearest intersection with `t_min < t < t_max` of the ray `o + t d` (d unit length).
+    pub fn intersect(&self, o: Vec3, d: Vec3, t_min: f32, t_max: f32, sub: &Subdivision) -> Option<BezierHit> {
+        let max_depth = sub.max_depth.min(MAX_DEPTH);
+        let root = self.bounds();
+        let enter = root.slab(o, d, t_min, t_max)?;
+        let mut stack = [Node {
+            cp: self.cp,
+            u0: 0.0,
+            v0: 0.0,
+            size: 1.0,
+            depth: 0,
+            enter,
+        }; STACK];
+        let mut top = 1usize;
+        let mut best: Option<BezierHit> = None;
+        let mut best_t = t_max;
+        while top > 0 {
+            top -= 1;
+            let node = stack[top];
+            if node.enter >= best_t {
+                continue;
+            }
+            let b = Aabb::of(&node.cp);
+            if node.depth >= max_depth || b.size() <= sub.min_box {
+                if let Some((t, s, r)) = leaf_hit(&node.cp, o, d, t_min, best_t) {
+                    best_t = t;
+                    best = Some(BezierHit {
+                        t,
+                        u: node.u0 + s * node.size,
+                        v: node.v0 + r * node.size,
+                    });
+                }
+                continue;
+            }
+            // four children, pushed far-to-near so the nearest is examined first
+            let mut children: [(f32, Node); 4] = [(0.0, node); 4];
+            let mut n = 0;
+            let half = node.size * 0.5;
+            for (k, child) in quarter(&node.cp).iter().enumerate() {
+                let (cu, cv) = ((k & 1) as f32, (k >> 1) as f32);
+                if let Some(e) = Aabb::of(child).slab(o, d, t_min, best_t) {
+                    children[n] = (
+                        e,
+                        Node {
+                            cp: *child,
+                            u0: node.u0 + cu * half,
+                            v0: node.v0 + cv * half,
+                            size: half,
+                            depth: node.depth + 1,
+                            enter: e,
+                        },
+                    );
+                    n += 1;
+                }
+            }
+            let children = &mut children[..n];
+            children.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+            for (_, c) in children.iter() {
+                // depth-first with at most 3 siblings pending per level: STACK is never exceeded
+                if top < STACK {
+                    stack[top] = *c;
+                    top += 1;
+                }
+            }
+        }
+        best
+    }
+}
+
+fn split_at(p: [Vec3; 4], t: f32) -> ([Vec3; 4], [Vec3; 4]) {
+    let l = |a: Vec3, b: Vec3| a.lerp(b, t);
+    let p01 = l(p[0], p[1]);
+    let p12 = l(p[1], p[2]);
+    let p23 = l(p[2], p[3]);
+    let a = l(p01, p12);
+    let b = l(p12, p23);
+    let c = l(a, b);
+    ([p[0], p01, a, c], [c, b, p23, p[3]])
+}
+
+/// The four children of a patch at the parametric midpoints: index bit 0 = upper u half,
+/// bit 1 = upper v half.
+fn quarter(cp: &[Vec3; 16]) -> [[Vec3; 16]; 4] {
+    let mut left = [Vec3::ZERO; 16];
+    let mut right = [Vec3::ZERO; 16];
+    for r in 0..4 {
+        let (a, b) = split([cp[4 * r], cp[4 * r + 1], cp[4 * r + 2], cp[4 * r + 3]]);
+        left[4 * r..4 * r + 4].copy_from_slice(&a);
+        right[4 * r..4 * r + 4].copy_from_slice(&b);
+    }
+    let mut out = [[Vec3::ZERO; 16]; 4];
+    for (h, half) in [left, right].iter().enumerate() {
+        for c in 0..4 {
+            let (a, b) = split([half[c], half[4 + c], half[8 + c], half[12 + c]]);
+            for r in 0..4 {
+                out[h][4 * r + c] = a[r];
+                out[2 + h][4 * r + c] = b[r];
+            }
+        }
+    }
+    out
+}
+
+/// Ray against the leaf's bilinear corner patch, as the two triangles (P00, P10, P11) and
+/// (P00, P11, P01): returns t and the leaf-local (s, r) in [0,1]². Two-sided.
+fn leaf_hit(cp: &[Vec3; 16], o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> Option<(f32, f32, f32)> {
+    let (p00, p10, p01, p11) = (cp[0], cp[3], cp[12], cp[15]);
+    let mut best: Option<(f32, f32, f32)> = None;
+    let mut best_t = t_max;
+    // triangle A: P00 → P10 → P11 maps (s, r) = (b1 + b2, b2)
+    if let Some((t, b1, b2)) = triangle(o, d, p00, p10, p11) {
+        if t > t_min && t < best_t {
+            best_t = t;
+            best = Some((t, b1 + b2, b2));
+        }
+    }
+    // triangle B: P00 → P11 → P01 maps (s, r) = (b1, b1 + b2)
+    if let Some((t, b1, b2)) = triangle(o, d, p00, p11, p01) {
+        if t > t_min && t < best_t {
+            best = Some((t, b1, b1 + b2));
+        }
+    }
+    best.map(|(t, s, r)| (t, s.clamp(0.0, 1.0), r.clamp(0.0, 1.0)))
+}
+
+/// Möller–Trumbore, two-sided, with a small tolerance on the barycentric bounds so that rays
+/// through a shared leaf edge are not lost between two leaves. Degenerate triangles miss.
+fn triangle(o: Vec3, d: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Option<(f32, f32, f32)> {
+    const EPS: f32 = 1e-6;
+    let e1 = b - a;
+    let e2 = c - a;
+    let p = d.cross(e2);
+    let det = e1.dot(p);
+    let scale = e1.length() * e2.length();
+    if !(det.abs() > 1e-12 * scale) {
+        return None;
+    }
+    let inv = 1.0 / det;
+    let s = o - a;
+    let b1 = s.dot(p) * inv;
+    if !(-EPS..=1.0 + EPS).contains(&b1) {
+        return None;
+    }
+    let q = s.cross(e1);
+    let b2 = d.dot(q) * inv;
+    if b2 < -EPS || b1 + b2 > 1.0 + EPS {
+        return None;
+    }
+    Some((e2.dot(q) * inv, b1, b2))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn flat() -> Bezier {
+        let mut cp = [Vec3::ZERO; 16];
+        for r in 0..4 {
+            for c in 0..4 {
+                cp[4 * r + c] = Vec3::new(c as f32 / 3.0, r as f32 / 3.0, 0.0);
+            }
+        }
+        Bezier { cp }
+    }
+
+    #[test]
+    fn a_flat_patch_is_the_unit_square() {
+        let b = flat();
+        let p = b.point(0.3, 0.8);
+        assert!((p - Vec3::new(0.3, 0.8, 0.0)).length() < 1e-6);
+        assert!((b.normal(0.5, 0.5).unwrap() - Vec3::Z).length() < 1e-6);
+        let h = b
+            .intersect(Vec3::new(0.3, 0.8, 1.0), Vec3::new(0.0, 0.0, -1.0), 0.0, f32::INFINITY, &Subdivision::default())
+            .unwrap();
+        assert!((h.t - 1.0).abs() < 1e-5 && (h.u - 0.3).abs() < 1e-4 && (h.v - 0.8).abs() < 1e-4, "{h:?}");
+        // parallel to a slab, outside it: miss without NaN
+        assert!(b
+            .intersect(Vec3::new(0.5, 2.0, 1.0), Vec3::new(0.0, 0.0, -1.0), 0.0, f32::INFINITY, &Subdivision::default())
+            .is_none());
+    }
+
+    #[test]
+    fn sub_patches_match_the_parent() {
+        let mut b = flat();
+        b.cp[5].z = 0.7;
+        b.cp[10].z = -0.4;
+        let s = b.sub_patch(0.25, 0.5, 0.5, 0.25);
+        for (u, v) in [(0.0, 0.0), (0.3, 0.9), (1.0, 1.0)] {
+            let a = s.point(u, v);
+            let want = b.point(0.25 + 0.5 * u, 0.5 + 0.25 * v);
+            assert!((a - want).length() < 1e-5);
+        }
+        let q = quarter(&b.cp);
+        let want = b.sub_patch(0.5, 0.5, 0.5, 0.5);
+        for i in 0..16 {
+            assert!((q[3][i] - want.cp[i]).length() < 1e-6);
+        }
+    }
+}
