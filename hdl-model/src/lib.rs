@@ -1,4 +1,32 @@
-//! The accelerator's description: register map, register-access trait and (issue "The accelerator")
-//! the cycle-level model. Only the register map exists so far.
+//! The accelerator of paper §6 as a cycle-level model, with its register map and driver.
+//!
+//! - [`cordic`]: the CORDIC pipes (rotation and vectoring mode, §3.4);
+//! - [`frame`]: the angle unit (normal → φ, θ by vectoring);
+//! - [`rotator`]: three rotation pipes that turn hemisphere rays onto the frame;
+//! - [`intersect`]: nearest hit over patch memory, with t and (u,v) (§6.1);
+//! - [`device`]: register file, FIFOs and control around them, one [`device::Device::tick`] per
+//!   clock;
+//! - [`regs`]: the register map (`docs/register-map.md`);
+//! - [`driver`]: the driver, generic over [`driver::RegisterAccess`] (the model here, volatile
+//!   MMIO in the firmware);
+//! - [`accel`]: [`accel::ModelAccelerator`], the kernel's `Accelerator` on top of the driver.
+//!
+//! The datapath is integer/fixed point only; f32 appears only in [`accel`], where the kernel's
+//! values are converted to register words and back.
 #![no_std]
 #![forbid(unsafe_code)]
+
+pub mod accel;
+pub mod cordic;
+pub mod device;
+pub mod driver;
+pub mod fifo;
+pub mod format;
+pub mod frame;
+pub mod intersect;
+pub mod pipe;
+pub mod regs;
+pub mod rotator;
+
+pub use accel::{ModelAccelerator, ModelConfig, ModelError};
+pub use driver::{Driver, DriverError, ModelBus, RegisterAccess};

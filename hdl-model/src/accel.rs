@@ -1,0 +1,419 @@
+//! `ModelAccelerator`: the kernel's [`Accelerator`] on the model, through the driver.
+//!
+//! This is the only place with floating point: the kernel's f32 values become register words on
+//! the way in and come back on the way out.
+//!
+//! - Coordinates are normalised by a power of two (exact in f32) about the centre of the loaded
+//!   patches' bounding box, so the scene fills [−1, 1] in Q8.24; origins may lie out to ±128
+//!   half-sizes (cameras outside the scene); a ray from farther away is reported as a miss and
+//!   counted in [`ModelAccelerator::out_of_range`].
+//! - Directions and (cos, sin) pairs are Q2.30.
+//! - `rotate` hands the rotator the frame as the three (cos, sin) pairs `Rotation` holds (vectored
+//!   into angles on chip), so the model turns rays by the same three plane rotations, in the same
+//!   order, as `Rotation::apply`.
+
+use crate::driver::{Driver, DriverError, ModelBus};
+use crate::format::{Coord, Unit};
+use crate::intersect::patch_mem::{PatchWords, KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
+use crate::regs::{mode, result};
+use hemi_kernel::accel::{Accelerator, Hit, Ray};
+use hemi_kernel::geometry::Vec3;
+use hemi_kernel::hemisphere::Hemisphere;
+use hemi_kernel::patch::{Patch, Shape};
+use hemi_kernel::rotation::Rotation;
+
+/// The accelerator's build parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ModelConfig {
+    /// CORDIC iterations (4..=30, at most width − 2).
+    pub iterations: u32,
+    /// CORDIC word width in bits (12..=32).
+    pub width: u32,
+    /// (u,v) bisection levels (1..=24).
+    pub depth: u32,
+}
+
+impl Default for ModelConfig {
+    /// 24 iterations on 32-bit words, 16 (u,v) levels: about f32's accuracy.
+    fn default() -> Self {
+        ModelConfig {
+            iterations: 24,
+            width: 32,
+            depth: 16,
+        }
+    }
+}
+
+/// Why the model accelerator could not be built.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModelError {
+    /// The driver failed (configuration refused, patch memory, ...).
+    Driver(DriverError),
+    /// More patches than the patch memory holds.
+    TooManyPatches {
+        /// Patches given.
+        count: usize,
+        /// Slots in the memory.
+        capacity: u32,
+    },
+    /// Patch `index` is of a kind the intersection unit cannot test yet.
+    UnsupportedPatch(usize),
+    /// A vertex or normal is not finite or out of the coordinate range.
+    BadGeometry(usize),
+}
+
+impl From<DriverError> for ModelError {
+    fn from(e: DriverError) -> Self {
+        ModelError::Driver(e)
+    }
+}
+
+/// The model accelerator behind the kernel's trait.
+pub struct ModelAccelerator {
+    driver: Driver<ModelBus>,
+    centre: [f64; 3],
+    /// fixed-point units per scene unit (a power of two)
+    scale: f64,
+    frame: Option<Rotation>,
+    origin: Option<[u32; 3]>,
+    mode: Option<u32>,
+    rays: u64,
+    out_of_range: u64,
+}
+
+fn unit_word(x: f32) -> u32 {
+    Unit::saturating_from_num(if x.is_nan() { 0.0 } else { x }).to_bits() as u32
+}
+
+fn unit_f32(w: u32) -> f32 {
+    Unit::from_bits(w as i32).to_num()
+}
+
+impl ModelAccelerator {
+    /// Configures the model and loads `patches` into its patch memory through the driver.
+    pub fn new(patches: &[Patch], config: ModelConfig) -> Result<Self, ModelError> {
+        let mut driver = Driver::new(ModelBus::new())?;
+        driver.configure(config.iterations, config.width, config.depth)?;
+        let capacity = driver.patch_capacity();
+        if patches.len() > capacity as usize {
+            return Err(ModelError::TooManyPatches {
+                count: patches.len(),
+                capacity,
+            });
+        }
+        // bounding box → centre and power-of-two scale (so the conversion is exact)
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for p in patches {
+            #[allow(irrefutable_let_patterns)] // Bezier patches will join `Shape`
+            if let Shape::Polygon(poly) = &p.shape {
+                for v in poly.vertices() {
+                    for (c, x) in [v.x, v.y, v.z].into_iter().enumerate() {
+                        lo[c] = lo[c].min(x as f64);
+                        hi[c] = hi[c].max(x as f64);
+                    }
+                }
+            }
+        }
+        let (centre, half) = if patches.is_empty() {
+            ([0.0; 3], 1.0)
+        } else {
+            let centre: [f64; 3] = core::array::from_fn(|c| (lo[c] + hi[c]) / 2.0);
+            let half = (0..3).map(|c| (hi[c] - lo[c]) / 2.0).fold(0.0, f64::max);
+            (centre, half)
+        };
+        let mut scale = 1.0f64;
+        while half * scale > 1.0 {
+            scale /= 2.0;
+        }
+        while half > 0.0 && half * scale * 2.0 <= 1.0 {
+            scale *= 2.0;
+        }
+        let frame = Normalise { centre, scale };
+        for (index, p) in patches.iter().enumerate() {
+            match frame.encode(p) {
+                None => return Err(ModelError::BadGeometry(index)),
+                Some(None) => return Err(ModelError::UnsupportedPatch(index)),
+                Some(Some(_)) => {}
+            }
+        }
+        // PATCH_ADDR auto-increments: one run of PATCH_DATA writes fills every slot
+        driver.load_patches(
+            patches
+                .iter()
+                .map(|p| frame.encode(p).flatten().unwrap_or_default()),
+        )?;
+        Ok(ModelAccelerator {
+            driver,
+            centre,
+            scale,
+            frame: None,
+            origin: None,
+            mode: None,
+            rays: 0,
+            out_of_range: 0,
+        })
+    }
+
+    fn coord(&self, v: Vec3) -> Option<[u32; 3]> {
+        Normalise {
+            centre: self.centre,
+            scale: self.scale,
+        }
+        .coord(v)
+    }
+
+    /// Clocks the model has run (the CYCLE counter, read without spending bus cycles on it).
+    pub fn cycles(&self) -> u64 {
+        self.driver.bus().device().cycles()
+    }
+
+    /// Rays traced (rotations alone not counted).
+    pub fn rays(&self) -> u64 {
+        self.rays
+    }
+
+    /// Rays reported as misses because their origin was outside the coordinate range.
+    pub fn out_of_range(&self) -> u64 {
+        self.out_of_range
+    }
+
+    /// The driver (for measurements).
+    pub fn driver_mut(&mut self) -> &mut Driver<ModelBus> {
+        &mut self.driver
+    }
+
+    fn set_mode(&mut self, m: u32) {
+        if self.mode != Some(m) {
+            self.driver.set_mode(m);
+            self.mode = Some(m);
+        }
+    }
+
+    fn set_frame(&mut self, rot: &Rotation) {
+        if self.frame != Some(*rot) {
+            self.driver.frame_from_pairs(
+                [unit_word(rot.cos_phi), unit_word(rot.sin_phi)],
+                [unit_word(rot.cos_theta), unit_word(rot.sin_theta)],
+                [unit_word(rot.cos_psi), unit_word(rot.sin_psi)],
+            );
+            self.frame = Some(*rot);
+        }
+    }
+
+    /// Sets the origin; false if it is out of range.
+    fn set_origin(&mut self, origin: Vec3) -> bool {
+        match self.coord(origin) {
+            Some(o) => {
+                if self.origin != Some(o) {
+                    self.driver.set_origin(o);
+                    self.origin = Some(o);
+                }
+                true
+            }
+            None => false,
+        }
+    }
+
+    fn stream(
+        &mut self,
+        n: usize,
+        dir: impl FnMut(usize) -> [u32; 3],
+        sink: impl FnMut(usize, [u32; 4]),
+    ) {
+        if let Err(e) = self.driver.stream(n, dir, sink) {
+            // Every entry is set up so that the device cannot refuse it: an error here is a bug
+            // in the model or the driver, not in the caller's data.
+            panic!("model accelerator: {e:?}");
+        }
+    }
+}
+
+impl Accelerator for ModelAccelerator {
+    fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
+        self.set_frame(rot);
+        self.set_mode(mode::ROTATE);
+        let mut out = Vec3::ZERO;
+        let w = [d.x, d.y, d.z].map(unit_word);
+        self.stream(
+            1,
+            |_| w,
+            |_, r| {
+                out = Vec3::new(unit_f32(r[1]), unit_f32(r[2]), unit_f32(r[3]));
+            },
+        );
+        out
+    }
+
+    fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        let mut hit = None;
+        self.cast_from(ray.origin, &[ray.dir], true, |_, h| hit = h);
+        hit.filter(|h| h.t < t_max)
+    }
+
+    fn cast_from<F: FnMut(usize, Option<Hit>)>(
+        &mut self,
+        origin: Vec3,
+        dirs: &[Vec3],
+        want_uv: bool,
+        mut sink: F,
+    ) {
+        let _ = want_uv; // (u,v) come for free from the pipelined (u,v) unit
+        if !self.set_origin(origin) {
+            self.out_of_range += dirs.len() as u64;
+            for i in 0..dirs.len() {
+                sink(i, None);
+            }
+            return;
+        }
+        self.set_mode(mode::TRACE);
+        self.rays += dirs.len() as u64;
+        let mut hits = HitSink {
+            scale: self.scale,
+            sink: &mut sink,
+        };
+        let words = |i: usize| [dirs[i].x, dirs[i].y, dirs[i].z].map(unit_word);
+        self.stream(dirs.len(), words, |i, r| hits.put(i, r));
+    }
+
+    fn cast_rings<F: FnMut(usize, u32, Option<Hit>)>(
+        &mut self,
+        origin: Vec3,
+        rot: &Rotation,
+        hemi: &Hemisphere<'_>,
+        rings: core::ops::Range<usize>,
+        want_uv: bool,
+        mut sink: F,
+    ) {
+        let _ = want_uv;
+        let all = hemi.rings();
+        let n: usize = rings.clone().map(|j| all[j].count as usize).sum();
+        if !self.set_origin(origin) {
+            self.out_of_range += n as u64;
+            for j in rings {
+                for k in 0..all[j].count {
+                    sink(j, k, None);
+                }
+            }
+            return;
+        }
+        self.set_frame(rot);
+        self.set_mode(mode::ROTATE_TRACE);
+        self.rays += n as u64;
+        let mut push = RingCursor::new(hemi, rings.clone());
+        let mut pop = RingCursor::new(hemi, rings);
+        let scale = self.scale;
+        self.stream(
+            n,
+            |_| {
+                let (j, k) = push.next_index();
+                let d = hemi.direction(j, k);
+                [d.x, d.y, d.z].map(unit_word)
+            },
+            |_, r| {
+                let (j, k) = pop.next_index();
+                let hit = decode(scale, r);
+                sink(j, k, hit);
+            },
+        );
+    }
+}
+
+/// The scene-to-fixed-point normalisation: centre and power-of-two scale.
+#[derive(Clone, Copy, Debug)]
+struct Normalise {
+    centre: [f64; 3],
+    scale: f64,
+}
+
+impl Normalise {
+    /// A scene point as Q8.24 words, if in range (f64 arithmetic: exact for f32 inputs).
+    fn coord(&self, v: Vec3) -> Option<[u32; 3]> {
+        let p = [v.x, v.y, v.z];
+        let mut out = [0u32; 3];
+        for c in 0..3 {
+            let x = (p[c] as f64 - self.centre[c]) * self.scale;
+            out[c] = Coord::checked_from_num(x)?.to_bits() as u32;
+        }
+        Some(out)
+    }
+
+    /// The slot words of a patch: `None` if its geometry does not convert, `Some(None)` if its
+    /// kind is not supported.
+    fn encode(&self, p: &Patch) -> Option<Option<[u32; PATCH_WORDS]>> {
+        #[allow(unreachable_patterns)] // Bezier patches will join `Shape`
+        let poly = match &p.shape {
+            Shape::Polygon(poly) => poly,
+            _ => return Some(None),
+        };
+        let mut w = PatchWords {
+            kind: if poly.sides == 3 {
+                KIND_TRIANGLE
+            } else {
+                KIND_QUAD
+            },
+            ..PatchWords::default()
+        };
+        for (slot, v) in w.v.iter_mut().zip(poly.v.iter()) {
+            let c = self.coord(*v)?;
+            *slot = c.map(|x| Coord::from_bits(x as i32));
+        }
+        let n = poly.normal;
+        if !n.is_finite() {
+            return None;
+        }
+        w.n = [n.x, n.y, n.z].map(|x| Unit::from_bits(unit_word(x) as i32));
+        Some(Some(w.encode()))
+    }
+}
+
+fn decode(scale: f64, r: [u32; 4]) -> Option<Hit> {
+    if r[0] & result::HIT == 0 {
+        return None;
+    }
+    let t = Coord::from_bits(r[1] as i32).to_num::<f64>() / scale;
+    Some(Hit {
+        patch: r[0] & result::PATCH_MASK,
+        t: t as f32,
+        u: unit_f32(r[2]),
+        v: unit_f32(r[3]),
+        front: r[0] & result::FRONT != 0,
+    })
+}
+
+struct HitSink<'s, F: FnMut(usize, Option<Hit>)> {
+    scale: f64,
+    sink: &'s mut F,
+}
+
+impl<F: FnMut(usize, Option<Hit>)> HitSink<'_, F> {
+    fn put(&mut self, i: usize, r: [u32; 4]) {
+        (self.sink)(i, decode(self.scale, r));
+    }
+}
+
+/// Walks (ring, index) over a range of rings in the order the rays are streamed.
+struct RingCursor<'h> {
+    hemi: &'h Hemisphere<'h>,
+    j: usize,
+    k: u32,
+}
+
+impl<'h> RingCursor<'h> {
+    fn new(hemi: &'h Hemisphere<'h>, rings: core::ops::Range<usize>) -> Self {
+        RingCursor {
+            hemi,
+            j: rings.start,
+            k: 0,
+        }
+    }
+
+    fn next_index(&mut self) -> (usize, u32) {
+        while self.k >= self.hemi.rings()[self.j].count {
+            self.j += 1;
+            self.k = 0;
+        }
+        let out = (self.j, self.k);
+        self.k += 1;
+        out
+    }
+}

@@ -1,0 +1,240 @@
+//! The three kinds of CORDIC pipeline stage and the pipe that chains them.
+
+use super::rom::{ATAN_Q62, HALF_PI_Q62, INV_GAIN_Q62};
+use super::CordicConfig;
+use crate::format::{rom_round, width_mask, Angle, Unit};
+use crate::pipe::Pipe;
+
+/// What the pipe computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Mode {
+    /// Turn (x, y) by z.
+    #[default]
+    Rotate,
+    /// Turn (x, y) onto +x; z becomes atan2(y, x), x the magnitude.
+    Vector,
+}
+
+/// One pipeline register of a CORDIC pipe: the vector, the angle, and whatever the surrounding
+/// unit carries alongside (`payload`, delayed unchanged).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CordicSlot<P: Copy + Default> {
+    /// x component (Q2.30, W bits).
+    pub x: Unit,
+    /// y component.
+    pub y: Unit,
+    /// Angle: the rotation left to do (rotation mode) or accumulated (vectoring mode).
+    pub z: Angle,
+    /// Vectoring a zero vector: the angle is forced to 0.
+    pub zero: bool,
+    /// Carried alongside.
+    pub payload: P,
+}
+
+/// Stage 0: the coarse rotation by ±π/2 that lets the pipe cover the full circle.
+#[derive(Clone, Copy, Debug)]
+pub struct QuadrantStage {
+    mode: Mode,
+    half_pi: Angle,
+    mask: i32,
+}
+
+impl QuadrantStage {
+    fn new(mode: Mode, cfg: &CordicConfig) -> Self {
+        QuadrantStage {
+            mode,
+            half_pi: Angle::from_bits(rom_round(HALF_PI_Q62, cfg.width - 3, 29)),
+            mask: width_mask(cfg.width),
+        }
+    }
+
+    /// The stage's logic.
+    #[inline]
+    pub fn eval<P: Copy + Default>(&self, s: CordicSlot<P>) -> CordicSlot<P> {
+        let m = |v: Unit| Unit::from_bits(v.to_bits() & self.mask);
+        let ma = |v: Angle| Angle::from_bits(v.to_bits() & self.mask);
+        let (x, y, z) = (m(s.x), m(s.y), ma(s.z));
+        let mut out = s;
+        match self.mode {
+            Mode::Rotate => {
+                if z > self.half_pi {
+                    (out.x, out.y, out.z) = (y.wrapping_neg(), x, z.wrapping_sub(self.half_pi));
+                } else if z < self.half_pi.wrapping_neg() {
+                    (out.x, out.y, out.z) = (y, x.wrapping_neg(), z.wrapping_add(self.half_pi));
+                } else {
+                    (out.x, out.y, out.z) = (x, y, z);
+                }
+                out.zero = false;
+            }
+            Mode::Vector => {
+                out.zero = x == Unit::ZERO && y == Unit::ZERO;
+                if x < Unit::ZERO {
+                    if y >= Unit::ZERO {
+                        // turned by −π/2: the original angle is π/2 more than what is left
+                        (out.x, out.y, out.z) = (y, x.wrapping_neg(), z.wrapping_add(self.half_pi));
+                    } else {
+                        (out.x, out.y, out.z) = (y.wrapping_neg(), x, z.wrapping_sub(self.half_pi));
+                    }
+                } else {
+                    (out.x, out.y, out.z) = (x, y, z);
+                }
+            }
+        }
+        out
+    }
+}
+
+/// Micro-rotation stage i: shifts by the constant i and adds ±atan 2^-i from ROM.
+#[derive(Clone, Copy, Debug)]
+pub struct MicroRotation {
+    mode: Mode,
+    shift: u32,
+    atan: Angle,
+    mask: i32,
+}
+
+impl MicroRotation {
+    fn new(mode: Mode, i: u32, cfg: &CordicConfig) -> Self {
+        MicroRotation {
+            mode,
+            shift: i,
+            atan: Angle::from_bits(rom_round(ATAN_Q62[i as usize], cfg.width - 3, 29)),
+            mask: width_mask(cfg.width),
+        }
+    }
+
+    /// The stage's logic.
+    #[inline]
+    pub fn eval<P: Copy + Default>(&self, s: CordicSlot<P>) -> CordicSlot<P> {
+        let m = |v: Unit| Unit::from_bits(v.to_bits() & self.mask);
+        let dx = m(s.x >> self.shift);
+        let dy = m(s.y >> self.shift);
+        // rotate counter-clockwise (d = +1) while angle is left (rotation mode) or while the
+        // vector is below the axis (vectoring mode)
+        let ccw = match self.mode {
+            Mode::Rotate => s.z >= Angle::ZERO,
+            Mode::Vector => s.y < Unit::ZERO,
+        };
+        let mut out = s;
+        if ccw {
+            out.x = s.x.wrapping_sub(dy);
+            out.y = s.y.wrapping_add(dx);
+            out.z = s.z.wrapping_sub(self.atan);
+        } else {
+            out.x = s.x.wrapping_add(dy);
+            out.y = s.y.wrapping_sub(dx);
+            out.z = s.z.wrapping_add(self.atan);
+        }
+        out
+    }
+}
+
+/// The last stage: multiplies each component by the constant 1/K_n (and clears the angle of a
+/// vectored zero vector).
+#[derive(Clone, Copy, Debug)]
+pub struct GainStage {
+    mode: Mode,
+    inv_gain: i32,
+    mask: i32,
+}
+
+impl GainStage {
+    fn new(mode: Mode, cfg: &CordicConfig) -> Self {
+        GainStage {
+            mode,
+            inv_gain: rom_round(INV_GAIN_Q62[cfg.iterations as usize], cfg.width - 2, 30),
+            mask: width_mask(cfg.width),
+        }
+    }
+
+    #[inline]
+    fn scale(&self, v: Unit) -> Unit {
+        // 32 × 32 → 64-bit product, back to Q2.30 by the constant shift 30 (truncating)
+        let p = (v.to_bits() as i64 * self.inv_gain as i64) >> 30;
+        Unit::from_bits(p as i32 & self.mask)
+    }
+
+    /// The stage's logic.
+    #[inline]
+    pub fn eval<P: Copy + Default>(&self, s: CordicSlot<P>) -> CordicSlot<P> {
+        let mut out = s;
+        out.x = self.scale(s.x);
+        out.y = self.scale(s.y);
+        if self.mode == Mode::Vector && s.zero {
+            out.z = Angle::ZERO;
+        }
+        out
+    }
+}
+
+/// A fully pipelined CORDIC: quadrant stage, `iterations` micro-rotations, gain stage.
+#[derive(Clone, Debug)]
+pub struct CordicPipe<P: Copy + Default> {
+    cfg: CordicConfig,
+    quadrant: QuadrantStage,
+    micro: [MicroRotation; super::MAX_ITERATIONS as usize],
+    gain: GainStage,
+    pipe: Pipe<CordicSlot<P>>,
+    pending: Option<CordicSlot<P>>,
+}
+
+impl<P: Copy + Default> CordicPipe<P> {
+    /// A pipe built for `cfg` (which must be valid: the register file refuses the others).
+    pub fn new(mode: Mode, cfg: CordicConfig) -> Self {
+        assert!(cfg.is_valid(), "invalid CORDIC configuration {cfg:?}");
+        CordicPipe {
+            cfg,
+            quadrant: QuadrantStage::new(mode, &cfg),
+            micro: core::array::from_fn(|i| MicroRotation::new(mode, i as u32, &cfg)),
+            gain: GainStage::new(mode, &cfg),
+            pipe: Pipe::new(cfg.latency() as usize),
+            pending: None,
+        }
+    }
+
+    /// The configuration it was built for.
+    pub fn config(&self) -> CordicConfig {
+        self.cfg
+    }
+
+    /// Latency in clocks.
+    pub fn latency(&self) -> u32 {
+        self.cfg.latency()
+    }
+
+    /// Vectors in flight.
+    pub fn occupancy(&self) -> u32 {
+        self.pipe.occupancy() + self.pending.is_some() as u32
+    }
+
+    /// Drops everything in flight.
+    pub fn flush(&mut self) {
+        self.pending = None;
+        self.pipe.flush();
+    }
+
+    /// Puts `s` into the quadrant stage's input register, for a unit that ticks its pipes
+    /// output-first (the value enters on the next `tick`, as if presented at this clock edge).
+    pub fn feed(&mut self, s: CordicSlot<P>) {
+        debug_assert!(self.pending.is_none(), "two inputs in one clock");
+        self.pending = Some(s);
+    }
+
+    /// One clock: `input` (or what was `feed`) enters the quadrant stage; returns the slot
+    /// leaving the gain stage.
+    #[inline]
+    pub fn tick(&mut self, input: Option<CordicSlot<P>>) -> Option<CordicSlot<P>> {
+        let n = self.cfg.iterations as usize;
+        let input = input.or(self.pending.take()).map(|s| self.quadrant.eval(s));
+        let micro = &self.micro;
+        let gain = &self.gain;
+        // register k feeds micro-rotation k (k < n) or the gain stage (k == n)
+        self.pipe.tick(input, |k, s| {
+            if k < n {
+                micro[k].eval(s)
+            } else {
+                gain.eval(s)
+            }
+        })
+    }
+}

@@ -1,0 +1,503 @@
+//! The accelerator as a whole: register file, FIFOs and control around the angle unit, the
+//! rotator and the intersection unit. [`Device::read`] and [`Device::write`] are the bus side;
+//! [`Device::tick`] is one clock.
+//!
+//! ```text
+//!  RAY_IN ─► ray FIFO ─┬─► rotator (3 CORDIC pipes) ─► ray queue ─► intersection unit ─► (u,v) ─► result FIFO ─► RESULT_OUT
+//!                      └─► frame entries ─► angle unit (vectoring CORDIC) ─► ψ θ φ ─┘
+//! ```
+//!
+//! Flow control is by credits, as in hardware: the rotator only takes an entry when the ray queue
+//! behind it will have room for everything in flight, and the intersection unit only starts a ray
+//! when the result FIFO will have room for it, so no pipeline ever stalls mid-way.
+
+use crate::cordic::CordicConfig;
+use crate::fifo::Fifo;
+use crate::format::{Angle, Coord, Unit};
+use crate::frame::{FrameRequest, FrameUnit};
+use crate::intersect::patch_mem::{PatchMem, PATCH_CAPACITY, PATCH_WORDS};
+use crate::intersect::{IntersectUnit, RayIn, RayOut};
+use crate::regs::{self, config, ctrl, error, irq, mode, result, status};
+use crate::rotator::{RotIn, Rotator};
+
+/// Ray FIFO depth (entries).
+pub const RAY_FIFO_DEPTH: usize = 32;
+/// Result FIFO depth (results).
+pub const RESULT_FIFO_DEPTH: usize = 32;
+/// Ray queue between the rotator and the intersection unit.
+const QUEUE_DEPTH: usize = 4;
+
+/// The reset value of CONFIG: 24 iterations, 32-bit words, 16 (u,v) levels.
+pub const CONFIG_RESET: u32 = 24 | (32 << config::WIDTH_SHIFT) | (16 << config::DEPTH_SHIFT);
+
+/// What a ray entry carries through the units.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Info {
+    mode: u32,
+    error: bool,
+    origin: [Coord; 3],
+}
+
+/// A ray FIFO entry: a ray (with its latched mode and origin) or a frame command, kept in order.
+#[derive(Clone, Copy, Debug, Default)]
+struct Entry {
+    frame: Option<FrameRequest>,
+    mode: u32,
+    origin: [Coord; 3],
+    dir: [Unit; 3],
+}
+
+/// Decoded CONFIG: CORDIC parameters and (u,v) depth, if valid.
+pub fn decode_config(v: u32) -> Option<(CordicConfig, u32)> {
+    let cfg = CordicConfig {
+        iterations: (v >> config::ITER_SHIFT) & 0x1F,
+        width: (v >> config::WIDTH_SHIFT) & 0x3F,
+    };
+    let depth = (v >> config::DEPTH_SHIFT) & 0x1F;
+    (cfg.is_valid() && (config::MIN_DEPTH..=config::MAX_DEPTH).contains(&depth))
+        .then_some((cfg, depth))
+}
+
+/// The accelerator.
+#[derive(Clone, Debug)]
+pub struct Device {
+    config_reg: u32,
+    config_active: u32,
+    enable: bool,
+    error: u32,
+    irq_status: u32,
+    irq_enable: u32,
+    cycles: u64,
+    busy_cycles: u64,
+    cycle_hi: u32,
+    busy_hi: u32,
+    results_done: u32,
+    mode: u32,
+    origin: [Coord; 3],
+    normal: [Unit; 3],
+    spin: [Unit; 2],
+    phi: [Unit; 2],
+    theta: [Unit; 2],
+    staging: [Unit; 3],
+    staged: usize,
+    ray_fifo: Fifo<Entry, RAY_FIFO_DEPTH>,
+    result_fifo: Fifo<[u32; 4], RESULT_FIFO_DEPTH>,
+    result_word: usize,
+    frame: FrameUnit,
+    frame_valid: bool,
+    rotator: Rotator<Info>,
+    queue: Fifo<RayIn<Info>, QUEUE_DEPTH>,
+    intersect: IntersectUnit<Info>,
+    mem: PatchMem,
+    patch_addr: u32,
+    patch_count: u32,
+    was_busy: bool,
+}
+
+impl Default for Device {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Device {
+    /// The device after power-on reset (patch memory zero, CONFIG at [`CONFIG_RESET`]).
+    pub fn new() -> Self {
+        let (cfg, depth) = decode_config(CONFIG_RESET).expect("reset configuration is valid");
+        Device {
+            config_reg: CONFIG_RESET,
+            config_active: CONFIG_RESET,
+            enable: false,
+            error: 0,
+            irq_status: 0,
+            irq_enable: 0,
+            cycles: 0,
+            busy_cycles: 0,
+            cycle_hi: 0,
+            busy_hi: 0,
+            results_done: 0,
+            mode: mode::TRACE,
+            origin: [Coord::ZERO; 3],
+            normal: [Unit::ZERO; 3],
+            spin: [Unit::ONE.wrapping_sub(Unit::DELTA), Unit::ZERO],
+            phi: [Unit::ZERO; 2],
+            theta: [Unit::ZERO; 2],
+            staging: [Unit::ZERO; 3],
+            staged: 0,
+            ray_fifo: Fifo::default(),
+            result_fifo: Fifo::default(),
+            result_word: 0,
+            frame: FrameUnit::new(cfg),
+            frame_valid: false,
+            rotator: Rotator::new(cfg),
+            queue: Fifo::default(),
+            intersect: IntersectUnit::new(depth),
+            mem: PatchMem::default(),
+            patch_addr: 0,
+            patch_count: 0,
+            was_busy: false,
+        }
+    }
+
+    /// The interrupt line: any enabled interrupt flag.
+    pub fn irq_line(&self) -> bool {
+        self.irq_status & self.irq_enable != 0
+    }
+
+    /// Clocks since reset.
+    pub fn cycles(&self) -> u64 {
+        self.cycles
+    }
+
+    fn busy(&self) -> bool {
+        !self.ray_fifo.is_empty()
+            || self.frame.busy()
+            || self.rotator.occupancy() > 0
+            || !self.queue.is_empty()
+            || self.intersect.in_flight() > 0
+    }
+
+    fn raise(&mut self, bits: u32) {
+        self.error |= bits;
+        self.irq_status |= irq::ERROR;
+    }
+
+    fn soft_reset(&mut self) {
+        // patch memory and the configuration in force survive; everything else is reset
+        let mem = core::mem::take(&mut self.mem);
+        let (config, patch_count) = (self.config_active, self.patch_count);
+        let (cfg, depth) = decode_config(config).expect("active configuration is valid");
+        *self = Device::new();
+        self.mem = mem;
+        self.config_reg = config;
+        self.config_active = config;
+        self.patch_count = patch_count;
+        self.rotator = Rotator::new(cfg);
+        self.frame = FrameUnit::new(cfg);
+        self.intersect = IntersectUnit::new(depth);
+    }
+
+    fn apply_config(&mut self) {
+        if self.busy() {
+            self.raise(error::CONFIG_BUSY);
+            return;
+        }
+        match decode_config(self.config_reg) {
+            Some((cfg, depth)) => {
+                self.config_active = self.config_reg;
+                self.rotator = Rotator::new(cfg);
+                self.frame = FrameUnit::new(cfg);
+                self.frame_valid = false;
+                self.intersect = IntersectUnit::new(depth);
+            }
+            None => self.raise(error::BAD_CONFIG),
+        }
+    }
+
+    fn push_entry(&mut self, e: Entry) {
+        if self.ray_fifo.push(e).is_err() {
+            self.raise(error::RAY_OVERFLOW);
+        }
+    }
+
+    fn status(&self) -> u32 {
+        let mut s = 0;
+        if self.busy() {
+            s |= status::BUSY;
+        }
+        if self.frame.busy() {
+            s |= status::FRAME_BUSY;
+        }
+        if self.frame_valid {
+            s |= status::FRAME_VALID;
+        }
+        if self.ray_fifo.is_full() {
+            s |= status::RAY_FULL;
+        }
+        if !self.result_fifo.is_empty() {
+            s |= status::RESULT_READY;
+        }
+        s | (self.ray_fifo.len() as u32) << status::RAY_LEVEL_SHIFT
+            | (self.result_fifo.len() as u32) << status::RESULT_LEVEL_SHIFT
+    }
+
+    /// A bus read of the register at byte offset `offset` (reads of RESULT_OUT, CYCLE_LO and
+    /// BUSY_LO have side effects). Unmapped offsets read 0.
+    pub fn read(&mut self, offset: u32) -> u32 {
+        let angle = |a: Angle| a.to_bits() as u32;
+        match offset {
+            regs::ID => regs::ID_VALUE,
+            regs::VERSION => regs::VERSION_VALUE,
+            regs::CAPS => {
+                RAY_FIFO_DEPTH as u32
+                    | (RESULT_FIFO_DEPTH as u32) << 8
+                    | (PATCH_CAPACITY as u32) << 16
+            }
+            regs::CTRL => self.enable as u32,
+            regs::STATUS => self.status(),
+            regs::ERROR => self.error,
+            regs::IRQ_STATUS => self.irq_status,
+            regs::IRQ_ENABLE => self.irq_enable,
+            regs::CONFIG => self.config_reg,
+            regs::CONFIG_ACTIVE => self.config_active,
+            regs::CYCLE_LO => {
+                self.cycle_hi = (self.cycles >> 32) as u32;
+                self.cycles as u32
+            }
+            regs::CYCLE_HI => self.cycle_hi,
+            regs::BUSY_LO => {
+                self.busy_hi = (self.busy_cycles >> 32) as u32;
+                self.busy_cycles as u32
+            }
+            regs::BUSY_HI => self.busy_hi,
+            regs::RESULTS_DONE => self.results_done,
+            regs::MODE => self.mode,
+            regs::ORIGIN_X => self.origin[0].to_bits() as u32,
+            regs::ORIGIN_Y => self.origin[1].to_bits() as u32,
+            regs::ORIGIN_Z => self.origin[2].to_bits() as u32,
+            regs::NORMAL_X => self.normal[0].to_bits() as u32,
+            regs::NORMAL_Y => self.normal[1].to_bits() as u32,
+            regs::NORMAL_Z => self.normal[2].to_bits() as u32,
+            regs::SPIN_C => self.spin[0].to_bits() as u32,
+            regs::SPIN_S => self.spin[1].to_bits() as u32,
+            regs::PHI_C => self.phi[0].to_bits() as u32,
+            regs::PHI_S => self.phi[1].to_bits() as u32,
+            regs::THETA_C => self.theta[0].to_bits() as u32,
+            regs::THETA_S => self.theta[1].to_bits() as u32,
+            regs::FRAME_PSI => angle(self.frame.angles()[0]),
+            regs::FRAME_THETA => angle(self.frame.angles()[1]),
+            regs::FRAME_PHI => angle(self.frame.angles()[2]),
+            regs::RESULT_OUT => match self.result_fifo.front() {
+                Some(r) => {
+                    let w = r[self.result_word];
+                    self.result_word += 1;
+                    if self.result_word == 4 {
+                        self.result_word = 0;
+                        self.result_fifo.pop();
+                    }
+                    w
+                }
+                None => {
+                    self.raise(error::RESULT_UNDERFLOW);
+                    0
+                }
+            },
+            regs::PATCH_ADDR => self.patch_addr,
+            regs::PATCH_DATA => {
+                let v = self.mem.read(self.patch_addr);
+                if v.is_none() {
+                    self.raise(error::PATCH_RANGE);
+                }
+                self.patch_addr = self.patch_addr.wrapping_add(1);
+                v.unwrap_or(0)
+            }
+            regs::PATCH_COUNT => self.patch_count,
+            _ => 0,
+        }
+    }
+
+    /// A bus write of `value` to the register at byte offset `offset`. Writes to read-only or
+    /// unmapped offsets are ignored.
+    pub fn write(&mut self, offset: u32, value: u32) {
+        let unit = Unit::from_bits(value as i32);
+        match offset {
+            regs::CTRL => {
+                if value & ctrl::SOFT_RESET != 0 {
+                    self.soft_reset();
+                    return;
+                }
+                self.enable = value & ctrl::ENABLE != 0;
+                if value & ctrl::APPLY_CONFIG != 0 {
+                    self.apply_config();
+                }
+                if value & ctrl::FRAME_NORMAL != 0 {
+                    let req = FrameRequest::Normal {
+                        n: self.normal,
+                        spin: self.spin,
+                    };
+                    self.push_entry(Entry {
+                        frame: Some(req),
+                        ..Entry::default()
+                    });
+                }
+                if value & ctrl::FRAME_PAIRS != 0 {
+                    let req = FrameRequest::Pairs {
+                        phi: self.phi,
+                        theta: self.theta,
+                        psi: self.spin,
+                    };
+                    self.push_entry(Entry {
+                        frame: Some(req),
+                        ..Entry::default()
+                    });
+                }
+            }
+            regs::ERROR => self.error &= !value,
+            regs::IRQ_STATUS => self.irq_status &= !value,
+            regs::IRQ_ENABLE => self.irq_enable = value & 0xF,
+            regs::CONFIG => self.config_reg = value,
+            regs::MODE => {
+                if value <= mode::ROTATE_TRACE {
+                    self.mode = value;
+                } else {
+                    self.raise(error::BAD_CONFIG);
+                }
+            }
+            regs::ORIGIN_X => self.origin[0] = Coord::from_bits(value as i32),
+            regs::ORIGIN_Y => self.origin[1] = Coord::from_bits(value as i32),
+            regs::ORIGIN_Z => self.origin[2] = Coord::from_bits(value as i32),
+            regs::NORMAL_X => self.normal[0] = unit,
+            regs::NORMAL_Y => self.normal[1] = unit,
+            regs::NORMAL_Z => self.normal[2] = unit,
+            regs::SPIN_C => self.spin[0] = unit,
+            regs::SPIN_S => self.spin[1] = unit,
+            regs::PHI_C => self.phi[0] = unit,
+            regs::PHI_S => self.phi[1] = unit,
+            regs::THETA_C => self.theta[0] = unit,
+            regs::THETA_S => self.theta[1] = unit,
+            regs::RAY_IN => {
+                self.staging[self.staged] = unit;
+                self.staged += 1;
+                if self.staged == 3 {
+                    self.staged = 0;
+                    let e = Entry {
+                        frame: None,
+                        mode: self.mode,
+                        origin: self.origin,
+                        dir: self.staging,
+                    };
+                    self.push_entry(e);
+                }
+            }
+            regs::PATCH_ADDR => self.patch_addr = value,
+            regs::PATCH_DATA => {
+                if self.busy() {
+                    self.raise(error::PATCH_BUSY);
+                } else if self.mem.write(self.patch_addr, value) {
+                    self.intersect.invalidate();
+                } else {
+                    self.raise(error::PATCH_RANGE);
+                }
+                self.patch_addr = self.patch_addr.wrapping_add(1);
+            }
+            regs::PATCH_COUNT => {
+                if self.busy() {
+                    self.raise(error::PATCH_BUSY);
+                } else if value as usize > PATCH_CAPACITY {
+                    self.raise(error::PATCH_RANGE);
+                } else {
+                    self.patch_count = value;
+                    self.intersect.invalidate();
+                }
+            }
+            _ => {}
+        }
+    }
+
+    fn result_words(r: &RayOut<Info>) -> [u32; 4] {
+        if r.ray.info.error {
+            return [result::ERROR, 0, 0, 0];
+        }
+        if r.ray.info.mode == mode::ROTATE {
+            let d = r.ray.dir.map(|c| c.to_bits() as u32);
+            return [result::ROTATED, d[0], d[1], d[2]];
+        }
+        match r.hit {
+            Some(h) => [
+                result::HIT | if h.front { result::FRONT } else { 0 } | h.patch,
+                h.t.to_bits() as u32,
+                h.u.to_bits() as u32,
+                h.v.to_bits() as u32,
+            ],
+            None => [0; 4],
+        }
+    }
+
+    /// One clock.
+    pub fn tick(&mut self) {
+        // intersection unit → result FIFO (room was reserved when the ray started)
+        if let Some(r) = self.intersect.tick(&self.mem, self.patch_count) {
+            let words = Self::result_words(&r);
+            let pushed = self.result_fifo.push(words);
+            debug_assert!(pushed.is_ok(), "result credit accounting");
+            self.results_done = self.results_done.wrapping_add(1);
+            self.irq_status |= irq::RESULT;
+        }
+        if core::mem::take(&mut self.intersect.unsupported) {
+            self.raise(error::UNSUPPORTED_PATCH);
+        }
+        if self.intersect.ready() {
+            let credit = self.result_fifo.len() as u32 + self.intersect.in_flight();
+            if (credit as usize) < RESULT_FIFO_DEPTH {
+                if let Some(r) = self.queue.pop() {
+                    self.intersect.start(r);
+                }
+            }
+        }
+        // ray FIFO → angle unit or rotator
+        let mut rot_in = None;
+        if self.enable {
+            if let Some(e) = self.ray_fifo.front().copied() {
+                match e.frame {
+                    Some(req) => {
+                        if !self.frame.busy() {
+                            self.ray_fifo.pop();
+                            self.frame.start(req);
+                        }
+                    }
+                    None => {
+                        let rotates = e.mode != mode::TRACE;
+                        let room =
+                            (self.rotator.occupancy() as usize + self.queue.len()) < QUEUE_DEPTH;
+                        if room && !(rotates && self.frame.busy()) {
+                            self.ray_fifo.pop();
+                            let no_frame = rotates && !self.frame_valid;
+                            if no_frame {
+                                self.raise(error::NO_FRAME);
+                            }
+                            rot_in = Some(RotIn {
+                                dir: e.dir,
+                                angles: self.frame.angles(),
+                                bypass: !rotates || no_frame,
+                                info: Info {
+                                    mode: e.mode,
+                                    error: no_frame,
+                                    origin: e.origin,
+                                },
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        if let Some((dir, info)) = self.rotator.tick(rot_in) {
+            // room was reserved when the entry left the FIFO
+            let pushed = self.queue.push(RayIn {
+                origin: info.origin,
+                dir,
+                bypass: info.mode == mode::ROTATE || info.error,
+                info,
+            });
+            debug_assert!(pushed.is_ok(), "queue credit accounting");
+        }
+        if self.frame.tick() {
+            self.frame_valid = true;
+            self.irq_status |= irq::FRAME;
+        }
+        let busy = self.busy();
+        if busy {
+            self.busy_cycles += 1;
+        } else if self.was_busy {
+            self.irq_status |= irq::IDLE;
+        }
+        self.was_busy = busy;
+        self.cycles += 1;
+    }
+
+    /// Patch memory (for white-box tests of the units).
+    pub fn patch_mem(&self) -> &PatchMem {
+        &self.mem
+    }
+}
+
+const _: () = assert!(PATCH_WORDS == 16);

@@ -1,0 +1,299 @@
+//! The driver: everything software does with the accelerator, written once against
+//! [`RegisterAccess`]. On the board that trait is volatile MMIO at the accelerator's base address
+//! (in `hemi-firmware`, the only `unsafe`); here [`ModelBus`] implements it over the model, one
+//! clock per bus access, so host runs and QEMU runs drive the same code the board runs.
+
+use crate::device::Device;
+use crate::regs::{self, config, ctrl, error, result, status};
+
+/// 32-bit register access at byte offsets from the accelerator's base.
+pub trait RegisterAccess {
+    /// Reads the register at `offset`.
+    fn read(&mut self, offset: u32) -> u32;
+    /// Writes `value` to the register at `offset`.
+    fn write(&mut self, offset: u32, value: u32);
+}
+
+/// The model behind a bus: every access takes one clock (the device ticks after it), as a
+/// single-cycle APB-style slave would.
+#[derive(Clone, Debug, Default)]
+pub struct ModelBus {
+    dev: Device,
+}
+
+impl ModelBus {
+    /// A bus to a freshly reset model.
+    pub fn new() -> Self {
+        ModelBus { dev: Device::new() }
+    }
+
+    /// The model (read-only: for its clock and for white-box tests).
+    pub fn device(&self) -> &Device {
+        &self.dev
+    }
+
+    /// Lets `n` clocks pass without a bus access.
+    pub fn idle(&mut self, n: u64) {
+        for _ in 0..n {
+            self.dev.tick();
+        }
+    }
+}
+
+impl RegisterAccess for ModelBus {
+    #[inline]
+    fn read(&mut self, offset: u32) -> u32 {
+        let v = self.dev.read(offset);
+        self.dev.tick();
+        v
+    }
+
+    #[inline]
+    fn write(&mut self, offset: u32, value: u32) {
+        self.dev.write(offset, value);
+        self.dev.tick();
+    }
+}
+
+/// What went wrong talking to the accelerator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DriverError {
+    /// ID or major version not what this driver speaks (the read values).
+    WrongDevice {
+        /// ID read.
+        id: u32,
+        /// VERSION read.
+        version: u32,
+    },
+    /// The device refused the configuration (ERROR bits).
+    BadConfig(u32),
+    /// A patch memory write failed (ERROR bits).
+    PatchMemory(u32),
+    /// No progress for too long (STATUS at the time).
+    Timeout(u32),
+    /// An ERROR bit appeared while streaming (ERROR bits).
+    Device(u32),
+}
+
+/// Polls without progress before a stream gives up: far above any latency the model has
+/// (a set-up pass over a full patch memory plus a scan is about 2 × 1024 clocks).
+const STALL_LIMIT: u32 = 1 << 20;
+
+/// The accelerator's driver over a register bus.
+#[derive(Clone, Debug)]
+pub struct Driver<B: RegisterAccess> {
+    bus: B,
+    ray_depth: u32,
+    patch_capacity: u32,
+}
+
+impl<B: RegisterAccess> Driver<B> {
+    /// Checks the ID and version, learns the FIFO depth, and enables the device.
+    pub fn new(mut bus: B) -> Result<Self, DriverError> {
+        let id = bus.read(regs::ID);
+        let version = bus.read(regs::VERSION);
+        if id != regs::ID_VALUE || version >> 16 != regs::VERSION_VALUE >> 16 {
+            return Err(DriverError::WrongDevice { id, version });
+        }
+        let caps = bus.read(regs::CAPS);
+        bus.write(regs::CTRL, ctrl::ENABLE);
+        Ok(Driver {
+            bus,
+            ray_depth: caps & 0xFF,
+            patch_capacity: caps >> 16,
+        })
+    }
+
+    /// The bus.
+    pub fn bus(&self) -> &B {
+        &self.bus
+    }
+
+    /// The bus, mutably (for register-level tests).
+    pub fn bus_mut(&mut self) -> &mut B {
+        &mut self.bus
+    }
+
+    /// Patch slots the memory holds.
+    pub fn patch_capacity(&self) -> u32 {
+        self.patch_capacity
+    }
+
+    /// Soft reset: drops all work in flight, keeps patch memory and configuration.
+    pub fn reset(&mut self) {
+        self.bus.write(regs::CTRL, ctrl::SOFT_RESET);
+        self.bus.write(regs::CTRL, ctrl::ENABLE);
+    }
+
+    /// Reads and clears the ERROR register.
+    pub fn take_errors(&mut self) -> u32 {
+        let e = self.bus.read(regs::ERROR);
+        if e != 0 {
+            self.bus.write(regs::ERROR, e);
+        }
+        e
+    }
+
+    /// Applies CORDIC iterations, word width and (u,v) depth; refused configurations leave the
+    /// device as it was.
+    pub fn configure(
+        &mut self,
+        iterations: u32,
+        width: u32,
+        depth: u32,
+    ) -> Result<(), DriverError> {
+        self.take_errors();
+        let v = (iterations & 0x1F) << config::ITER_SHIFT
+            | (width & 0x3F) << config::WIDTH_SHIFT
+            | (depth & 0x1F) << config::DEPTH_SHIFT;
+        self.bus.write(regs::CONFIG, v);
+        self.bus
+            .write(regs::CTRL, ctrl::ENABLE | ctrl::APPLY_CONFIG);
+        let e = self.take_errors();
+        if e & (error::BAD_CONFIG | error::CONFIG_BUSY) != 0
+            || self.bus.read(regs::CONFIG_ACTIVE) != v
+        {
+            return Err(DriverError::BadConfig(e));
+        }
+        Ok(())
+    }
+
+    /// Writes `slots` (each one patch slot's words) from slot 0 and sets PATCH_COUNT.
+    pub fn load_patches<W: AsRef<[u32]>>(
+        &mut self,
+        slots: impl IntoIterator<Item = W>,
+    ) -> Result<(), DriverError> {
+        self.take_errors();
+        self.bus.write(regs::PATCH_ADDR, 0);
+        let mut count = 0;
+        for slot in slots {
+            for &w in slot.as_ref() {
+                self.bus.write(regs::PATCH_DATA, w);
+            }
+            count += 1;
+        }
+        self.bus.write(regs::PATCH_COUNT, count);
+        match self.take_errors() {
+            0 => Ok(()),
+            e => Err(DriverError::PatchMemory(e)),
+        }
+    }
+
+    /// Sets the MODE of the entries pushed from now on.
+    pub fn set_mode(&mut self, mode: u32) {
+        self.bus.write(regs::MODE, mode);
+    }
+
+    /// Sets the origin (Q8.24 words) of the entries pushed from now on.
+    pub fn set_origin(&mut self, origin: [u32; 3]) {
+        self.bus.write(regs::ORIGIN_X, origin[0]);
+        self.bus.write(regs::ORIGIN_Y, origin[1]);
+        self.bus.write(regs::ORIGIN_Z, origin[2]);
+    }
+
+    /// Queues a frame from (cos, sin) pairs of φ, θ, ψ (Q2.30 words); later rotate entries use it.
+    pub fn frame_from_pairs(&mut self, phi: [u32; 2], theta: [u32; 2], psi: [u32; 2]) {
+        self.bus.write(regs::PHI_C, phi[0]);
+        self.bus.write(regs::PHI_S, phi[1]);
+        self.bus.write(regs::THETA_C, theta[0]);
+        self.bus.write(regs::THETA_S, theta[1]);
+        self.bus.write(regs::SPIN_C, psi[0]);
+        self.bus.write(regs::SPIN_S, psi[1]);
+        self.bus.write(regs::CTRL, ctrl::ENABLE | ctrl::FRAME_PAIRS);
+    }
+
+    /// Queues a frame from a normal and the spin (cos ψ, sin ψ) (Q2.30 words).
+    pub fn frame_from_normal(&mut self, n: [u32; 3], psi: [u32; 2]) {
+        self.bus.write(regs::NORMAL_X, n[0]);
+        self.bus.write(regs::NORMAL_Y, n[1]);
+        self.bus.write(regs::NORMAL_Z, n[2]);
+        self.bus.write(regs::SPIN_C, psi[0]);
+        self.bus.write(regs::SPIN_S, psi[1]);
+        self.bus
+            .write(regs::CTRL, ctrl::ENABLE | ctrl::FRAME_NORMAL);
+    }
+
+    /// Waits until the queued work (frames included) is done; returns the angles ψ, θ, φ.
+    pub fn wait_idle(&mut self) -> Result<[u32; 3], DriverError> {
+        let mut polls = 0;
+        loop {
+            let s = self.bus.read(regs::STATUS);
+            if s & status::BUSY == 0 {
+                break;
+            }
+            polls += 1;
+            if polls > STALL_LIMIT {
+                return Err(DriverError::Timeout(s));
+            }
+        }
+        Ok([
+            self.bus.read(regs::FRAME_PSI),
+            self.bus.read(regs::FRAME_THETA),
+            self.bus.read(regs::FRAME_PHI),
+        ])
+    }
+
+    /// Pushes one direction (Q2.30 words) into the ray FIFO.
+    pub fn push_ray(&mut self, dir: [u32; 3]) {
+        self.bus.write(regs::RAY_IN, dir[0]);
+        self.bus.write(regs::RAY_IN, dir[1]);
+        self.bus.write(regs::RAY_IN, dir[2]);
+    }
+
+    /// Reads one result (four words) from the result FIFO.
+    pub fn pop_result(&mut self) -> [u32; 4] {
+        core::array::from_fn(|_| self.bus.read(regs::RESULT_OUT))
+    }
+
+    /// Streams `n` rays: pushes `dir(i)` as the ray FIFO has room and hands each result to
+    /// `sink(i, words)` in order. One STATUS read per round tells both how much room there is
+    /// and how many results wait.
+    pub fn stream(
+        &mut self,
+        n: usize,
+        mut dir: impl FnMut(usize) -> [u32; 3],
+        mut sink: impl FnMut(usize, [u32; 4]),
+    ) -> Result<(), DriverError> {
+        let (mut pushed, mut popped, mut stalls) = (0usize, 0usize, 0u32);
+        while popped < n {
+            let s = self.bus.read(regs::STATUS);
+            let ray_level = (s >> status::RAY_LEVEL_SHIFT) & 0xFF;
+            let ready = ((s >> status::RESULT_LEVEL_SHIFT) & 0xFF) as usize;
+            let room = (self.ray_depth - ray_level) as usize;
+            let k = room.min(n - pushed);
+            for _ in 0..k {
+                self.push_ray(dir(pushed));
+                pushed += 1;
+            }
+            for _ in 0..ready {
+                let r = self.pop_result();
+                if r[0] & result::ERROR != 0 {
+                    return Err(DriverError::Device(self.take_errors()));
+                }
+                sink(popped, r);
+                popped += 1;
+            }
+            if k == 0 && ready == 0 {
+                stalls += 1;
+                if stalls > STALL_LIMIT {
+                    return Err(DriverError::Timeout(s));
+                }
+            } else {
+                stalls = 0;
+            }
+        }
+        Ok(())
+    }
+
+    /// Clocks since reset (CYCLE_LO latches CYCLE_HI).
+    pub fn cycles(&mut self) -> u64 {
+        let lo = self.bus.read(regs::CYCLE_LO) as u64;
+        lo | (self.bus.read(regs::CYCLE_HI) as u64) << 32
+    }
+
+    /// Clocks with work in flight since reset.
+    pub fn busy_cycles(&mut self) -> u64 {
+        let lo = self.bus.read(regs::BUSY_LO) as u64;
+        lo | (self.bus.read(regs::BUSY_HI) as u64) << 32
+    }
+}

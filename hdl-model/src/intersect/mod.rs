@@ -1,0 +1,394 @@
+//! The intersection unit of paper §6.1 and fig. 7: the nearest hit of a ray over patch memory.
+//!
+//! It keeps, per patch, the edge normals and plane distance seen from the current origin (its
+//! "local memory", like the soft engine's `LocalPatch`): when a ray arrives from a new origin,
+//! a set-up pass of one patch per clock fills it. Hemisphere rays share their origin, so the pass
+//! is paid once per hemisphere. Then one patch is tested per clock, through a pipeline:
+//!
+//! 1. [`EdgeStage`]: the ray is inside the patch's pyramid iff d · e_i ≥ 0 for every edge
+//!    normal e_i = a_i × a_{i+1} (a_i = v_i − O, sign flipped to the side the origin is on), and
+//!    the denominator n · d is formed. Edge normals are exact integers, and neighbours that share
+//!    an edge hold exactly opposite ones, so a ray through an edge hits one of them (no leaks).
+//! 2. [`DivideStage`]: t = h / (n · d), a pipelined divider of [`DIV_LATENCY`] clocks (modelled
+//!    as one exact integer quotient followed by a delay line; a restoring divider gives the same
+//!    truncated quotient).
+//! 3. [`SelectStage`]: keeps the nearest positive t of the ray and emits it after the ray's last
+//!    patch.
+//!
+//! Then the (u,v) pipe ([`uv`]) locates the hit point on the hit patch. Widths: coordinates Q8.24
+//! (32 bits), a_i 34 bits, e_i ≤ 62 bits (an origin-wide truncation keeps far origins in range),
+//! d · e_i and h, n · d up to 98 bits (i128 containers), t Q8.24.
+//!
+//! Only planar kinds are scanned; a slot of another kind (the Bezier kind reserved for the
+//! bounding-box subdivision unit with its on-chip stack, paper §6.1 and §7) is skipped and
+//! reported through the UNSUPPORTED_PATCH error.
+
+pub mod patch_mem;
+pub mod uv;
+
+use crate::format::{Coord, Unit};
+use crate::pipe::{Delay, Pipe};
+use patch_mem::{PatchMem, PatchWords, KIND_EMPTY, KIND_QUAD, KIND_TRIANGLE, PATCH_CAPACITY};
+use uv::{Cell, UvStage};
+
+/// Clocks of the pipelined divider (a quotient bit per clock for a 32-bit t plus two).
+pub const DIV_LATENCY: usize = 34;
+
+/// Plane distances (raw Q.54) at or below this count as "origin in the patch's plane": its own
+/// patch and coplanar neighbours only graze. 2^-20 of the normalised scene half-size.
+pub const PLANE_EPS: i128 = 1 << 34;
+
+/// The per-patch set-up for one origin.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LocalPatch {
+    e: [[i64; 3]; 4],
+    sides: u8,
+    n: [i32; 3],
+    h: i128,
+    active: bool,
+}
+
+/// A ray for the unit, with the info the device carries through.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RayIn<T: Copy + Default> {
+    /// Origin, Q8.24.
+    pub origin: [Coord; 3],
+    /// Unit direction, Q2.30.
+    pub dir: [Unit; 3],
+    /// Skip the scan (rotate-only entries): one clock, no hit.
+    pub bypass: bool,
+    /// Carried to the result.
+    pub info: T,
+}
+
+/// The nearest hit of a ray.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct HitOut {
+    /// Patch index.
+    pub patch: u32,
+    /// Distance, Q8.24.
+    pub t: Coord,
+    /// u and v, Q2.30.
+    pub u: Unit,
+    /// v.
+    pub v: Unit,
+    /// The front side was hit.
+    pub front: bool,
+}
+
+/// A finished ray.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RayOut<T: Copy + Default> {
+    /// The ray as it came in.
+    pub ray: RayIn<T>,
+    /// Its nearest hit.
+    pub hit: Option<HitOut>,
+}
+
+#[derive(Clone, Copy, Debug, Default)]
+struct Token<T: Copy + Default> {
+    ray: RayIn<T>,
+    patch: u32,
+    first: bool,
+    last: bool,
+    /// the ray is inside this patch's pyramid (edge stage result)
+    inside: bool,
+    h: i128,
+    den: i128,
+    t: i64,
+    front: bool,
+}
+
+/// Stage 1: edge tests and the denominator.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct EdgeStage;
+
+impl EdgeStage {
+    fn eval<T: Copy + Default>(&self, mut tok: Token<T>, lp: &LocalPatch) -> Token<T> {
+        if tok.ray.bypass || !lp.active {
+            tok.inside = false;
+            return tok;
+        }
+        let d = tok.ray.dir.map(|c| c.to_bits() as i128);
+        let mut inside = true;
+        for e in &lp.e[..lp.sides as usize] {
+            let s = d[0] * e[0] as i128 + d[1] * e[1] as i128 + d[2] * e[2] as i128;
+            inside &= s >= 0;
+        }
+        tok.inside = inside;
+        tok.h = lp.h;
+        tok.den = d[0] * lp.n[0] as i128 + d[1] * lp.n[1] as i128 + d[2] * lp.n[2] as i128;
+        tok.front = lp.h < 0;
+        tok
+    }
+}
+
+/// Stage 2: t = h / (n · d) as Q8.24, or "no hit" (t ≤ 0, parallel, out of range).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct DivideStage;
+
+impl DivideStage {
+    fn eval<T: Copy + Default>(&self, mut tok: Token<T>) -> Token<T> {
+        if !tok.inside || tok.den == 0 {
+            tok.inside = false;
+            return tok;
+        }
+        // h is Q.54, n·d Q.60: (h << 30) / (n·d) is Q.24
+        let q = (tok.h << 30) / tok.den;
+        if q <= 0 || q > i32::MAX as i128 {
+            tok.inside = false;
+        } else {
+            tok.t = q as i64;
+        }
+        tok
+    }
+}
+
+/// Stage 3: the running minimum of one ray.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SelectStage<T: Copy + Default> {
+    best: Option<(u32, i64, bool)>,
+    _ray: core::marker::PhantomData<T>,
+}
+
+impl<T: Copy + Default> SelectStage<T> {
+    fn eval(&mut self, tok: Token<T>) -> Option<(RayIn<T>, Option<(u32, i64, bool)>)> {
+        if tok.first {
+            self.best = None;
+        }
+        if tok.inside && self.best.is_none_or(|(_, t, _)| tok.t < t) {
+            self.best = Some((tok.patch, tok.t, tok.front));
+        }
+        tok.last.then(|| (tok.ray, self.best.take()))
+    }
+}
+
+/// The unit.
+#[derive(Clone, Debug)]
+pub struct IntersectUnit<T: Copy + Default> {
+    local: [LocalPatch; PATCH_CAPACITY],
+    local_origin: Option<[Coord; 3]>,
+    /// ray being issued, the next patch to issue, and the set-up patch counter
+    current: Option<RayIn<T>>,
+    next_patch: u32,
+    setup_next: Option<u32>,
+    edge_reg: Option<Token<T>>,
+    divide: Delay<Token<T>, DIV_LATENCY>,
+    select: SelectStage<T>,
+    uv: Pipe<(Cell, bool, RayOut<T>)>,
+    depth: u32,
+    in_flight: u32,
+    /// set when a slot of an unsupported kind was scanned
+    pub unsupported: bool,
+}
+
+impl<T: Copy + Default> IntersectUnit<T> {
+    /// An idle unit whose (u,v) pipe has `depth` levels (1..=24).
+    pub fn new(depth: u32) -> Self {
+        IntersectUnit {
+            local: [LocalPatch::default(); PATCH_CAPACITY],
+            local_origin: None,
+            current: None,
+            next_patch: 0,
+            setup_next: None,
+            edge_reg: None,
+            divide: Delay::default(),
+            select: SelectStage::default(),
+            uv: Pipe::new(depth as usize + 1),
+            depth,
+            in_flight: 0,
+            unsupported: false,
+        }
+    }
+
+    /// Whether a new ray can be started this clock.
+    pub fn ready(&self) -> bool {
+        self.current.is_none()
+    }
+
+    /// Rays started and not yet out of the (u,v) pipe.
+    pub fn in_flight(&self) -> u32 {
+        self.in_flight
+    }
+
+    /// Starts a ray (when [`IntersectUnit::ready`]).
+    pub fn start(&mut self, ray: RayIn<T>) {
+        debug_assert!(self.ready());
+        self.in_flight += 1;
+        self.next_patch = 0;
+        if !ray.bypass && self.local_origin != Some(ray.origin) {
+            self.setup_next = Some(0);
+        }
+        self.current = Some(ray);
+    }
+
+    /// Forgets the set-up (patch memory was written).
+    pub fn invalidate(&mut self) {
+        self.local_origin = None;
+    }
+
+    /// Drops everything in flight.
+    pub fn flush(&mut self) {
+        self.current = None;
+        self.setup_next = None;
+        self.edge_reg = None;
+        self.divide.flush();
+        self.select = SelectStage::default();
+        self.uv.flush();
+        self.in_flight = 0;
+        self.local_origin = None;
+    }
+
+    fn setup(&mut self, mem: &PatchMem, i: usize, origin: [Coord; 3]) {
+        let p: PatchWords = mem.patch(i);
+        let mut lp = LocalPatch::default();
+        if p.kind == KIND_EMPTY {
+            self.local[i] = lp;
+            return;
+        }
+        if p.kind != KIND_TRIANGLE && p.kind != KIND_QUAD {
+            self.unsupported = true;
+            self.local[i] = lp;
+            return;
+        }
+        let o = origin.map(|c| c.to_bits() as i64);
+        let sides = p.sides();
+        let a: [[i64; 3]; 4] =
+            core::array::from_fn(|k| core::array::from_fn(|c| p.v[k][c].to_bits() as i64 - o[c]));
+        let n = p.n.map(|c| c.to_bits());
+        let h: i128 = (0..3).map(|c| n[c] as i128 * a[0][c] as i128).sum();
+        if h.abs() <= PLANE_EPS {
+            self.local[i] = lp;
+            return;
+        }
+        // origin-wide truncation: a far origin (|a| up to 2^33) would need 67-bit edge normals;
+        // shifting every patch's by the same amount, towards zero, keeps shared edges exactly
+        // opposite.
+        let amax = o.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0) + (1 << 25);
+        let bits = 64 - amax.leading_zeros();
+        let shift = (2 * bits + 2).saturating_sub(62);
+        let s: i128 = if h > 0 { 1 } else { -1 };
+        for k in 0..sides {
+            let (u, v) = (a[k], a[(k + 1) % sides]);
+            let cross = [
+                u[1] as i128 * v[2] as i128 - u[2] as i128 * v[1] as i128,
+                u[2] as i128 * v[0] as i128 - u[0] as i128 * v[2] as i128,
+                u[0] as i128 * v[1] as i128 - u[1] as i128 * v[0] as i128,
+            ];
+            // division by a power of two rounds towards zero: −x keeps giving −(x/2^k)
+            lp.e[k] = cross.map(|c| ((c * s) / (1i128 << shift)) as i64);
+        }
+        lp.sides = sides as u8;
+        lp.n = n;
+        lp.h = h;
+        lp.active = true;
+        self.local[i] = lp;
+    }
+
+    /// One clock over the first `count` slots of `mem`; returns the ray leaving the (u,v) pipe.
+    pub fn tick(&mut self, mem: &PatchMem, count: u32) -> Option<RayOut<T>> {
+        // (u,v) pipe, fed by the select stage
+        let depth = self.depth;
+        let out = self.uv.tick(None, |_, s| {
+            if s.1 {
+                (UvStage.eval(s.0), true, s.2)
+            } else {
+                s
+            }
+        });
+        if let Some((cell, hit, mut r)) = out {
+            if hit {
+                if let Some(h) = r.hit.as_mut() {
+                    h.u = uv::centre(cell.iu, depth);
+                    h.v = uv::centre(cell.iv, depth);
+                }
+            }
+            self.in_flight -= 1;
+            return self.finish_tick(mem, count, Some(r));
+        }
+        self.finish_tick(mem, count, None)
+    }
+
+    fn finish_tick(
+        &mut self,
+        mem: &PatchMem,
+        count: u32,
+        out: Option<RayOut<T>>,
+    ) -> Option<RayOut<T>> {
+        // divider output → select → (u,v) pipe entry
+        if let Some(tok) = self
+            .divide
+            .tick(self.edge_reg.take().map(|t| DivideStage.eval(t)))
+        {
+            if let Some((ray, best)) = self.select.eval(tok) {
+                let entry = match best {
+                    Some((patch, t, front)) => {
+                        let p = mem.patch(patch as usize);
+                        let o = ray.origin.map(|c| c.to_bits() as i64);
+                        let d = ray.dir.map(|c| c.to_bits() as i64);
+                        // P = O + t d: Q8.24 + (Q8.24 × Q2.30 >> 30)
+                        let hp: [i64; 3] = core::array::from_fn(|c| o[c] + ((t * d[c]) >> 30));
+                        let cell = Cell {
+                            q: p.v.map(|v| v.map(|c| c.to_bits() as i64)),
+                            p: hp,
+                            n: p.n.map(|c| c.to_bits() as i64),
+                            iu: 0,
+                            iv: 0,
+                        };
+                        let hit = HitOut {
+                            patch,
+                            t: Coord::from_bits(t as i32),
+                            u: Unit::ZERO,
+                            v: Unit::ZERO,
+                            front,
+                        };
+                        (
+                            cell,
+                            true,
+                            RayOut {
+                                ray,
+                                hit: Some(hit),
+                            },
+                        )
+                    }
+                    None => (Cell::default(), false, RayOut { ray, hit: None }),
+                };
+                // the first (u,v) stage is this register; the pipe's other stages bisect
+                self.uv.load_first(entry);
+            }
+        }
+        // set-up pass (one patch per clock) or issue (one patch per clock) into the edge stage
+        if let Some(i) = self.setup_next {
+            let origin = self.current.map(|r| r.origin).unwrap_or_default();
+            if i < count {
+                self.setup(mem, i as usize, origin);
+            }
+            if i + 1 >= count {
+                self.setup_next = None;
+                self.local_origin = Some(origin);
+            } else {
+                self.setup_next = Some(i + 1);
+            }
+        } else if let Some(ray) = self.current {
+            let p = self.next_patch;
+            let last = ray.bypass || count == 0 || p + 1 >= count;
+            let mut tok = Token {
+                ray,
+                patch: p,
+                first: p == 0,
+                last,
+                ..Token::default()
+            };
+            tok = EdgeStage.eval(tok, &self.local[(p as usize).min(PATCH_CAPACITY - 1)]);
+            if ray.bypass || count == 0 {
+                tok.inside = false;
+            }
+            self.edge_reg = Some(tok);
+            self.next_patch += 1;
+            if last {
+                self.current = None;
+            }
+        }
+        out
+    }
+}

@@ -1,0 +1,162 @@
+//! Pipeline registers with a valid bit per stage.
+//!
+//! A pipeline of L stages is L registers; on each clock every valid register moves through the
+//! next stage's combinational logic into the following register. The valid bits are kept as one
+//! mask so that a clock costs work only for the occupied stages: the CORDIC pipes are mostly
+//! bubbles while the intersection unit scans patch memory, and simulation speed is a requirement
+//! (≥ 20 M cycles/s).
+
+/// The longest pipe any unit builds (CORDIC: 30 iterations + quadrant + gain).
+pub const MAX_STAGES: usize = 34;
+
+/// L pipeline registers holding `S`, with their valid bits.
+#[derive(Clone, Debug)]
+pub struct Pipe<S: Copy + Default> {
+    regs: [S; MAX_STAGES],
+    valid: u64,
+    len: usize,
+}
+
+impl<S: Copy + Default> Pipe<S> {
+    /// An empty pipe of `len` stages (1..=MAX_STAGES).
+    pub fn new(len: usize) -> Self {
+        assert!((1..=MAX_STAGES).contains(&len), "pipe length {len}");
+        Pipe {
+            regs: [S::default(); MAX_STAGES],
+            valid: 0,
+            len,
+        }
+    }
+
+    /// Number of stages (the latency in clocks from `tick` input to output).
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether no stage holds data.
+    pub fn is_empty(&self) -> bool {
+        self.valid == 0
+    }
+
+    /// Number of valid stages.
+    pub fn occupancy(&self) -> u32 {
+        self.valid.count_ones()
+    }
+
+    /// Drops everything in flight (reset).
+    pub fn flush(&mut self) {
+        self.valid = 0;
+    }
+
+    /// Loads register 0 after this clock's `tick(None, ..)` has moved its old content on: for
+    /// a unit whose input is produced later in the same clock than the pipe's own update.
+    pub fn load_first(&mut self, s: S) {
+        debug_assert!(self.valid & 1 == 0, "register 0 still occupied");
+        self.regs[0] = s;
+        self.valid |= 1;
+    }
+
+    /// One clock. `input` is the value entering register 0 (already through stage 0's logic);
+    /// `stage(k, s)` is the logic between register k and register k+1. Returns what left the
+    /// last register.
+    #[inline]
+    pub fn tick(&mut self, input: Option<S>, mut stage: impl FnMut(usize, S) -> S) -> Option<S> {
+        let last = self.len - 1;
+        let out = if self.valid & (1 << last) != 0 {
+            Some(self.regs[last])
+        } else {
+            None
+        };
+        let mut moving = self.valid & !(1u64 << last);
+        // highest first, so that no register is overwritten before it has moved on
+        while moving != 0 {
+            let k = 63 - moving.leading_zeros() as usize;
+            self.regs[k + 1] = stage(k, self.regs[k]);
+            moving &= !(1u64 << k);
+        }
+        let mask = if self.len == 64 {
+            u64::MAX
+        } else {
+            (1u64 << self.len) - 1
+        };
+        self.valid = (self.valid << 1) & mask;
+        if let Some(s) = input {
+            self.regs[0] = s;
+            self.valid |= 1;
+        }
+        out
+    }
+}
+
+/// A delay line of exactly `N` clocks that does no work per stage (a ring of registers): used
+/// where the model computes a multi-cycle unit in one step and only its latency matters.
+#[derive(Clone, Debug)]
+pub struct Delay<S: Copy + Default, const N: usize> {
+    regs: [Option<S>; N],
+    head: usize,
+    count: u32,
+}
+
+impl<S: Copy + Default, const N: usize> Default for Delay<S, N> {
+    fn default() -> Self {
+        Delay {
+            regs: [None; N],
+            head: 0,
+            count: 0,
+        }
+    }
+}
+
+impl<S: Copy + Default, const N: usize> Delay<S, N> {
+    /// One clock: `input` enters, the value that entered N clocks ago leaves.
+    #[inline]
+    pub fn tick(&mut self, input: Option<S>) -> Option<S> {
+        let out = self.regs[self.head].take();
+        if out.is_some() {
+            self.count -= 1;
+        }
+        if input.is_some() {
+            self.count += 1;
+        }
+        self.regs[self.head] = input;
+        self.head = (self.head + 1) % N;
+        out
+    }
+
+    /// Number of values in flight.
+    pub fn occupancy(&self) -> u32 {
+        self.count
+    }
+
+    /// Drops everything in flight.
+    pub fn flush(&mut self) {
+        self.regs = [None; N];
+        self.count = 0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pipe_has_its_latency_and_throughput() {
+        let mut p: Pipe<u32> = Pipe::new(5);
+        let mut out = [None; 12];
+        for (c, o) in out.iter_mut().enumerate() {
+            let input = if c < 4 { Some(c as u32 * 10) } else { None };
+            *o = p.tick(input, |k, s| s + (k as u32 + 1));
+        }
+        // entered at clock c, left at clock c + 5 having passed stages 1..=4 (sum 10)
+        assert_eq!(&out[5..9], &[Some(10), Some(20), Some(30), Some(40)]);
+        assert!(out[..5].iter().all(Option::is_none) && p.is_empty());
+    }
+
+    #[test]
+    fn delay_has_its_latency() {
+        let mut d: Delay<u8, 3> = Delay::default();
+        let outs: [Option<u8>; 5] = core::array::from_fn(|c| d.tick(Some(c as u8)));
+        assert_eq!(outs, [None, None, None, Some(0), Some(1)]);
+        assert_eq!(d.occupancy(), 3);
+    }
+}
