@@ -76,7 +76,7 @@ pub enum DriverError {
 }
 
 /// Polls without progress before a stream gives up: far above any latency the model has
-/// (a set-up pass over a full patch memory plus a scan is about 2 × 1024 clocks).
+/// (a set-up pass over a full patch memory plus a scan is about 2 × 256 clocks).
 const STALL_LIMIT: u32 = 1 << 20;
 
 /// The accelerator's driver over a register bus.

@@ -144,15 +144,18 @@ impl DivideStage {
     }
 }
 
+/// The best candidate of a ray so far: patch, t (raw Q8.24), front.
+type Best = Option<(u32, i64, bool)>;
+
 /// Stage 3: the running minimum of one ray.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SelectStage<T: Copy + Default> {
-    best: Option<(u32, i64, bool)>,
+    best: Best,
     _ray: core::marker::PhantomData<T>,
 }
 
 impl<T: Copy + Default> SelectStage<T> {
-    fn eval(&mut self, tok: Token<T>) -> Option<(RayIn<T>, Option<(u32, i64, bool)>)> {
+    fn eval(&mut self, tok: Token<T>) -> Option<(RayIn<T>, Best)> {
         if tok.first {
             self.best = None;
         }

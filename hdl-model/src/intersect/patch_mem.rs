@@ -16,8 +16,9 @@ use crate::format::{Coord, Unit};
 
 /// Words per patch slot.
 pub const PATCH_WORDS: usize = 16;
-/// Patches the memory holds.
-pub const PATCH_CAPACITY: usize = 1024;
+/// Patches the memory holds (the model lives on the stack of every worker thread and of the
+/// firmware, without an allocator, so the memory is kept small).
+pub const PATCH_CAPACITY: usize = 256;
 /// Unused slot (never hit).
 pub const KIND_EMPTY: u32 = 0;
 /// Planar triangle.
