@@ -318,12 +318,16 @@ fn bench_per_ray(scene: &Scene, settings: &Pass1Settings) -> Result<(u64, f64)> 
     let patches = scene.kernel_patches();
     let mut row = vec![0.0f32; patches.len()];
     let points: Vec<_> = (0..patches.len())
-        .flat_map(|i| pass1::sample_points(scene, i, settings.samples))
+        .flat_map(|i| {
+            pass1::sample_points(scene, i, settings.samples)
+                .into_iter()
+                .map(move |p| (i, p))
+        })
         .take(64)
         .collect();
     let t0 = std::time::Instant::now();
     let mut rays = 0u64;
-    for (q, p) in points.iter().enumerate() {
+    for (q, (i, p)) in points.iter().enumerate() {
         let mut engine = PerRay(SoftEngine::new(&patches));
         let spin = hemi_kernel::rotation::spin_for_sample(q as u32);
         rays += hemi_kernel::tracer::shoot_hemisphere(
@@ -332,6 +336,7 @@ fn bench_per_ray(scene: &Scene, settings: &Pass1Settings) -> Result<(u64, f64)> 
             p.position,
             p.normal,
             spin,
+            Some(*i as u32),
             &mut row,
         )
         .rays as u64;
@@ -428,7 +433,7 @@ fn main() -> Result<()> {
                 let patches: Vec<_> = scene
                     .patches
                     .iter()
-                    .map(|p| serde_json::json!({"name": p.name, "area": p.polygon.area}))
+                    .map(|p| serde_json::json!({"name": p.name, "area": p.area}))
                     .collect();
                 serde_json::to_writer(
                     &mut out,

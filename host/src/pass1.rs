@@ -5,8 +5,9 @@ use crate::engine::SoftEngine;
 use crate::scene::Scene;
 use hemi_kernel::accel::Accelerator;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
+use hemi_kernel::patch::Shape;
 use hemi_kernel::rotation::spin_for_sample;
-use hemi_kernel::sampling::{grid_sample, SamplePoint};
+use hemi_kernel::sampling::{bezier_sample, grid_sample, SamplePoint};
 use hemi_kernel::tracer::{shoot_hemisphere, ShotStats};
 use rayon::prelude::*;
 
@@ -58,13 +59,20 @@ pub struct FormFactors {
     pub stats: ShotStats,
 }
 
-/// The sample points of patch `i` at K×K.
+/// The sample points of patch `i`: K×K for a polygon, the 16 points of paper §7 for a Bezier
+/// patch (4×4 whatever K).
 pub fn sample_points(scene: &Scene, i: usize, k: u32) -> Vec<SamplePoint> {
-    let poly = &scene.patches[i].polygon;
-    (0..k)
-        .flat_map(|b| (0..k).map(move |a| (a, b)))
-        .map(|(a, b)| grid_sample(poly, k, a, b))
-        .collect()
+    let patch = &scene.patches[i];
+    match &patch.shape {
+        Shape::Polygon(poly) => (0..k)
+            .flat_map(|b| (0..k).map(move |a| (a, b)))
+            .map(|(a, b)| grid_sample(poly, k, a, b))
+            .collect(),
+        Shape::Bezier(bez) => (0..4)
+            .flat_map(|b| (0..4).map(move |a| (a, b)))
+            .map(|(a, b)| bezier_sample(bez, a, b, patch.area))
+            .collect(),
+    }
 }
 
 /// Runs pass 1 with the software engine on all cores; `progress` is called with the number of
@@ -110,6 +118,7 @@ pub fn form_factors_with<A: Accelerator>(
                     point.position,
                     point.normal,
                     spin_for_sample(q),
+                    Some(i as u32),
                     row,
                 );
                 let sparse = row

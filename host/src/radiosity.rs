@@ -84,8 +84,7 @@ impl Grid {
 
 /// Element radiosities (4.2) `B_iq = E_i + ρ_i Σ_j F_iq,j B_j`, gathered into one grid per patch.
 pub fn grids(scene: &Scene, ff: &FormFactors, sol: &Solution) -> Vec<Grid> {
-    let k = ff.samples as usize;
-    let mut samples: Vec<Vec<[f64; 3]>> = vec![Vec::with_capacity(k * k); scene.patches.len()];
+    let mut samples: Vec<Vec<[f64; 3]>> = vec![Vec::new(); scene.patches.len()];
     for e in &ff.elements {
         let m = scene.material_of(e.patch);
         let mut b = m.emission;
@@ -99,7 +98,11 @@ pub fn grids(scene: &Scene, ff: &FormFactors, sol: &Solution) -> Vec<Grid> {
         }
         samples[e.patch].push(b);
     }
-    samples.iter().map(|s| Grid::from_samples(k, s)).collect()
+    // K per patch: K×K for polygons, 4×4 for Bezier patches
+    samples
+        .iter()
+        .map(|s| Grid::from_samples((s.len() as f64).sqrt().round() as usize, s))
+        .collect()
 }
 
 #[cfg(test)]

@@ -1,12 +1,14 @@
 //! A patch: one surface of the scene as the ray engine stores it (its "patch memory").
 
-use crate::geometry::Polygon;
+use crate::geometry::{Aabb, Bezier, Polygon, Vec3};
 
-/// The shape of a patch. Bicubic Bezier patches join here (issue "Bezier").
+/// The shape of a patch.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Shape {
     /// A planar convex quad or triangle.
     Polygon(Polygon),
+    /// A bicubic Bezier patch (paper §7).
+    Bezier(Bezier),
 }
 
 /// One patch of the scene. Its index in the patch slice is its id: the column of the form-factor
@@ -24,10 +26,28 @@ impl Patch {
             shape: Shape::Polygon(p),
         }
     }
-    /// The polygon, for the planar shapes.
-    pub fn as_polygon(&self) -> &Polygon {
-        match &self.shape {
-            Shape::Polygon(p) => p,
+    /// A Bezier patch.
+    pub fn bezier(b: Bezier) -> Patch {
+        Patch {
+            shape: Shape::Bezier(b),
         }
+    }
+    /// The polygon, for the planar shapes.
+    pub fn as_polygon(&self) -> Option<&Polygon> {
+        match &self.shape {
+            Shape::Polygon(p) => Some(p),
+            Shape::Bezier(_) => None,
+        }
+    }
+    /// The points whose convex hull contains the patch (vertices, or control points).
+    pub fn hull(&self) -> &[Vec3] {
+        match &self.shape {
+            Shape::Polygon(p) => p.vertices(),
+            Shape::Bezier(b) => &b.cp,
+        }
+    }
+    /// The patch's bounding box.
+    pub fn bounds(&self) -> Aabb {
+        Aabb::of(self.hull())
     }
 }

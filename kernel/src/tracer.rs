@@ -31,18 +31,21 @@ impl core::ops::AddAssign for ShotStats {
 
 /// Shoots the hemisphere `hemi` from `origin` around `normal`, spun by `spin` about the normal
 /// (see [`crate::rotation::spin_for_sample`]), and accumulates the element-to-patch form factors
-/// F_iq,j into `row` (one entry per patch; the caller zeroes it).
+/// F_iq,j into `row` (one entry per patch; the caller zeroes it). `origin_patch` is the patch
+/// the sample point lies on, which the hemisphere does not see (F_ii = 0).
 pub fn shoot_hemisphere<A: Accelerator>(
     accel: &mut A,
     hemi: &Hemisphere<'_>,
     origin: Vec3,
     normal: Vec3,
     spin: f32,
+    origin_patch: Option<u32>,
     row: &mut [f32],
 ) -> ShotStats {
     let rot = Rotation::onto_spun(normal, spin);
     let rings = hemi.rings();
     let mut stats = ShotStats::default();
+    accel.set_origin_patch(origin_patch);
     accel.cast_rings(origin, &rot, hemi, 0..rings.len(), false, |j, _k, hit| {
         stats.rays += 1;
         if let Some(hit) = hit {
@@ -56,5 +59,6 @@ pub fn shoot_hemisphere<A: Accelerator>(
             }
         }
     });
+    accel.set_origin_patch(None);
     stats
 }

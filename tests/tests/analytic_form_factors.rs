@@ -103,7 +103,15 @@ fn point_ff(target: Polygon, origin: Vec3, normal: Vec3, circles: u32, rule: Del
     )
     .unwrap();
     let mut row = [0.0f32];
-    shoot_hemisphere(&mut accel, &hemi.view(), origin, normal, 0.0, &mut row);
+    shoot_hemisphere(
+        &mut accel,
+        &hemi.view(),
+        origin,
+        normal,
+        0.0,
+        None,
+        &mut row,
+    );
     row[0] as f64
 }
 
@@ -215,10 +223,7 @@ fn closed_box_rows_sum_to_one_and_reciprocity_holds() {
         let s: f64 = m[i].iter().sum();
         worst_sum = worst_sum.max((s - 1.0).abs());
         for j in 0..m.len() {
-            let (ai, aj) = (
-                scene.patches[i].polygon.area as f64,
-                scene.patches[j].polygon.area as f64,
-            );
+            let (ai, aj) = (scene.patches[i].area as f64, scene.patches[j].area as f64);
             let (x, y) = (ai * m[i][j], aj * m[j][i]);
             if x.max(y) > 1e-3 * ai.min(aj) {
                 worst_recip = worst_recip.max((x - y).abs() / x.max(y));

@@ -252,9 +252,9 @@ fn obj_meshes_import_with_their_mtl_materials() {
     assert_eq!(lamp.emission, [5.0; 3]);
     assert!((lamp.diffuse[2] - 0.4).abs() < 1e-6);
     assert_eq!(scene.material_of(3).name, "grey");
-    let p = scene.patches[0].polygon.v[1];
+    let p = scene.patches[0].polygon().unwrap().v[1];
     assert_eq!(p, Vec3::new(3.0, 2.0, 0.0));
     // The lamp faces down (+z×... as written: 1-2-3 counter-clockwise seen from below).
-    assert!(scene.patches[0].polygon.normal.y < 0.0);
+    assert!(scene.patches[0].polygon().unwrap().normal.y < 0.0);
     let _ = std::fs::remove_dir_all(dir);
 }

@@ -2,7 +2,9 @@
 
 use super::{Camera, Material, Scene, ScenePatch};
 use anyhow::{anyhow, bail, Context, Result};
-use hemi_kernel::geometry::{Polygon, PolygonError, Vec3};
+use hemi_kernel::geometry::{Bezier, Polygon, PolygonError, Vec3};
+use hemi_kernel::patch::Shape;
+use hemi_kernel::sampling::bezier_area;
 use serde::Deserialize;
 use std::collections::HashMap;
 use std::ops::Range;
@@ -19,7 +21,9 @@ struct RawScene {
     #[serde(default)]
     triangle: Vec<Spanned<RawPolygon>>,
     #[serde(default)]
-    bezier: Vec<Spanned<toml::Value>>,
+    bezier: Vec<Spanned<RawBezier>>,
+    #[serde(default)]
+    bpt: Vec<Spanned<RawBpt>>,
     #[serde(default)]
     obj: Vec<Spanned<RawObj>>,
     camera: Option<Spanned<RawCamera>>,
@@ -44,6 +48,31 @@ struct RawPolygon {
     name: Spanned<String>,
     material: Spanned<String>,
     vertices: Spanned<Vec<Vec<f64>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBezier {
+    name: Spanned<String>,
+    material: Spanned<String>,
+    control_points: Spanned<Vec<Vec<f64>>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawBpt {
+    /// Path of the .bpt file, relative to the scene file.
+    path: Spanned<String>,
+    /// Patches are named `<name>/<index>`.
+    name: Spanned<String>,
+    material: Spanned<String>,
+    #[serde(default)]
+    scale: Option<Spanned<f64>>,
+    #[serde(default)]
+    translate: Option<Spanned<Vec<f64>>>,
+    /// Swap u and v, turning every patch's front side over (for files whose patches face inward).
+    #[serde(default)]
+    flip: bool,
 }
 
 #[derive(Deserialize)]
@@ -130,6 +159,144 @@ impl Ctx<'_> {
 
 fn v3(a: [f64; 3]) -> Vec3 {
     Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32)
+}
+
+/// A Bezier scene patch from 16 control points (row-major, c along u), transformed; `None` when
+/// degenerate (zero area). `flip` swaps u and v, which turns the front side over.
+fn bezier_patch(
+    name: String,
+    material: usize,
+    cp: &[[f64; 3]],
+    scale: f64,
+    translate: [f64; 3],
+    flip: bool,
+) -> Option<ScenePatch> {
+    let mut pts = [Vec3::ZERO; 16];
+    for r in 0..4 {
+        for c in 0..4 {
+            let p = cp[4 * r + c];
+            let q = v3([0, 1, 2].map(|k| p[k] * scale + translate[k]));
+            pts[if flip { 4 * c + r } else { 4 * r + c }] = q;
+        }
+    }
+    let bez = Bezier::new(pts)?;
+    let area = bezier_area(&bez);
+    let size = bez.bounds().size();
+    if !(area.is_finite() && area > 1e-8 * size * size) {
+        return None;
+    }
+    Some(ScenePatch {
+        name,
+        material,
+        shape: Shape::Bezier(bez),
+        area,
+    })
+}
+
+/// Reads the common `.bpt` text format: the number of patches, then per patch its degrees
+/// ("3 3") and 16 lines "x y z", row by row.
+pub fn parse_bpt(text: &str) -> std::result::Result<Vec<Vec<[f64; 3]>>, String> {
+    let mut nums = text.split_whitespace().map(|t| {
+        t.parse::<f64>()
+            .map_err(|_| format!("`{t}` is not a number"))
+    });
+    let mut next = |what: &str| {
+        nums.next()
+            .ok_or_else(|| format!("file ends before {what}"))?
+    };
+    let n = next("the patch count")?;
+    if !(n >= 0.0 && n.fract() == 0.0 && n < 1e6) {
+        return Err(format!("bad patch count {n}"));
+    }
+    let mut out = Vec::new();
+    for i in 0..n as usize {
+        let (du, dv) = (next("the degrees")?, next("the degrees")?);
+        if du != 3.0 || dv != 3.0 {
+            return Err(format!(
+                "patch {i}: degrees {du} {dv}; only bicubic (3 3) patches are supported"
+            ));
+        }
+        let mut cp = Vec::with_capacity(16);
+        for _ in 0..16 {
+            let p = [
+                next("a control point")?,
+                next("a control point")?,
+                next("a control point")?,
+            ];
+            if p.iter().any(|x| !x.is_finite()) {
+                return Err(format!("patch {i}: non-finite control point"));
+            }
+            cp.push(p);
+        }
+        out.push(cp);
+    }
+    Ok(out)
+}
+
+fn load_bpt(
+    cx: &Ctx,
+    b: &RawBpt,
+    by_name: &HashMap<String, usize>,
+    patches: &mut Vec<ScenePatch>,
+    names: &mut HashMap<String, ()>,
+) -> Result<()> {
+    let base = Path::new(cx.file).parent().unwrap_or(Path::new("."));
+    let path = base.join(b.path.get_ref());
+    let text = std::fs::read_to_string(&path).map_err(|e| {
+        cx.err(
+            b.path.span(),
+            "bpt.path",
+            format!("cannot read {}: {e}", path.display()),
+        )
+    })?;
+    let list = parse_bpt(&text).map_err(|e| {
+        cx.err(
+            b.path.span(),
+            "bpt.path",
+            format!("{}: {e}", path.display()),
+        )
+    })?;
+    let material = *by_name.get(b.material.get_ref()).ok_or_else(|| {
+        cx.err(
+            b.material.span(),
+            "bpt.material",
+            format!("unknown material `{}`", b.material.get_ref()),
+        )
+    })?;
+    let scale = match &b.scale {
+        Some(s) if !(s.get_ref().is_finite() && *s.get_ref() > 0.0) => {
+            return Err(cx.err(s.span(), "bpt.scale", "must be a positive number"))
+        }
+        Some(s) => *s.get_ref(),
+        None => 1.0,
+    };
+    let translate = match &b.translate {
+        Some(t) => cx.vec3(t, "bpt.translate")?,
+        None => [0.0; 3],
+    };
+    let mut skipped = 0;
+    for (i, cp) in list.iter().enumerate() {
+        let name = format!("{}/{i}", b.name.get_ref());
+        if names.insert(name.clone(), ()).is_some() {
+            return Err(cx.err(
+                b.name.span(),
+                "bpt.name",
+                format!("patch `{name}` defined twice"),
+            ));
+        }
+        match bezier_patch(name, material, cp, scale, translate, b.flip) {
+            Some(p) => patches.push(p),
+            None => skipped += 1,
+        }
+    }
+    if skipped > 0 {
+        eprintln!(
+            "{}: {}: skipped {skipped} degenerate patch(es) (zero area)",
+            cx.file,
+            path.display()
+        );
+    }
+    Ok(())
 }
 
 /// Appends the triangles of an OBJ mesh (with its MTL materials unless the entry names one).
@@ -251,7 +418,8 @@ fn load_obj(
                     patches.push(ScenePatch {
                         name,
                         material,
-                        polygon,
+                        area: polygon.area,
+                        shape: Shape::Polygon(polygon),
                     });
                 }
                 Err(_) => skipped += 1,
@@ -337,18 +505,12 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
         materials.push(material);
     }
 
-    if let Some(b) = raw.bezier.first() {
-        bail!(
-            "{}:{}: `bezier`: Bezier patches are not supported yet (issue \"Bezier\")",
-            file,
-            cx.line(b.span())
-        );
-    }
-
     // Quads, triangles and meshes keep their order of appearance in the file.
     enum Entry<'a> {
         Poly(&'a Spanned<RawPolygon>, &'static str, usize),
         Obj(&'a Spanned<RawObj>),
+        Bezier(&'a Spanned<RawBezier>),
+        Bpt(&'a Spanned<RawBpt>),
     }
     let mut entries: Vec<(usize, Entry)> = raw
         .quad
@@ -360,6 +522,12 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
                 .map(|t| (t.span().start, Entry::Poly(t, "triangle", 3))),
         )
         .chain(raw.obj.iter().map(|o| (o.span().start, Entry::Obj(o))))
+        .chain(
+            raw.bezier
+                .iter()
+                .map(|b| (b.span().start, Entry::Bezier(b))),
+        )
+        .chain(raw.bpt.iter().map(|b| (b.span().start, Entry::Bpt(b))))
         .collect();
     entries.sort_by_key(|p| p.0);
 
@@ -377,6 +545,55 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
                     &mut patches,
                     &mut names,
                 )?;
+                continue;
+            }
+            Entry::Bezier(b) => {
+                let r = b.get_ref();
+                let name = r.name.get_ref().clone();
+                if names.insert(name.clone(), ()).is_some() {
+                    return Err(cx.err(
+                        r.name.span(),
+                        "bezier.name",
+                        format!("patch `{name}` defined twice"),
+                    ));
+                }
+                let material = *by_name.get(r.material.get_ref()).ok_or_else(|| {
+                    cx.err(
+                        r.material.span(),
+                        "bezier.material",
+                        format!("unknown material `{}`", r.material.get_ref()),
+                    )
+                })?;
+                let pts = r.control_points.get_ref();
+                let key = "bezier.control_points";
+                if pts.len() != 16
+                    || pts
+                        .iter()
+                        .any(|p| p.len() != 3 || p.iter().any(|x| !x.is_finite()))
+                {
+                    return Err(cx.err(
+                        r.control_points.span(),
+                        key,
+                        format!(
+                            "a Bezier patch has 16 points of 3 finite numbers, found {} points",
+                            pts.len()
+                        ),
+                    ));
+                }
+                let cp: Vec<[f64; 3]> = pts.iter().map(|p| [p[0], p[1], p[2]]).collect();
+                let patch = bezier_patch(name.clone(), material, &cp, 1.0, [0.0; 3], false)
+                    .ok_or_else(|| {
+                        cx.err(
+                            r.control_points.span(),
+                            key,
+                            format!("patch `{name}` is degenerate: zero area"),
+                        )
+                    })?;
+                patches.push(patch);
+                continue;
+            }
+            Entry::Bpt(b) => {
+                load_bpt(&cx, b.get_ref(), &by_name, &mut patches, &mut names)?;
                 continue;
             }
         };
@@ -437,11 +654,12 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
         patches.push(ScenePatch {
             name,
             material,
-            polygon,
+            area: polygon.area,
+            shape: Shape::Polygon(polygon),
         });
     }
     if patches.is_empty() {
-        bail!("{file}: the scene has no patches ([[quad]] or [[triangle]])");
+        bail!("{file}: the scene has no patches ([[quad]], [[triangle]], [[bezier]], [[obj]] or [[bpt]])");
     }
 
     let camera = match &raw.camera {

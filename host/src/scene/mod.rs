@@ -6,6 +6,7 @@ pub use load::{load, parse};
 
 use hemi_kernel::geometry::{Polygon, Vec3};
 use hemi_kernel::patch::Patch;
+use hemi_kernel::patch::Shape;
 
 /// RGB triple (linear).
 pub type Rgb = [f64; 3];
@@ -33,7 +34,19 @@ pub struct ScenePatch {
     /// Index into [`Scene::materials`].
     pub material: usize,
     /// The geometry.
-    pub polygon: Polygon,
+    pub shape: Shape,
+    /// Its area.
+    pub area: f32,
+}
+
+impl ScenePatch {
+    /// The polygon, for planar patches.
+    pub fn polygon(&self) -> Option<&Polygon> {
+        match &self.shape {
+            Shape::Polygon(p) => Some(p),
+            Shape::Bezier(_) => None,
+        }
+    }
 }
 
 /// The pinhole camera of pass 2.
@@ -69,7 +82,7 @@ impl Scene {
     pub fn kernel_patches(&self) -> Vec<Patch> {
         self.patches
             .iter()
-            .map(|p| Patch::polygon(p.polygon))
+            .map(|p| Patch { shape: p.shape })
             .collect()
     }
     /// The material of patch `i`.

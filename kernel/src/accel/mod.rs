@@ -42,6 +42,13 @@ pub trait Accelerator {
     /// Rot_{θ,φ}(d): one direction of the reference hemisphere onto the frame `rot`.
     fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3;
 
+    /// Names the patch the following hemisphere casts start on, so the engine leaves it out: a
+    /// patch does not see itself (F_ii = 0, as in the paper's patch form factors; for a planar
+    /// patch that holds anyway). `None` lifts it. Engines that cannot skip may ignore this.
+    fn set_origin_patch(&mut self, patch: Option<u32>) {
+        let _ = patch;
+    }
+
     /// The nearest hit of `ray` with `t < t_max` among the loaded patches, with (u,v).
     fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<Hit>;
 

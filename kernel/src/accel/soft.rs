@@ -14,11 +14,16 @@
 //!    azimuth interval, from `sinθ_j ρ_c cos(φ−φ_c) + cosθ_j c_z ≥ cos α`; only rays in that
 //!    interval are tested against the patch. Work then grows with the solid angle the patches
 //!    cover, not with rays × patches.
+//!
+//! Bezier patches take the same cone culling, with the cone of their control points (the
+//! surface lies in their convex hull); the rays that survive it are intersected one by one by
+//! the subdivision of paper §6.1 ([`Bezier::intersect`]). A patch is never intersected with the
+//! hemispheres placed on it (F_ii = 0, see [`Accelerator::set_origin_patch`]).
 
 use super::{Accelerator, Hit, Ray};
-use crate::geometry::{Polygon, Vec3};
+use crate::geometry::{Bezier, Polygon, Subdivision, Vec3};
 use crate::hemisphere::{Hemisphere, Ring};
-use crate::patch::Patch;
+use crate::patch::{Patch, Shape};
 use crate::rotation::Rotation;
 use core::ops::Range;
 
@@ -37,6 +42,8 @@ pub struct LocalPatch {
     /// The cone is too wide to bound usefully: test every ray.
     full: bool,
     active: bool,
+    /// A curved patch: rays that pass the cone go to the subdivision intersection.
+    curved: bool,
 }
 
 impl LocalPatch {
@@ -44,6 +51,50 @@ impl LocalPatch {
     /// rotation onto +z), with the bounding cone used to cull bundles of rays.
     pub fn setup(poly: &Polygon, origin: Vec3, rot: &Rotation) -> LocalPatch {
         Self::setup_with(poly, origin, Some(rot), true)
+    }
+
+    /// Sets up any patch as seen from `origin` in the frame of `rot`: polygons as above, Bezier
+    /// patches by the cone of their control points.
+    pub fn setup_patch(patch: &Patch, origin: Vec3, rot: &Rotation) -> LocalPatch {
+        match &patch.shape {
+            Shape::Polygon(p) => Self::setup(p, origin, rot),
+            Shape::Bezier(b) => Self::setup_curved(b, origin, Some(rot)),
+        }
+    }
+
+    fn setup_curved(b: &Bezier, origin: Vec3, rot: Option<&Rotation>) -> LocalPatch {
+        let mut lp = LocalPatch {
+            active: true,
+            curved: true,
+            full: true,
+            ..LocalPatch::default()
+        };
+        let turn = |v: Vec3| match rot {
+            Some(r) => r.invert(v),
+            None => v,
+        };
+        let mut sum = Vec3::ZERO;
+        let mut dirs = [Vec3::ZERO; 16];
+        let size = b.bounds().size();
+        for (d, p) in dirs.iter_mut().zip(b.cp.iter()) {
+            match turn(*p - origin).try_normalize() {
+                // an origin on (or next to) the hull: no useful cone
+                Some(u) if (*p - origin).length() > 1e-4 * size => *d = u,
+                _ => return lp,
+            }
+            sum += *d;
+        }
+        if let Some(axis) = sum.try_normalize() {
+            let cos_alpha = dirs.iter().fold(1.0f32, |m, d| m.min(axis.dot(*d))) - 1e-4;
+            if cos_alpha >= 0.05 {
+                lp.full = false;
+                lp.axis = axis;
+                lp.cos_alpha = cos_alpha;
+                lp.axis_rho = libm::sqrtf(axis.x * axis.x + axis.y * axis.y);
+                lp.axis_phi = libm::atan2f(axis.y, axis.x);
+            }
+        }
+        lp
     }
 
     /// The set-up for a single ray: edges and plane only (the cone would cost more than it saves).
@@ -272,16 +323,26 @@ pub struct SoftScratch<'s> {
 pub struct SoftAccelerator<'p, 's> {
     patches: &'p [Patch],
     scratch: SoftScratch<'s>,
+    subdivision: Subdivision,
+    origin_patch: u32,
 }
 
 const NO_HIT: u32 = u32::MAX;
+/// Marks a best id whose hit is on a curved patch's back side (front/back varies per ray there).
+const BACK: u32 = 1 << 31;
 
 /// Why a software accelerator could not be set up.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SoftError {
     /// The scratch has fewer `local` entries than there are patches.
     ScratchTooSmall,
+    /// More patches than ids (2³¹).
+    TooManyPatches,
 }
+
+/// Hits of a curved patch closer than this fraction of its size to the ray's origin are the
+/// surface the ray starts on (a neighbouring patch at a shared seam), not a new hit.
+const CURVED_T_MIN: f32 = 1e-4;
 
 impl<'p, 's> SoftAccelerator<'p, 's> {
     /// An engine over `patches` (the patch memory) working in `scratch`.
@@ -289,7 +350,21 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
         if scratch.local.len() < patches.len() || scratch.best_t.len() != scratch.best_id.len() {
             return Err(SoftError::ScratchTooSmall);
         }
-        Ok(SoftAccelerator { patches, scratch })
+        if patches.len() >= BACK as usize {
+            return Err(SoftError::TooManyPatches);
+        }
+        Ok(SoftAccelerator {
+            patches,
+            scratch,
+            subdivision: Subdivision::default(),
+            origin_patch: NO_HIT,
+        })
+    }
+
+    /// Sets the termination of the Bezier subdivision (depth, minimum box).
+    pub fn with_subdivision(mut self, sub: Subdivision) -> Self {
+        self.subdivision = sub;
+        self
     }
 
     /// The loaded patches.
@@ -297,22 +372,53 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
         self.patches
     }
 
-    #[inline(always)]
-    fn hit_with_uv(&self, id: u32, t: f32, origin: Vec3, dir: Vec3, want_uv: bool) -> Hit {
-        let lp = &self.scratch.local[id as usize];
-        let (u, v) = if want_uv {
-            self.patches[id as usize]
-                .as_polygon()
-                .uv_of(origin + dir * t)
-        } else {
-            (0.0, 0.0)
+    /// Nearest hit of one ray on one curved patch, as (t, u, v, front).
+    fn curved_hit(
+        &self,
+        b: &Bezier,
+        o: Vec3,
+        d: Vec3,
+        t_max: f32,
+    ) -> Option<(f32, f32, f32, bool)> {
+        let t_min = CURVED_T_MIN * b.bounds().size();
+        let h = b.intersect(o, d, t_min, t_max, &self.subdivision)?;
+        // at a pole the normal is the limit from inside the patch
+        let front = b
+            .normal_near(h.u, h.v)
+            .map(|n| n.dot(d) < 0.0)
+            .unwrap_or(true);
+        Some((h.t, h.u, h.v, front))
+    }
+
+    /// The full hit for a winning (id, t) of a bundle; (u,v) only when asked for.
+    fn resolve(&self, tagged: u32, t: f32, origin: Vec3, dir: Vec3, want_uv: bool) -> Hit {
+        let id = tagged & !BACK;
+        let patch = &self.patches[id as usize];
+        let (mut u, mut v) = (0.0, 0.0);
+        let front = match &patch.shape {
+            Shape::Polygon(poly) => {
+                if want_uv {
+                    (u, v) = poly.uv_of(origin + dir * t);
+                }
+                self.scratch.local[id as usize].front()
+            }
+            Shape::Bezier(b) => {
+                if want_uv {
+                    if let Some((_, hu, hv, _)) =
+                        self.curved_hit(b, origin, dir, t * (1.0 + 1e-4) + 1e-30)
+                    {
+                        (u, v) = (hu, hv);
+                    }
+                }
+                tagged & BACK == 0
+            }
         };
         Hit {
             patch: id,
             t,
             u,
             v,
-            front: lp.front(),
+            front,
         }
     }
 }
@@ -322,33 +428,50 @@ impl Accelerator for SoftAccelerator<'_, '_> {
         rot.apply(d)
     }
 
+    fn set_origin_patch(&mut self, patch: Option<u32>) {
+        self.origin_patch = patch.unwrap_or(NO_HIT);
+    }
+
     fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        let mut best: Option<(u32, f32, bool)> = None;
+        let mut best: Option<Hit> = None;
         let mut best_t = t_max;
         for (i, p) in self.patches.iter().enumerate() {
-            let lp = LocalPatch::setup_single(p.as_polygon(), ray.origin);
-            if !lp.active {
-                continue;
-            }
-            if let Some(t) = lp.hit(ray.dir) {
-                if t < best_t {
-                    best_t = t;
-                    best = Some((i as u32, t, lp.front()));
+            match &p.shape {
+                Shape::Polygon(poly) => {
+                    let lp = LocalPatch::setup_single(poly, ray.origin);
+                    if !lp.active {
+                        continue;
+                    }
+                    if let Some(t) = lp.hit(ray.dir) {
+                        if t < best_t {
+                            best_t = t;
+                            let (u, v) = poly.uv_of(ray.origin + ray.dir * t);
+                            best = Some(Hit {
+                                patch: i as u32,
+                                t,
+                                u,
+                                v,
+                                front: lp.front(),
+                            });
+                        }
+                    }
+                }
+                Shape::Bezier(b) => {
+                    if let Some((t, u, v, front)) = self.curved_hit(b, ray.origin, ray.dir, best_t)
+                    {
+                        best_t = t;
+                        best = Some(Hit {
+                            patch: i as u32,
+                            t,
+                            u,
+                            v,
+                            front,
+                        });
+                    }
                 }
             }
         }
-        best.map(|(id, t, front)| {
-            let (u, v) = self.patches[id as usize]
-                .as_polygon()
-                .uv_of(ray.origin + ray.dir * t);
-            Hit {
-                patch: id,
-                t,
-                u,
-                v,
-                front,
-            }
-        })
+        best
     }
 
     fn cast_from<F: FnMut(usize, Option<Hit>)>(
@@ -362,17 +485,23 @@ impl Accelerator for SoftAccelerator<'_, '_> {
         // first checked against the patch's bounding cone (3 multiply-adds) before the edges.
         let frame = Rotation::onto(Vec3::Z);
         for (lp, p) in self.scratch.local.iter_mut().zip(self.patches.iter()) {
-            *lp = LocalPatch::setup(p.as_polygon(), origin, &frame);
+            *lp = LocalPatch::setup_patch(p, origin, &frame);
         }
-        let local = &self.scratch.local[..self.patches.len()];
         for (i, &d) in dirs.iter().enumerate() {
             let mut best_t = f32::INFINITY;
             let mut best_id = NO_HIT;
-            for (id, lp) in local.iter().enumerate() {
+            for (id, lp) in self.scratch.local[..self.patches.len()].iter().enumerate() {
                 if !lp.active || (!lp.full && d.dot(lp.axis) < lp.cos_alpha) {
                     continue;
                 }
-                if let Some(t) = lp.hit(d) {
+                if lp.curved {
+                    if let Shape::Bezier(b) = &self.patches[id].shape {
+                        if let Some((t, _, _, front)) = self.curved_hit(b, origin, d, best_t) {
+                            best_t = t;
+                            best_id = id as u32 | if front { 0 } else { BACK };
+                        }
+                    }
+                } else if let Some(t) = lp.hit(d) {
                     if t < best_t {
                         best_t = t;
                         best_id = id as u32;
@@ -382,10 +511,7 @@ impl Accelerator for SoftAccelerator<'_, '_> {
             if best_id == NO_HIT {
                 sink(i, None);
             } else {
-                sink(
-                    i,
-                    Some(self.hit_with_uv(best_id, best_t, origin, d, want_uv)),
-                );
+                sink(i, Some(self.resolve(best_id, best_t, origin, d, want_uv)));
             }
         }
     }
@@ -400,8 +526,18 @@ impl Accelerator for SoftAccelerator<'_, '_> {
         mut sink: F,
     ) {
         let n_patches = self.patches.len();
-        for (lp, p) in self.scratch.local.iter_mut().zip(self.patches.iter()) {
-            *lp = LocalPatch::setup(p.as_polygon(), origin, rot);
+        for (id, (lp, p)) in self
+            .scratch
+            .local
+            .iter_mut()
+            .zip(self.patches.iter())
+            .enumerate()
+        {
+            *lp = if id as u32 == self.origin_patch {
+                LocalPatch::default()
+            } else {
+                LocalPatch::setup_patch(p, origin, rot)
+            };
         }
         let max_ring = hemi
             .rings()
@@ -416,7 +552,10 @@ impl Accelerator for SoftAccelerator<'_, '_> {
                 let ring = hemi.rings()[j];
                 for k in 0..ring.count {
                     let dir = rot.apply(hemi.direction(j, k));
-                    sink(j, k, self.nearest_hit(&Ray { origin, dir }, f32::INFINITY));
+                    let hit = self
+                        .nearest_hit(&Ray { origin, dir }, f32::INFINITY)
+                        .filter(|h| h.patch != self.origin_patch);
+                    sink(j, k, hit);
                 }
             }
             return;
@@ -427,15 +566,33 @@ impl Accelerator for SoftAccelerator<'_, '_> {
             self.scratch.best_t[..n].fill(f32::INFINITY);
             self.scratch.best_id[..n].fill(NO_HIT);
             let quarter_n = (ring.count / 4).max(1) as i64;
-            let best_t = &mut self.scratch.best_t[..n];
-            let best_id = &mut self.scratch.best_id[..n];
-            for (id, lp) in self.scratch.local[..n_patches].iter().enumerate() {
+            for id in 0..n_patches {
+                let lp = self.scratch.local[id];
                 if !lp.active {
                     continue;
                 }
                 let Some((start, len)) = lp.ring_interval(&ring, j) else {
                     continue;
                 };
+                if lp.curved {
+                    // Rays that pass the cone go through the subdivision one by one.
+                    let Shape::Bezier(b) = &self.patches[id].shape else {
+                        continue;
+                    };
+                    for i in 0..len {
+                        let k = ((start + i) % n as i64) as usize;
+                        let d = rot.apply(hemi.direction(j, k as u32));
+                        if let Some((t, _, _, front)) =
+                            self.curved_hit(b, origin, d, self.scratch.best_t[k])
+                        {
+                            self.scratch.best_t[k] = t;
+                            self.scratch.best_id[k] = id as u32 | if front { 0 } else { BACK };
+                        }
+                    }
+                    continue;
+                }
+                let best_t = &mut self.scratch.best_t[..n];
+                let best_id = &mut self.scratch.best_id[..n];
                 if j == 0 {
                     if let Some(t) = lp.hit(Vec3::Z) {
                         if t < best_t[0] {
@@ -477,11 +634,7 @@ impl Accelerator for SoftAccelerator<'_, '_> {
                     } else {
                         Vec3::ZERO
                     };
-                    sink(
-                        j,
-                        k as u32,
-                        Some(self.hit_with_uv(id, t, origin, dir, want_uv)),
-                    );
+                    sink(j, k as u32, Some(self.resolve(id, t, origin, dir, want_uv)));
                 }
             }
         }

@@ -34,6 +34,10 @@ pub struct Subdivision {
     pub max_depth: u32,
     /// A box whose largest side is below this (in scene units) is a leaf.
     pub min_box: f32,
+    /// A sub-patch whose control points all lie within this fraction of the whole patch's size
+    /// of the bilinear map of its four corners is a leaf: the surface then lies that close to
+    /// the corner quad the leaf is intersected with (the paper's "accuracy criteria are met").
+    pub flatness: f32,
 }
 
 impl Default for Subdivision {
@@ -41,6 +45,7 @@ impl Default for Subdivision {
         Subdivision {
             max_depth: 10,
             min_box: 0.0,
+            flatness: 1e-4,
         }
     }
 }
@@ -52,7 +57,12 @@ fn bern(t: f32) -> [f32; 4] {
 
 fn bern_d(t: f32) -> [f32; 4] {
     let s = 1.0 - t;
-    [-3.0 * s * s, 3.0 * s * s - 6.0 * t * s, 6.0 * t * s - 3.0 * t * t, 3.0 * t * t]
+    [
+        -3.0 * s * s,
+        3.0 * s * s - 6.0 * t * s,
+        6.0 * t * s - 3.0 * t * t,
+        3.0 * t * t,
+    ]
 }
 
 /// Splits a cubic at t = ½ (de Casteljau), returning the left and right halves.
@@ -155,12 +165,22 @@ impl Bezier {
     pub fn point(&self, u: f32, v: f32) -> Vec3 {
         let (bu, bv) = (bern(u), bern(v));
         let mut p = Vec3::ZERO;
-        for r in 0..4 {
-            for c in 0..4 {
-                p += self.cp[4 * r + c] * (bv[r] * bu[c]);
+        for (row, wv) in self.cp.chunks_exact(4).zip(bv) {
+            for (q, wu) in row.iter().zip(bu) {
+                p += *q * (wv * wu);
             }
         }
         p
+    }
+
+    /// The normal at (u, v), or where that is singular (a pole) the limit from inside the
+    /// patch: the normal a little way towards the patch centre.
+    pub fn normal_near(&self, u: f32, v: f32) -> Option<Vec3> {
+        self.normal(u, v).or_else(|| {
+            [1e-3f32, 1e-2, 1e-1]
+                .iter()
+                .find_map(|s| self.normal(u + (0.5 - u) * s, v + (0.5 - v) * s))
+        })
     }
 
     /// (∂P/∂u, ∂P/∂v) at (u, v).
@@ -201,12 +221,21 @@ impl Bezier {
         };
         let mut rows = [[Vec3::ZERO; 4]; 4];
         for (r, row) in rows.iter_mut().enumerate() {
-            let p = [self.cp[4 * r], self.cp[4 * r + 1], self.cp[4 * r + 2], self.cp[4 * r + 3]];
+            let p = [
+                self.cp[4 * r],
+                self.cp[4 * r + 1],
+                self.cp[4 * r + 2],
+                self.cp[4 * r + 3],
+            ];
             *row = cut(p, u0, u0 + du);
         }
         let mut cp = [Vec3::ZERO; 16];
         for c in 0..4 {
-            let col = cut([rows[0][c], rows[1][c], rows[2][c], rows[3][c]], v0, v0 + dv);
+            let col = cut(
+                [rows[0][c], rows[1][c], rows[2][c], rows[3][c]],
+                v0,
+                v0 + dv,
+            );
             for r in 0..4 {
                 cp[4 * r + c] = col[r];
             }
@@ -220,29 +249,38 @@ impl Bezier {
     }
 
     /// The nearest intersection with `t_min < t < t_max` of the ray `o + t d` (d unit length).
-    pub fn intersect(&self, o: Vec3, d: Vec3, t_min: f32, t_max: f32, sub: &Subdivision) -> Option<BezierHit> {
+    pub fn intersect(
+        &self,
+        o: Vec3,
+        d: Vec3,
+        t_min: f32,
+        t_max: f32,
+        sub: &Subdivision,
+    ) -> Option<BezierHit> {
         let max_depth = sub.max_depth.min(MAX_DEPTH);
         let root = self.bounds();
+        let flat_tol = sub.flatness * root.size();
         let enter = root.slab(o, d, t_min, t_max)?;
-        let mut stack = [Node {
+        // heapless: nothing is initialised up front (an array of STACK nodes would copy 11 KiB
+        // per ray)
+        let mut stack: heapless::Vec<Node, STACK> = heapless::Vec::new();
+        let _ = stack.push(Node {
             cp: self.cp,
             u0: 0.0,
             v0: 0.0,
             size: 1.0,
             depth: 0,
             enter,
-        }; STACK];
-        let mut top = 1usize;
+        });
         let mut best: Option<BezierHit> = None;
         let mut best_t = t_max;
-        while top > 0 {
-            top -= 1;
-            let node = stack[top];
+        while let Some(node) = stack.pop() {
             if node.enter >= best_t {
                 continue;
             }
             let b = Aabb::of(&node.cp);
-            if node.depth >= max_depth || b.size() <= sub.min_box {
+            if node.depth >= max_depth || b.size() <= sub.min_box || flatness(&node.cp) <= flat_tol
+            {
                 if let Some((t, s, r)) = leaf_hit(&node.cp, o, d, t_min, best_t) {
                     best_t = t;
                     best = Some(BezierHit {
@@ -278,10 +316,7 @@ impl Bezier {
             children.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
             for (_, c) in children.iter() {
                 // depth-first with at most 3 siblings pending per level: STACK is never exceeded
-                if top < STACK {
-                    stack[top] = *c;
-                    top += 1;
-                }
+                let _ = stack.push(*c);
             }
         }
         best
@@ -297,6 +332,22 @@ fn split_at(p: [Vec3; 4], t: f32) -> ([Vec3; 4], [Vec3; 4]) {
     let b = l(p12, p23);
     let c = l(a, b);
     ([p[0], p01, a, c], [c, b, p23, p[3]])
+}
+
+/// How far the control points stray from the bilinear map of the four corners (max norm).
+fn flatness(cp: &[Vec3; 16]) -> f32 {
+    let (p00, p10, p01, p11) = (cp[0], cp[3], cp[12], cp[15]);
+    let mut worst = 0.0f32;
+    for r in 0..4 {
+        let v = r as f32 / 3.0;
+        let a = p00.lerp(p01, v);
+        let b = p10.lerp(p11, v);
+        for c in 0..4 {
+            let d = cp[4 * r + c] - a.lerp(b, c as f32 / 3.0);
+            worst = worst.max(d.x.abs().max(d.y.abs()).max(d.z.abs()));
+        }
+    }
+    worst
 }
 
 /// The four children of a patch at the parametric midpoints: index bit 0 = upper u half,
@@ -353,7 +404,7 @@ fn triangle(o: Vec3, d: Vec3, a: Vec3, b: Vec3, c: Vec3) -> Option<(f32, f32, f3
     let p = d.cross(e2);
     let det = e1.dot(p);
     let scale = e1.length() * e2.length();
-    if !(det.abs() > 1e-12 * scale) {
+    if det.is_nan() || det.abs() <= 1e-12 * scale {
         return None;
     }
     let inv = 1.0 / det;
@@ -391,12 +442,27 @@ mod tests {
         assert!((p - Vec3::new(0.3, 0.8, 0.0)).length() < 1e-6);
         assert!((b.normal(0.5, 0.5).unwrap() - Vec3::Z).length() < 1e-6);
         let h = b
-            .intersect(Vec3::new(0.3, 0.8, 1.0), Vec3::new(0.0, 0.0, -1.0), 0.0, f32::INFINITY, &Subdivision::default())
+            .intersect(
+                Vec3::new(0.3, 0.8, 1.0),
+                Vec3::new(0.0, 0.0, -1.0),
+                0.0,
+                f32::INFINITY,
+                &Subdivision::default(),
+            )
             .unwrap();
-        assert!((h.t - 1.0).abs() < 1e-5 && (h.u - 0.3).abs() < 1e-4 && (h.v - 0.8).abs() < 1e-4, "{h:?}");
+        assert!(
+            (h.t - 1.0).abs() < 1e-5 && (h.u - 0.3).abs() < 1e-4 && (h.v - 0.8).abs() < 1e-4,
+            "{h:?}"
+        );
         // parallel to a slab, outside it: miss without NaN
         assert!(b
-            .intersect(Vec3::new(0.5, 2.0, 1.0), Vec3::new(0.0, 0.0, -1.0), 0.0, f32::INFINITY, &Subdivision::default())
+            .intersect(
+                Vec3::new(0.5, 2.0, 1.0),
+                Vec3::new(0.0, 0.0, -1.0),
+                0.0,
+                f32::INFINITY,
+                &Subdivision::default()
+            )
             .is_none());
     }
 
@@ -413,8 +479,8 @@ mod tests {
         }
         let q = quarter(&b.cp);
         let want = b.sub_patch(0.5, 0.5, 0.5, 0.5);
-        for i in 0..16 {
-            assert!((q[3][i] - want.cp[i]).length() < 1e-6);
+        for (a, b) in q[3].iter().zip(&want.cp) {
+            assert!((*a - *b).length() < 1e-6);
         }
     }
 }
