@@ -74,3 +74,96 @@ impl Accelerator for SoftEngine<'_> {
             .cast_rings(origin, rot, hemi, rings, want_uv, sink)
     }
 }
+
+/// Which ray engine a command runs on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Backend {
+    /// The kernel's f32 engine in this process.
+    Soft,
+    /// The cycle-level model of the accelerator, driven through its register driver.
+    Model(hemi_hdl_model::ModelConfig),
+}
+
+/// Cycles and rays summed over the model engines of a run (one engine per worker thread).
+#[derive(Debug, Default)]
+pub struct Counters {
+    /// Accelerator clock cycles.
+    pub cycles: std::sync::atomic::AtomicU64,
+    /// Rays the accelerator cast.
+    pub rays: std::sync::atomic::AtomicU64,
+}
+
+impl Counters {
+    /// (cycles, rays) so far.
+    pub fn get(&self) -> (u64, u64) {
+        use std::sync::atomic::Ordering::Relaxed;
+        (self.cycles.load(Relaxed), self.rays.load(Relaxed))
+    }
+}
+
+/// A model engine that adds its cycles and rays to shared [`Counters`] when dropped.
+pub struct CountedModel<'c> {
+    inner: hemi_hdl_model::ModelAccelerator,
+    counters: &'c Counters,
+}
+
+impl<'c> CountedModel<'c> {
+    /// Wraps `inner`.
+    pub fn new(inner: hemi_hdl_model::ModelAccelerator, counters: &'c Counters) -> Self {
+        CountedModel { inner, counters }
+    }
+}
+
+impl Drop for CountedModel<'_> {
+    fn drop(&mut self) {
+        use std::sync::atomic::Ordering::Relaxed;
+        self.counters.cycles.fetch_add(self.inner.cycles(), Relaxed);
+        self.counters.rays.fetch_add(self.inner.rays(), Relaxed);
+    }
+}
+
+impl Accelerator for CountedModel<'_> {
+    fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
+        self.inner.rotate(rot, d)
+    }
+    fn set_origin_patch(&mut self, patch: Option<u32>) {
+        self.inner.set_origin_patch(patch)
+    }
+    fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        self.inner.nearest_hit(ray, t_max)
+    }
+    fn cast_from<F: FnMut(usize, Option<Hit>)>(
+        &mut self,
+        origin: Vec3,
+        dirs: &[Vec3],
+        want_uv: bool,
+        sink: F,
+    ) {
+        self.inner.cast_from(origin, dirs, want_uv, sink)
+    }
+    fn cast_rings<F: FnMut(usize, u32, Option<Hit>)>(
+        &mut self,
+        origin: Vec3,
+        rot: &Rotation,
+        hemi: &Hemisphere<'_>,
+        rings: Range<usize>,
+        want_uv: bool,
+        sink: F,
+    ) {
+        self.inner
+            .cast_rings(origin, rot, hemi, rings, want_uv, sink)
+    }
+}
+
+/// Builds a model engine over `patches`, with an error that says what the model cannot load.
+pub fn model_engine(
+    patches: &[Patch],
+    config: hemi_hdl_model::ModelConfig,
+) -> anyhow::Result<hemi_hdl_model::ModelAccelerator> {
+    hemi_hdl_model::ModelAccelerator::new(patches, config).map_err(|e| match e {
+        hemi_hdl_model::ModelError::UnsupportedPatch(i) => anyhow::anyhow!(
+            "--backend model: patch {i} is a Bezier patch, which the model's intersection unit cannot test yet (use --backend soft)"
+        ),
+        other => anyhow::anyhow!("--backend model: {other:?}"),
+    })
+}

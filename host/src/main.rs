@@ -2,10 +2,11 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand};
-use hemi::engine::SoftEngine;
+use hemi::engine::{model_engine, Backend, CountedModel, Counters, SoftEngine};
 use hemi::pass1::{self, FormFactors, Pass1Settings};
 use hemi::scene::{self, Scene};
 use hemi::solve::{self, SolveSettings};
+use hemi_hdl_model::ModelConfig;
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
@@ -38,15 +39,35 @@ struct Common {
     /// Delta form factor rule: band (exact band integral, default) or paper (cos χ / K).
     #[arg(long, default_value = "band", value_parser = ["band", "paper"])]
     delta: String,
+    /// Accelerator clock assumed when `--backend model` reports time.
+    #[arg(long, default_value_t = 100.0)]
+    clock_mhz: f64,
+    /// CORDIC iterations of the modelled accelerator (`--backend model`).
+    #[arg(long, default_value_t = 24)]
+    cordic_iterations: u32,
+    /// CORDIC word width in bits of the modelled accelerator (`--backend model`).
+    #[arg(long, default_value_t = 32)]
+    cordic_width: u32,
 }
 
 impl Common {
-    fn pass1(&self) -> Result<Pass1Settings> {
-        for b in self.backend.split(',') {
-            if b != "soft" {
-                bail!("--backend {b}: only the `soft` backend runs pass 1 so far (model: issue \"The accelerator\"; qemu/serial: issue \"The firmware as the ray engine\")");
+    fn backend(&self) -> Result<Backend> {
+        match self.backend.as_str() {
+            "soft" => Ok(Backend::Soft),
+            "model" => {
+                anyhow::ensure!(self.clock_mhz > 0.0 && self.clock_mhz.is_finite(), "--clock-mhz must be positive");
+                Ok(Backend::Model(ModelConfig {
+                    iterations: self.cordic_iterations,
+                    width: self.cordic_width,
+                    ..ModelConfig::default()
+                }))
             }
+            b => bail!("--backend {b}: `soft` and `model` run the passes so far; boards (qemu, serial:PATH, lists) answer `hemi board info` but do not take jobs yet (issue \"The firmware as the ray engine\")"),
         }
+    }
+
+    fn pass1(&self) -> Result<Pass1Settings> {
+        self.backend()?;
         if self.circles < 2 || self.circles > 1024 {
             bail!("--circles must be between 2 and 1024");
         }
@@ -178,12 +199,91 @@ fn progress(len: u64, what: &str) -> ProgressBar {
     bar
 }
 
-fn run_pass1(scene: &Scene, settings: &Pass1Settings) -> Result<FormFactors> {
-    let elements = scene.patches.len() as u64 * (settings.samples as u64).pow(2);
+fn run_pass1(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    backend: Backend,
+    counters: &Counters,
+) -> Result<FormFactors> {
+    let elements: u64 = (0..scene.patches.len())
+        .map(|i| pass1::sample_points(scene, i, settings.samples).len() as u64)
+        .sum();
     let bar = progress(elements, "pass 1");
-    let ff = pass1::form_factors(scene, settings, &|n| bar.inc(n))?;
+    let patches = scene.kernel_patches();
+    let ff = match backend {
+        Backend::Soft => {
+            pass1::form_factors_with(scene, settings, &|| SoftEngine::new(&patches), &|n| {
+                bar.inc(n)
+            })?
+        }
+        Backend::Model(cfg) => {
+            model_engine(&patches, cfg)?;
+            pass1::form_factors_with(
+                scene,
+                settings,
+                &|| {
+                    CountedModel::new(
+                        model_engine(&patches, cfg).expect("checked above"),
+                        counters,
+                    )
+                },
+                &|n| bar.inc(n),
+            )?
+        }
+    };
     bar.finish_and_clear();
     Ok(ff)
+}
+
+/// What the modelled accelerator did, on stderr: cycles per ray and per hemisphere, and the
+/// time at the assumed clock.
+fn report_model(
+    backend: Backend,
+    counters: &Counters,
+    hemispheres: u64,
+    clock_mhz: f64,
+    what: &str,
+) {
+    if let Backend::Model(cfg) = backend {
+        let (cycles, rays) = counters.get();
+        eprintln!(
+            "model ({} CORDIC iterations, {}-bit words): {what}: {cycles} cycles for {rays} rays = {:.1} cycles/ray, {:.0} cycles/hemisphere; {:.3} s at {clock_mhz} MHz",
+            cfg.iterations,
+            cfg.width,
+            cycles as f64 / rays.max(1) as f64,
+            cycles as f64 / hemispheres.max(1) as f64,
+            cycles as f64 / (clock_mhz * 1e6)
+        );
+    }
+}
+
+fn irradiance_lines<A: Accelerator>(
+    engine: &mut A,
+    view: &hemi_kernel::hemisphere::Hemisphere<'_>,
+    grids: &[hemi::radiosity::Grid],
+    out: &mut impl Write,
+) -> Result<()> {
+    for (n, line) in stdin_lines() {
+        let (p, d) = parse_ray_line(&line?, n)?;
+        let e = hemi::irradiance::irradiance(engine, view, grids, p, d);
+        writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
+    }
+    Ok(())
+}
+
+fn trace_lines<A: Accelerator>(engine: &mut A, scene: &Scene, out: &mut impl Write) -> Result<()> {
+    for (n, line) in stdin_lines() {
+        let (origin, dir) = parse_ray_line(&line?, n)?;
+        match engine.nearest_hit(&Ray { origin, dir }, f32::INFINITY) {
+            Some(h) => writeln!(
+                out,
+                "{} {} {} {}",
+                h.t, scene.patches[h.patch as usize].name, h.u, h.v
+            )?,
+            None => writeln!(out, "miss")?,
+        }
+    }
+    Ok(())
 }
 
 fn solve_scene(scene: &Scene, ff: &FormFactors) -> Result<solve::Solution> {
@@ -386,6 +486,8 @@ fn main() -> Result<()> {
             common,
         } => {
             let settings = common.pass1()?;
+            let backend = common.backend()?;
+            let counters = Counters::default();
             anyhow::ensure!(
                 (1..=4096).contains(&spp),
                 "--spp must be between 1 and 4096"
@@ -393,13 +495,35 @@ fn main() -> Result<()> {
             let scene = scene::load(&scene)?;
             let camera = hemi::render::camera_of(&scene)?;
             let t0 = std::time::Instant::now();
-            let ff = run_pass1(&scene, &settings)?;
+            let ff = run_pass1(&scene, &settings, backend, &counters)?;
             let t1 = std::time::Instant::now();
             let sol = solve_scene(&scene, &ff)?;
             let grids = hemi::radiosity::grids(&scene, &ff, &sol);
             let t2 = std::time::Instant::now();
             let bar = progress(camera.height as u64, "pass 2");
-            let img = hemi::render::render(&scene, &grids, &camera, spp, &|n| bar.inc(n));
+            let patches = scene.kernel_patches();
+            let pass1_counts = counters.get();
+            let img = match backend {
+                Backend::Soft => hemi::render::render_with(
+                    &grids,
+                    &camera,
+                    spp,
+                    &|| SoftEngine::new(&patches),
+                    &|n| bar.inc(n),
+                ),
+                Backend::Model(cfg) => hemi::render::render_with(
+                    &grids,
+                    &camera,
+                    spp,
+                    &|| {
+                        CountedModel::new(
+                            model_engine(&patches, cfg).expect("checked in pass 1"),
+                            &counters,
+                        )
+                    },
+                    &|n| bar.inc(n),
+                ),
+            };
             bar.finish_and_clear();
             let t3 = std::time::Instant::now();
             let ev = exposure.unwrap_or_else(|| hemi::render::auto_exposure(&img));
@@ -420,6 +544,23 @@ fn main() -> Result<()> {
                 ev,
                 output.display()
             );
+            report_model(
+                backend,
+                &counters,
+                ff.elements.len() as u64,
+                common.clock_mhz,
+                "pass 1 and pass 2",
+            );
+            if let Backend::Model(_) = backend {
+                let (c, r) = counters.get();
+                let (c1, r1) = pass1_counts;
+                eprintln!(
+                    "model: pass 1 {c1} cycles ({:.0} per hemisphere), pass 2 {} cycles for {} rays",
+                    c1 as f64 / ff.elements.len().max(1) as f64,
+                    c - c1,
+                    r - r1
+                );
+            }
         }
         Command::FormFactors {
             scene,
@@ -427,8 +568,10 @@ fn main() -> Result<()> {
             common,
         } => {
             let settings = common.pass1()?;
+            let backend = common.backend()?;
+            let counters = Counters::default();
             let scene = scene::load(&scene)?;
-            let ff = run_pass1(&scene, &settings)?;
+            let ff = run_pass1(&scene, &settings, backend, &counters)?;
             if json {
                 let patches: Vec<_> = scene
                     .patches
@@ -451,6 +594,13 @@ fn main() -> Result<()> {
                 }
                 eprintln!("{} rays, {} elements", ff.stats.rays, ff.elements.len());
             }
+            report_model(
+                backend,
+                &counters,
+                ff.elements.len() as u64,
+                common.clock_mhz,
+                "pass 1",
+            );
         }
         Command::Solve {
             scene,
@@ -458,8 +608,10 @@ fn main() -> Result<()> {
             common,
         } => {
             let settings = common.pass1()?;
+            let backend = common.backend()?;
+            let counters = Counters::default();
             let scene = scene::load(&scene)?;
-            let ff = run_pass1(&scene, &settings)?;
+            let ff = run_pass1(&scene, &settings, backend, &counters)?;
             let sol = solve_scene(&scene, &ff)?;
             if json {
                 let patches: Vec<_> = scene
@@ -482,40 +634,61 @@ fn main() -> Result<()> {
                     sol.iterations, sol.residual
                 );
             }
+            report_model(
+                backend,
+                &counters,
+                ff.elements.len() as u64,
+                common.clock_mhz,
+                "pass 1",
+            );
         }
         Command::Irradiance { scene, common } => {
             let settings = common.pass1()?;
+            let backend = common.backend()?;
+            let counters = Counters::default();
             let scene = scene::load(&scene)?;
-            let ff = run_pass1(&scene, &settings)?;
+            let ff = run_pass1(&scene, &settings, backend, &counters)?;
             let sol = solve_scene(&scene, &ff)?;
             let grids = hemi::radiosity::grids(&scene, &ff, &sol);
             let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
                 .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
             let view = hemi.view();
             let patches = scene.kernel_patches();
-            let mut engine = SoftEngine::new(&patches);
-            for (n, line) in stdin_lines() {
-                let (p, d) = parse_ray_line(&line?, n)?;
-                let e = hemi::irradiance::irradiance(&mut engine, &view, &grids, p, d);
-                writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
+            match backend {
+                Backend::Soft => {
+                    irradiance_lines(&mut SoftEngine::new(&patches), &view, &grids, &mut out)?
+                }
+                Backend::Model(cfg) => irradiance_lines(
+                    &mut CountedModel::new(model_engine(&patches, cfg)?, &counters),
+                    &view,
+                    &grids,
+                    &mut out,
+                )?,
             }
+            report_model(
+                backend,
+                &counters,
+                ff.elements.len() as u64,
+                common.clock_mhz,
+                "pass 1 and queries",
+            );
         }
         Command::Trace { scene, common } => {
             common.pass1()?;
+            let backend = common.backend()?;
             let scene = scene::load(&scene)?;
             let patches = scene.kernel_patches();
-            let mut accel = SoftEngine::new(&patches);
-            for (n, line) in stdin_lines() {
-                let (origin, dir) = parse_ray_line(&line?, n)?;
-                match accel.nearest_hit(&Ray { origin, dir }, f32::INFINITY) {
-                    Some(h) => writeln!(
-                        out,
-                        "{} {} {} {}",
-                        h.t, scene.patches[h.patch as usize].name, h.u, h.v
-                    )?,
-                    None => writeln!(out, "miss")?,
-                }
+            let counters = Counters::default();
+            match backend {
+                Backend::Soft => trace_lines(&mut SoftEngine::new(&patches), &scene, &mut out)?,
+                Backend::Model(cfg) => trace_lines(
+                    &mut CountedModel::new(model_engine(&patches, cfg)?, &counters),
+                    &scene,
+                    &mut out,
+                )?,
             }
+            out.flush()?;
+            report_model(backend, &counters, 0, common.clock_mhz, "trace");
         }
         Command::Bench {
             command: BenchCommand::FormFactors { circles, samples },

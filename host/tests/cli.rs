@@ -213,3 +213,46 @@ vertices = [[0.2,0.3,1],[0.2,1.3,1],[1.2,1.3,1],[1.2,0.3,1]]
     }
     assert_eq!(lines[1], [0.0, 0.0, 0.0], "facing away sees nothing");
 }
+
+#[test]
+fn the_model_backend_gives_the_soft_backends_form_factors_and_reports_cycles() {
+    let p = scene("two-model.toml", TWO_SQUARES);
+    let args = |b: &'static str| {
+        [
+            "form-factors",
+            "--json",
+            "--circles",
+            "16",
+            "--samples",
+            "2",
+            "--backend",
+            b,
+        ]
+    };
+    let (ok, soft, err) = run(&[&args("soft")[..], &[p.to_str().unwrap()]].concat(), "");
+    assert!(ok, "{err}");
+    let (ok, model, err) = run(&[&args("model")[..], &[p.to_str().unwrap()]].concat(), "");
+    assert!(ok, "{err}");
+    assert!(err.contains("cycles/ray") && err.contains("MHz"), "{err}");
+    let m = |s: &str| -> Vec<Vec<f64>> {
+        let v: serde_json::Value = serde_json::from_str(s).unwrap();
+        v["matrix"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|r| {
+                r.as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|x| x.as_f64().unwrap())
+                    .collect()
+            })
+            .collect()
+    };
+    let (a, b) = (m(&soft), m(&model));
+    for (ra, rb) in a.iter().zip(&b) {
+        for (x, y) in ra.iter().zip(rb) {
+            assert!((x - y).abs() < 1e-6, "soft {x} model {y}");
+        }
+    }
+}
