@@ -2,6 +2,7 @@
 #![forbid(unsafe_code)]
 
 pub mod analytic;
+pub mod bench;
 pub mod board;
 pub mod engine;
 pub mod irradiance;

@@ -148,6 +148,23 @@ enum Command {
 
 #[derive(Subcommand)]
 enum BenchCommand {
+    /// Bezier intersection error (against an f64 Newton reference) over subdivision depth and
+    /// flatness, with the cost per ray: a markdown table (docs/ACCURACY.md).
+    Bezier {
+        #[arg(default_value = "scenes/teapot.toml")]
+        scene: PathBuf,
+    },
+    /// The teapot as Bezier patches (16 samples each) against the same teapot tessellated into
+    /// 2n² triangles per patch (1 sample each): time, matrix size, memory, radiosities.
+    Tessellation {
+        #[arg(default_value = "scenes/teapot.toml")]
+        scene: PathBuf,
+        /// Grid n per patch (2n² triangles; the paper's 50 is n = 5).
+        #[arg(long, default_value_t = 5)]
+        grid: usize,
+        #[command(flatten)]
+        common: Common,
+    },
     /// Error against Howell's closed forms and cost, over hemisphere circles R and samples K:
     /// a markdown table (docs/ACCURACY.md).
     FormFactors {
@@ -689,6 +706,23 @@ fn main() -> Result<()> {
             }
             out.flush()?;
             report_model(backend, &counters, 0, common.clock_mhz, "trace");
+        }
+        Command::Bench {
+            command: BenchCommand::Bezier { scene },
+        } => {
+            hemi::bench::bezier_accuracy(&scene::load(&scene)?, &mut out)?;
+        }
+        Command::Bench {
+            command:
+                BenchCommand::Tessellation {
+                    scene,
+                    grid,
+                    common,
+                },
+        } => {
+            let settings = common.pass1()?;
+            anyhow::ensure!((1..=32).contains(&grid), "--grid must be between 1 and 32");
+            hemi::bench::bezier_vs_tessellated(&scene::load(&scene)?, &settings, grid, &mut out)?;
         }
         Command::Bench {
             command: BenchCommand::FormFactors { circles, samples },

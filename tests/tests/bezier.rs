@@ -5,6 +5,7 @@
 // Vector code in f64 arrays: p[k], c[k] read as the formulas do.
 #![allow(clippy::needless_range_loop)]
 
+use hemi::analytic::{bezier_eval as eval, bezier_newton as newton};
 use hemi::engine::SoftEngine;
 use hemi::scene::load;
 use hemi_kernel::accel::{Accelerator, Ray};
@@ -27,94 +28,6 @@ fn teapot() -> Vec<Bezier> {
             _ => None,
         })
         .collect()
-}
-
-type D3 = [f64; 3];
-
-fn bern(t: f64) -> [f64; 4] {
-    let s = 1.0 - t;
-    [s * s * s, 3.0 * t * s * s, 3.0 * t * t * s, t * t * t]
-}
-fn bern_d(t: f64) -> [f64; 4] {
-    let s = 1.0 - t;
-    [
-        -3.0 * s * s,
-        3.0 * s * s - 6.0 * t * s,
-        6.0 * t * s - 3.0 * t * t,
-        3.0 * t * t,
-    ]
-}
-
-/// P, ∂P/∂u, ∂P/∂v in f64: the reference's own evaluation, independent of the kernel's f32 code.
-fn eval(b: &Bezier, u: f64, v: f64) -> (D3, D3, D3) {
-    let (bu, bv, du, dv) = (bern(u), bern(v), bern_d(u), bern_d(v));
-    let mut out = ([0.0; 3], [0.0; 3], [0.0; 3]);
-    for r in 0..4 {
-        for c in 0..4 {
-            let p = b.cp[4 * r + c].to_array().map(|x| x as f64);
-            for k in 0..3 {
-                out.0[k] += bv[r] * bu[c] * p[k];
-                out.1[k] += bv[r] * du[c] * p[k];
-                out.2[k] += dv[r] * bu[c] * p[k];
-            }
-        }
-    }
-    out
-}
-
-/// Newton on P(u,v) − o − t d = 0 from the best seed of a dense 48×48 grid (the point nearest
-/// the ray); `None` unless it converges (to 1e-5 of the line, the f32 inputs' resolution)
-/// inside the patch with t > 0.
-fn newton(b: &Bezier, o: D3, d: D3) -> Option<(f64, f64, f64)> {
-    let line_dist = |p: D3| {
-        let w = [p[0] - o[0], p[1] - o[1], p[2] - o[2]];
-        let t = w[0] * d[0] + w[1] * d[1] + w[2] * d[2];
-        let q = [w[0] - t * d[0], w[1] - t * d[1], w[2] - t * d[2]];
-        (q[0] * q[0] + q[1] * q[1] + q[2] * q[2], t)
-    };
-    let mut best = (f64::INFINITY, 0.0, 0.0, 0.0);
-    for i in 0..=48 {
-        for j in 0..=48 {
-            let (u, v) = (i as f64 / 48.0, j as f64 / 48.0);
-            let (dist, t) = line_dist(eval(b, u, v).0);
-            if t > 0.0 && dist < best.0 {
-                best = (dist, u, v, t);
-            }
-        }
-    }
-    let (_, mut u, mut v, mut t) = best;
-    for _ in 0..30 {
-        let (p, pu, pv) = eval(b, u, v);
-        let f = [
-            p[0] - o[0] - t * d[0],
-            p[1] - o[1] - t * d[1],
-            p[2] - o[2] - t * d[2],
-        ];
-        // J = [pu pv −d]; solve J x = −f by Cramer's rule
-        let col = [pu, pv, [-d[0], -d[1], -d[2]]];
-        let det3 = |a: D3, b: D3, c: D3| {
-            a[0] * (b[1] * c[2] - b[2] * c[1]) - b[0] * (a[1] * c[2] - a[2] * c[1])
-                + c[0] * (a[1] * b[2] - a[2] * b[1])
-        };
-        let det = det3(col[0], col[1], col[2]);
-        if det.abs() < 1e-14 {
-            return None;
-        }
-        let rhs = [-f[0], -f[1], -f[2]];
-        let du = det3(rhs, col[1], col[2]) / det;
-        let dv = det3(col[0], rhs, col[2]) / det;
-        let dt = det3(col[0], col[1], rhs) / det;
-        u += du;
-        v += dv;
-        t += dt;
-        if du.abs() + dv.abs() < 1e-12 {
-            break;
-        }
-    }
-    let (p, _, _) = eval(b, u, v);
-    let (dist, _) = line_dist(p);
-    ((0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v) && t > 0.0 && dist < 1e-10)
-        .then_some((t, u, v))
 }
 
 fn rng(seed: &mut u64) -> f64 {
