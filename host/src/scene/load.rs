@@ -141,6 +141,32 @@ impl Ctx<'_> {
         }
         Ok(a)
     }
+    /// The optional `scale` (positive, default 1) and `translate` (default 0) of an imported
+    /// file's entry `kind`.
+    fn placement(
+        &self,
+        scale: &Option<Spanned<f64>>,
+        translate: &Option<Spanned<Vec<f64>>>,
+        kind: &str,
+    ) -> Result<(f64, [f64; 3])> {
+        let scale = match scale {
+            Some(s) if s.get_ref().is_finite() && *s.get_ref() > 0.0 => *s.get_ref(),
+            Some(s) => {
+                return Err(self.err(
+                    s.span(),
+                    &format!("{kind}.scale"),
+                    "must be a positive number",
+                ))
+            }
+            None => 1.0,
+        };
+        let translate = match translate {
+            Some(t) => self.vec3(t, &format!("{kind}.translate"))?,
+            None => [0.0; 3],
+        };
+        Ok((scale, translate))
+    }
+
     fn vec3(&self, v: &Spanned<Vec<f64>>, key: &str) -> Result<[f64; 3]> {
         let a = v.get_ref();
         if a.len() != 3 {
@@ -263,17 +289,7 @@ fn load_bpt(
             format!("unknown material `{}`", b.material.get_ref()),
         )
     })?;
-    let scale = match &b.scale {
-        Some(s) if !(s.get_ref().is_finite() && *s.get_ref() > 0.0) => {
-            return Err(cx.err(s.span(), "bpt.scale", "must be a positive number"))
-        }
-        Some(s) => *s.get_ref(),
-        None => 1.0,
-    };
-    let translate = match &b.translate {
-        Some(t) => cx.vec3(t, "bpt.translate")?,
-        None => [0.0; 3],
-    };
+    let (scale, translate) = cx.placement(&b.scale, &b.translate, "bpt")?;
     let mut skipped = 0;
     for (i, cp) in list.iter().enumerate() {
         let name = format!("{}/{i}", b.name.get_ref());
@@ -325,17 +341,7 @@ fn load_obj(
             format!("cannot load {}: {e}", path.display()),
         )
     })?;
-    let scale = match &o.scale {
-        Some(s) if !(s.get_ref().is_finite() && *s.get_ref() > 0.0) => {
-            return Err(cx.err(s.span(), "obj.scale", "must be a positive number"))
-        }
-        Some(s) => *s.get_ref(),
-        None => 1.0,
-    };
-    let translate = match &o.translate {
-        Some(t) => cx.vec3(t, "obj.translate")?,
-        None => [0.0; 3],
-    };
+    let (scale, translate) = cx.placement(&o.scale, &o.translate, "obj")?;
     let fixed = match &o.material {
         Some(m) => Some(*by_name.get(m.get_ref()).ok_or_else(|| {
             cx.err(
