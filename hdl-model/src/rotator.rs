@@ -13,16 +13,30 @@
 use crate::cordic::{CordicConfig, CordicPipe, CordicSlot, Mode};
 use crate::format::{Angle, Unit};
 
-/// What rides along a direction through the rotator.
+/// What rides along a direction through the pipes: the component the current pipe does not
+/// turn, and the direction's slot in the side table (a 7-bit tag, as hardware would carry
+/// instead of copying the frame and the info down every stage).
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Carry<T: Copy + Default> {
+pub struct Carry {
     third: Unit,
+    slot: u8,
+}
+
+/// What a direction needs besides its vector: the later pipes' angles, the unrotated direction
+/// (bypass) and the device's info. Written once on entry, read at the pipe boundaries and on exit.
+#[derive(Clone, Copy, Debug, Default)]
+struct Side<T: Copy + Default> {
     theta: Angle,
     phi: Angle,
     original: [Unit; 3],
     bypass: bool,
     info: T,
 }
+
+/// Side-table slots: more than the longest rotator latency (3 (30 + 2) + 2 = 98 clocks), so a
+/// slot allocated round-robin, at most one per clock, is free again before it is reused.
+const SLOTS: usize = 128;
+const _: () = assert!(SLOTS > 3 * (crate::cordic::MAX_ITERATIONS as usize + 2) + 2);
 
 /// A direction and its frame entering the rotator.
 #[derive(Clone, Copy, Debug, Default)]
@@ -40,9 +54,11 @@ pub struct RotIn<T: Copy + Default> {
 /// The three CORDIC pipes.
 #[derive(Clone, Debug)]
 pub struct Rotator<T: Copy + Default> {
-    psi: CordicPipe<Carry<T>>,
-    theta: CordicPipe<Carry<T>>,
-    phi: CordicPipe<Carry<T>>,
+    psi: CordicPipe<Carry>,
+    theta: CordicPipe<Carry>,
+    phi: CordicPipe<Carry>,
+    side: [Side<T>; SLOTS],
+    next_slot: u8,
 }
 
 impl<T: Copy + Default> Rotator<T> {
@@ -52,6 +68,8 @@ impl<T: Copy + Default> Rotator<T> {
             psi: CordicPipe::new(Mode::Rotate, cfg),
             theta: CordicPipe::new(Mode::Rotate, cfg),
             phi: CordicPipe::new(Mode::Rotate, cfg),
+            side: [Side::default(); SLOTS],
+            next_slot: 0,
         }
     }
 
@@ -78,30 +96,38 @@ impl<T: Copy + Default> Rotator<T> {
         // the pipes are ticked last-first, as registers all update on the same edge
         let out = self.phi.tick(None);
         let from_theta = self.theta.tick(None);
-        let from_psi = self.psi.tick(input.map(|r| CordicSlot {
-            x: r.dir[0],
-            y: r.dir[1],
-            z: if r.bypass { Angle::ZERO } else { r.angles[0] },
-            zero: false,
-            payload: Carry {
-                third: r.dir[2],
+        let input = input.map(|r| {
+            let slot = self.next_slot;
+            self.next_slot = (slot + 1) % SLOTS as u8;
+            self.side[slot as usize] = Side {
                 theta: r.angles[1],
                 phi: r.angles[2],
                 original: r.dir,
                 bypass: r.bypass,
                 info: r.info,
-            },
-        }));
+            };
+            CordicSlot {
+                x: r.dir[0],
+                y: r.dir[1],
+                z: if r.bypass { Angle::ZERO } else { r.angles[0] },
+                zero: false,
+                payload: Carry {
+                    third: r.dir[2],
+                    slot,
+                },
+            }
+        });
+        let from_psi = self.psi.tick(input);
         if let Some(s) = from_psi {
             // (z, x) turned by θ; y carried
             self.theta.feed(CordicSlot {
                 x: s.payload.third,
                 y: s.x,
-                z: s.payload.theta,
+                z: self.side[s.payload.slot as usize].theta,
                 zero: false,
                 payload: Carry {
                     third: s.y,
-                    ..s.payload
+                    slot: s.payload.slot,
                 },
             });
         }
@@ -110,22 +136,22 @@ impl<T: Copy + Default> Rotator<T> {
             self.phi.feed(CordicSlot {
                 x: s.y,
                 y: s.payload.third,
-                z: s.payload.phi,
+                z: self.side[s.payload.slot as usize].phi,
                 zero: false,
                 payload: Carry {
                     third: s.x,
-                    ..s.payload
+                    slot: s.payload.slot,
                 },
             });
         }
         out.map(|s| {
-            let p = s.payload;
-            let v = if p.bypass {
-                p.original
+            let side = &self.side[s.payload.slot as usize];
+            let v = if side.bypass {
+                side.original
             } else {
-                [s.x, s.y, p.third]
+                [s.x, s.y, s.payload.third]
             };
-            (v, p.info)
+            (v, side.info)
         })
     }
 }
