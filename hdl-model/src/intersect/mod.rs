@@ -85,9 +85,15 @@ pub struct RayOut<T: Copy + Default> {
     pub hit: Option<HitOut>,
 }
 
+/// Ray slots: rays in flight are named by a slot index into the unit's ray table, which is what
+/// the pipeline registers carry (a 6-bit tag) instead of the ray itself. The unit is in order,
+/// so slots are handed out round-robin and one is free again once `in_flight` is below this.
+pub const RAY_SLOTS: usize = 64;
+
+/// The edge stage's output register.
 #[derive(Clone, Copy, Debug, Default)]
-struct Token<T: Copy + Default> {
-    ray: RayIn<T>,
+struct Token {
+    slot: u8,
     patch: u32,
     first: bool,
     last: bool,
@@ -95,8 +101,29 @@ struct Token<T: Copy + Default> {
     inside: bool,
     h: i128,
     den: i128,
-    t: i64,
     front: bool,
+}
+
+/// What the divider hands on (its h and n · d inputs are consumed): a register of the delay
+/// line that models the divider's latency.
+#[derive(Clone, Copy, Debug, Default)]
+struct Quotient {
+    slot: u8,
+    patch: u32,
+    first: bool,
+    last: bool,
+    /// a positive, in-range t
+    hit: bool,
+    front: bool,
+    t: i64,
+}
+
+/// A (u,v) pipeline register: the cell, whether the ray hit, and its slot.
+#[derive(Clone, Copy, Debug, Default)]
+struct UvReg {
+    cell: Cell,
+    hit: bool,
+    slot: u8,
 }
 
 /// Stage 1: edge tests and the denominator.
@@ -104,12 +131,12 @@ struct Token<T: Copy + Default> {
 pub struct EdgeStage;
 
 impl EdgeStage {
-    fn eval<T: Copy + Default>(&self, mut tok: Token<T>, lp: &LocalPatch) -> Token<T> {
-        if tok.ray.bypass || !lp.active {
+    fn eval<T: Copy + Default>(&self, mut tok: Token, ray: &RayIn<T>, lp: &LocalPatch) -> Token {
+        if ray.bypass || !lp.active {
             tok.inside = false;
             return tok;
         }
-        let d = tok.ray.dir.map(|c| c.to_bits() as i128);
+        let d = ray.dir.map(|c| c.to_bits() as i128);
         let mut inside = true;
         for e in &lp.e[..lp.sides as usize] {
             let s = d[0] * e[0] as i128 + d[1] * e[1] as i128 + d[2] * e[2] as i128;
@@ -128,19 +155,26 @@ impl EdgeStage {
 pub struct DivideStage;
 
 impl DivideStage {
-    fn eval<T: Copy + Default>(&self, mut tok: Token<T>) -> Token<T> {
+    fn eval(&self, tok: Token) -> Quotient {
+        let mut out = Quotient {
+            slot: tok.slot,
+            patch: tok.patch,
+            first: tok.first,
+            last: tok.last,
+            hit: false,
+            front: tok.front,
+            t: 0,
+        };
         if !tok.inside || tok.den == 0 {
-            tok.inside = false;
-            return tok;
+            return out;
         }
         // h is Q.54, n·d Q.60: (h << 30) / (n·d) is Q.24
         let q = (tok.h << 30) / tok.den;
-        if q <= 0 || q > i32::MAX as i128 {
-            tok.inside = false;
-        } else {
-            tok.t = q as i64;
+        if q > 0 && q <= i32::MAX as i128 {
+            out.hit = true;
+            out.t = q as i64;
         }
-        tok
+        out
     }
 }
 
@@ -149,20 +183,20 @@ type Best = Option<(u32, i64, bool)>;
 
 /// Stage 3: the running minimum of one ray.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct SelectStage<T: Copy + Default> {
+pub struct SelectStage {
     best: Best,
-    _ray: core::marker::PhantomData<T>,
 }
 
-impl<T: Copy + Default> SelectStage<T> {
-    fn eval(&mut self, tok: Token<T>) -> Option<(RayIn<T>, Best)> {
+impl SelectStage {
+    /// The ray's slot and its nearest hit after its last patch.
+    fn eval(&mut self, tok: Quotient) -> Option<(u8, Best)> {
         if tok.first {
             self.best = None;
         }
-        if tok.inside && self.best.is_none_or(|(_, t, _)| tok.t < t) {
+        if tok.hit && self.best.is_none_or(|(_, t, _)| tok.t < t) {
             self.best = Some((tok.patch, tok.t, tok.front));
         }
-        tok.last.then(|| (tok.ray, self.best.take()))
+        tok.last.then(|| (tok.slot, self.best.take()))
     }
 }
 
@@ -171,14 +205,19 @@ impl<T: Copy + Default> SelectStage<T> {
 pub struct IntersectUnit<T: Copy + Default> {
     local: [LocalPatch; PATCH_CAPACITY],
     local_origin: Option<[Coord; 3]>,
-    /// ray being issued, the next patch to issue, and the set-up patch counter
-    current: Option<RayIn<T>>,
+    /// the rays in flight, by slot
+    rays: [RayIn<T>; RAY_SLOTS],
+    /// and their nearest hit, from the select stage on
+    hits: [HitOut; RAY_SLOTS],
+    next_slot: u8,
+    /// slot of the ray being issued, the next patch to issue, and the set-up patch counter
+    current: Option<u8>,
     next_patch: u32,
     setup_next: Option<u32>,
-    edge_reg: Option<Token<T>>,
-    divide: Delay<Token<T>, DIV_LATENCY>,
-    select: SelectStage<T>,
-    uv: Pipe<(Cell, bool, RayOut<T>)>,
+    edge_reg: Option<Token>,
+    divide: Delay<Quotient, DIV_LATENCY>,
+    select: SelectStage,
+    uv: Pipe<UvReg>,
     depth: u32,
     in_flight: u32,
     /// set when a slot of an unsupported kind was scanned
@@ -191,6 +230,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
         IntersectUnit {
             local: [LocalPatch::default(); PATCH_CAPACITY],
             local_origin: None,
+            rays: [RayIn::default(); RAY_SLOTS],
+            hits: [HitOut::default(); RAY_SLOTS],
+            next_slot: 0,
             current: None,
             next_patch: 0,
             setup_next: None,
@@ -217,12 +259,17 @@ impl<T: Copy + Default> IntersectUnit<T> {
     /// Starts a ray (when [`IntersectUnit::ready`]).
     pub fn start(&mut self, ray: RayIn<T>) {
         debug_assert!(self.ready());
+        // in order: the oldest ray in flight holds slot next_slot − in_flight
+        assert!((self.in_flight as usize) < RAY_SLOTS, "ray slots exhausted");
         self.in_flight += 1;
         self.next_patch = 0;
         if !ray.bypass && self.local_origin != Some(ray.origin) {
             self.setup_next = Some(0);
         }
-        self.current = Some(ray);
+        let slot = self.next_slot;
+        self.next_slot = (slot + 1) % RAY_SLOTS as u8;
+        self.rays[slot as usize] = ray;
+        self.current = Some(slot);
     }
 
     /// Forgets the set-up (patch memory was written).
@@ -293,21 +340,25 @@ impl<T: Copy + Default> IntersectUnit<T> {
         // (u,v) pipe, fed by the select stage
         let depth = self.depth;
         let out = self.uv.tick(None, |_, s| {
-            if s.1 {
-                (UvStage.eval(s.0), true, s.2)
+            if s.hit {
+                UvReg {
+                    cell: UvStage.eval(s.cell),
+                    ..s
+                }
             } else {
                 s
             }
         });
-        if let Some((cell, hit, mut r)) = out {
-            if hit {
-                if let Some(h) = r.hit.as_mut() {
-                    h.u = uv::centre(cell.iu, depth);
-                    h.v = uv::centre(cell.iv, depth);
-                }
-            }
+        if let Some(reg) = out {
+            let ray = self.rays[reg.slot as usize];
+            let hit = reg.hit.then(|| {
+                let mut h = self.hits[reg.slot as usize];
+                h.u = uv::centre(reg.cell.iu, depth);
+                h.v = uv::centre(reg.cell.iv, depth);
+                h
+            });
             self.in_flight -= 1;
-            return self.finish_tick(mem, count, Some(r));
+            return self.finish_tick(mem, count, Some(RayOut { ray, hit }));
         }
         self.finish_tick(mem, count, None)
     }
@@ -323,9 +374,10 @@ impl<T: Copy + Default> IntersectUnit<T> {
             .divide
             .tick(self.edge_reg.take().map(|t| DivideStage.eval(t)))
         {
-            if let Some((ray, best)) = self.select.eval(tok) {
+            if let Some((slot, best)) = self.select.eval(tok) {
                 let entry = match best {
                     Some((patch, t, front)) => {
+                        let ray = &self.rays[slot as usize];
                         let p = mem.patch(patch as usize);
                         let o = ray.origin.map(|c| c.to_bits() as i64);
                         let d = ray.dir.map(|c| c.to_bits() as i64);
@@ -338,23 +390,24 @@ impl<T: Copy + Default> IntersectUnit<T> {
                             iu: 0,
                             iv: 0,
                         };
-                        let hit = HitOut {
+                        self.hits[slot as usize] = HitOut {
                             patch,
                             t: Coord::from_bits(t as i32),
                             u: Unit::ZERO,
                             v: Unit::ZERO,
                             front,
                         };
-                        (
+                        UvReg {
                             cell,
-                            true,
-                            RayOut {
-                                ray,
-                                hit: Some(hit),
-                            },
-                        )
+                            hit: true,
+                            slot,
+                        }
                     }
-                    None => (Cell::default(), false, RayOut { ray, hit: None }),
+                    None => UvReg {
+                        cell: Cell::default(),
+                        hit: false,
+                        slot,
+                    },
                 };
                 // the first (u,v) stage is this register; the pipe's other stages bisect
                 self.uv.load_first(entry);
@@ -362,7 +415,10 @@ impl<T: Copy + Default> IntersectUnit<T> {
         }
         // set-up pass (one patch per clock) or issue (one patch per clock) into the edge stage
         if let Some(i) = self.setup_next {
-            let origin = self.current.map(|r| r.origin).unwrap_or_default();
+            let origin = self
+                .current
+                .map(|s| self.rays[s as usize].origin)
+                .unwrap_or_default();
             if i < count {
                 self.setup(mem, i as usize, origin);
             }
@@ -372,17 +428,18 @@ impl<T: Copy + Default> IntersectUnit<T> {
             } else {
                 self.setup_next = Some(i + 1);
             }
-        } else if let Some(ray) = self.current {
+        } else if let Some(slot) = self.current {
+            let ray = &self.rays[slot as usize];
             let p = self.next_patch;
             let last = ray.bypass || count == 0 || p + 1 >= count;
             let mut tok = Token {
-                ray,
+                slot,
                 patch: p,
                 first: p == 0,
                 last,
                 ..Token::default()
             };
-            tok = EdgeStage.eval(tok, &self.local[(p as usize).min(PATCH_CAPACITY - 1)]);
+            tok = EdgeStage.eval(tok, ray, &self.local[(p as usize).min(PATCH_CAPACITY - 1)]);
             if ray.bypass || count == 0 {
                 tok.inside = false;
             }
