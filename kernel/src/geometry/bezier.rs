@@ -153,6 +153,8 @@ struct Node {
     size: f32,
     depth: u32,
     enter: f32,
+    /// Largest side of this node's control-point box (computed once, in the parent's slab test).
+    extent: f32,
 }
 
 impl Bezier {
@@ -271,6 +273,7 @@ impl Bezier {
             size: 1.0,
             depth: 0,
             enter,
+            extent: root.size(),
         });
         let mut best: Option<BezierHit> = None;
         let mut best_t = t_max;
@@ -278,8 +281,10 @@ impl Bezier {
             if node.enter >= best_t {
                 continue;
             }
-            let b = Aabb::of(&node.cp);
-            if node.depth >= max_depth || b.size() <= sub.min_box || flatness(&node.cp) <= flat_tol
+            // (no sub-patch above depth 2 is flat enough to matter: skip the test there)
+            if node.depth >= max_depth
+                || node.extent <= sub.min_box
+                || (node.depth >= 2 && flatness(&node.cp) <= flat_tol)
             {
                 if let Some((t, s, r)) = leaf_hit(&node.cp, o, d, t_min, best_t) {
                     best_t = t;
@@ -297,7 +302,8 @@ impl Bezier {
             let half = node.size * 0.5;
             for (k, child) in quarter(&node.cp).iter().enumerate() {
                 let (cu, cv) = ((k & 1) as f32, (k >> 1) as f32);
-                if let Some(e) = Aabb::of(child).slab(o, d, t_min, best_t) {
+                let child_box = Aabb::of(child);
+                if let Some(e) = child_box.slab(o, d, t_min, best_t) {
                     children[n] = (
                         e,
                         Node {
@@ -307,6 +313,7 @@ impl Bezier {
                             size: half,
                             depth: node.depth + 1,
                             enter: e,
+                            extent: child_box.size(),
                         },
                     );
                     n += 1;
