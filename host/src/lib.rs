@@ -4,6 +4,7 @@
 pub mod analytic;
 pub mod bench;
 pub mod board;
+pub mod chart;
 pub mod engine;
 pub mod irradiance;
 pub mod pass1;

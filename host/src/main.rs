@@ -153,6 +153,9 @@ enum BenchCommand {
     Bezier {
         #[arg(default_value = "scenes/teapot.toml")]
         scene: PathBuf,
+        /// Also draw the chart (SVG).
+        #[arg(long)]
+        svg: Option<PathBuf>,
     },
     /// The teapot as Bezier patches (16 samples each) against the same teapot tessellated into
     /// 2n² triangles per patch (1 sample each): time, matrix size, memory, radiosities.
@@ -174,6 +177,9 @@ enum BenchCommand {
         /// Comma-separated K values.
         #[arg(long, default_value = "4,8,16,32")]
         samples: String,
+        /// Also draw the chart (SVG): max error against rays, one line per K.
+        #[arg(long)]
+        svg: Option<PathBuf>,
     },
     /// Pass-1 hemisphere rays per second of the soft backend on SCENE, on 1 thread and on all,
     /// printed as one machine-readable line per run.
@@ -375,7 +381,23 @@ fn howell_cases() -> Vec<(&'static str, String, f64)> {
     ]
 }
 
-fn bench_form_factors(out: &mut impl Write, circles: &[u32], samples: &[u32]) -> Result<()> {
+fn bench_form_factors(
+    out: &mut impl Write,
+    circles: &[u32],
+    samples: &[u32],
+    svg: Option<&std::path::Path>,
+) -> Result<()> {
+    let mut series: Vec<hemi::chart::Series> = samples
+        .iter()
+        .map(|k| hemi::chart::Series {
+            name: format!(
+                "K = {k} (R = {}..{})",
+                circles.first().unwrap_or(&0),
+                circles.last().unwrap_or(&0)
+            ),
+            points: vec![],
+        })
+        .collect();
     let cases = howell_cases();
     let scenes: Vec<Scene> = cases
         .iter()
@@ -387,7 +409,7 @@ fn bench_form_factors(out: &mut impl Write, circles: &[u32], samples: &[u32]) ->
     )?;
     writeln!(out, "|---|---|---|---|---|---|---|")?;
     for &r in circles {
-        for &k in samples {
+        for (ki, &k) in samples.iter().enumerate() {
             let settings = Pass1Settings {
                 circles: r,
                 samples: k,
@@ -410,7 +432,18 @@ fn bench_form_factors(out: &mut impl Write, circles: &[u32], samples: &[u32]) ->
                 100.0 * worst,
                 100.0 * sum / cases.len() as f64
             )?;
+            series[ki].points.push((rays as f64, worst));
         }
+    }
+    if let Some(path) = svg {
+        let chart = hemi::chart::log_log(
+            "Form factors: error against rays cast",
+            "rays (five cases together)",
+            "max relative error of F_12",
+            "reference: Howell C-11 and C-14 closed forms; soft backend, band δD rule",
+            &series,
+        );
+        std::fs::write(path, chart)?;
     }
     Ok(())
 }
@@ -708,9 +741,9 @@ fn main() -> Result<()> {
             report_model(backend, &counters, 0, common.clock_mhz, "trace");
         }
         Command::Bench {
-            command: BenchCommand::Bezier { scene },
+            command: BenchCommand::Bezier { scene, svg },
         } => {
-            hemi::bench::bezier_accuracy(&scene::load(&scene)?, &mut out)?;
+            hemi::bench::bezier_accuracy(&scene::load(&scene)?, &mut out, svg.as_deref())?;
         }
         Command::Bench {
             command:
@@ -725,7 +758,12 @@ fn main() -> Result<()> {
             hemi::bench::bezier_vs_tessellated(&scene::load(&scene)?, &settings, grid, &mut out)?;
         }
         Command::Bench {
-            command: BenchCommand::FormFactors { circles, samples },
+            command:
+                BenchCommand::FormFactors {
+                    circles,
+                    samples,
+                    svg,
+                },
         } => {
             let list = |s: &str| -> Result<Vec<u32>> {
                 s.split(',')
@@ -736,7 +774,7 @@ fn main() -> Result<()> {
                     })
                     .collect()
             };
-            bench_form_factors(&mut out, &list(&circles)?, &list(&samples)?)?;
+            bench_form_factors(&mut out, &list(&circles)?, &list(&samples)?, svg.as_deref())?;
         }
         Command::Bench {
             command:
