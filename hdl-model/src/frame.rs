@@ -115,6 +115,11 @@ impl FrameUnit {
     /// One clock; true on the clock the frame completes.
     pub fn tick(&mut self) -> bool {
         let was_busy = self.busy();
+        if !was_busy {
+            // nothing queued or in the pipe (all of it counts in `outstanding`): a clock of an
+            // idle unit changes no register
+            return false;
+        }
         let mut input = None;
         if let Some(s) = self.pipe.tick(None) {
             match s.payload {

@@ -119,7 +119,7 @@ impl<S: Copy + Default, const N: usize> Delay<S, N> {
             self.count += 1;
         }
         self.regs[self.head] = input;
-        self.head = (self.head + 1) % N;
+        self.head = if self.head + 1 == N { 0 } else { self.head + 1 };
         out
     }
 
