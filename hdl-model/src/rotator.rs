@@ -59,6 +59,9 @@ pub struct Rotator<T: Copy + Default> {
     phi: CordicPipe<Carry>,
     side: [Side<T>; SLOTS],
     next_slot: u8,
+    /// directions in flight (entered and not yet out), the sum of the pipes' occupancies kept
+    /// as a counter: the device asks every clock
+    in_flight: u32,
 }
 
 impl<T: Copy + Default> Rotator<T> {
@@ -70,6 +73,7 @@ impl<T: Copy + Default> Rotator<T> {
             phi: CordicPipe::new(Mode::Rotate, cfg),
             side: [Side::default(); SLOTS],
             next_slot: 0,
+            in_flight: 0,
         }
     }
 
@@ -80,7 +84,11 @@ impl<T: Copy + Default> Rotator<T> {
 
     /// Directions in flight.
     pub fn occupancy(&self) -> u32 {
-        self.psi.occupancy() + self.theta.occupancy() + self.phi.occupancy()
+        debug_assert_eq!(
+            self.in_flight,
+            self.psi.occupancy() + self.theta.occupancy() + self.phi.occupancy()
+        );
+        self.in_flight
     }
 
     /// Drops everything in flight.
@@ -88,6 +96,7 @@ impl<T: Copy + Default> Rotator<T> {
         self.psi.flush();
         self.theta.flush();
         self.phi.flush();
+        self.in_flight = 0;
     }
 
     /// One clock; returns the rotated direction leaving the φ pipe with its info.
@@ -97,6 +106,7 @@ impl<T: Copy + Default> Rotator<T> {
         let out = self.phi.tick(None);
         let from_theta = self.theta.tick(None);
         let input = input.map(|r| {
+            self.in_flight += 1;
             let slot = self.next_slot;
             self.next_slot = (slot + 1) % SLOTS as u8;
             self.side[slot as usize] = Side {
@@ -144,6 +154,7 @@ impl<T: Copy + Default> Rotator<T> {
                 },
             });
         }
+        self.in_flight -= out.is_some() as u32;
         out.map(|s| {
             let side = &self.side[s.payload.slot as usize];
             let v = if side.bypass {
