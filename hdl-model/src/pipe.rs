@@ -10,11 +10,16 @@
 pub const MAX_STAGES: usize = 34;
 
 /// L pipeline registers holding `S`, with their valid bits.
+///
+/// The registers are kept as a ring: register k is `regs[(base + k) % len]`, and a clock moves
+/// `base` back by one instead of copying every register into the next. Each stage's logic
+/// updates its register in place, so a clock touches only the fields a stage changes.
 #[derive(Clone, Debug)]
 pub struct Pipe<S: Copy + Default> {
     regs: [S; MAX_STAGES],
     valid: u64,
     len: usize,
+    base: usize,
 }
 
 impl<S: Copy + Default> Pipe<S> {
@@ -25,6 +30,7 @@ impl<S: Copy + Default> Pipe<S> {
             regs: [S::default(); MAX_STAGES],
             valid: 0,
             len,
+            base: 0,
         }
     }
 
@@ -52,36 +58,46 @@ impl<S: Copy + Default> Pipe<S> {
     /// a unit whose input is produced later in the same clock than the pipe's own update.
     pub fn load_first(&mut self, s: S) {
         debug_assert!(self.valid & 1 == 0, "register 0 still occupied");
-        self.regs[0] = s;
+        self.regs[self.base] = s;
         self.valid |= 1;
     }
 
     /// One clock. `input` is the value entering register 0 (already through stage 0's logic);
-    /// `stage(k, s)` is the logic between register k and register k+1. Returns what left the
-    /// last register.
+    /// `stage(k, s)` is the logic between register k and register k+1, applied in place to the
+    /// content of register k (which then becomes register k+1). Returns what left the last
+    /// register.
     #[inline]
-    pub fn tick(&mut self, input: Option<S>, mut stage: impl FnMut(usize, S) -> S) -> Option<S> {
-        let last = self.len - 1;
+    pub fn tick(&mut self, input: Option<S>, mut stage: impl FnMut(usize, &mut S)) -> Option<S> {
+        let len = self.len;
+        let last = len - 1;
+        let phys = |base: usize, k: usize| {
+            if base + k >= len {
+                base + k - len
+            } else {
+                base + k
+            }
+        };
         let out = if self.valid & (1 << last) != 0 {
-            Some(self.regs[last])
+            Some(self.regs[phys(self.base, last)])
         } else {
             None
         };
         let mut moving = self.valid & !(1u64 << last);
-        // highest first, so that no register is overwritten before it has moved on
         while moving != 0 {
-            let k = 63 - moving.leading_zeros() as usize;
-            self.regs[k + 1] = stage(k, self.regs[k]);
-            moving &= !(1u64 << k);
+            let k = moving.trailing_zeros() as usize;
+            stage(k, &mut self.regs[phys(self.base, k)]);
+            moving &= moving - 1;
         }
-        let mask = if self.len == 64 {
+        // register k's content is register k+1's now; the last register's slot is register 0
+        self.base = if self.base == 0 { last } else { self.base - 1 };
+        let mask = if len == 64 {
             u64::MAX
         } else {
-            (1u64 << self.len) - 1
+            (1u64 << len) - 1
         };
         self.valid = (self.valid << 1) & mask;
         if let Some(s) = input {
-            self.regs[0] = s;
+            self.regs[self.base] = s;
             self.valid |= 1;
         }
         out
@@ -145,7 +161,7 @@ mod tests {
         let mut out = [None; 12];
         for (c, o) in out.iter_mut().enumerate() {
             let input = if c < 4 { Some(c as u32 * 10) } else { None };
-            *o = p.tick(input, |k, s| s + (k as u32 + 1));
+            *o = p.tick(input, |k, s| *s += k as u32 + 1);
         }
         // entered at clock c, left at clock c + 5 having passed stages 1..=4 (sum 10)
         assert_eq!(&out[5..9], &[Some(10), Some(20), Some(30), Some(40)]);

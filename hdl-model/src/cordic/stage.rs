@@ -105,27 +105,33 @@ impl MicroRotation {
 
     /// The stage's logic.
     #[inline]
-    pub fn eval<P: Copy + Default>(&self, s: CordicSlot<P>) -> CordicSlot<P> {
+    pub fn eval<P: Copy + Default>(&self, mut s: CordicSlot<P>) -> CordicSlot<P> {
+        self.apply(&mut s);
+        s
+    }
+
+    /// The stage's logic on the register in place (the payload is not touched).
+    #[inline]
+    pub fn apply<P: Copy + Default>(&self, out: &mut CordicSlot<P>) {
+        let (x, y, z) = (out.x, out.y, out.z);
         let m = |v: Unit| Unit::from_bits(v.to_bits() & self.mask);
-        let dx = m(s.x >> self.shift);
-        let dy = m(s.y >> self.shift);
+        let dx = m(x >> self.shift);
+        let dy = m(y >> self.shift);
         // rotate counter-clockwise (d = +1) while angle is left (rotation mode) or while the
         // vector is below the axis (vectoring mode)
         let ccw = match self.mode {
-            Mode::Rotate => s.z >= Angle::ZERO,
-            Mode::Vector => s.y < Unit::ZERO,
+            Mode::Rotate => z >= Angle::ZERO,
+            Mode::Vector => y < Unit::ZERO,
         };
-        let mut out = s;
         if ccw {
-            out.x = s.x.wrapping_sub(dy);
-            out.y = s.y.wrapping_add(dx);
-            out.z = s.z.wrapping_sub(self.atan);
+            out.x = x.wrapping_sub(dy);
+            out.y = y.wrapping_add(dx);
+            out.z = z.wrapping_sub(self.atan);
         } else {
-            out.x = s.x.wrapping_add(dy);
-            out.y = s.y.wrapping_sub(dx);
-            out.z = s.z.wrapping_add(self.atan);
+            out.x = x.wrapping_add(dy);
+            out.y = y.wrapping_sub(dx);
+            out.z = z.wrapping_add(self.atan);
         }
-        out
     }
 }
 
@@ -156,14 +162,19 @@ impl GainStage {
 
     /// The stage's logic.
     #[inline]
-    pub fn eval<P: Copy + Default>(&self, s: CordicSlot<P>) -> CordicSlot<P> {
-        let mut out = s;
-        out.x = self.scale(s.x);
-        out.y = self.scale(s.y);
+    pub fn eval<P: Copy + Default>(&self, mut s: CordicSlot<P>) -> CordicSlot<P> {
+        self.apply(&mut s);
+        s
+    }
+
+    /// The stage's logic on the register in place.
+    #[inline]
+    pub fn apply<P: Copy + Default>(&self, s: &mut CordicSlot<P>) {
+        s.x = self.scale(s.x);
+        s.y = self.scale(s.y);
         if self.mode == Mode::Vector && s.zero {
-            out.z = Angle::ZERO;
+            s.z = Angle::ZERO;
         }
-        out
     }
 }
 
@@ -231,9 +242,9 @@ impl<P: Copy + Default> CordicPipe<P> {
         // register k feeds micro-rotation k (k < n) or the gain stage (k == n)
         self.pipe.tick(input, |k, s| {
             if k < n {
-                micro[k].eval(s)
+                micro[k].apply(s)
             } else {
-                gain.eval(s)
+                gain.apply(s)
             }
         })
     }

@@ -341,12 +341,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let depth = self.depth;
         let out = self.uv.tick(None, |_, s| {
             if s.hit {
-                UvReg {
-                    cell: UvStage.eval(s.cell),
-                    ..s
-                }
-            } else {
-                s
+                s.cell = UvStage.eval(s.cell);
             }
         });
         if let Some(reg) = out {
