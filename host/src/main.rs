@@ -229,7 +229,7 @@ fn run_pass1(
     counters: &Counters,
 ) -> Result<FormFactors> {
     let elements: u64 = (0..scene.patches.len())
-        .map(|i| pass1::sample_points(scene, i, settings.samples).len() as u64)
+        .map(|i| pass1::sample_count(scene, i, settings.samples) as u64)
         .sum();
     let bar = progress(elements, "pass 1");
     let patches = scene.kernel_patches();

@@ -59,6 +59,14 @@ pub struct FormFactors {
     pub stats: ShotStats,
 }
 
+/// How many sample points patch `i` gets (see [`sample_points`]), without placing them.
+pub fn sample_count(scene: &Scene, i: usize, k: u32) -> usize {
+    match scene.patches[i].shape {
+        Shape::Polygon(_) => (k * k) as usize,
+        Shape::Bezier(_) => 16,
+    }
+}
+
 /// The sample points of patch `i`: K×K for a polygon, the 16 points of paper §7 for a Bezier
 /// patch (4×4 whatever K).
 pub fn sample_points(scene: &Scene, i: usize, k: u32) -> Vec<SamplePoint> {
