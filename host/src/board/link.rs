@@ -90,21 +90,30 @@ impl Link {
 
     fn fresh_id(&mut self) -> u32 {
         let id = self.next_id;
-        // Skip NO_ID on wrap-around: it means "no request" on the wire.
-        self.next_id = self.next_id.wrapping_add(1).max(1);
+        // Skip NO_ID on wrap-around: it means "no request" on the wire; stay in the lower half
+        // (the upper half is for job ids, see `send_as`).
+        self.next_id = (self.next_id.wrapping_add(1) & 0x7FFF_FFFF).max(1);
         id
     }
 
     /// Sends a request; returns its id.
     pub fn send(&mut self, req: &Request) -> Result<u32> {
         let id = self.fresh_id();
+        self.send_as(id, req)?;
+        Ok(id)
+    }
+
+    /// Sends a request with the caller's id: a job's id, the same on every retry so the board
+    /// counts the job once. Job ids must not collide with this link's own (see `fresh_id`): the
+    /// job farm takes them from the upper half of the id space.
+    pub fn send_as(&mut self, id: u32, req: &Request) -> Result<()> {
         let n = encode_request(id, req, &mut self.frame)
             .map_err(|e| anyhow!("request too large for one frame: {e:?}"))?;
         self.port
             .write_all(&self.frame[..n])
             .context("writing to the board")?;
         self.port.flush().context("writing to the board")?;
-        Ok(id)
+        Ok(())
     }
 
     /// Sends raw bytes (fault-injection tests; a lone 0x00 to flush the board's decoder).
@@ -238,6 +247,11 @@ pub fn describe(code: ErrorCode) -> &'static str {
         ErrorCode::BadFraming => "frame damaged in transit (bad framing)",
         ErrorCode::TooLong => "too long for the board's buffers",
         ErrorCode::Malformed => "message did not decode (protocol mismatch?)",
-        ErrorCode::Unsupported => "message unknown to this firmware (older protocol)",
+        ErrorCode::Unsupported => {
+            "message or engine unknown to this firmware (older protocol, or another build)"
+        }
+        ErrorCode::NoScene => "no complete scene and configuration loaded on the board",
+        ErrorCode::OutOfRange => "an index or setting is outside the board's range",
+        ErrorCode::BadScene => "the board's accelerator cannot load this scene",
     }
 }

@@ -164,8 +164,14 @@ impl fmt::Display for BoardInfo {
         writeln!(f, "accelerator  {}", accel_name(h.accel))?;
         writeln!(
             f,
-            "capacities   {} patches, {} sample rows, skeleton stack depth {}, frames up to {} bytes",
-            h.caps.max_patches, h.caps.max_sample_rows, h.caps.stack_depth, h.caps.max_frame_len
+            "capacities   {} patches, {} sample rows, skeleton stack depth {}, frames up to {} bytes, \
+             hemispheres up to {} circles, {} jobs in flight",
+            h.caps.max_patches,
+            h.caps.max_sample_rows,
+            h.caps.stack_depth,
+            h.caps.max_frame_len,
+            h.caps.max_circles,
+            h.caps.max_in_flight
         )?;
         if let Some((attempts, rtt)) = self.handshake {
             writeln!(
