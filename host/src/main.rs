@@ -62,7 +62,10 @@ impl Common {
                     ..ModelConfig::default()
                 }))
             }
-            b => bail!("--backend {b}: `soft` and `model` run the passes so far; boards (qemu, serial:PATH, lists) answer `hemi board info` but do not take jobs yet (issue \"The firmware as the ray engine\")"),
+            b => match hemi::board::jobs::parse_boards(b)? {
+                Some(list) => Ok(Backend::Boards(Vec::leak(list))),
+                None => bail!("--backend {b}: expected soft, model, qemu or serial:PATH (boards may be listed comma-separated)"),
+            },
         }
     }
 
@@ -222,11 +225,20 @@ fn progress(len: u64, what: &str) -> ProgressBar {
     bar
 }
 
+/// The boards of a `Boards` backend, connected (QEMU booted); `None` for in-process backends.
+fn farm_for(backend: Backend) -> Result<Option<hemi::board::jobs::Farm>> {
+    match backend {
+        Backend::Boards(list) => Ok(Some(hemi::board::jobs::Farm::connect(list, None)?)),
+        _ => Ok(None),
+    }
+}
+
 fn run_pass1(
     scene: &Scene,
     settings: &Pass1Settings,
     backend: Backend,
     counters: &Counters,
+    farm: Option<&hemi::board::jobs::Farm>,
 ) -> Result<FormFactors> {
     let elements: u64 = (0..scene.patches.len())
         .map(|i| pass1::sample_count(scene, i, settings.samples) as u64)
@@ -253,6 +265,12 @@ fn run_pass1(
                 &|n| bar.inc(n),
             )?
         }
+        Backend::Boards(_) => hemi::board::remote::form_factors(
+            farm.context("boards not connected")?,
+            scene,
+            settings,
+            &|n| bar.inc(n),
+        )?,
     };
     bar.finish_and_clear();
     Ok(ff)
@@ -544,8 +562,9 @@ fn main() -> Result<()> {
             );
             let scene = scene::load(&scene)?;
             let camera = hemi::render::camera_of(&scene)?;
+            let farm = farm_for(backend)?;
             let t0 = std::time::Instant::now();
-            let ff = run_pass1(&scene, &settings, backend, &counters)?;
+            let ff = run_pass1(&scene, &settings, backend, &counters, farm.as_ref())?;
             let t1 = std::time::Instant::now();
             let sol = solve_scene(&scene, &ff)?;
             let grids = hemi::radiosity::grids(&scene, &ff, &sol);
@@ -573,6 +592,15 @@ fn main() -> Result<()> {
                     },
                     &|n| bar.inc(n),
                 ),
+                Backend::Boards(_) => hemi::board::remote::render(
+                    farm.as_ref().context("boards not connected")?,
+                    &scene,
+                    &settings,
+                    &grids,
+                    &camera,
+                    spp,
+                    &|n| bar.inc(n),
+                )?,
             };
             bar.finish_and_clear();
             let t3 = std::time::Instant::now();
@@ -621,7 +649,8 @@ fn main() -> Result<()> {
             let backend = common.backend()?;
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
-            let ff = run_pass1(&scene, &settings, backend, &counters)?;
+            let farm = farm_for(backend)?;
+            let ff = run_pass1(&scene, &settings, backend, &counters, farm.as_ref())?;
             if json {
                 let patches: Vec<_> = scene
                     .patches
@@ -661,7 +690,8 @@ fn main() -> Result<()> {
             let backend = common.backend()?;
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
-            let ff = run_pass1(&scene, &settings, backend, &counters)?;
+            let farm = farm_for(backend)?;
+            let ff = run_pass1(&scene, &settings, backend, &counters, farm.as_ref())?;
             let sol = solve_scene(&scene, &ff)?;
             if json {
                 let patches: Vec<_> = scene
@@ -697,7 +727,8 @@ fn main() -> Result<()> {
             let backend = common.backend()?;
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
-            let ff = run_pass1(&scene, &settings, backend, &counters)?;
+            let farm = farm_for(backend)?;
+            let ff = run_pass1(&scene, &settings, backend, &counters, farm.as_ref())?;
             let sol = solve_scene(&scene, &ff)?;
             let grids = hemi::radiosity::grids(&scene, &ff, &sol);
             let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
@@ -714,6 +745,16 @@ fn main() -> Result<()> {
                     &grids,
                     &mut out,
                 )?,
+                Backend::Boards(_) => {
+                    let farm = farm.as_ref().context("boards not connected")?;
+                    for (n, line) in stdin_lines() {
+                        let (p, d) = parse_ray_line(&line?, n)?;
+                        let e = hemi::board::remote::irradiance(
+                            farm, settings.circles, settings.rule, &grids, p, d,
+                        )?;
+                        writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
+                    }
+                }
             }
             report_model(
                 backend,
@@ -736,6 +777,9 @@ fn main() -> Result<()> {
                     &scene,
                     &mut out,
                 )?,
+                Backend::Boards(_) => bail!(
+                    "trace: boards answer form-factors, solve, irradiance and render; use --backend soft or model"
+                ),
             }
             out.flush()?;
             report_model(backend, &counters, 0, common.clock_mhz, "trace");
