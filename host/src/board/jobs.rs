@@ -79,7 +79,9 @@ pub struct Setup {
 /// Reconnection attempts per board and run before it is given up.
 const MAX_RECONNECTS: u32 = 4;
 /// Timeout of set-up calls (scene upload, configuration).
-const CALL_TIMEOUT: Duration = Duration::from_secs(3);
+const CALL_TIMEOUT: Duration = Duration::from_millis(1500);
+/// Attempts of each set-up call (a damaged request or answer costs one).
+const CALL_ATTEMPTS: u32 = 8;
 /// Jobs in flight per link when the board allows more.
 const WINDOW: usize = 4;
 /// A quiet link's first timeout, before any job time is known.
@@ -169,7 +171,10 @@ impl Farm {
                 .collect();
             handles
                 .into_iter()
-                .map(|h| h.join().unwrap_or_else(|_| Err(anyhow!("connect panicked"))))
+                .map(|h| {
+                    h.join()
+                        .unwrap_or_else(|_| Err(anyhow!("connect panicked")))
+                })
                 .collect()
         });
         for (r, spec) in results.into_iter().zip(specs) {
@@ -307,7 +312,7 @@ impl Farm {
         let total = u16::try_from(setup.patches.len()).context("too many patches")?;
         let call = |link: &mut Link, req: &Request| -> Result<Response> {
             let mut last = anyhow!("not tried");
-            for _ in 0..4 {
+            for _ in 0..CALL_ATTEMPTS {
                 match link.call(req, CALL_TIMEOUT) {
                     Ok(r) => return Ok(r),
                     Err(e) => last = e,
@@ -362,7 +367,11 @@ impl Farm {
     /// Runs `jobs` over all boards; returns their answers in job order. `progress` gets the
     /// index of each job as its (first) answer comes. Fails if a board refuses a job (a bug or a
     /// setting outside its limits) or if every board is lost.
-    pub fn run(&self, jobs: &[Request], progress: &(dyn Fn(usize) + Sync)) -> Result<Vec<Response>> {
+    pub fn run(
+        &self,
+        jobs: &[Request],
+        progress: &(dyn Fn(usize) + Sync),
+    ) -> Result<Vec<Response>> {
         let n = jobs.len();
         let n32 = u32::try_from(n).context("too many jobs")?;
         // Job ids: upper half of the id space, unique over the farm's life.
@@ -433,7 +442,10 @@ impl Farm {
             if slot.conn.is_none() || !slot.set_up {
                 if slot.conn.is_none() {
                     if reconnects >= MAX_RECONNECTS {
-                        self.log(&slot.spec, format_args!("given up after {reconnects} reconnections"));
+                        self.log(
+                            &slot.spec,
+                            format_args!("given up after {reconnects} reconnections"),
+                        );
                         slot.dead = true;
                         break;
                     }
