@@ -750,7 +750,12 @@ fn main() -> Result<()> {
                     for (n, line) in stdin_lines() {
                         let (p, d) = parse_ray_line(&line?, n)?;
                         let e = hemi::board::remote::irradiance(
-                            farm, settings.circles, settings.rule, &grids, p, d,
+                            farm,
+                            settings.circles,
+                            settings.rule,
+                            &grids,
+                            p,
+                            d,
                         )?;
                         writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
                     }

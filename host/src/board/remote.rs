@@ -92,7 +92,15 @@ pub fn form_factors(
     let rays = ray_count(settings.circles);
     let mut points_of: Vec<Option<Vec<_>>> = vec![None; n];
     for (job, answer) in jobs.iter().zip(answers) {
-        let (Request::Shoot { patch, first, count }, Response::Rows(rows)) = (job, answer) else {
+        let (
+            Request::Shoot {
+                patch,
+                first,
+                count,
+            },
+            Response::Rows(rows),
+        ) = (job, answer)
+        else {
             bail!("a board answered a Shoot job with something else");
         };
         let i = usize::from(*patch);
