@@ -179,6 +179,7 @@ fn pass1_through_a_proxy_that_flips_drops_and_truncates_bytes() {
             circles: 8,
             samples: 3,
             rule: DeltaRule::Band,
+            ..Pass1Settings::default()
         };
         let farm = Farm::connect(&[BoardSpec::Serial(slave_path)], None).unwrap();
         let got = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap();
@@ -216,6 +217,7 @@ fn pass1_survives_a_qemu_killed_mid_run() {
             circles: 12,
             samples: 4,
             rule: DeltaRule::Band,
+            ..Pass1Settings::default()
         };
         let farm = Farm::connect(&[BoardSpec::Qemu, BoardSpec::Qemu], None).unwrap();
         let victim = farm.qemu_pids()[0].expect("a QEMU pid");

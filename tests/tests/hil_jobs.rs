@@ -33,11 +33,14 @@ fn cornell() -> Scene {
     scene::load(&root.join("scenes/cornell.toml")).expect("cornell scene")
 }
 
-const SETTINGS: Pass1Settings = Pass1Settings {
-    circles: 8,
-    samples: 2,
-    rule: DeltaRule::Band,
-};
+fn settings() -> Pass1Settings {
+    Pass1Settings {
+        circles: 8,
+        samples: 2,
+        rule: DeltaRule::Band,
+        ..Pass1Settings::default()
+    }
+}
 
 fn model(scene: &Scene) -> impl Fn() -> ModelAccelerator + Sync + '_ {
     let patches = scene.kernel_patches();
@@ -51,7 +54,7 @@ fn solve(scene: &Scene, ff: &pass1::FormFactors) -> Vec<hemi::radiosity::Grid> {
     let e: Vec<[f64; 3]> = (0..scene.patches.len())
         .map(|i| scene.material_of(i).emission)
         .collect();
-    let sol = hemi::solve::gauss_seidel(&ff.matrix, &rho, &e, &Default::default()).unwrap();
+    let sol = hemi::solve::gauss_seidel(ff.channels(), &rho, &e, &Default::default()).unwrap();
     hemi::radiosity::grids(scene, ff, &sol)
 }
 
@@ -77,6 +80,7 @@ fn form_factors_render_and_irradiance_through_two_qemu_boards_equal_the_model_ba
 
 fn run() {
     let scene = cornell();
+    let settings = settings();
     let farm = Farm::connect(&[BoardSpec::Qemu, BoardSpec::Qemu], None).expect("boot two boards");
     for hello in farm.hellos() {
         let hello = hello.expect("connected");
@@ -91,8 +95,8 @@ fn run() {
 
     // Pass 1.
     let make = model(&scene);
-    let want = pass1::form_factors_with(&scene, &SETTINGS, &make, &|_| {}).unwrap();
-    let got = remote::form_factors(&farm, &scene, &SETTINGS, &|_| {}).unwrap();
+    let want = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
+    let got = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap();
     assert_eq!(got.elements.len(), want.elements.len(), "every row, once");
     for (g, w) in got.elements.iter().zip(&want.elements) {
         assert_eq!((g.patch, g.point), (w.patch, w.point));
@@ -108,8 +112,12 @@ fn run() {
         c.height = 20;
     }
     let camera = hemi::render::camera_of(&small).unwrap();
-    let want_img = hemi::render::render_with(&grids, &camera, 2, &make, &|_| {});
-    let got_img = remote::render(&farm, &scene, &SETTINGS, &grids, &camera, 2, &|_| {}).unwrap();
+    let want_img = hemi::render::render_with(&small, &grids, &camera, 2, &settings, &make, &|_| {})
+        .unwrap()
+        .image;
+    let got_img = remote::render(&farm, &scene, &settings, &grids, &camera, 2, &|_| {})
+        .unwrap()
+        .image;
     assert_eq!((got_img.width, got_img.height), (24, 20));
     let px = |img: &hemi::render::Image| -> Vec<[u32; 3]> {
         img.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
@@ -121,10 +129,22 @@ fn run() {
     );
 
     // An irradiance query (the gather job), against the model in-process.
-    let hemi = OwnedHemisphere::new(SETTINGS.circles, SETTINGS.rule).unwrap();
+    let hemi = OwnedHemisphere::new(settings.circles, settings.rule).unwrap();
+    let view = hemi.view();
+    let optics = hemi::optics::SceneOptics::new(&scene, &view).unwrap();
+    let mut scratch =
+        hemi::optics::Scratch::new(hemi::optics::pending_for(&view), &settings.specular);
     let (p, n) = (Vec3::new(278.0, 1.0, 280.0), Vec3::new(0.0, 1.0, 0.0));
-    let want_e = hemi::irradiance::irradiance(&mut make(), &hemi.view(), &grids, p, n);
-    let got_e = remote::irradiance(&farm, SETTINGS.circles, SETTINGS.rule, &grids, p, n).unwrap();
+    let want_e = hemi::irradiance::irradiance(
+        &mut make(),
+        &view,
+        &optics.view(),
+        &mut scratch.view(),
+        &grids,
+        p,
+        n,
+    );
+    let got_e = remote::irradiance(&farm, settings.circles, settings.rule, &grids, p, n).unwrap();
     assert_eq!(got_e.map(f64::to_bits), want_e.map(f64::to_bits));
     assert!(got_e[0] > 0.0);
 

@@ -254,6 +254,7 @@ fn soft_and_model_form_factors_agree() {
         circles: 16,
         samples: 2,
         rule: DeltaRule::Band,
+        ..Pass1Settings::default()
     };
     let soft =
         form_factors_with(&scene, &settings, &|| SoftEngine::new(&patches), &|_| {}).unwrap();

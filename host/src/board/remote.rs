@@ -38,6 +38,7 @@ fn config(settings: &Pass1Settings, camera: Option<Camera>, spp: u32) -> Result<
 }
 
 /// Gives the farm the scene and settings (uploaded to each board before its next job).
+/// Boards run diffuse scenes: the optics table (specular surfaces, lobes) is not uploaded yet.
 pub fn set_up(
     farm: &Farm,
     scene: &Scene,
@@ -45,6 +46,15 @@ pub fn set_up(
     camera: Option<Camera>,
     spp: u32,
 ) -> Result<()> {
+    let hemi = hemi_kernel::hemisphere::OwnedHemisphere::new(settings.circles, settings.rule)
+        .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
+    let optics = crate::optics::SceneOptics::new(scene, &hemi.view())?;
+    if optics.view().has_specular() {
+        bail!(
+            "the scene has specular surfaces: boards run diffuse scenes only so far \
+             (use --backend soft or model)"
+        );
+    }
     let patches = scene
         .kernel_patches()
         .into_iter()
@@ -113,7 +123,7 @@ pub fn form_factors(
         let mut entries = rows.entries.iter();
         for (r, len) in rows.lens.iter().enumerate() {
             let q = usize::from(*first) + r;
-            let row: Vec<(u32, f32)> = entries
+            let row: Vec<(u32, [f32; 3])> = entries
                 .by_ref()
                 .take(usize::from(*len))
                 .map(|&(j, f)| (u32::from(j), f))
@@ -130,15 +140,36 @@ pub fn form_factors(
             stats.rays += rays;
         }
     }
-    let mut matrix = vec![vec![0.0f64; n]; n];
+    // As pass1::form_factors_with: per channel, one matrix if the channels agree.
+    let mut rgb = [
+        vec![vec![0.0f64; n]; n],
+        vec![vec![0.0f64; n]; n],
+        vec![vec![0.0f64; n]; n],
+    ];
     for e in &elements {
         for &(j, f) in &e.row {
-            matrix[e.patch][j as usize] += e.point.weight as f64 * f as f64;
+            for (c, m) in rgb.iter_mut().enumerate() {
+                m[e.patch][j as usize] += e.point.weight as f64 * f[c] as f64;
+            }
         }
     }
+    let (matrix, tinted) = if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
+        let [r, _, _] = rgb;
+        (r, None)
+    } else {
+        let mean = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| (rgb[0][i][j] + rgb[1][i][j] + rgb[2][i][j]) / 3.0)
+                    .collect()
+            })
+            .collect();
+        (mean, Some(rgb))
+    };
     Ok(FormFactors {
         elements,
         matrix,
+        tinted,
         samples: settings.samples,
         stats,
     })
@@ -154,7 +185,7 @@ pub fn render(
     camera: &Camera,
     spp: u32,
     progress: &(dyn Fn(u64) + Sync),
-) -> Result<Image> {
+) -> Result<crate::render::Rendered> {
     let spp = spp.max(1);
     anyhow::ensure!(
         spp as usize <= MAX_HITS,
@@ -203,16 +234,21 @@ pub fn render(
                     .context("a board answered a hit on an unknown patch")?;
                 let b = grid.at(hit.u, hit.v);
                 let px = &mut pixels[p];
+                // weight 1 per eye ray in a diffuse scene, in render_with's arithmetic
+                let weight = [1.0f32; 3];
                 for c in 0..3 {
-                    px[c] += (b[c] / std::f64::consts::PI / spp as f64) as f32;
+                    px[c] += (weight[c] as f64 * b[c] / std::f64::consts::PI / spp as f64) as f32;
                 }
             }
         }
     }
-    Ok(Image {
-        width: w,
-        height: h,
-        pixels,
+    Ok(crate::render::Rendered {
+        image: Image {
+            width: w,
+            height: h,
+            pixels,
+        },
+        specular: Default::default(),
     })
 }
 

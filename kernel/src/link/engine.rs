@@ -23,11 +23,14 @@ use crate::accel::{Accelerator, Hit};
 use crate::camera::Camera;
 use crate::geometry::Vec3;
 use crate::hemisphere::{build_into, Hemisphere, Ring};
+use crate::optics::{Optics, Surface};
 use crate::patch::{Patch, Shape};
 use crate::pixels::trace_pixels;
 use crate::rotation::{spin_for_sample, Rotation};
 use crate::sampling::{bezier_sample, grid_sample, SamplePoint};
-use crate::tracer::{shoot_hemisphere, ShotStats};
+use crate::skeleton::{Frame, Skeleton};
+use crate::specular::Pending;
+use crate::tracer::{shoot_hemisphere, ShotStats, TraceScratch};
 
 /// Patches a board's engine stores (the Cornell box has 19, the teapot scene 34).
 pub const ENGINE_MAX_PATCHES: usize = 48;
@@ -42,12 +45,14 @@ pub const ENGINE_MAX_RING: usize = 4 * ENGINE_MAX_CIRCLES;
 pub const ENGINE_MAX_IN_FLIGHT: usize = 8;
 /// Recent job ids remembered to recognise repeats.
 pub const RECENT_JOBS: usize = 64;
+/// Frames of the skeleton stack (paper §6.2) the engine keeps in SRAM.
+pub const ENGINE_STACK_DEPTH: usize = 16;
 
 /// What a board's engine reports in the handshake.
 pub const ENGINE_CAPACITIES: Capacities = Capacities {
     max_patches: ENGINE_MAX_PATCHES as u16,
     max_sample_rows: MAX_ROWS as u16,
-    stack_depth: 0,
+    stack_depth: ENGINE_STACK_DEPTH as u16,
     max_frame_len: MAX_FRAME_LEN as u16,
     max_circles: ENGINE_MAX_CIRCLES as u16,
     max_in_flight: ENGINE_MAX_IN_FLIGHT as u16,
@@ -210,8 +215,15 @@ pub struct Engine<P: AccelProvider, T: Platform> {
     configured: bool,
     rings: Vec<Ring, ENGINE_MAX_CIRCLES>,
     quarter: Vec<[f32; 2], ENGINE_MAX_QUARTER>,
-    /// The form-factor row of one sample point (the tracer accumulates into it).
-    row: [f32; ENGINE_MAX_PATCHES],
+    /// The form-factor row of one sample point (the tracer accumulates into it), per channel.
+    row: [[f32; 3]; ENGINE_MAX_PATCHES],
+    /// The surface of every patch: diffuse, column = patch index (specular scenes are not
+    /// uploaded to boards yet).
+    surfaces: Vec<Surface, ENGINE_MAX_PATCHES>,
+    /// The tracer's scratch: parked specular hits and the skeleton stack's frames.
+    pending: Vec<Pending, 1>,
+    parked: Vec<Pending, 1>,
+    frames: Vec<Frame, ENGINE_STACK_DEPTH>,
     dirs: [Vec3; MAX_HITS],
     recent: Deque<u32, RECENT_JOBS>,
     counts: Counters,
@@ -256,7 +268,11 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             configured: false,
             rings: Vec::new(),
             quarter: Vec::new(),
-            row: [0.0; ENGINE_MAX_PATCHES],
+            row: [[0.0; 3]; ENGINE_MAX_PATCHES],
+            surfaces: Vec::new(),
+            pending: Vec::new(),
+            parked: Vec::new(),
+            frames: Vec::new(),
             dirs: [Vec3::ZERO; MAX_HITS],
             recent: Deque::new(),
             counts: Counters {
@@ -436,6 +452,10 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             self.provider.load(&self.patches).inspect_err(|_| {
                 self.scene = SceneState::Empty;
             })?;
+            self.surfaces.clear();
+            for c in 0..self.patches.len() {
+                let _ = self.surfaces.push(Surface::diffuse(c as u32));
+            }
             self.scene = SceneState::Ready;
         }
         Ok(Response::SceneAck { loaded, total })
@@ -501,7 +521,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             work.rays += u64::from(shot.rays);
             let mut len = 0u16;
             for (j, f) in self.row.iter().take(n).enumerate() {
-                if *f != 0.0 {
+                if *f != [0.0; 3] {
                     rows.entries
                         .push((j as u16, *f))
                         .map_err(|_| ErrorCode::TooLong)?;
@@ -517,13 +537,28 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
     fn shoot_one(&mut self, origin: Vec3, normal: Vec3, spin: f32, patch: u16) -> ShotStats {
         let n = self.patches.len();
         let row = &mut self.row[..n.min(ENGINE_MAX_PATCHES)];
-        row.fill(0.0);
+        row.fill([0.0; 3]);
         let rule = self.config.rule;
         let hemi = Hemisphere::new(&self.rings, &self.quarter, rule);
+        let Ok(optics) = Optics::new(&self.patches, &self.surfaces, &[], hemi.circles()) else {
+            return ShotStats::default();
+        };
+        fill(&mut self.pending, Pending::EMPTY);
+        fill(&mut self.parked, Pending::EMPTY);
+        fill(&mut self.frames, Frame::EMPTY);
+        let scratch = TraceScratch {
+            pending: &mut self.pending,
+            parked: &mut self.parked,
+            skeleton: Skeleton::new(&mut self.frames),
+            threshold: 0.01,
+            max_depth: 0,
+        };
         self.provider.run(
             &self.patches,
             ShootJob {
                 hemi: &hemi,
+                optics: &optics,
+                scratch,
                 origin,
                 normal,
                 spin,
@@ -546,10 +581,28 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             return Err(ErrorCode::TooLong);
         }
         let mut hits = Vec::new();
+        let _ = hits.resize(rays, None);
+        let hemi = Hemisphere::new(&self.rings, &self.quarter, cfg.rule);
+        let Ok(optics) = Optics::new(&self.patches, &self.surfaces, &[], hemi.circles()) else {
+            return Err(ErrorCode::NoScene);
+        };
+        fill(&mut self.pending, Pending::EMPTY);
+        fill(&mut self.parked, Pending::EMPTY);
+        fill(&mut self.frames, Frame::EMPTY);
+        let scratch = TraceScratch {
+            pending: &mut self.pending,
+            parked: &mut self.parked,
+            skeleton: Skeleton::new(&mut self.frames),
+            threshold: 0.01,
+            max_depth: 0,
+        };
         self.provider.run(
             &self.patches,
             TraceJob {
                 camera: &cam,
+                optics: &optics,
+                hemi: &hemi,
+                scratch,
                 pixels: first..first + u32::from(count),
                 spp: u32::from(cfg.spp),
                 dirs: &mut self.dirs,
@@ -612,21 +665,30 @@ fn ray_hit(hit: Option<Hit>) -> Option<RayHit> {
     })
 }
 
+/// Fills a scratch Vec to its capacity (it starts empty so a static engine stays in `.bss`).
+fn fill<T: Copy, const N: usize>(v: &mut Vec<T, N>, value: T) {
+    while v.push(value).is_ok() {}
+}
+
 struct ShootJob<'a, 'h> {
     hemi: &'a Hemisphere<'h>,
+    optics: &'a Optics<'a>,
+    scratch: TraceScratch<'a>,
     origin: Vec3,
     normal: Vec3,
     spin: f32,
     patch: u32,
-    row: &'a mut [f32],
+    row: &'a mut [[f32; 3]],
 }
 
 impl AccelJob for ShootJob<'_, '_> {
     type Out = ShotStats;
-    fn run<A: Accelerator>(self, accel: &mut A) -> ShotStats {
+    fn run<A: Accelerator>(mut self, accel: &mut A) -> ShotStats {
         shoot_hemisphere(
             accel,
             self.hemi,
+            self.optics,
+            &mut self.scratch,
             self.origin,
             self.normal,
             self.spin,
@@ -638,6 +700,9 @@ impl AccelJob for ShootJob<'_, '_> {
 
 struct TraceJob<'a> {
     camera: &'a Camera,
+    optics: &'a Optics<'a>,
+    hemi: &'a Hemisphere<'a>,
+    scratch: TraceScratch<'a>,
     pixels: core::ops::Range<u32>,
     spp: u32,
     dirs: &'a mut [Vec3],
@@ -646,17 +711,24 @@ struct TraceJob<'a> {
 
 impl AccelJob for TraceJob<'_> {
     type Out = ();
-    fn run<A: Accelerator>(self, accel: &mut A) {
+    fn run<A: Accelerator>(mut self, accel: &mut A) {
         let hits = self.hits;
+        let (first, spp) = (self.pixels.start, self.spp.max(1));
+        // A diffuse scene: one report per eye ray that hits, weight 1 (no frustums).
         trace_pixels(
             accel,
             self.camera,
+            self.optics,
+            self.hemi,
+            &mut self.scratch,
             self.pixels,
             self.spp,
             self.dirs,
-            |_, _, h| {
-                // Sized by the caller (count × spp ≤ MAX_HITS): never full.
-                let _ = hits.push(ray_hit(h));
+            |p, s, h, _weight| {
+                let i = (p - first) as usize * spp as usize + s as usize;
+                if let Some(slot) = hits.get_mut(i) {
+                    *slot = ray_hit(Some(*h));
+                }
             },
         );
     }

@@ -22,9 +22,9 @@ pub const BUILD_LEN: usize = 48;
 /// Largest data block of the link-test messages ([`Request::Sink`], [`Response::Source`]).
 pub const MAX_BULK: usize = 512;
 /// Largest number of form-factor entries (over all rows) in one [`Response::Rows`]: each is at
-/// most 6 bytes on the wire (patch index varint ≤ 2, f32), so 160 of them and their row lengths
-/// fit one frame.
-pub const MAX_ROW_ENTRIES: usize = 160;
+/// most 14 bytes on the wire (patch index varint ≤ 2, three f32), so 64 of them and their row
+/// lengths fit one frame.
+pub const MAX_ROW_ENTRIES: usize = 64;
 /// Largest number of rows (sample points) in one [`Request::Shoot`] job.
 pub const MAX_ROWS: usize = 64;
 /// Largest number of ray hits in one [`Response::Hits`]: each is at most 12 bytes on the wire
@@ -215,8 +215,8 @@ pub struct JobConfig {
 pub struct Rows {
     /// Entries per row.
     pub lens: Vec<u16, MAX_ROWS>,
-    /// (patch j, F_iq,j) of all rows, concatenated.
-    pub entries: Vec<(u16, f32), MAX_ROW_ENTRIES>,
+    /// (patch j, F_iq,j per channel) of all rows, concatenated.
+    pub entries: Vec<(u16, [f32; 3]), MAX_ROW_ENTRIES>,
 }
 
 /// A ray's nearest hit as the link carries it.
