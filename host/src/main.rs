@@ -280,12 +280,16 @@ fn run_pass1(
                 &|n| bar.inc(n),
             )?
         }
-        Backend::Boards(_) => hemi::board::remote::form_factors(
-            farm.context("boards not connected")?,
-            scene,
-            settings,
-            &|n| bar.inc(n),
-        )?,
+        Backend::Boards(_) => {
+            let farm = farm.context("boards not connected")?;
+            let t0 = std::time::Instant::now();
+            let ff = hemi::board::remote::form_factors(farm, scene, settings, &|n| bar.inc(n))?;
+            if std::env::var_os("HEMI_BOARD_STATS").is_some() {
+                eprintln!("pass 1 on boards: {:.3} s", t0.elapsed().as_secs_f64());
+                hemi::board::remote::report(farm, "after pass 1");
+            }
+            ff
+        }
     };
     bar.finish_and_clear();
     Ok(ff)

@@ -76,6 +76,8 @@ pub struct Setup {
     pub config: JobConfig,
 }
 
+/// Job ids are 1..=JOB_IDS (the link's own requests use ids above, see `Link::send_as`).
+pub const JOB_IDS: u32 = 1 << 21;
 /// Reconnection attempts per board and run before it is given up.
 const MAX_RECONNECTS: u32 = 4;
 /// Timeout of set-up calls (scene upload, configuration).
@@ -374,9 +376,10 @@ impl Farm {
     ) -> Result<Vec<Response>> {
         let n = jobs.len();
         let n32 = u32::try_from(n).context("too many jobs")?;
-        // Job ids: upper half of the id space, unique over the farm's life.
+        // Job ids: 1..=JOB_IDS, so a request's id is a varint of at most 3 bytes (a Shoot
+        // request stays within 15 bytes on the wire); unique over the last 2^21 jobs.
         let base = self.next_job.fetch_add(n32, Ordering::Relaxed);
-        let id_of = |i: usize| 0x8000_0000u32 | (base.wrapping_add(i as u32) & 0x7FFF_FFFF);
+        let id_of = |i: usize| (base.wrapping_add(i as u32) % JOB_IDS) + 1;
         let queue: Mutex<VecDeque<usize>> = Mutex::new((0..n).collect());
         let results: Mutex<Vec<Option<Response>>> = Mutex::new(vec![None; n]);
         let remaining = AtomicUsize::new(n);

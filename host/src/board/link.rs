@@ -16,6 +16,9 @@ use hemi_kernel::link::{
 pub trait Port: Read + Write + Send {}
 impl<T: Read + Write + Send> Port for T {}
 
+/// The first id of the link's own requests: job ids (chosen by the caller) stay below it.
+pub const FIRST_LINK_ID: u32 = (1 << 21) + 1;
+
 /// Baud rate asked of a real serial port (a pty ignores it).
 pub const BAUD: u32 = 115_200;
 /// How long one read may block; bounds how late a deadline is noticed.
@@ -80,7 +83,7 @@ impl Link {
         Self {
             port,
             decoder: Box::new(MaxFrameDecoder::new()),
-            next_id: 1,
+            next_id: FIRST_LINK_ID,
             frame: vec![0; MAX_WIRE_LEN],
             rx: vec![0; 4096],
             rx_start: 0,
@@ -90,9 +93,8 @@ impl Link {
 
     fn fresh_id(&mut self) -> u32 {
         let id = self.next_id;
-        // Skip NO_ID on wrap-around: it means "no request" on the wire; stay in the lower half
-        // (the upper half is for job ids, see `send_as`).
-        self.next_id = (self.next_id.wrapping_add(1) & 0x7FFF_FFFF).max(1);
+        // Stay above the job ids (see `send_as`), which also skips NO_ID on wrap-around.
+        self.next_id = self.next_id.wrapping_add(1).max(FIRST_LINK_ID);
         id
     }
 
@@ -105,7 +107,7 @@ impl Link {
 
     /// Sends a request with the caller's id: a job's id, the same on every retry so the board
     /// counts the job once. Job ids must not collide with this link's own (see `fresh_id`): the
-    /// job farm takes them from the upper half of the id space.
+    /// job farm's are at most 2^21, the link's own above.
     pub fn send_as(&mut self, id: u32, req: &Request) -> Result<()> {
         let n = encode_request(id, req, &mut self.frame)
             .map_err(|e| anyhow!("request too large for one frame: {e:?}"))?;

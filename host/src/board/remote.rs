@@ -66,6 +66,34 @@ pub fn set_up(
     })
 }
 
+/// Prints each board's engine counters to stderr (jobs, rays, CPU ticks per ray, stack, link
+/// bytes): what `docs/PERFORMANCE.md`'s firmware section is measured with.
+pub fn report(farm: &Farm, what: &str) {
+    for (i, s) in farm.engine_stats().into_iter().enumerate() {
+        match s {
+            Ok(s) => eprintln!(
+                "board {i}: {what}: {:?} engine, {} jobs ({} repeated, {} refused), {} rays, \
+                 {} SysTick ticks = {:.1} ticks/ray, {} accelerator cycles, stack {} of {} bytes, \
+                 link {} bytes in / {} bytes out, {} damaged frames",
+                s.accel.unwrap_or(AccelKind::None),
+                s.jobs,
+                s.repeats,
+                s.refused,
+                s.rays,
+                s.cpu_ticks,
+                s.cpu_ticks as f64 / s.rays.max(1) as f64,
+                s.accel_cycles,
+                s.stack_high_water,
+                s.stack_size,
+                s.link.bytes_rx,
+                s.link.bytes_tx,
+                s.link.bad_crc + s.link.bad_framing + s.link.too_long
+            ),
+            Err(e) => eprintln!("board {i}: no counters: {e:#}"),
+        }
+    }
+}
+
 /// Pass 1 on the boards: one `Shoot` job per few sample points of a patch.
 pub fn form_factors(
     farm: &Farm,

@@ -166,12 +166,9 @@ impl AccelProvider for SoftProvider {
         Ok(())
     }
     fn run<J: AccelJob>(&mut self, patches: &[Patch], job: J) -> J::Out {
-        match self.run_soft(patches, job) {
-            Some(out) => out,
-            // `load` refused more patches than the scratch holds, and jobs only run on a loaded
-            // scene, so this cannot happen; an empty result keeps it from being a panic path.
-            None => J::Out::default(),
-        }
+        // `load` refused more patches than the scratch holds, and jobs only run on a loaded
+        // scene, so `None` cannot happen; an empty result keeps it from being a panic path.
+        self.run_soft(patches, job).unwrap_or_default()
     }
 }
 

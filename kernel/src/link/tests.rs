@@ -390,3 +390,113 @@ fn random_damage_never_panics_and_good_frames_survive() {
         let _ = decode_response(&bytes);
     }
 }
+
+#[test]
+fn job_requests_fit_16_bytes_on_the_wire() {
+    // Worst cases the host sends: job id up to 2^21 (3-byte varint), patch < 128, sample index
+    // up to 255 (K = 16), pixel index of a 512×512 image.
+    let mut out = [0u8; MAX_WIRE_LEN];
+    let reqs = [
+        Request::Shoot {
+            patch: 47,
+            first: 255,
+            count: 64,
+        },
+        Request::Trace {
+            first: 512 * 512 - 1,
+            count: 80,
+        },
+    ];
+    for req in reqs {
+        let n = encode_request(1 << 21, &req, &mut out).unwrap();
+        assert!(n <= 16, "{req:?}: {n} bytes");
+    }
+}
+
+#[test]
+fn engine_answers_jobs_and_counts_repeats_once() {
+    use crate::geometry::{Polygon, Vec3};
+    use crate::link::engine::{NoPlatform, SoftProvider};
+    use crate::patch::Patch;
+    let quad = |v: [[f32; 3]; 4]| {
+        Patch::polygon(Polygon::quad(v.map(|p| Vec3::new(p[0], p[1], p[2]))).unwrap())
+    };
+    // Two unit squares facing each other at distance 1.
+    let a = quad([[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]]);
+    let b = quad([[0., 0., 1.], [0., 1., 1.], [1., 1., 1.], [1., 0., 1.]]);
+    let mut engine = Engine::new(SoftProvider::new(), NoPlatform);
+    let shoot = Request::Shoot {
+        patch: 0,
+        first: 0,
+        count: 4,
+    };
+    assert_eq!(
+        engine.handle(7, &shoot),
+        Some(Response::Error {
+            code: ErrorCode::NoScene
+        })
+    );
+    let cfg = JobConfig {
+        circles: 8,
+        rule: crate::hemisphere::DeltaRule::Band,
+        samples: 2,
+        spp: 1,
+        camera: None,
+        accel: AccelKind::Soft,
+    };
+    assert_eq!(
+        engine.handle(1, &Request::Configure(cfg)),
+        Some(Response::Configured)
+    );
+    engine.handle(2, &Request::SceneBegin { patches: 2 });
+    for (i, p) in [a, b].into_iter().enumerate() {
+        engine.handle(
+            3 + i as u32,
+            &Request::ScenePatch {
+                index: i as u16,
+                area: 1.0,
+                patch: p,
+            },
+        );
+    }
+    let Some(Response::Rows(rows)) = engine.handle(10, &shoot) else {
+        panic!("no rows");
+    };
+    assert_eq!(rows.lens.len(), 4);
+    // F(square → opposite square at distance 1) = 0.1998 (Howell C-11); per sample ~ that.
+    for (_, f) in &rows.entries {
+        assert!(f[0] > 0.1 && f[0] < 0.4, "{f:?}");
+    }
+    // The same job id again: same bits, counted once.
+    assert_eq!(engine.handle(10, &shoot), Some(Response::Rows(rows)));
+    // Out of range and over capacity are refused, not indexed.
+    let bad = [
+        Request::Shoot {
+            patch: 2,
+            first: 0,
+            count: 1,
+        },
+        Request::Shoot {
+            patch: 0,
+            first: 3,
+            count: 2,
+        },
+        Request::Trace { first: 0, count: 1 },
+        Request::Gather {
+            point: Vec3::ZERO,
+            normal: Vec3::ZERO,
+            ring: 0,
+            first: 0,
+            count: 1,
+        },
+    ];
+    for req in &bad {
+        assert!(matches!(
+            engine.handle(20, req),
+            Some(Response::Error { .. })
+        ));
+    }
+    let s = engine.stats(LinkStats::default());
+    assert_eq!((s.jobs, s.repeats, s.refused), (1, 1, 5), "{s:?}");
+    assert!(s.rays > 0);
+}
