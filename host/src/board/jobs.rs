@@ -134,6 +134,9 @@ impl Farm {
     /// overrides the ELF QEMU boots.
     pub fn connect(specs: &[BoardSpec], firmware: Option<PathBuf>) -> Result<Farm> {
         anyhow::ensure!(!specs.is_empty(), "no boards given");
+        // HEMI_FIRMWARE_ELF picks another build (e.g. the soft-only one) for measurements.
+        let firmware =
+            firmware.or_else(|| std::env::var_os("HEMI_FIRMWARE_ELF").map(PathBuf::from));
         let firmware = if specs.contains(&BoardSpec::Qemu) {
             Some(firmware_elf(firmware.as_deref())?)
         } else {

@@ -34,10 +34,12 @@ use crate::tracer::{shoot_hemisphere, ShotStats, TraceScratch};
 
 /// Patches a board's engine stores (the Cornell box has 19, the teapot scene 34).
 pub const ENGINE_MAX_PATCHES: usize = 48;
-/// Largest hemisphere (circles R) a board's engine builds: the host's default.
-pub const ENGINE_MAX_CIRCLES: usize = 64;
-/// Quarter-table entries of the largest hemisphere: `hemisphere::quarter_len(64)`.
-pub const ENGINE_MAX_QUARTER: usize = 2574;
+/// Largest hemisphere (circles R) a board's engine builds. R = 64 (the host's default) would need
+/// 9 KiB more for the quarter table, which a 64 KiB part cannot spare next to the stack the
+/// Bezier subdivision needs (docs/PERFORMANCE.md, firmware RAM).
+pub const ENGINE_MAX_CIRCLES: usize = 48;
+/// Quarter-table entries of the largest hemisphere: `hemisphere::quarter_len(48)`.
+pub const ENGINE_MAX_QUARTER: usize = 1442;
 /// Rays on the largest ring of the largest hemisphere (4R): the soft engine's per-ring scratch.
 pub const ENGINE_MAX_RING: usize = 4 * ENGINE_MAX_CIRCLES;
 /// Jobs a host may keep in flight: their requests (≤ 16 bytes each) sit in the board's receive

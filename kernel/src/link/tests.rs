@@ -500,3 +500,12 @@ fn engine_answers_jobs_and_counts_repeats_once() {
     assert_eq!((s.jobs, s.repeats, s.refused), (1, 1, 5), "{s:?}");
     assert!(s.rays > 0);
 }
+
+#[test]
+fn engine_tables_fit_the_largest_hemisphere() {
+    use crate::link::engine::{ENGINE_MAX_CIRCLES, ENGINE_MAX_QUARTER};
+    assert_eq!(
+        crate::hemisphere::quarter_len(ENGINE_MAX_CIRCLES as u32),
+        ENGINE_MAX_QUARTER
+    );
+}
