@@ -160,9 +160,16 @@ pub fn model_engine(
     patches: &[Patch],
     config: hemi_hdl_model::ModelConfig,
 ) -> anyhow::Result<hemi_hdl_model::ModelAccelerator> {
+    use hemi_hdl_model::ModelError;
     hemi_hdl_model::ModelAccelerator::new(patches, config).map_err(|e| match e {
-        hemi_hdl_model::ModelError::UnsupportedPatch(i) => anyhow::anyhow!(
-            "--backend model: patch {i} is a Bezier patch, which the model's intersection unit cannot test yet (use --backend soft)"
+        ModelError::TooManyPatches { count, capacity } => anyhow::anyhow!(
+            "--backend model: the scene has {count} patches, the accelerator's patch memory holds {capacity}"
+        ),
+        ModelError::TooManyBezierPatches { count, capacity } => anyhow::anyhow!(
+            "--backend model: the scene has {count} Bezier patches, the accelerator's control-point memory holds {capacity}"
+        ),
+        ModelError::BadGeometry(i) => anyhow::anyhow!(
+            "--backend model: patch {i} does not fit the accelerator's fixed-point formats (non-finite or out of range)"
         ),
         other => anyhow::anyhow!("--backend model: {other:?}"),
     })
