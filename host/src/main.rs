@@ -524,6 +524,11 @@ fn stdin_lines() -> impl Iterator<Item = (usize, std::io::Result<String>)> {
 
 fn main() -> Result<()> {
     let cli = Cli::parse();
+    // `--backend model` builds a ~100 KB accelerator model per worker thread, on its stack;
+    // unoptimised builds copy it several times while building it, beyond rayon's 2 MiB default.
+    let _ = rayon::ThreadPoolBuilder::new()
+        .stack_size(16 << 20)
+        .build_global();
     let out = std::io::stdout();
     let mut out = std::io::BufWriter::new(out.lock());
     match cli.command {
