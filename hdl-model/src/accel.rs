@@ -14,8 +14,8 @@
 //! - Bezier patches go to control-point memory, one row each, with the soft engine's accuracy
 //!   criteria converted per patch: the flatness tolerance (`flatness` × the patch's box size,
 //!   as `Bezier::intersect` computes it) and t_min (the soft engine's `CURVED_T_MIN` × size).
-//! - `set_origin_patch` becomes the SKIP_PATCH register for hemisphere casts (`cast_rings`), as
-//!   the soft engine applies it there.
+//! - `set_origin_patch` becomes the SKIP_PATCH register, latched with every ray, as the soft
+//!   engine applies it to every cast.
 
 use crate::driver::{Driver, DriverError, ModelBus};
 use crate::format::{Coord, Unit};
@@ -348,7 +348,7 @@ impl Accelerator for ModelAccelerator {
             return;
         }
         self.set_mode(mode::TRACE);
-        self.set_skip(None);
+        self.set_skip(self.origin_patch);
         self.rays += dirs.len() as u64;
         let mut hits = HitSink {
             scale: self.scale,

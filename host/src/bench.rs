@@ -219,7 +219,7 @@ pub fn bezier_vs_tessellated(
         let bytes = np * np * 8 + rows * 8;
         let rho: Vec<[f64; 3]> = (0..np).map(|i| sc.material_of(i).diffuse).collect();
         let e: Vec<[f64; 3]> = (0..np).map(|i| sc.material_of(i).emission).collect();
-        let sol = gauss_seidel(&ff.matrix, &rho, &e, &SolveSettings::default())?;
+        let sol = gauss_seidel(ff.channels(), &rho, &e, &SolveSettings::default())?;
         let teapot = area_mean(&sc, &sol.radiosity, |p| p.name.starts_with("teapot"));
         writeln!(
             out,

@@ -7,6 +7,7 @@ pub mod board;
 pub mod chart;
 pub mod engine;
 pub mod irradiance;
+pub mod optics;
 pub mod pass1;
 pub mod radiosity;
 pub mod render;

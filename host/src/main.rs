@@ -48,6 +48,16 @@ struct Common {
     /// CORDIC word width in bits of the modelled accelerator (`--backend model`).
     #[arg(long, default_value_t = 32)]
     cordic_width: u32,
+    /// Δ of paper §6.5: specular frustums carrying less than this fraction of their primary ray
+    /// are not shot.
+    #[arg(long, default_value_t = hemi_kernel::specular::DEFAULT_THRESHOLD)]
+    specular_threshold: f32,
+    /// Capacity of the skeleton stack (paper §6.2): the frustums waiting to be shot.
+    #[arg(long, default_value_t = 64)]
+    stack: usize,
+    /// The most specular bounces one path may take (paper §5).
+    #[arg(long, default_value_t = 24)]
+    max_bounces: u16,
 }
 
 impl Common {
@@ -81,6 +91,11 @@ impl Common {
                 DeltaRule::Paper
             } else {
                 DeltaRule::Band
+            },
+            specular: hemi::optics::SpecularSettings {
+                threshold: self.specular_threshold,
+                stack: self.stack,
+                max_bounces: self.max_bounces,
             },
         })
     }
@@ -282,13 +297,26 @@ fn report_model(
 
 fn irradiance_lines<A: Accelerator>(
     engine: &mut A,
+    scene: &Scene,
+    settings: &Pass1Settings,
     view: &hemi_kernel::hemisphere::Hemisphere<'_>,
     grids: &[hemi::radiosity::Grid],
     out: &mut impl Write,
 ) -> Result<()> {
+    let optics = hemi::optics::SceneOptics::new(scene, view)?;
+    let mut scratch =
+        hemi::optics::Scratch::new(hemi::optics::pending_for(view), &settings.specular);
     for (n, line) in stdin_lines() {
         let (p, d) = parse_ray_line(&line?, n)?;
-        let e = hemi::irradiance::irradiance(engine, view, grids, p, d);
+        let e = hemi::irradiance::irradiance(
+            engine,
+            view,
+            &optics.view(),
+            &mut scratch.view(),
+            grids,
+            p,
+            d,
+        );
         writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
     }
     Ok(())
@@ -316,7 +344,7 @@ fn solve_scene(scene: &Scene, ff: &FormFactors) -> Result<solve::Solution> {
     let e: Vec<[f64; 3]> = (0..scene.patches.len())
         .map(|i| scene.material_of(i).emission)
         .collect();
-    solve::gauss_seidel(&ff.matrix, &rho, &e, &SolveSettings::default())
+    solve::gauss_seidel(ff.channels(), &rho, &e, &SolveSettings::default())
 }
 
 /// The closed-form cases of the accuracy table: (name, scene TOML, Howell value of F_01).
@@ -413,7 +441,7 @@ fn bench_form_factors(
             let settings = Pass1Settings {
                 circles: r,
                 samples: k,
-                rule: DeltaRule::Band,
+                ..Pass1Settings::default()
             };
             let (mut worst, mut sum, mut rays) = (0.0f64, 0.0f64, 0u64);
             let t0 = std::time::Instant::now();
@@ -466,7 +494,10 @@ fn bench_per_ray(scene: &Scene, settings: &Pass1Settings) -> Result<(u64, f64)> 
         .map_err(|e| anyhow::anyhow!("{e:?}"))?;
     let view = hemi.view();
     let patches = scene.kernel_patches();
-    let mut row = vec![0.0f32; patches.len()];
+    let optics = hemi::optics::SceneOptics::new(scene, &view)?;
+    let mut scratch =
+        hemi::optics::Scratch::new(hemi::optics::pending_for(&view), &settings.specular);
+    let mut row = vec![[0.0f32; 3]; optics.columns.len()];
     let points: Vec<_> = (0..patches.len())
         .flat_map(|i| {
             pass1::sample_points(scene, i, settings.samples)
@@ -483,6 +514,8 @@ fn bench_per_ray(scene: &Scene, settings: &Pass1Settings) -> Result<(u64, f64)> 
         rays += hemi_kernel::tracer::shoot_hemisphere(
             &mut engine,
             &view,
+            &optics.view(),
+            &mut scratch.view(),
             p.position,
             p.normal,
             spin,
@@ -558,18 +591,22 @@ fn main() -> Result<()> {
             let bar = progress(camera.height as u64, "pass 2");
             let patches = scene.kernel_patches();
             let pass1_counts = counters.get();
-            let img = match backend {
+            let rendered = match backend {
                 Backend::Soft => hemi::render::render_with(
+                    &scene,
                     &grids,
                     &camera,
                     spp,
+                    &settings,
                     &|| SoftEngine::new(&patches),
                     &|n| bar.inc(n),
-                ),
+                )?,
                 Backend::Model(cfg) => hemi::render::render_with(
+                    &scene,
                     &grids,
                     &camera,
                     spp,
+                    &settings,
                     &|| {
                         CountedModel::new(
                             model_engine(&patches, cfg).expect("checked in pass 1"),
@@ -577,8 +614,9 @@ fn main() -> Result<()> {
                         )
                     },
                     &|n| bar.inc(n),
-                ),
+                )?,
             };
+            let img = rendered.image;
             bar.finish_and_clear();
             let t3 = std::time::Instant::now();
             let ev = exposure.unwrap_or_else(|| hemi::render::auto_exposure(&img));
@@ -710,11 +748,18 @@ fn main() -> Result<()> {
             let view = hemi.view();
             let patches = scene.kernel_patches();
             match backend {
-                Backend::Soft => {
-                    irradiance_lines(&mut SoftEngine::new(&patches), &view, &grids, &mut out)?
-                }
+                Backend::Soft => irradiance_lines(
+                    &mut SoftEngine::new(&patches),
+                    &scene,
+                    &settings,
+                    &view,
+                    &grids,
+                    &mut out,
+                )?,
                 Backend::Model(cfg) => irradiance_lines(
                     &mut CountedModel::new(model_engine(&patches, cfg)?, &counters),
+                    &scene,
+                    &settings,
                     &view,
                     &grids,
                     &mut out,

@@ -2,6 +2,7 @@
 //! hemisphere from each, and form patch form factors from the element rows by (4.3).
 
 use crate::engine::SoftEngine;
+use crate::optics::{pending_for, SceneOptics, Scratch, SpecularSettings};
 use crate::scene::Scene;
 use hemi_kernel::accel::Accelerator;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
@@ -20,6 +21,8 @@ pub struct Pass1Settings {
     pub samples: u32,
     /// How delta form factors are assigned to rings.
     pub rule: DeltaRule,
+    /// Frustums through specular surfaces.
+    pub specular: SpecularSettings,
 }
 
 impl Default for Pass1Settings {
@@ -31,6 +34,7 @@ impl Default for Pass1Settings {
             // perpendicular rectangles with a common edge).
             samples: 16,
             rule: DeltaRule::Band,
+            specular: SpecularSettings::default(),
         }
     }
 }
@@ -42,25 +46,50 @@ pub struct ElementRow {
     pub patch: usize,
     /// The sample point (centre of element q).
     pub point: SamplePoint,
-    /// (j, F_iq,j) for the patches j the hemisphere saw.
-    pub row: Vec<(u32, f32)>,
+    /// (j, F_iq,j per channel) for the patches j (scene indices) the hemisphere saw, directly
+    /// or through specular surfaces.
+    pub row: Vec<(u32, [f32; 3])>,
 }
 
 /// The outcome of pass 1.
 #[derive(Clone, Debug)]
 pub struct FormFactors {
-    /// Element rows, grouped by patch, each patch's K×K in v-major order.
+    /// Element rows, grouped by patch, each patch's K×K in v-major order (diffuse patches only:
+    /// a pure specular patch shoots no hemispheres).
     pub elements: Vec<ElementRow>,
-    /// Patch form factors F_ij (dense, patches × patches), from (4.3).
+    /// Patch form factors F_ij (dense, patches × patches in scene order), from (4.3); the mean
+    /// of the three channels when coloured mirrors make them differ. Rows and columns of pure
+    /// specular patches are zero: the kernel's rows run over diffuse columns only, and the host
+    /// spreads them back to scene order for the solve and the JSON of spec §5.
     pub matrix: Vec<Vec<f64>>,
+    /// Per-channel F_ij when some specular k is coloured (indirect form factors then differ by
+    /// channel); `None` when every channel equals `matrix`.
+    pub tinted: Option<[Vec<Vec<f64>>; 3]>,
     /// K used (elements per patch = K²).
     pub samples: u32,
     /// Rays cast and what they hit.
     pub stats: ShotStats,
 }
 
+impl FormFactors {
+    /// F_ij of channel `c`.
+    pub fn channel(&self, c: usize) -> &[Vec<f64>] {
+        match &self.tinted {
+            Some(t) => &t[c],
+            None => &self.matrix,
+        }
+    }
+    /// F_ij of the three channels, as the solvers take them.
+    pub fn channels(&self) -> [&[Vec<f64>]; 3] {
+        [self.channel(0), self.channel(1), self.channel(2)]
+    }
+}
+
 /// How many sample points patch `i` gets (see [`sample_points`]), without placing them.
 pub fn sample_count(scene: &Scene, i: usize, k: u32) -> usize {
+    if !scene.material_of(i).is_diffuse() {
+        return 0;
+    }
     match scene.patches[i].shape {
         Shape::Polygon(_) => (k * k) as usize,
         Shape::Bezier(_) => 16,
@@ -68,9 +97,12 @@ pub fn sample_count(scene: &Scene, i: usize, k: u32) -> usize {
 }
 
 /// The sample points of patch `i`: K×K for a polygon, the 16 points of paper §7 for a Bezier
-/// patch (4×4 whatever K).
+/// patch (4×4 whatever K); none for a pure specular patch.
 pub fn sample_points(scene: &Scene, i: usize, k: u32) -> Vec<SamplePoint> {
     let patch = &scene.patches[i];
+    if !scene.material_of(i).is_diffuse() {
+        return Vec::new();
+    }
     match &patch.shape {
         Shape::Polygon(poly) => (0..k)
             .flat_map(|b| (0..k).map(move |a| (a, b)))
@@ -105,7 +137,16 @@ pub fn form_factors_with<A: Accelerator>(
     let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
         .map_err(|e| anyhow::anyhow!("--circles {}: {e:?}", settings.circles))?;
     let view = hemi.view();
+    crate::optics::check(&settings.specular)?;
+    let optics = SceneOptics::new(scene, &view)?;
+    let kernel_optics = optics.view();
     let n = scene.patches.len();
+    let cols = optics.columns.len();
+    let pending = if kernel_optics.has_specular() {
+        pending_for(&view)
+    } else {
+        0
+    };
     let points: Vec<(usize, u32, SamplePoint)> = (0..n)
         .flat_map(|i| {
             sample_points(scene, i, settings.samples)
@@ -117,12 +158,20 @@ pub fn form_factors_with<A: Accelerator>(
     let results: Vec<(ElementRow, ShotStats)> = points
         .par_iter()
         .map_init(
-            || (make(), vec![0.0f32; n]),
-            |(engine, row), &(i, q, point)| {
-                row.fill(0.0);
+            || {
+                (
+                    make(),
+                    vec![[0.0f32; 3]; cols],
+                    Scratch::new(pending, &settings.specular),
+                )
+            },
+            |(engine, row, scratch), &(i, q, point)| {
+                row.fill([0.0; 3]);
                 let stats = shoot_hemisphere(
                     engine,
                     &view,
+                    &kernel_optics,
+                    &mut scratch.view(),
                     point.position,
                     point.normal,
                     spin_for_sample(q),
@@ -132,8 +181,8 @@ pub fn form_factors_with<A: Accelerator>(
                 let sparse = row
                     .iter()
                     .enumerate()
-                    .filter(|(_, f)| **f != 0.0)
-                    .map(|(j, f)| (j as u32, *f))
+                    .filter(|(_, f)| **f != [0.0; 3])
+                    .map(|(c, f)| (optics.columns[c] as u32, *f))
                     .collect();
                 progress(1);
                 (
@@ -147,19 +196,39 @@ pub fn form_factors_with<A: Accelerator>(
             },
         )
         .collect();
-    let mut matrix = vec![vec![0.0f64; n]; n];
+    let mut rgb = [
+        vec![vec![0.0f64; n]; n],
+        vec![vec![0.0f64; n]; n],
+        vec![vec![0.0f64; n]; n],
+    ];
     let mut stats = ShotStats::default();
     let mut elements = Vec::with_capacity(results.len());
     for (e, s) in results {
         stats += s;
         for &(j, f) in &e.row {
-            matrix[e.patch][j as usize] += e.point.weight as f64 * f as f64;
+            for (c, m) in rgb.iter_mut().enumerate() {
+                m[e.patch][j as usize] += e.point.weight as f64 * f[c] as f64;
+            }
         }
         elements.push(e);
     }
+    let (matrix, tinted) = if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
+        let [r, _, _] = rgb;
+        (r, None)
+    } else {
+        let mean = (0..n)
+            .map(|i| {
+                (0..n)
+                    .map(|j| (rgb[0][i][j] + rgb[1][i][j] + rgb[2][i][j]) / 3.0)
+                    .collect()
+            })
+            .collect();
+        (mean, Some(rgb))
+    };
     Ok(FormFactors {
         elements,
         matrix,
+        tinted,
         samples: settings.samples,
         stats,
     })

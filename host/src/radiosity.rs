@@ -92,16 +92,24 @@ pub fn grids(scene: &Scene, ff: &FormFactors, sol: &Solution) -> Vec<Grid> {
             let gathered: f64 = e
                 .row
                 .iter()
-                .map(|&(j, f)| f as f64 * sol.radiosity[j as usize][c])
+                .map(|&(j, f)| f[c] as f64 * sol.radiosity[j as usize][c])
                 .sum();
             *bc += m.diffuse[c] * gathered;
         }
         samples[e.patch].push(b);
     }
-    // K per patch: K×K for polygons, 4×4 for Bezier patches
+    // K per patch: K×K for polygons, 4×4 for Bezier patches; a pure specular patch has no
+    // samples and no diffuse radiosity but its emission (a constant grid)
     samples
         .iter()
-        .map(|s| Grid::from_samples((s.len() as f64).sqrt().round() as usize, s))
+        .enumerate()
+        .map(|(i, s)| {
+            if s.is_empty() {
+                Grid::from_samples(1, &[scene.material_of(i).emission])
+            } else {
+                Grid::from_samples((s.len() as f64).sqrt().round() as usize, s)
+            }
+        })
         .collect()
 }
 

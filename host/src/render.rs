@@ -3,13 +3,17 @@
 //! tone map and the image files.
 
 use crate::engine::SoftEngine;
+use crate::optics::{SceneOptics, Scratch};
+use crate::pass1::Pass1Settings;
 use crate::radiosity::Grid;
 use crate::scene::Scene;
 use anyhow::{Context, Result};
 use hemi_kernel::accel::Accelerator;
 use hemi_kernel::camera::Camera;
 use hemi_kernel::geometry::Vec3;
+use hemi_kernel::hemisphere::OwnedHemisphere;
 use hemi_kernel::pixels::trace_pixels;
+use hemi_kernel::specular::SpecularStats;
 use rayon::prelude::*;
 use std::path::Path;
 
@@ -41,62 +45,109 @@ pub fn camera_of(scene: &Scene) -> Result<Camera> {
     .context("[camera]: the view direction is zero or parallel to `up`")
 }
 
-/// Renders `scene` through `camera` with `spp` eye rays per pixel. A ray on a patch's front
-/// side sees its radiance B(u,v)/π (diffuse surfaces; emitters included, so a light shows its
-/// radiance); back sides and misses are black. `progress` gets the rows finished.
+/// Renders `scene` through `camera` with `spp` eye rays per pixel. A ray on a diffuse patch's
+/// front side sees its radiance B(u,v)/π (emitters included, so a light shows its radiance); a
+/// ray on a specular patch adds what its frustums see, weighted by k and the lobe (§5); back
+/// sides and misses are black. `progress` gets the rows finished.
 pub fn render(
     scene: &Scene,
     grids: &[Grid],
     camera: &Camera,
     spp: u32,
+    settings: &Pass1Settings,
     progress: &(dyn Fn(u64) + Sync),
-) -> Image {
+) -> Result<Rendered> {
     let patches = scene.kernel_patches();
-    render_with(grids, camera, spp, &|| SoftEngine::new(&patches), progress)
+    render_with(
+        scene,
+        grids,
+        camera,
+        spp,
+        settings,
+        &|| SoftEngine::new(&patches),
+        progress,
+    )
 }
 
-/// [`render`] with engines made by `make` (one per worker thread).
+/// An image and what its specular frustums did.
+#[derive(Clone, Debug)]
+pub struct Rendered {
+    /// The image.
+    pub image: Image,
+    /// Frustums, rays, truncation and stack use of pass 2, weights in pixel fractions summed
+    /// over all eye rays.
+    pub specular: SpecularStats,
+}
+
+/// [`render`] with engines made by `make` (one per worker thread). Frustums are cut from the
+/// hemisphere of `settings` (R) and bounded by its specular settings, as in pass 1.
 pub fn render_with<A: Accelerator>(
+    scene: &Scene,
     grids: &[Grid],
     camera: &Camera,
     spp: u32,
+    settings: &Pass1Settings,
     make: &(dyn Fn() -> A + Sync),
     progress: &(dyn Fn(u64) + Sync),
-) -> Image {
+) -> Result<Rendered> {
     let (w, h) = (camera.width, camera.height);
     let spp = spp.max(1);
-    let rows: Vec<Vec<[f32; 3]>> = (0..h)
+    crate::optics::check(&settings.specular)?;
+    let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
+        .map_err(|e| anyhow::anyhow!("--circles {}: {e:?}", settings.circles))?;
+    let view = hemi.view();
+    let optics = SceneOptics::new(scene, &view)?;
+    let kernel_optics = optics.view();
+    const BATCH: usize = 4096;
+    let rows: Vec<(Vec<[f32; 3]>, SpecularStats)> = (0..h)
         .into_par_iter()
         .map_init(
-            || (make(), vec![Vec3::ZERO; 4096]),
-            |(accel, dirs), y| {
+            || {
+                (
+                    make(),
+                    vec![Vec3::ZERO; BATCH],
+                    Scratch::new(BATCH, &settings.specular),
+                )
+            },
+            |(accel, dirs, scratch), y| {
                 let mut row = vec![[0.0f32; 3]; w as usize];
-                trace_pixels(
+                let stats = trace_pixels(
                     accel,
                     camera,
+                    &kernel_optics,
+                    &view,
+                    &mut scratch.view(),
                     y * w..(y + 1) * w,
                     spp,
                     dirs,
-                    |p, _s, hit| {
-                        if let Some(hit) = hit.filter(|h| h.front) {
-                            let b = grids[hit.patch as usize].at(hit.u, hit.v);
-                            let px = &mut row[(p - y * w) as usize];
-                            for c in 0..3 {
-                                px[c] += (b[c] / std::f64::consts::PI / spp as f64) as f32;
-                            }
+                    |p, _s, hit, weight| {
+                        let b = grids[hit.patch as usize].at(hit.u, hit.v);
+                        let px = &mut row[(p - y * w) as usize];
+                        for c in 0..3 {
+                            px[c] += (weight[c] as f64 * b[c] / std::f64::consts::PI / spp as f64)
+                                as f32;
                         }
                     },
                 );
                 progress(1);
-                row
+                (row, stats)
             },
         )
         .collect();
-    Image {
-        width: w,
-        height: h,
-        pixels: rows.into_iter().flatten().collect(),
+    let mut specular = SpecularStats::default();
+    let mut pixels = Vec::with_capacity((w * h) as usize);
+    for (row, s) in rows {
+        specular += s;
+        pixels.extend(row);
     }
+    Ok(Rendered {
+        image: Image {
+            width: w,
+            height: h,
+            pixels,
+        },
+        specular,
+    })
 }
 
 fn luminance(p: &[f32; 3]) -> f32 {

@@ -31,12 +31,21 @@ impl Default for SolveSettings {
     }
 }
 
-fn residual(f: &[Vec<f64>], rho: &[[f64; 3]], e: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+/// Form factors per channel: `f[c][i][j]`. Without coloured mirrors the three are one matrix
+/// ([`grey`]); with them, indirect form factors S_ij differ per channel (paper §3.3).
+pub type Channels<'a> = [&'a [Vec<f64>]; 3];
+
+/// The same matrix for every channel.
+pub fn grey(f: &[Vec<f64>]) -> Channels<'_> {
+    [f, f, f]
+}
+
+fn residual(f: Channels<'_>, rho: &[[f64; 3]], e: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
     let mut worst = 0.0f64;
     let mut scale = 0.0f64;
     for i in 0..b.len() {
         for c in 0..3 {
-            let gathered: f64 = f[i].iter().zip(b).map(|(fij, bj)| fij * bj[c]).sum();
+            let gathered: f64 = f[c][i].iter().zip(b).map(|(fij, bj)| fij * bj[c]).sum();
             let r = b[i][c] - e[i][c] - rho[i][c] * gathered;
             worst = worst.max(r.abs());
             scale = scale.max(b[i][c].abs());
@@ -53,12 +62,19 @@ fn residual(f: &[Vec<f64>], rho: &[[f64; 3]], e: &[[f64; 3]], b: &[[f64; 3]]) ->
 /// the relative residual. Divergence (the residual grows for 20 sweeps in a row, or goes
 /// non-finite) and stagnation (no tenfold drop in 2000 sweeps) are errors that say so.
 pub fn gauss_seidel(
-    f: &[Vec<f64>],
+    f: Channels<'_>,
     rho: &[[f64; 3]],
     e: &[[f64; 3]],
     settings: &SolveSettings,
 ) -> Result<Solution> {
-    let n = f.len();
+    let n = e.len();
+    anyhow::ensure!(
+        rho.len() == n
+            && f.iter()
+                .all(|m| m.len() == n && m.iter().all(|r| r.len() == n)),
+        "the system's sizes disagree: {n} emissions, {} reflectances, an F that is not {n}×{n}",
+        rho.len()
+    );
     let mut b: Vec<[f64; 3]> = e.to_vec();
     let mut last = f64::INFINITY;
     let mut growing = 0;
@@ -67,12 +83,12 @@ pub fn gauss_seidel(
         for i in 0..n {
             for c in 0..3 {
                 let mut gathered = 0.0;
-                for (j, fij) in f[i].iter().enumerate() {
+                for (j, fij) in f[c][i].iter().enumerate() {
                     if j != i {
                         gathered += fij * b[j][c];
                     }
                 }
-                let denom = 1.0 - rho[i][c] * f[i][i];
+                let denom = 1.0 - rho[i][c] * f[c][i][i];
                 b[i][c] = (e[i][c] + rho[i][c] * gathered) / denom;
             }
         }
@@ -116,7 +132,7 @@ mod tests {
         let f = vec![vec![0.0, 0.4], vec![0.3, 0.0]];
         let rho = vec![[0.5; 3], [0.8; 3]];
         let e = vec![[1.0; 3], [0.0; 3]];
-        let s = gauss_seidel(&f, &rho, &e, &SolveSettings::default()).unwrap();
+        let s = gauss_seidel(grey(&f), &rho, &e, &SolveSettings::default()).unwrap();
         let b0 = 1.0 / (1.0 - 0.5 * 0.4 * 0.8 * 0.3);
         assert!((s.radiosity[0][0] - b0).abs() < 1e-9);
         assert!((s.radiosity[1][0] - 0.24 * b0).abs() < 1e-9);
@@ -128,7 +144,7 @@ mod tests {
         let f = vec![vec![0.0, 1.0], vec![1.0, 0.0]];
         let rho = vec![[1.5; 3], [1.5; 3]];
         let e = vec![[1.0; 3], [0.0; 3]];
-        let err = gauss_seidel(&f, &rho, &e, &SolveSettings::default()).unwrap_err();
+        let err = gauss_seidel(grey(&f), &rho, &e, &SolveSettings::default()).unwrap_err();
         assert!(format!("{err}").contains("diverge"), "{err}");
     }
 }

@@ -6,7 +6,10 @@
 //! - [`geometry`], [`patch`]: the surfaces rays can hit
 //! - [`accel`]: the accelerator trait and the software (f32) engine
 //! - [`sampling`]: sample points and their weights (§4.2)
-//! - [`tracer`]: form-factor rows from hemisphere shots (§3.1, §3.4)
+//! - [`optics`], [`frustum`]: which patches are diffuse or specular, and the frustums of the
+//!   Phong lobe (§2, §3.3)
+//! - [`specular`], [`skeleton`]: indirect transport through frustums with a bounded stack (§6.2)
+//! - [`tracer`]: form-factor rows from hemisphere shots, direct and indirect (§3.1, §3.3, §3.4)
 //! - [`camera`], [`pixels`]: eye rays of pass 2 (§5)
 #![no_std]
 #![forbid(unsafe_code)]
@@ -17,11 +20,15 @@ extern crate std;
 
 pub mod accel;
 pub mod camera;
+pub mod frustum;
 pub mod geometry;
 pub mod hemisphere;
 pub mod link;
+pub mod optics;
 pub mod patch;
 pub mod pixels;
 pub mod rotation;
 pub mod sampling;
+pub mod skeleton;
+pub mod specular;
 pub mod tracer;

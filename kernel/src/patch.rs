@@ -50,4 +50,13 @@ impl Patch {
     pub fn bounds(&self) -> Aabb {
         Aabb::of(self.hull())
     }
+    /// The unit normal of the front side at (u, v): the plane's normal for a polygon; for a
+    /// Bezier patch the surface normal (its limit from inside at a pole, +z if the patch is
+    /// degenerate everywhere near (u, v)).
+    pub fn normal_at(&self, u: f32, v: f32) -> Vec3 {
+        match &self.shape {
+            Shape::Polygon(p) => p.normal,
+            Shape::Bezier(b) => b.normal_near(u, v).unwrap_or(Vec3::Z),
+        }
+    }
 }

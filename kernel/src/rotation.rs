@@ -44,6 +44,16 @@ pub fn spin_for_sample(index: u32) -> f32 {
 }
 
 impl Rotation {
+    /// No rotation: the hemisphere stays along +z.
+    pub const IDENTITY: Rotation = Rotation {
+        cos_phi: 1.0,
+        sin_phi: 0.0,
+        cos_theta: 1.0,
+        sin_theta: 0.0,
+        cos_psi: 1.0,
+        sin_psi: 0.0,
+    };
+
     /// The rotation that takes +z onto `normal` (need not be exactly unit; must be non-zero).
     pub fn onto(normal: Vec3) -> Rotation {
         Self::onto_spun(normal, 0.0)

@@ -10,8 +10,10 @@ use hemi::scene::parse;
 use hemi_kernel::accel::soft::{LocalPatch, SoftAccelerator, SoftScratch};
 use hemi_kernel::geometry::{Polygon, Vec3};
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
+use hemi_kernel::optics::{Optics, Surface};
 use hemi_kernel::patch::Patch;
-use hemi_kernel::tracer::shoot_hemisphere;
+use hemi_kernel::skeleton::{Frame, Skeleton};
+use hemi_kernel::tracer::{shoot_hemisphere, TraceScratch};
 use hemi_tests::*;
 
 fn ff(scene_src: &str, settings: &Pass1Settings) -> Vec<Vec<f64>> {
@@ -102,17 +104,29 @@ fn point_ff(target: Polygon, origin: Vec3, normal: Vec3, circles: u32, rule: Del
         },
     )
     .unwrap();
-    let mut row = [0.0f32];
+    let surfaces = [Surface::diffuse(0)];
+    let optics = Optics::new(&patches, &surfaces, &[], circles).unwrap();
+    let mut frames = [Frame::EMPTY; 1];
+    let mut scratch = TraceScratch {
+        pending: &mut [],
+        parked: &mut [],
+        skeleton: Skeleton::new(&mut frames),
+        threshold: 0.01,
+        max_depth: 8,
+    };
+    let mut row = [[0.0f32; 3]];
     shoot_hemisphere(
         &mut accel,
         &hemi.view(),
+        &optics,
+        &mut scratch,
         origin,
         normal,
         0.0,
         None,
         &mut row,
     );
-    row[0] as f64
+    row[0][0] as f64
 }
 
 #[test]
@@ -246,7 +260,8 @@ fn furnace_gives_e_over_one_minus_rho() {
         let ffs = form_factors(&scene, &Pass1Settings::default(), &|_| {}).unwrap();
         let rhos = vec![[rho; 3]; 6];
         let e = vec![[1.0; 3]; 6];
-        let sol = hemi::solve::gauss_seidel(&ffs.matrix, &rhos, &e, &Default::default()).unwrap();
+        let sol =
+            hemi::solve::gauss_seidel(ffs.channels(), &rhos, &e, &Default::default()).unwrap();
         let want = 1.0 / (1.0 - rho);
         for b in &sol.radiosity {
             let err = rel(b[0], want);
@@ -301,13 +316,13 @@ fn gauss_seidel_agrees_with_a_direct_solve_on_the_cornell_box() {
     let settings = Pass1Settings {
         circles: 24,
         samples: 3,
-        rule: DeltaRule::Band,
+        ..Pass1Settings::default()
     };
     let ffs = form_factors(&scene, &settings, &|_| {}).unwrap();
     let n = scene.patches.len();
     let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
     let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
-    let sol = hemi::solve::gauss_seidel(&ffs.matrix, &rho, &e, &Default::default()).unwrap();
+    let sol = hemi::solve::gauss_seidel(ffs.channels(), &rho, &e, &Default::default()).unwrap();
     for c in 0..3 {
         // scale F rows by ρ_i into a uniform-ρ form: (I − diag(ρ)F)B = E
         let scaled: Vec<Vec<f64>> = (0..n)

@@ -15,6 +15,7 @@ use hemi_hdl_model::{ModelAccelerator, ModelConfig};
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::{Bezier, Vec3};
 use hemi_kernel::patch::{Patch, Shape};
+use hemi_kernel::rotation::Rotation;
 use std::path::Path;
 
 fn scene() -> hemi::scene::Scene {
@@ -238,7 +239,7 @@ impl<'p> SoftSkipping<'p> {
 }
 
 impl Accelerator for SoftSkipping<'_> {
-    fn rotate(&mut self, rot: &hemi_kernel::rotation::Rotation, d: Vec3) -> Vec3 {
+    fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
         rot.apply(d)
     }
     fn set_origin_patch(&mut self, patch: Option<u32>) {
@@ -250,7 +251,7 @@ impl Accelerator for SoftSkipping<'_> {
     fn cast_rings<F: FnMut(usize, u32, Option<hemi_kernel::accel::Hit>)>(
         &mut self,
         origin: Vec3,
-        rot: &hemi_kernel::rotation::Rotation,
+        rot: &Rotation,
         hemi: &hemi_kernel::hemisphere::Hemisphere<'_>,
         rings: std::ops::Range<usize>,
         want_uv: bool,
@@ -273,56 +274,89 @@ impl Accelerator for SoftSkipping<'_> {
 
 #[test]
 fn soft_and_model_form_factors_agree_on_the_teapot() {
+    use hemi::pass1::{form_factors_with, Pass1Settings};
+    use hemi_kernel::hemisphere::DeltaRule;
     let sc = scene();
     let patches = sc.kernel_patches();
-    let soft = element_rows(&sc, &mut SoftSkipping::new(&patches), 4, 1);
-    let mut model = ModelAccelerator::new(&patches, ModelConfig::default()).unwrap();
-    let model = element_rows(&sc, &mut model, 4, 1);
+    let settings = Pass1Settings {
+        circles: 4,
+        samples: 1,
+        rule: DeltaRule::Band,
+        ..Pass1Settings::default()
+    };
+    let soft = form_factors_with(&sc, &settings, &|| SoftSkipping::new(&patches), &|_| {}).unwrap();
+    let model = form_factors_with(&sc, &settings, &|| Boxed::new(&patches), &|_| {}).unwrap();
     let mut worst = 0.0f32;
-    for (a, b) in soft.iter().zip(&model) {
-        for (x, y) in a.iter().zip(b) {
-            worst = worst.max((x - y).abs());
+    for (a, b) in soft.elements.iter().zip(&model.elements) {
+        assert_eq!(a.patch, b.patch);
+        // the model's hemispheres never see their own patch (F_ii = 0)
+        assert!(b.row.iter().all(|&(j, _)| j as usize != b.patch));
+        let (mut ra, mut rb) = (
+            vec![[0.0f32; 3]; patches.len()],
+            vec![[0.0f32; 3]; patches.len()],
+        );
+        for &(j, f) in &a.row {
+            ra[j as usize] = f;
+        }
+        for &(j, f) in &b.row {
+            rb[j as usize] = f;
+        }
+        for (x, y) in ra.iter().zip(&rb) {
+            for c in 0..3 {
+                worst = worst.max((x[c] - y[c]).abs());
+            }
         }
     }
     println!(
         "teapot pass 1 (R = 4): {} hemispheres, worst |F_iq,j soft − model| = {worst:.2e}",
-        soft.len()
+        soft.elements.len()
     );
     // Each element row is one hemisphere of about 40 rays (δD ≤ 0.15 at R = 4): rays agree on
     // their patch within 1 % (above), so at most one ray of a hemisphere may move.
     assert!(worst < 0.15, "{worst}");
 }
 
-/// Pass-1 element rows F_iq,j (paper §3, (4.3) before the area weighting), one hemisphere per
-/// sample point, on the calling thread: the model engine (about 100 KB) stays on the test
-/// thread's stack instead of nesting in rayon's 2 MiB workers in unoptimised builds.
-fn element_rows<A: Accelerator>(
-    scene: &hemi::scene::Scene,
-    engine: &mut A,
-    circles: u32,
-    samples: u32,
-) -> Vec<Vec<f32>> {
-    use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
-    let hemi = OwnedHemisphere::new(circles, DeltaRule::Band).unwrap();
-    let n = scene.patches.len();
-    let mut rows = Vec::new();
-    for i in 0..n {
-        for (q, p) in hemi::pass1::sample_points(scene, i, samples)
-            .into_iter()
-            .enumerate()
-        {
-            let mut row = vec![0.0f32; n];
-            hemi_kernel::tracer::shoot_hemisphere(
-                engine,
-                &hemi.view(),
-                p.position,
-                p.normal,
-                hemi_kernel::rotation::spin_for_sample(q as u32),
-                Some(i as u32),
-                &mut row,
-            );
-            rows.push(row);
-        }
+/// A model engine on the heap. pass 1 makes one engine per rayon worker and keeps it in the
+/// worker's frames; the model is ~100 KB, and unoptimised builds copy such values several times
+/// there, beyond rayon's 2 MiB stacks. Boxed, only its construction touches the stack.
+struct Boxed(Box<ModelAccelerator>);
+
+impl Boxed {
+    fn new(patches: &[hemi_kernel::patch::Patch]) -> Self {
+        Boxed(Box::new(
+            ModelAccelerator::new(patches, ModelConfig::default()).unwrap(),
+        ))
     }
-    rows
+}
+
+impl Accelerator for Boxed {
+    fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
+        self.0.rotate(rot, d)
+    }
+    fn set_origin_patch(&mut self, patch: Option<u32>) {
+        self.0.set_origin_patch(patch)
+    }
+    fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<hemi_kernel::accel::Hit> {
+        self.0.nearest_hit(ray, t_max)
+    }
+    fn cast_from<F: FnMut(usize, Option<hemi_kernel::accel::Hit>)>(
+        &mut self,
+        origin: Vec3,
+        dirs: &[Vec3],
+        want_uv: bool,
+        sink: F,
+    ) {
+        self.0.cast_from(origin, dirs, want_uv, sink)
+    }
+    fn cast_rings<F: FnMut(usize, u32, Option<hemi_kernel::accel::Hit>)>(
+        &mut self,
+        origin: Vec3,
+        rot: &Rotation,
+        hemi: &hemi_kernel::hemisphere::Hemisphere<'_>,
+        rings: std::ops::Range<usize>,
+        want_uv: bool,
+        sink: F,
+    ) {
+        self.0.cast_rings(origin, rot, hemi, rings, want_uv, sink)
+    }
 }

@@ -16,6 +16,7 @@ fn small() -> Pass1Settings {
         circles: 24,
         samples: 6,
         rule: DeltaRule::Band,
+        ..Pass1Settings::default()
     }
 }
 
@@ -24,9 +25,18 @@ fn solve_and_render(scene: &Scene, settings: &Pass1Settings, spp: u32) -> Image 
     let n = scene.patches.len();
     let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
     let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
-    let sol = hemi::solve::gauss_seidel(&ff.matrix, &rho, &e, &Default::default()).unwrap();
+    let sol = hemi::solve::gauss_seidel(ff.channels(), &rho, &e, &Default::default()).unwrap();
     let g = grids(scene, &ff, &sol);
-    render(scene, &g, &camera_of(scene).unwrap(), spp, &|_| {})
+    render(
+        scene,
+        &g,
+        &camera_of(scene).unwrap(),
+        spp,
+        settings,
+        &|_| {},
+    )
+    .unwrap()
+    .image
 }
 
 fn camera_toml(eye: [f64; 3], look: [f64; 3], w: u32, h: u32) -> String {

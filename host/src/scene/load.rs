@@ -40,6 +40,10 @@ struct RawMaterial {
     specular: Option<Spanned<Vec<f64>>>,
     #[serde(default)]
     phong: Option<Spanned<f64>>,
+    #[serde(default)]
+    transmission: Option<Spanned<Vec<f64>>>,
+    #[serde(default)]
+    frustum: Option<Spanned<f64>>,
 }
 
 #[derive(Deserialize)]
@@ -373,7 +377,9 @@ fn load_obj(
                     diffuse: kd,
                     emission: ke,
                     specular: [0.0; 3],
+                    transmission: [0.0; 3],
                     phong: 0.0,
+                    frustum_deg: None,
                 });
                 by_name.insert(m.name.clone(), materials.len() - 1);
                 materials.len() - 1
@@ -391,7 +397,9 @@ fn load_obj(
                     diffuse: [0.8; 3],
                     emission: [0.0; 3],
                     specular: [0.0; 3],
+                    transmission: [0.0; 3],
                     phong: 0.0,
+                    frustum_deg: None,
                 });
                 by_name.insert("default".into(), materials.len() - 1);
                 materials.len() - 1
@@ -479,6 +487,20 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
             Some(p) => *p.get_ref(),
             None => 0.0,
         };
+        let frustum_deg = match &m.frustum {
+            Some(f) if !(f.get_ref().is_finite() && *f.get_ref() > 0.0 && *f.get_ref() <= 90.0) => {
+                return Err(cx.err(
+                    f.span(),
+                    "material.frustum",
+                    "must be a half-angle in degrees, above 0 and at most 90",
+                ))
+            }
+            Some(f) => Some(*f.get_ref()),
+            None => None,
+        };
+        // k_r and k_t may reach 1 (a lossless mirror or window passes on exactly what it gets:
+        // frustum weights are normalised); a diffuse reflectance of 1 may not (it makes a closed
+        // scene's system singular).
         let material = Material {
             name,
             diffuse: cx.rgb(&m.diffuse, "material.diffuse", Some(1.0))?,
@@ -487,26 +509,27 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
                 None => [0.0; 3],
             },
             specular: match &m.specular {
-                Some(s) => cx.rgb(s, "material.specular", Some(1.0))?,
+                Some(s) => cx.rgb(s, "material.specular", Some(1.0 + 1e-12))?,
+                None => [0.0; 3],
+            },
+            transmission: match &m.transmission {
+                Some(s) => cx.rgb(s, "material.transmission", Some(1.0 + 1e-12))?,
                 None => [0.0; 3],
             },
             phong,
+            frustum_deg,
         };
         for c in 0..3 {
-            if material.diffuse[c] + material.specular[c] >= 1.0 {
+            let sum = material.diffuse[c] + material.specular[c] + material.transmission[c];
+            if sum > 1.0 + 1e-12 {
                 return Err(cx.err(
                     span.clone(),
                     "material",
-                    "diffuse + specular must stay below 1 per channel",
+                    format!(
+                        "diffuse + specular + transmission must not exceed 1 per channel (channel {c} sums to {sum})"
+                    ),
                 ));
             }
-        }
-        if material.specular.iter().any(|k| *k > 0.0) {
-            eprintln!(
-                "{file}:{}: warning: material `{}`: specular reflection is not simulated yet (issue \"Specular\"); its k_r is treated as absorbed",
-                cx.line(span.clone()),
-                material.name
-            );
         }
         materials.push(material);
     }

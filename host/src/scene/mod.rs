@@ -20,10 +20,34 @@ pub struct Material {
     pub diffuse: Rgb,
     /// Radiant exitance E per channel (W/m²).
     pub emission: Rgb,
-    /// k_r per channel (not rendered yet: issue "Specular").
+    /// k_r per channel: specular reflection about the mirror direction (paper (2.2)).
     pub specular: Rgb,
-    /// Phong power n (∞ for a perfect mirror).
+    /// k_t per channel: specular transmission through the patch (a thin sheet, no refraction).
+    pub transmission: Rgb,
+    /// Phong power n of both specular lobes (∞ for a perfect mirror).
     pub phong: f64,
+    /// The frustum's half-angle in degrees, when the scene gives it instead of deriving it from
+    /// `phong` (the paper's picture 1 lists its floors by frustum angle).
+    pub frustum_deg: Option<f64>,
+}
+
+impl Material {
+    /// Whether the material reflects specularly.
+    pub fn reflects(&self) -> bool {
+        self.specular.iter().any(|k| *k > 0.0)
+    }
+    /// Whether the material transmits specularly.
+    pub fn transmits(&self) -> bool {
+        self.transmission.iter().any(|k| *k > 0.0)
+    }
+    /// Whether patches of this material get a form-factor row and column: everything but a
+    /// pure specular surface (no diffuse reflectance and no emission, but k_r or k_t), which
+    /// only passes light on (paper §3.3). A black absorber stays diffuse: it still shadows and
+    /// still has an (all-zero) radiosity to report.
+    pub fn is_diffuse(&self) -> bool {
+        let any = |v: &Rgb| v.iter().any(|x| *x > 0.0);
+        any(&self.diffuse) || any(&self.emission) || !(self.reflects() || self.transmits())
+    }
 }
 
 /// One named surface of the scene.
