@@ -245,6 +245,11 @@ impl ModelAccelerator {
         self.driver.bus().device().cycles()
     }
 
+    /// The Bezier unit's work counters: patch tests, subdivision steps, leaves, clocks.
+    pub fn bezier_stats(&self) -> crate::intersect::bezier::BezierStats {
+        self.driver.bus().device().bezier_stats()
+    }
+
     /// Rays traced (rotations alone not counted).
     pub fn rays(&self) -> u64 {
         self.rays
