@@ -172,6 +172,13 @@ enum BenchCommand {
         #[arg(long)]
         svg: Option<PathBuf>,
     },
+    /// The accelerator model's CORDIC error against iterations and word width, with latency and
+    /// an area proxy: a markdown table with the Pareto front (docs/ACCURACY.md).
+    Cordic {
+        /// Also draw the chart (SVG): error against latency, one line per word width.
+        #[arg(long)]
+        svg: Option<PathBuf>,
+    },
     /// The teapot as Bezier patches (16 samples each) against the same teapot tessellated into
     /// 2n² triangles per patch (1 sample each): time, matrix size, memory, radiosities.
     Tessellation {
@@ -789,6 +796,11 @@ fn main() -> Result<()> {
             }
             out.flush()?;
             report_model(backend, &counters, 0, common.clock_mhz, "trace");
+        }
+        Command::Bench {
+            command: BenchCommand::Cordic { svg },
+        } => {
+            hemi::bench::cordic_pareto(&mut out, svg.as_deref())?;
         }
         Command::Bench {
             command: BenchCommand::Bezier { scene, svg },
