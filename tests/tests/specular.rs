@@ -270,3 +270,42 @@ fn cut_paths_are_reported_not_fatal() {
     // the patch sees itself in the mirrors (through the gap around it) and nothing is NaN
     assert!(ff.matrix[0][0].is_finite() && ff.matrix[0][0] > 0.0);
 }
+
+#[test]
+fn pass_2_sees_a_light_in_a_mirror_at_k_r_times_its_radiance() {
+    // A mirror floor (k_r = 0.5) and an emitting wall of radiance 1 (E = π, no reflectance);
+    // the camera looks down at the floor, where the wall's image fills the centre.
+    let src = mirror("m", 0.5, "inf")
+        + "[[material]]\nname = \"lamp\"\ndiffuse = [0, 0, 0]\nemission = [3.141592653589793, 3.141592653589793, 3.141592653589793]\n\n"
+        + &quad(
+            "floor",
+            "m",
+            [[-20.0, 0.0, -20.0], [-20.0, 0.0, 20.0], [20.0, 0.0, 20.0], [20.0, 0.0, -20.0]],
+        )
+        + &quad(
+            "wall",
+            "lamp",
+            [[-3.0, 0.5, 5.0], [-3.0, 4.0, 5.0], [3.0, 4.0, 5.0], [3.0, 0.5, 5.0]],
+        )
+        + "[camera]\neye = [0, 1, -2]\nlook_at = [0, -1, 3]\nup = [0, 1, 0]\nfov_y_deg = 20\nwidth = 9\nheight = 9\n";
+    let scene = parse(&src, "mirror-lamp.toml").unwrap();
+    let settings = Pass1Settings {
+        circles: 16,
+        samples: 2,
+        ..Pass1Settings::default()
+    };
+    let ff = form_factors(&scene, &settings, &|_| {}).unwrap();
+    let n = scene.patches.len();
+    let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
+    let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
+    let sol = hemi::solve::gauss_seidel(ff.channels(), &rho, &e, &Default::default()).unwrap();
+    let grids = hemi::radiosity::grids(&scene, &ff, &sol);
+    let camera = hemi::render::camera_of(&scene).unwrap();
+    let out = hemi::render::render(&scene, &grids, &camera, 1, &settings, &|_| {}).unwrap();
+    let centre = out.image.pixels[4 * 9 + 4];
+    println!("centre pixel {centre:?}, {:?}", out.specular);
+    for c in centre {
+        assert!((c - 0.5).abs() < 1e-4, "{centre:?}");
+    }
+    assert!(out.specular.frustums > 0);
+}
