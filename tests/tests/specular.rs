@@ -309,3 +309,43 @@ fn pass_2_sees_a_light_in_a_mirror_at_k_r_times_its_radiance() {
     }
     assert!(out.specular.frustums > 0);
 }
+
+#[test]
+fn a_window_passes_k_t_of_the_form_factor_behind_it() {
+    // p1 at z = 0 facing +z, p2 at z = 1 facing −z (Howell C-11), and between them a large
+    // clear sheet (k_t = 0.7, phong = inf) whose front faces away from p1: transmission passes
+    // light from either side, so F_12 = k_t · F(C-11).
+    let k_t = 0.7;
+    let src = material("white", 0.5, 0.0)
+        + &format!(
+            "[[material]]\nname = \"glass\"\ndiffuse = [0, 0, 0]\ntransmission = [{k_t}, {k_t}, {k_t}]\nphong = inf\n\n"
+        )
+        + &quad(
+            "p1",
+            "white",
+            [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+        )
+        + &quad(
+            "p2",
+            "white",
+            [[0.0, 0.0, 1.0], [0.0, 1.0, 1.0], [1.0, 1.0, 1.0], [1.0, 0.0, 1.0]],
+        )
+        + &quad(
+            "glass",
+            "glass",
+            [[-9.0, -9.0, 0.5], [9.0, -9.0, 0.5], [9.0, 9.0, 0.5], [-9.0, 9.0, 0.5]],
+        );
+    let scene = parse(&src, "window.toml").unwrap();
+    let ff = run(&scene, 32, 16);
+    let want = k_t * opposed_rectangles(1.0, 1.0, 1.0);
+    let got = ff.matrix[0][1];
+    let e = (got - want).abs() / want;
+    println!(
+        "through a window: F = {got:.6}, k_t·Howell = {want:.6}, error {:.3} %",
+        100.0 * e
+    );
+    assert!(e < 0.005, "error {e}");
+    // and symmetric from the other side (the sheet's back)
+    let back = ff.matrix[1][0];
+    assert!((back - got).abs() / got < 0.005, "{back} vs {got}");
+}
