@@ -644,6 +644,26 @@ fn main() -> Result<()> {
                 ev,
                 output.display()
             );
+            if ff.stats.specular.frustums + rendered.specular.frustums > 0 {
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular, pass 1",
+                        &ff.stats.specular,
+                        ff.stats.rays as u64,
+                        &settings.specular
+                    )
+                );
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular, pass 2",
+                        &rendered.specular,
+                        camera.width as u64 * camera.height as u64 * spp as u64,
+                        &settings.specular
+                    )
+                );
+            }
             report_model(
                 backend,
                 &counters,
@@ -694,6 +714,17 @@ fn main() -> Result<()> {
                 }
                 eprintln!("{} rays, {} elements", ff.stats.rays, ff.elements.len());
             }
+            if ff.stats.specular.frustums > 0 {
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular",
+                        &ff.stats.specular,
+                        ff.stats.rays as u64,
+                        &settings.specular
+                    )
+                );
+            }
             report_model(
                 backend,
                 &counters,
@@ -732,6 +763,17 @@ fn main() -> Result<()> {
                 eprintln!(
                     "Gauss-Seidel: {} sweeps, residual {:.2e}",
                     sol.iterations, sol.residual
+                );
+            }
+            if ff.stats.specular.frustums > 0 {
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular",
+                        &ff.stats.specular,
+                        ff.stats.rays as u64,
+                        &settings.specular
+                    )
                 );
             }
             report_model(
