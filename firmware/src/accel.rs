@@ -3,8 +3,11 @@
 //! model driven through its register driver, exactly as the host's `--backend model` drives it.
 //!
 //! Which one answers jobs: the build's own ([`FwAccel::native`]) unless the host asks for the
-//! soft engine in its `Configure`. On a board (feature `board`) the MMIO accelerator joins here
-//! once its register access (`accel_mmio`) lands; it is then detected by its ID register.
+//! soft engine in its `Configure`. On a board (feature `board`) the accelerator's registers
+//! ([`crate::accel_mmio`]) are probed at boot by their ID register ([`probe_mmio`]); running jobs
+//! on them needs the kernel's `Accelerator` over any `RegisterAccess` (today
+//! `hemi_hdl_model::ModelAccelerator` is tied to the model's bus), so a board build answers jobs
+//! with the soft engine until that lands.
 
 use hemi_kernel::link::engine::{AccelJob, AccelProvider, SoftProvider};
 use hemi_kernel::link::{AccelKind, ErrorCode};
@@ -115,5 +118,22 @@ impl AccelProvider for FwAccel {
             return m.cycles();
         }
         0
+    }
+}
+
+/// Board builds: whether the accelerator answers at its base address, by the driver's ID and
+/// version check; `Some(patch slots)` if it does. Called once, at boot.
+#[cfg(feature = "board")]
+pub fn probe_mmio() -> Option<u32> {
+    let bus = crate::accel_mmio::AccelMmio::take()?;
+    match hemi_hdl_model::driver::Driver::new(bus) {
+        Ok(driver) => Some(driver.patch_capacity()),
+        Err(e) => {
+            defmt::info!(
+                "no accelerator at the MMIO base: {}",
+                defmt::Debug2Format(&e)
+            );
+            None
+        }
     }
 }

@@ -16,6 +16,7 @@ use cortex_m_rt as _;
 use defmt_semihosting as _;
 
 pub mod accel;
+pub mod accel_mmio;
 pub mod board;
 pub mod clock;
 pub mod fault;

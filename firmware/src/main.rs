@@ -94,6 +94,13 @@ fn main() -> ! {
         uart::UART0_BASE,
         defmt::Debug2Format(&hemi_firmware::accel::FwAccel::native())
     );
+    #[cfg(feature = "board")]
+    if let Some(slots) = hemi_firmware::accel::probe_mmio() {
+        defmt::println!(
+            "accelerator found by its ID register: {=u32} patch slots",
+            slots
+        );
+    }
     let mut job = JobLoop::new(board::hello_info());
     let mut chunk = [0u8; 64];
     loop {

@@ -175,6 +175,13 @@ enum BenchCommand {
         #[arg(long)]
         svg: Option<PathBuf>,
     },
+    /// The accelerator model's CORDIC error against iterations and word width, with latency and
+    /// an area proxy: a markdown table with the Pareto front (docs/ACCURACY.md).
+    Cordic {
+        /// Also draw the chart (SVG): error against latency, one line per word width.
+        #[arg(long)]
+        svg: Option<PathBuf>,
+    },
     /// The teapot as Bezier patches (16 samples each) against the same teapot tessellated into
     /// 2n² triangles per patch (1 sample each): time, matrix size, memory, radiosities.
     Tessellation {
@@ -579,6 +586,11 @@ fn stdin_lines() -> impl Iterator<Item = (usize, std::io::Result<String>)> {
 
 fn main() -> Result<()> {
     let cli = Cli::parse();
+    // `--backend model` builds a ~100 KB accelerator model per worker thread, on its stack;
+    // unoptimised builds copy it several times while building it, beyond rayon's 2 MiB default.
+    let _ = rayon::ThreadPoolBuilder::new()
+        .stack_size(16 << 20)
+        .build_global();
     let out = std::io::stdout();
     let mut out = std::io::BufWriter::new(out.lock());
     match cli.command {
@@ -664,6 +676,26 @@ fn main() -> Result<()> {
                 ev,
                 output.display()
             );
+            if ff.stats.specular.frustums + rendered.specular.frustums > 0 {
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular, pass 1",
+                        &ff.stats.specular,
+                        ff.stats.rays as u64,
+                        &settings.specular
+                    )
+                );
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular, pass 2",
+                        &rendered.specular,
+                        camera.width as u64 * camera.height as u64 * spp as u64,
+                        &settings.specular
+                    )
+                );
+            }
             report_model(
                 backend,
                 &counters,
@@ -715,6 +747,17 @@ fn main() -> Result<()> {
                 }
                 eprintln!("{} rays, {} elements", ff.stats.rays, ff.elements.len());
             }
+            if ff.stats.specular.frustums > 0 {
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular",
+                        &ff.stats.specular,
+                        ff.stats.rays as u64,
+                        &settings.specular
+                    )
+                );
+            }
             report_model(
                 backend,
                 &counters,
@@ -754,6 +797,17 @@ fn main() -> Result<()> {
                 eprintln!(
                     "Gauss-Seidel: {} sweeps, residual {:.2e}",
                     sol.iterations, sol.residual
+                );
+            }
+            if ff.stats.specular.frustums > 0 {
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular",
+                        &ff.stats.specular,
+                        ff.stats.rays as u64,
+                        &settings.specular
+                    )
                 );
             }
             report_model(
@@ -837,6 +891,11 @@ fn main() -> Result<()> {
             }
             out.flush()?;
             report_model(backend, &counters, 0, common.clock_mhz, "trace");
+        }
+        Command::Bench {
+            command: BenchCommand::Cordic { svg },
+        } => {
+            hemi::bench::cordic_pareto(&mut out, svg.as_deref())?;
         }
         Command::Bench {
             command: BenchCommand::Bezier { scene, svg },
