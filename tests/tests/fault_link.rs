@@ -60,10 +60,17 @@ fn check_against_model(scene: &Scene, settings: &Pass1Settings, got: &pass1::For
     assert_eq!(bits(&got.matrix), bits(&want.matrix));
 }
 
+/// Runs `f` where the in-process model fits the stack: a debug build keeps the model (~140 KiB)
+/// on the stack several times over, more than rayon's default 2 MiB worker stacks.
 fn big_stack(f: impl FnOnce() + Send + 'static) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .stack_size(256 << 20)
+        .build()
+        .unwrap();
     std::thread::Builder::new()
         .stack_size(256 << 20)
-        .spawn(f)
+        .spawn(move || pool.install(f))
         .unwrap()
         .join()
         .unwrap();

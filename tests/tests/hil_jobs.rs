@@ -70,9 +70,15 @@ fn form_factors_render_and_irradiance_through_two_qemu_boards_equal_the_model_ba
     if !qemu_or_skip("hil_jobs") {
         return;
     }
+    // The model is large and debug builds keep it on the stack, in rayon's workers too.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .stack_size(256 << 20)
+        .build()
+        .unwrap();
     std::thread::Builder::new()
-        .stack_size(256 << 20) // the model is large; debug builds keep it on the stack
-        .spawn(run)
+        .stack_size(256 << 20)
+        .spawn(move || pool.install(run))
         .unwrap()
         .join()
         .unwrap();
