@@ -111,17 +111,12 @@ impl Link {
     pub fn send_as(&mut self, id: u32, req: &Request) -> Result<()> {
         let n = encode_request(id, req, &mut self.frame)
             .map_err(|e| anyhow!("request too large for one frame: {e:?}"))?;
-        self.port
-            .write_all(&self.frame[..n])
-            .context("writing to the board")?;
-        self.port.flush().context("writing to the board")?;
-        Ok(())
+        write_patiently(&mut self.port, &self.frame[..n])
     }
 
     /// Sends raw bytes (fault-injection tests; a lone 0x00 to flush the board's decoder).
     pub fn send_raw(&mut self, bytes: &[u8]) -> Result<()> {
-        self.port.write_all(bytes).context("writing to the board")?;
-        self.port.flush().context("writing to the board")
+        write_patiently(&mut self.port, bytes)
     }
 
     /// The next good response frame, whatever its id; `None` at the deadline. Damaged frames
@@ -240,6 +235,34 @@ impl Link {
             other => bail!("unexpected answer to LinkStats: {other:?}"),
         }
     }
+}
+
+/// How long a write may wait for the board to take its bytes. The port's timeout (20 ms) is
+/// for reads; QEMU drains a pty at only ~10-15 KB/s, slower still on a loaded machine, so a full
+/// pty buffer is not a dead link.
+const WRITE_PATIENCE: Duration = Duration::from_secs(5);
+
+/// Writes all of `bytes`, waiting out write timeouts up to [`WRITE_PATIENCE`] of no progress.
+fn write_patiently(port: &mut Box<dyn Port>, mut bytes: &[u8]) -> Result<()> {
+    let mut last_progress = Instant::now();
+    while !bytes.is_empty() {
+        match port.write(bytes) {
+            Ok(0) => bail!("writing to the board: the port accepts no bytes"),
+            Ok(n) => {
+                bytes = &bytes[n..];
+                last_progress = Instant::now();
+            }
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::TimedOut
+                        | io::ErrorKind::WouldBlock
+                        | io::ErrorKind::Interrupted
+                ) && last_progress.elapsed() < WRITE_PATIENCE => {}
+            Err(e) => return Err(e).context("writing to the board"),
+        }
+    }
+    port.flush().context("writing to the board")
 }
 
 /// A human-readable reason for an error code.
