@@ -4,7 +4,7 @@
 //!
 //! Which one answers jobs: the build's own ([`FwAccel::native`]) unless the host asks for the
 //! soft engine in its `Configure`. On a board (feature `board`) the accelerator's registers
-//! ([`crate::accel_mmio`]) are probed at boot by their ID register ([`probe_mmio`]); running jobs
+//! ([`crate::accel_mmio`]) are probed at boot by their ID register (`probe_mmio`, feature `board`); running jobs
 //! on them needs the kernel's `Accelerator` over any `RegisterAccess` (today
 //! `hemi_hdl_model::ModelAccelerator` is tied to the model's bus), so a board build answers jobs
 //! with the soft engine until that lands.
