@@ -208,8 +208,9 @@ enum BenchCommand {
     Adaptive {
         #[arg(default_value = "scenes/cornell.toml")]
         scene: PathBuf,
-        /// K of the uniform reference.
-        #[arg(long, default_value_t = 64)]
+        /// K of the uniform reference (not a power of two times 2, so that no adaptive level
+        /// shares its sample points and hemisphere spins).
+        #[arg(long, default_value_t = 96)]
         reference: u32,
         /// Comma-separated K of the uniform runs.
         #[arg(long, default_value = "2,4,8,16,32")]
