@@ -67,9 +67,12 @@ struct Common {
     /// are not shot.
     #[arg(long, default_value_t = hemi_kernel::specular::DEFAULT_THRESHOLD)]
     specular_threshold: f32,
-    /// Capacity of the skeleton stack of frustums (paper §6.2): the deepest specular path.
-    #[arg(long, default_value_t = 16)]
+    /// Capacity of the skeleton stack (paper §6.2): the frustums waiting to be shot.
+    #[arg(long, default_value_t = 64)]
     stack: usize,
+    /// The most specular bounces one path may take (paper §5).
+    #[arg(long, default_value_t = 24)]
+    max_bounces: u16,
 }
 
 impl Common {
@@ -108,6 +111,7 @@ impl Common {
             specular: hemi::optics::SpecularSettings {
                 threshold: self.specular_threshold,
                 stack: self.stack,
+                max_bounces: self.max_bounces,
             },
         })
     }
@@ -239,6 +243,13 @@ enum BenchCommand {
         #[arg(default_value = "scenes/teapot.toml")]
         scene: PathBuf,
         /// Also draw the chart (SVG).
+        #[arg(long)]
+        svg: Option<PathBuf>,
+    },
+    /// The accelerator model's CORDIC error against iterations and word width, with latency and
+    /// an area proxy: a markdown table with the Pareto front (docs/ACCURACY.md).
+    Cordic {
+        /// Also draw the chart (SVG): error against latency, one line per word width.
         #[arg(long)]
         svg: Option<PathBuf>,
     },
@@ -699,6 +710,11 @@ fn stdin_lines() -> impl Iterator<Item = (usize, std::io::Result<String>)> {
 
 fn main() -> Result<()> {
     let cli = Cli::parse();
+    // `--backend model` builds a ~100 KB accelerator model per worker thread, on its stack;
+    // unoptimised builds copy it several times while building it, beyond rayon's 2 MiB default.
+    let _ = rayon::ThreadPoolBuilder::new()
+        .stack_size(16 << 20)
+        .build_global();
     let out = std::io::stdout();
     let mut out = std::io::BufWriter::new(out.lock());
     match cli.command {
@@ -792,6 +808,26 @@ fn main() -> Result<()> {
                 ev,
                 output.display()
             );
+            if ff.stats.specular.frustums + rendered.specular.frustums > 0 {
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular, pass 1",
+                        &ff.stats.specular,
+                        ff.stats.rays as u64,
+                        &settings.specular
+                    )
+                );
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular, pass 2",
+                        &rendered.specular,
+                        camera.width as u64 * camera.height as u64 * spp as u64,
+                        &settings.specular
+                    )
+                );
+            }
             report_model(
                 backend,
                 &counters,
@@ -842,6 +878,17 @@ fn main() -> Result<()> {
                 }
                 eprintln!("{} rays, {} elements", ff.stats.rays, ff.elements.len());
             }
+            if ff.stats.specular.frustums > 0 {
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular",
+                        &ff.stats.specular,
+                        ff.stats.rays as u64,
+                        &settings.specular
+                    )
+                );
+            }
             report_model(
                 backend,
                 &counters,
@@ -880,6 +927,17 @@ fn main() -> Result<()> {
                 eprintln!(
                     "Gauss-Seidel: {} sweeps, residual {:.2e}",
                     sol.iterations, sol.residual
+                );
+            }
+            if ff.stats.specular.frustums > 0 {
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular",
+                        &ff.stats.specular,
+                        ff.stats.rays as u64,
+                        &settings.specular
+                    )
                 );
             }
             report_model(
@@ -1001,6 +1059,11 @@ fn main() -> Result<()> {
                 svg.as_deref(),
                 &command,
             )?;
+        }
+        Command::Bench {
+            command: BenchCommand::Cordic { svg },
+        } => {
+            hemi::bench::cordic_pareto(&mut out, svg.as_deref())?;
         }
         Command::Bench {
             command: BenchCommand::Bezier { scene, svg },
