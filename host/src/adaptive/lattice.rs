@@ -62,8 +62,11 @@ pub fn owner(k: usize, c: usize) -> usize {
 /// A sparse element row: (patch j, F_iq,j per channel), ascending j.
 pub type Row = Vec<(u32, [f32; 3])>;
 
+/// One weighted term of [`blend`]: a row and its weight.
+pub type Part<'a> = (&'a [(u32, [f32; 3])], f64);
+
 /// Σ w·row over `parts`, sparse, ascending j, accumulated in f64; zero weights are skipped.
-pub fn blend(parts: &[(&[(u32, [f32; 3])], f64)]) -> Row {
+pub fn blend(parts: &[Part<'_>]) -> Row {
     let mut all: Vec<(u32, [f64; 3])> = Vec::new();
     for &(row, w) in parts {
         if w == 0.0 {

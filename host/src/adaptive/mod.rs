@@ -219,7 +219,7 @@ pub fn subdivide(
                 shoot.push((next.len(), (a as u32, b as u32), point));
                 next.push(None);
             } else {
-                let parts: Vec<(&[(u32, [f32; 3])], f64)> = lattice::stencil(k, a, b)
+                let parts: Vec<lattice::Part<'_>> = lattice::stencil(k, a, b)
                     .iter()
                     .map(|&(p, w)| (&rows[p].row[..], w))
                     .collect();
@@ -266,7 +266,7 @@ pub fn refine_with<A: Accelerator>(
     // Level 0: the initial guess, every point shot.
     let mut shots: Vec<(usize, u32, SamplePoint)> = Vec::new();
     let mut cells: Vec<(u32, u32)> = Vec::new();
-    for i in 0..n {
+    for (i, report) in reports.iter_mut().enumerate() {
         let k = initial_k(scene, i, settings.samples);
         for b in 0..k {
             for a in 0..k {
@@ -274,7 +274,7 @@ pub fn refine_with<A: Accelerator>(
                 cells.push((a, b));
             }
         }
-        reports[i].k = k;
+        report.k = k;
     }
     progress(Progress::Planned(shots.len() as u64));
     let (rows, s) = shoot_rows(scene, settings, make, &shots, &done)?;
