@@ -52,9 +52,12 @@ struct Common {
     /// are not shot.
     #[arg(long, default_value_t = hemi_kernel::specular::DEFAULT_THRESHOLD)]
     specular_threshold: f32,
-    /// Capacity of the skeleton stack of frustums (paper §6.2): the deepest specular path.
-    #[arg(long, default_value_t = 16)]
+    /// Capacity of the skeleton stack (paper §6.2): the frustums waiting to be shot.
+    #[arg(long, default_value_t = 64)]
     stack: usize,
+    /// The most specular bounces one path may take (paper §5).
+    #[arg(long, default_value_t = 24)]
+    max_bounces: u16,
     /// Radiosity solver: auto | gauss-seidel | sor | direct | progressive (auto measures the
     /// system and says on stderr what it picked and why).
     #[arg(long, default_value = "auto")]
@@ -108,6 +111,7 @@ impl Common {
             specular: hemi::optics::SpecularSettings {
                 threshold: self.specular_threshold,
                 stack: self.stack,
+                max_bounces: self.max_bounces,
             },
             method: self.method,
         })

@@ -35,14 +35,18 @@ pub fn trace_pixels<A: Accelerator, F: FnMut(u32, u32, &Hit, [f32; 3])>(
     let spp = spp.max(1);
     let TraceScratch {
         pending,
+        parked,
         skeleton,
         threshold,
+        max_depth,
     } = scratch;
     let mut walker = Walker {
         optics,
         hemi,
         threshold: *threshold,
+        max_depth: *max_depth,
         skeleton,
+        parked,
         stats: SpecularStats::default(),
     };
     let room = if optics.has_specular() {

@@ -1,12 +1,18 @@
 //! The skeleton stack of paper §6.2: the frustums still to be shot for one primary ray.
 //!
 //! Every primary ray (a hemisphere ray in pass 1, an eye ray in pass 2) that reaches a specular
-//! surface may grow a tree of frustums. The tracer walks it depth first: a frustum's axis ray is
-//! its first ray (ring 0), so following the axes first lays down the tree's *skeleton*; when an
-//! axis ends (its contribution falls below Δ, or it leaves the scene), the last frustum on the
-//! stack shoots its remaining rays, any of which may push a deeper frustum, and so on back up.
+//! surface may grow a tree of frustums. The paper walks it by backtracking: the frustum axes
+//! (the rays of largest contribution) are followed first and stored as the tree's *skeleton*;
+//! then the last frustum on the stack is shot, any of its rays may store a deeper frustum, and
+//! so on back up until every frustum of the primary ray is shot.
+//!
+//! hemi keeps the stack and the depth-first order but shoots a frustum whole, as one batch
+//! through the engine's ring path (see [`crate::specular::Walker::follow`]): frames waiting on
+//! the stack are frustums not yet shot, the newest (deepest) on top, and a frame is popped
+//! when it is shot. The sums are the paper's, since every frustum ray is shot exactly once
+//! whatever the order; only which branch a full stack cuts depends on it.
 //! A frame stores what §6.2 lists: the axis' origin and direction (as the rotation that turns
-//! the hemisphere onto it), the frustum size, and how many of its rays have been shot.
+//! the hemisphere onto it) and the frustum size, with the weight it carries.
 //!
 //! The stack lives in caller storage of fixed size (static SRAM in the firmware). When it is
 //! full the deeper branch is cut: the frame is not pushed and its weight is counted as lost,
@@ -35,10 +41,6 @@ pub struct Frame {
     pub weight: [f32; 3],
     /// Bounces so far (1 for a frustum spawned by the primary ray).
     pub depth: u16,
-    /// Next ray to shoot: ring ...
-    pub ring: u16,
-    /// ... and index within the ring.
-    pub k: u32,
 }
 
 impl Frame {
@@ -51,8 +53,6 @@ impl Frame {
         lobe: Lobe { first: 0, size: 0 },
         weight: [0.0; 3],
         depth: 0,
-        ring: 0,
-        k: 0,
     };
 }
 

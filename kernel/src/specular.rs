@@ -17,10 +17,11 @@
 //! each ray about 1/n of its weight, this is the paper's per-ray threshold scaled with the
 //! frustum size: Δ/n per ray. Energy conservation bounds the work: the frustums of one
 //! generation carry at most k_max^g in total, so at most 1/((1 − k_max) Δ) frustums are ever
-//! shot per primary ray, however the mirrors are arranged. The stack's capacity bounds the depth;
-//! a full stack cuts the deeper branch and counts what it carried.
+//! shot per primary ray, however the mirrors are arranged. A depth limit bounds the bounces of
+//! one path (§5), and the stack's capacity the frustums waiting; a frustum cut by either is
+//! counted with the weight it carried, never a panic.
 
-use crate::accel::{Accelerator, Hit, Ray};
+use crate::accel::{Accelerator, Hit};
 use crate::geometry::Vec3;
 use crate::hemisphere::Hemisphere;
 use crate::optics::{Optics, Specular};
@@ -43,12 +44,18 @@ pub struct SpecularStats {
     pub below_threshold: u32,
     /// Weight those frustums would have carried (the truncation error of §6.5).
     pub cut_weight: f64,
-    /// Frustums cut because the skeleton stack was full.
+    /// Frustums not shot because their path already had the most bounces allowed.
+    pub too_deep: u32,
+    /// Weight those frustums would have carried.
+    pub too_deep_weight: f64,
+    /// Frustums (or parked hits) cut because the skeleton stack (or the park) was full.
     pub overflows: u32,
     /// Weight lost with them.
     pub overflow_weight: f64,
     /// Weight of lobe rays that would have gone through their own surface (absorbed).
     pub absorbed_weight: f64,
+    /// Weight of frustum rays that left the scene or were blocked by a back side.
+    pub escaped_weight: f64,
     /// The deepest the skeleton stack has been.
     pub high_water: u32,
 }
@@ -59,9 +66,12 @@ impl core::ops::AddAssign for SpecularStats {
         self.rays += o.rays;
         self.below_threshold += o.below_threshold;
         self.cut_weight += o.cut_weight;
+        self.too_deep += o.too_deep;
+        self.too_deep_weight += o.too_deep_weight;
         self.overflows += o.overflows;
         self.overflow_weight += o.overflow_weight;
         self.absorbed_weight += o.absorbed_weight;
+        self.escaped_weight += o.escaped_weight;
         self.high_water = self.high_water.max(o.high_water);
     }
 }
@@ -108,8 +118,12 @@ pub struct Walker<'w, 's> {
     pub hemi: &'w Hemisphere<'w>,
     /// Δ: the smallest relative weight a frustum must carry to be shot.
     pub threshold: f32,
+    /// The most specular bounces a path may take (§5: recursion bounded by depth).
+    pub max_depth: u16,
     /// The skeleton stack.
     pub skeleton: &'w mut Skeleton<'s>,
+    /// Room for one frustum's hits on specular surfaces, pushed as frames when it is done.
+    pub parked: &'w mut [Pending],
     /// What happened so far.
     pub stats: SpecularStats,
 }
@@ -119,6 +133,13 @@ impl Walker<'_, '_> {
     /// hit spawns and shoots the whole tree (§6.2), calling `sink(hit, weight)` for every
     /// frustum ray that reaches the front of a diffuse patch, `weight` per channel relative to
     /// the primary ray. `scale` converts relative weights to the caller's units for the stats.
+    ///
+    /// A frustum is shot whole, as rings 0..=k of the hemisphere turned onto its axis, through
+    /// the engine's shared-origin ring path (the same one the hemisphere takes, so an engine
+    /// culls and batches frustum rays as it does hemisphere rays). Its hits on specular
+    /// surfaces are parked and pushed as new frames once the frustum is done; the newest frame
+    /// is shot next, so the tree is walked depth first and the stack holds the frustums still
+    /// to shoot, deepest on top.
     pub fn follow<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
         &mut self,
         accel: &mut A,
@@ -129,43 +150,76 @@ impl Walker<'_, '_> {
         sink: &mut S,
     ) {
         self.spawn(origin + dir * hit.t, dir, hit, [1.0; 3], 0, scale);
-        while let Some(frame) = self.skeleton.top_mut() {
-            let lobe = frame.lobe;
-            if frame.ring > lobe.size {
-                self.skeleton.pop();
-                continue;
-            }
-            let (j, k) = (frame.ring as usize, frame.k);
-            frame.k += 1;
-            if frame.k >= self.hemi.rings()[j].count {
-                frame.k = 0;
-                frame.ring += 1;
-            }
-            let f = *frame;
-            let w = self.optics.weight(&lobe, j);
-            let weight = f.weight.map(|c| c * w);
-            let d = accel.rotate(&f.rot, self.hemi.direction(j, k));
-            if d.dot(f.side) <= 0.0 {
-                self.stats.absorbed_weight += (max3(weight) * scale) as f64;
-                continue;
-            }
+        while let Some(f) = self.skeleton.top_mut().copied() {
+            self.skeleton.pop();
+            let lobe = f.lobe;
+            // the side the rays must leave towards, in the frustum's own frame: one test per ray
+            // on the stored direction, no rotation
+            let side = f.rot.invert(f.side);
+            let mut parked = 0usize;
+            let Walker {
+                optics,
+                hemi,
+                stats,
+                parked: park,
+                ..
+            } = self;
             accel.set_origin_patch(Some(f.from));
-            let hit = accel.nearest_hit(
-                &Ray {
-                    origin: f.origin,
-                    dir: d,
+            accel.cast_rings(
+                f.origin,
+                &f.rot,
+                hemi,
+                0..lobe.size as usize + 1,
+                true,
+                |j, k, hit| {
+                    stats.rays += 1;
+                    let w = optics.weight(&lobe, j);
+                    let weight = f.weight.map(|c| c * w);
+                    if hemi.direction(j, k).dot(side) <= 0.0 {
+                        stats.absorbed_weight += (max3(weight) * scale) as f64;
+                        return;
+                    }
+                    let Some(hit) = hit else {
+                        stats.escaped_weight += (max3(weight) * scale) as f64;
+                        return;
+                    };
+                    if hit.front && optics.surface(hit.patch).column.is_some() {
+                        sink(&hit, weight);
+                    }
+                    if spawns(optics, &hit) {
+                        match park.get_mut(parked) {
+                            Some(p) => {
+                                *p = Pending {
+                                    tag: j as u32,
+                                    k,
+                                    hit,
+                                };
+                                parked += 1;
+                            }
+                            None => {
+                                stats.overflows += 1;
+                                stats.overflow_weight += (max3(weight) * scale) as f64;
+                            }
+                        }
+                    } else if !hit.front {
+                        stats.escaped_weight += (max3(weight) * scale) as f64;
+                    }
                 },
-                f32::INFINITY,
             );
             accel.set_origin_patch(None);
-            self.stats.rays += 1;
-            if let Some(hit) = hit {
-                if hit.front && self.optics.surface(hit.patch).column.is_some() {
-                    sink(&hit, weight);
-                }
-                if spawns(self.optics, &hit) {
-                    self.spawn(f.origin + d * hit.t, d, &hit, weight, f.depth, scale);
-                }
+            for i in 0..parked {
+                let p = self.parked[i];
+                let j = p.tag as usize;
+                let w = self.optics.weight(&lobe, j);
+                let d = accel.rotate(&f.rot, self.hemi.direction(j, p.k));
+                self.spawn(
+                    f.origin + d * p.hit.t,
+                    d,
+                    &p.hit,
+                    f.weight.map(|c| c * w),
+                    f.depth,
+                    scale,
+                );
             }
         }
         self.stats.high_water = self.stats.high_water.max(self.skeleton.high_water() as u32);
@@ -224,6 +278,11 @@ impl Walker<'_, '_> {
             self.stats.cut_weight += (carried * scale) as f64;
             return;
         }
+        if depth >= self.max_depth {
+            self.stats.too_deep += 1;
+            self.stats.too_deep_weight += (carried * scale) as f64;
+            return;
+        }
         let Some(axis) = axis.try_normalize() else {
             return;
         };
@@ -237,8 +296,6 @@ impl Walker<'_, '_> {
             lobe: spec.lobe,
             weight: w,
             depth: depth.saturating_add(1),
-            ring: 0,
-            k: 0,
         };
         match self.skeleton.push(frame) {
             Ok(()) => self.stats.frustums += 1,

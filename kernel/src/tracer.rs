@@ -44,10 +44,14 @@ pub struct TraceScratch<'s> {
     /// Specular hits of one batch of rings, parked until the batch is cast. A batch holds as many
     /// whole rings as fit; a ring larger than this is cast ray by ray.
     pub pending: &'s mut [Pending],
-    /// The skeleton stack of frustums (§6.2); its length is the depth bound.
+    /// Room for the specular hits of one frustum, turned into frames when it is shot.
+    pub parked: &'s mut [Pending],
+    /// The skeleton stack of frustums (§6.2); its capacity bounds the frustums waiting.
     pub skeleton: Skeleton<'s>,
     /// Δ of §6.5 (see [`crate::specular`]).
     pub threshold: f32,
+    /// The most specular bounces a path may take.
+    pub max_depth: u16,
 }
 
 /// Shoots the hemisphere `hemi` from `origin` around `normal`, spun by `spin` about the normal
@@ -152,14 +156,18 @@ pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
 
     let TraceScratch {
         pending,
+        parked,
         skeleton,
         threshold,
+        max_depth,
     } = scratch;
     let mut walker = Walker {
         optics,
         hemi,
         threshold: *threshold,
+        max_depth: *max_depth,
         skeleton,
+        parked,
         stats: SpecularStats::default(),
     };
     let mut start = 0;

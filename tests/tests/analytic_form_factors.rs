@@ -109,8 +109,10 @@ fn point_ff(target: Polygon, origin: Vec3, normal: Vec3, circles: u32, rule: Del
     let mut frames = [Frame::EMPTY; 1];
     let mut scratch = TraceScratch {
         pending: &mut [],
+        parked: &mut [],
         skeleton: Skeleton::new(&mut frames),
         threshold: 0.01,
+        max_depth: 8,
     };
     let mut row = [[0.0f32; 3]];
     shoot_hemisphere(

@@ -436,6 +436,9 @@ impl Accelerator for SoftAccelerator<'_, '_> {
         let mut best: Option<Hit> = None;
         let mut best_t = t_max;
         for (i, p) in self.patches.iter().enumerate() {
+            if i as u32 == self.origin_patch {
+                continue;
+            }
             match &p.shape {
                 Shape::Polygon(poly) => {
                     let lp = LocalPatch::setup_single(poly, ray.origin);
@@ -484,8 +487,18 @@ impl Accelerator for SoftAccelerator<'_, '_> {
         // One set-up per patch for the shared origin, in the scene's own frame; each ray is
         // first checked against the patch's bounding cone (3 multiply-adds) before the edges.
         let frame = Rotation::onto(Vec3::Z);
-        for (lp, p) in self.scratch.local.iter_mut().zip(self.patches.iter()) {
-            *lp = LocalPatch::setup_patch(p, origin, &frame);
+        for (id, (lp, p)) in self
+            .scratch
+            .local
+            .iter_mut()
+            .zip(self.patches.iter())
+            .enumerate()
+        {
+            *lp = if id as u32 == self.origin_patch {
+                LocalPatch::default()
+            } else {
+                LocalPatch::setup_patch(p, origin, &frame)
+            };
         }
         for (i, &d) in dirs.iter().enumerate() {
             let mut best_t = f32::INFINITY;

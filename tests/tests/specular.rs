@@ -1,0 +1,272 @@
+//! Indirect form factors through specular surfaces (paper §3.3, §6.2) against the image method,
+//! energy conservation, the glossy → mirror limit, and the bounded skeleton stack.
+//! `cargo test -p hemi-tests --release --test specular -- --nocapture` prints the measured errors.
+
+use hemi::pass1::{form_factors, FormFactors, Pass1Settings};
+use hemi::scene::{parse, Material, Scene};
+use hemi_tests::*;
+
+fn mirror(name: &str, k_r: f64, phong: &str) -> String {
+    format!(
+        "[[material]]\nname = \"{name}\"\ndiffuse = [0, 0, 0]\nspecular = [{k_r}, {k_r}, {k_r}]\nphong = {phong}\n\n"
+    )
+}
+
+fn run(scene: &Scene, circles: u32, samples: u32) -> FormFactors {
+    let settings = Pass1Settings {
+        circles,
+        samples,
+        ..Pass1Settings::default()
+    };
+    form_factors(scene, &settings, &|_| {}).unwrap()
+}
+
+/// Patch p at z = 0 facing +z under a large mirror at z = c/2 facing down: p sees its own image,
+/// the identical rectangle directly opposed at distance c, so its indirect self form factor is
+/// S_pp = k_r · F(C-11: a × b at distance c).
+fn self_image_scene(a: f64, b: f64, c: f64, k_r: f64, phong: &str) -> Scene {
+    let h = c / 2.0;
+    let big = 50.0;
+    let src = material("white", 0.5, 0.0)
+        + &mirror("mirror", k_r, phong)
+        + &quad(
+            "p",
+            "white",
+            [[0.0, 0.0, 0.0], [a, 0.0, 0.0], [a, b, 0.0], [0.0, b, 0.0]],
+        )
+        + &quad(
+            "mirror",
+            "mirror",
+            [
+                [-big, -big, h],
+                [-big, big, h],
+                [big, big, h],
+                [big, -big, h],
+            ],
+        );
+    parse(&src, "self-image.toml").unwrap()
+}
+
+#[test]
+fn a_perfect_mirror_shows_the_image_form_factor() {
+    // (a, b, c, R, K): near configurations need sample points (K), far ones circles (R), as
+    // for direct form factors (docs/ACCURACY.md); the settings keep the test quick.
+    for (a, b, c, r, k) in [
+        (1.0, 1.0, 1.0, 32, 16),
+        (2.0, 1.0, 0.5, 32, 16),
+        (1.0, 1.0, 3.0, 64, 16),
+    ] {
+        let k_r = 0.8;
+        let scene = self_image_scene(a, b, c, k_r, "inf");
+        let ff = run(&scene, r, k);
+        let want = k_r * opposed_rectangles(a, b, c);
+        let got = ff.matrix[0][0];
+        let e = (got - want).abs() / want;
+        println!(
+            "mirror image {a}x{b} at {c}: S = {got:.6}, k_r·Howell = {want:.6}, error {:.3} %",
+            100.0 * e
+        );
+        // The same tolerance as the direct form factors of the same configuration
+        // (analytic_form_factors.rs): the mirror adds no error of its own.
+        assert!(e < 0.005, "error {e}");
+        // The mirror has no column: its row and column stay empty.
+        assert!(ff.matrix[1].iter().all(|f| *f == 0.0));
+        assert_eq!(ff.matrix[0][1], 0.0);
+        assert!(ff.elements.iter().all(|e| e.patch == 0));
+    }
+}
+
+#[test]
+fn coloured_mirrors_give_per_channel_form_factors() {
+    let mut scene = self_image_scene(1.0, 1.0, 1.0, 0.8, "inf");
+    let m = scene
+        .materials
+        .iter()
+        .position(|m| m.name == "mirror")
+        .unwrap();
+    scene.materials[m].specular = [0.9, 0.5, 0.1];
+    let ff = run(&scene, 16, 2);
+    let t = ff.tinted.as_ref().expect("coloured mirror: per-channel F");
+    let f = [t[0][0][0], t[1][0][0], t[2][0][0]];
+    // each channel is k_r of that channel times the same geometric factor
+    for c in 1..3 {
+        let ratio = f[c] / f[0];
+        let want = scene.materials[m].specular[c] / 0.9;
+        assert!(
+            (ratio - want).abs() < 1e-5,
+            "channel {c}: {ratio} vs {want}"
+        );
+    }
+}
+
+/// A closed unit cube of diffuse walls whose floor is a lossless mirror (k_r = 1).
+fn mirror_floor_box(phong: &str) -> Scene {
+    let mut scene = parse(
+        &(material("white", 0.5, 0.0) + &closed_box([1.0, 1.0, 1.0], 2, "white")),
+        "box.toml",
+    )
+    .unwrap();
+    scene.materials.push(Material {
+        name: "mirror".into(),
+        diffuse: [0.0; 3],
+        emission: [0.0; 3],
+        specular: [1.0; 3],
+        transmission: [0.0; 3],
+        phong: phong.parse().unwrap(),
+        frustum_deg: None,
+    });
+    // face 2 is y = 0, facing +y (tests/src/lib.rs::closed_box)
+    for p in scene
+        .patches
+        .iter_mut()
+        .filter(|p| p.name.starts_with("f2_"))
+    {
+        p.material = 1;
+    }
+    scene
+}
+
+#[test]
+fn energy_is_conserved_in_a_closed_box_with_a_lossless_mirror() {
+    let scene = mirror_floor_box("inf");
+    let ff = run(&scene, 32, 4);
+    let mut worst = 0.0f64;
+    for (i, p) in scene.patches.iter().enumerate() {
+        let sum: f64 = ff.matrix[i].iter().sum();
+        if p.name.starts_with("f2_") {
+            assert_eq!(sum, 0.0, "the mirror has no row");
+            continue;
+        }
+        // every ray ends on a diffuse wall, directly or after bounces on the floor
+        assert!(sum <= 1.0 + 2e-3, "{}: row sum {sum}", p.name);
+        worst = worst.max((sum - 1.0).abs());
+    }
+    println!("closed box, lossless mirror floor: worst |row sum − 1| = {worst:.2e}");
+    assert!(worst < 2e-3, "worst row-sum error {worst}");
+    // nothing was cut: a single mirror cannot bounce a ray twice
+    assert_eq!(ff.stats.specular.overflows, 0);
+    assert_eq!(ff.stats.specular.below_threshold, 0);
+}
+
+#[test]
+fn a_glossy_lobe_loses_only_what_goes_through_the_surface() {
+    let scene = mirror_floor_box("30");
+    let ff = run(&scene, 24, 3);
+    let s = ff.stats.specular;
+    let hemispheres = ff.elements.len() as f64;
+    for (i, p) in scene.patches.iter().enumerate() {
+        if p.name.starts_with("f2_") {
+            continue;
+        }
+        let sum: f64 = ff.matrix[i].iter().sum();
+        assert!(sum <= 1.0 + 2e-3, "{}: row sum {sum}", p.name);
+        assert!(sum > 0.9, "{}: row sum {sum}", p.name);
+    }
+    // What the rows miss is accounted for: every element of this box has the same area weight
+    // (1/16 of an equal patch), so Σ_i (1 − ΣF_ij) = Σ_elements (1 − row sum) / 16, and in a
+    // closed box every hemisphere ray ends on a wall, so an element's row misses exactly what
+    // its frustums absorbed, cut below Δ, lost to a full stack, or let out through the
+    // box's seams.
+    let rows: Vec<usize> = (0..scene.patches.len())
+        .filter(|i| !scene.patches[*i].name.starts_with("f2_"))
+        .collect();
+    let missing: f64 = rows
+        .iter()
+        .map(|&i| 1.0 - ff.matrix[i].iter().sum::<f64>())
+        .sum();
+    let per_patch = hemispheres / rows.len() as f64;
+    let accounted =
+        (s.absorbed_weight + s.cut_weight + s.overflow_weight + s.escaped_weight) / per_patch;
+    println!(
+        "glossy floor n = 30: rows miss {missing:.5} in total; absorbed + cut + overflow + escaped = {accounted:.5}"
+    );
+    assert!(
+        (missing - accounted).abs() < 2e-4,
+        "{missing} vs {accounted}"
+    );
+    assert!(s.frustums > 0 && s.rays > 0);
+}
+
+#[test]
+fn glossy_reflection_converges_to_the_mirror_as_the_power_grows() {
+    let (a, b, c) = (1.0, 1.0, 1.0);
+    let mirror = run(&self_image_scene(a, b, c, 0.8, "inf"), 24, 4).matrix[0][0];
+    let mut last = f64::INFINITY;
+    for n in ["20", "200", "2000", "20000"] {
+        let glossy = run(&self_image_scene(a, b, c, 0.8, n), 24, 4).matrix[0][0];
+        let d = (glossy - mirror).abs() / mirror;
+        println!(
+            "phong {n}: S = {glossy:.6}, mirror {mirror:.6}, difference {:.3} %",
+            100.0 * d
+        );
+        assert!(d <= last + 1e-4, "not converging: {d} after {last}");
+        last = d;
+    }
+    assert!(last < 0.01, "n = 20000 still {last} away from the mirror");
+}
+
+#[test]
+fn cut_paths_are_reported_not_fatal() {
+    // a diffuse patch between two parallel mirrors: rays along the normal bounce for ever
+    let k = 0.99;
+    let src = material("white", 0.5, 0.0)
+        + &mirror("m", k, "inf")
+        + &quad(
+            "p",
+            "white",
+            [
+                [0.4, 0.4, 0.5],
+                [0.6, 0.4, 0.5],
+                [0.6, 0.6, 0.5],
+                [0.4, 0.6, 0.5],
+            ],
+        )
+        + &quad(
+            "top",
+            "m",
+            [
+                [-5.0, -5.0, 1.0],
+                [-5.0, 5.0, 1.0],
+                [5.0, 5.0, 1.0],
+                [5.0, -5.0, 1.0],
+            ],
+        )
+        + &quad(
+            "bottom",
+            "m",
+            [
+                [-5.0, -5.0, 0.0],
+                [5.0, -5.0, 0.0],
+                [5.0, 5.0, 0.0],
+                [-5.0, 5.0, 0.0],
+            ],
+        );
+    let scene = parse(&src, "mirrors.toml").unwrap();
+    let mut settings = Pass1Settings {
+        circles: 16,
+        samples: 2,
+        ..Pass1Settings::default()
+    };
+    settings.specular.max_bounces = 6;
+    let ff = form_factors(&scene, &settings, &|_| {}).unwrap();
+    let s = ff.stats.specular;
+    println!("{s:?}");
+    // rays along the normal would bounce for ever: the depth limit cuts them and says so
+    assert!(s.too_deep > 0 && s.too_deep_weight > 0.0, "{s:?}");
+    assert_eq!(s.overflows, 0);
+
+    // glossy parallel mirrors spawn many frustums per frustum: a small stack overflows, and
+    // the cut is counted, not fatal
+    let glossy = src.replace("phong = inf", "phong = 5\nfrustum = 20");
+    let scene = parse(&glossy, "glossy-mirrors.toml").unwrap();
+    settings.specular.stack = 3;
+    settings.specular.threshold = 0.001;
+    let g = form_factors(&scene, &settings, &|_| {}).unwrap();
+    let s = g.stats.specular;
+    println!("{s:?}");
+    assert!(s.overflows > 0 && s.overflow_weight > 0.0, "{s:?}");
+    assert_eq!(s.high_water, 3);
+    assert!(g.matrix[0][0].is_finite());
+    // the patch sees itself in the mirrors (through the gap around it) and nothing is NaN
+    assert!(ff.matrix[0][0].is_finite() && ff.matrix[0][0] > 0.0);
+}
