@@ -181,10 +181,17 @@ fn table(
                     dev,
                     cf.map_or(String::new(), |e| format!(" {e:.2e} |"))
                 )?;
+                // about 40 points per decade of work at most: log-spaced entries
+                let keep = |k: usize| {
+                    let f = (k + 1) as f64;
+                    k + 1 == s.history.len()
+                        || (f.log10() * 40.0).floor() != ((f + 1.0).log10() * 40.0).floor()
+                };
                 let points = s
                     .history
                     .iter()
                     .enumerate()
+                    .filter(|(k, _)| keep(*k))
                     .map(|(k, (_, res))| {
                         (
                             r.work_fixed + r.work_per_step * (k + 1) as f64,
