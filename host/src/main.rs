@@ -131,11 +131,11 @@ impl Common {
     /// whose N×N matrices would exceed `--matrix-mib`.
     fn streaming(&self, scene: &Scene) -> bool {
         let n = scene.patches.len() as u64;
-        let mib = 3 * 8 * n * n / (1 << 20);
+        let bytes = 3 * 8 * n * n;
         match self.solver {
             solve::Solver::Progressive => true,
-            solve::Solver::Auto if mib > self.matrix_mib => {
-                eprintln!("solver auto: {n} patches need {mib} MiB of form factors (> --matrix-mib {}): progressive refinement with rows shot on demand", self.matrix_mib);
+            solve::Solver::Auto if bytes > self.matrix_mib << 20 => {
+                eprintln!("solver auto: {n} patches need {:.1} MiB of form factors (> --matrix-mib {}): progressive refinement with rows shot on demand", bytes as f64 / (1 << 20) as f64, self.matrix_mib);
                 true
             }
             _ => false,

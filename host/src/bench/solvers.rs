@@ -12,7 +12,7 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-/// A closed box [0,1]³ of 6·n² inward quads, every one emitting 1 and reflecting `rho`: the
+/// A closed box `[0,1]³` of 6·n² inward quads, every one emitting 1 and reflecting `rho`: the
 /// furnace, whose radiosity is E/(1−ρ) everywhere when F's rows sum to 1.
 pub fn furnace_scene(n: usize, rho: f64) -> String {
     let mut s = format!(

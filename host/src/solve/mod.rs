@@ -12,7 +12,7 @@
 //!   energy conservation says the row cannot exceed 1, so [`System::conserving`] scales such
 //!   rows back to 1.
 //!
-//! Which solver runs is [`Solver`]; [`Solver::Auto`] measures the system ([`diagnose`]) and picks
+//! Which solver runs is [`Solver`]; [`Solver::Auto`] measures the system ([`diagnose()`]) and picks
 //! ([`choose`]), saying why. Each solver has its own file; all take the same [`System`].
 
 pub mod diagnose;
@@ -232,12 +232,12 @@ pub struct Choice {
 /// back to 1 first (see [`System::conserving`]).
 pub fn choose(d: &Diagnosis) -> Choice {
     let mut why = format!(
-        "{} patches, spectral radius of ρF in [{:.4}, {:.4}], {} rows of F above 1 (largest sum {:.5})",
+        "{} patches, spectral radius of ρF in [{:.4}, {:.4}], {} rows of F above 1 (largest sum {:.7})",
         d.patches, d.radius_low, d.radius_high, d.rows_above_one, d.max_row_sum
     );
     let conserve = d.rows_above_one > 0;
     if conserve {
-        why += "; those rows are sampling error and are scaled back to 1";
+        why += "; a row cannot exceed 1 (sampling and f32 rounding of pass 1): scaled back to 1";
     }
     let solver = if d.radius_high < SLOW_RADIUS {
         why += &format!(

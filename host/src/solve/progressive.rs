@@ -20,6 +20,9 @@ use super::{Solution, SolveSettings, Solver, System};
 use anyhow::{bail, Result};
 use std::time::Instant;
 
+/// `column(i, out)`: fills `out[j]` with F_ji per channel for shooter i.
+pub type ColumnSource<'a> = dyn FnMut(usize, &mut [[f64; 3]]) -> Result<()> + 'a;
+
 /// Progressive refinement over N patches with reflectances `rho`, emissions `e` and areas
 /// `areas`. `column(i, out)` fills `out[j]` with F_ji per channel for shooter i. `on_shot(step,
 /// b)` sees the radiosity after every shot (the early image). Stops at the relative residual
@@ -28,7 +31,7 @@ pub fn progressive(
     rho: &[[f64; 3]],
     e: &[[f64; 3]],
     areas: &[f64],
-    column: &mut dyn FnMut(usize, &mut [[f64; 3]]) -> Result<()>,
+    column: &mut ColumnSource<'_>,
     settings: &SolveSettings,
     on_shot: &mut dyn FnMut(u32, &[[f64; 3]]),
 ) -> Result<Solution> {
@@ -130,9 +133,7 @@ pub fn solve_matrix(
         areas,
         &mut |i, out| {
             for (j, o) in out.iter_mut().enumerate() {
-                for c in 0..3 {
-                    o[c] = system.f[c][j][i];
-                }
+                *o = [0, 1, 2].map(|c| system.f[c][j][i]);
             }
             Ok(())
         },

@@ -15,6 +15,9 @@ use hemi_kernel::hemisphere::OwnedHemisphere;
 use rayon::prelude::*;
 use std::collections::HashMap;
 
+/// One element's sample weight W_iq and its sparse row (column, F_iq,j per channel).
+pub type SampleRow = (f32, Vec<(u32, [f32; 3])>);
+
 /// Shoots one patch's sample points on all cores and forms its row F_ij by (4.3).
 pub struct RowShooter<'a, A> {
     scene: &'a Scene,
@@ -66,7 +69,7 @@ impl<'a, A: Accelerator> RowShooter<'a, A> {
 
     /// The element rows of patch `i` (sample point, sparse F_iq,j per channel), in the order of
     /// [`sample_points`].
-    pub fn element_rows(&mut self, i: usize) -> Result<Vec<(f32, Vec<(u32, [f32; 3])>)>> {
+    pub fn element_rows(&mut self, i: usize) -> Result<Vec<SampleRow>> {
         let view = self.hemi.view();
         let kernel_optics = self.optics.view();
         let cols = self.optics.columns.len();
@@ -75,7 +78,7 @@ impl<'a, A: Accelerator> RowShooter<'a, A> {
         let columns = &self.optics.columns;
         let pending = self.pending;
         let make = self.make;
-        let out: Vec<(f32, Vec<(u32, [f32; 3])>, u32)> = points
+        let out: Vec<(SampleRow, u32)> = points
             .par_iter()
             .enumerate()
             .map_init(
@@ -105,12 +108,12 @@ impl<'a, A: Accelerator> RowShooter<'a, A> {
                         .filter(|(_, f)| **f != [0.0; 3])
                         .map(|(c, f)| (columns[c] as u32, *f))
                         .collect();
-                    Ok((point.weight, sparse, stats.rays))
+                    Ok(((point.weight, sparse), stats.rays))
                 },
             )
             .collect::<Result<_>>()?;
-        self.rays += out.iter().map(|o| o.2 as u64).sum::<u64>();
-        Ok(out.into_iter().map(|(w, r, _)| (w, r)).collect())
+        self.rays += out.iter().map(|o| o.1 as u64).sum::<u64>();
+        Ok(out.into_iter().map(|(row, _)| row).collect())
     }
 
     /// Row i of F per channel, dense over the scene's patches, by (4.3).

@@ -17,7 +17,7 @@ pub fn omega_for(radius: f64) -> f64 {
 }
 
 /// SOR: Gauss-Seidel updates blended as `B_i ← (1−ω) B_i + ω·GS_i`, with the same failure
-/// detection (see [`super::gauss_seidel`]).
+/// detection (see the module [`super::gauss_seidel`](mod@super::gauss_seidel)).
 pub fn sor(system: &System<'_>, omega: f64, settings: &SolveSettings) -> Result<Solution> {
     anyhow::ensure!(
         omega > 0.0 && omega < 2.0,

@@ -49,7 +49,7 @@ impl Hemicube {
     /// A hemicube of resolution `n`, which must be even and at least 2 (the side faces have
     /// n/2 rows).
     pub fn new(n: u32) -> Result<Hemicube, PeerError> {
-        if n < 2 || n % 2 != 0 || n > 4096 {
+        if n < 2 || !n.is_multiple_of(2) || n > 4096 {
             return Err(PeerError::BadParameters);
         }
         Ok(Hemicube { n })
