@@ -14,6 +14,7 @@ use cortex_m as _;
 use cortex_m_rt as _;
 use defmt_semihosting as _;
 
+pub mod accel_mmio;
 pub mod board;
 pub mod fault;
 pub mod job;

@@ -11,10 +11,16 @@
 //! - `rotate` hands the rotator the frame as the three (cos, sin) pairs `Rotation` holds (vectored
 //!   into angles on chip), so the model turns rays by the same three plane rotations, in the same
 //!   order, as `Rotation::apply`.
+//! - Bezier patches go to control-point memory, one row each, with the soft engine's accuracy
+//!   criteria converted per patch: the flatness tolerance (`flatness` × the patch's box size,
+//!   as `Bezier::intersect` computes it) and t_min (the soft engine's `CURVED_T_MIN` × size).
+//! - `set_origin_patch` becomes the SKIP_PATCH register, latched with every ray, as the soft
+//!   engine applies it to every cast.
 
 use crate::driver::{Driver, DriverError, ModelBus};
 use crate::format::{Coord, Unit};
-use crate::intersect::patch_mem::{PatchWords, KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
+use crate::intersect::bezier::{BEZIER_ROWS, CP_WORDS};
+use crate::intersect::patch_mem::{BezierSlot, PatchWords, KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
 use crate::regs::{mode, result};
 use hemi_kernel::accel::{Accelerator, Hit, Ray};
 use hemi_kernel::geometry::Vec3;
@@ -23,7 +29,7 @@ use hemi_kernel::patch::{Patch, Shape};
 use hemi_kernel::rotation::Rotation;
 
 /// The accelerator's build parameters.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ModelConfig {
     /// CORDIC iterations (4..=30, at most width − 2).
     pub iterations: u32,
@@ -31,18 +37,34 @@ pub struct ModelConfig {
     pub width: u32,
     /// (u,v) bisection levels (1..=24).
     pub depth: u32,
+    /// Bezier subdivision depth (1..=13 with the 40-entry stack).
+    pub subdivision_depth: u32,
+    /// Bezier control-point datapath width in bits (12..=26).
+    pub coord_width: u32,
+    /// Bezier flatness criterion as a fraction of each patch's size (0: always to the full
+    /// depth), the kernel's `Subdivision::flatness`.
+    pub flatness: f32,
 }
 
 impl Default for ModelConfig {
-    /// 24 iterations on 32-bit words, 16 (u,v) levels: about f32's accuracy.
+    /// 24 iterations on 32-bit words, 16 (u,v) levels: about f32's accuracy; Bezier patches as
+    /// the soft engine's default `Subdivision` (depth 10, flatness 1e-4) on 26-bit control
+    /// points.
     fn default() -> Self {
         ModelConfig {
             iterations: 24,
             width: 32,
             depth: 16,
+            subdivision_depth: 10,
+            coord_width: 26,
+            flatness: 1e-4,
         }
     }
 }
+
+/// The soft engine's `CURVED_T_MIN`: hits on a curved patch nearer than this fraction of its
+/// size are the surface the ray starts on (a neighbour at a shared seam).
+const CURVED_T_MIN: f32 = 1e-4;
 
 /// Why the model accelerator could not be built.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -56,8 +78,13 @@ pub enum ModelError {
         /// Slots in the memory.
         capacity: u32,
     },
-    /// Patch `index` is of a kind the intersection unit cannot test yet.
-    UnsupportedPatch(usize),
+    /// More Bezier patches than control-point memory holds.
+    TooManyBezierPatches {
+        /// Bezier patches given.
+        count: usize,
+        /// Rows of control-point memory.
+        capacity: usize,
+    },
     /// A vertex or normal is not finite or out of the coordinate range.
     BadGeometry(usize),
 }
@@ -77,6 +104,9 @@ pub struct ModelAccelerator {
     frame: Option<Rotation>,
     origin: Option<[u32; 3]>,
     mode: Option<u32>,
+    /// the patch hemisphere casts skip, and what SKIP_PATCH holds now
+    origin_patch: Option<u32>,
+    skip: Option<Option<u32>>,
     rays: u64,
     out_of_range: u64,
 }
@@ -92,8 +122,30 @@ fn unit_f32(w: u32) -> f32 {
 impl ModelAccelerator {
     /// Configures the model and loads `patches` into its patch memory through the driver.
     pub fn new(patches: &[Patch], config: ModelConfig) -> Result<Self, ModelError> {
-        let mut driver = Driver::new(ModelBus::new())?;
+        // Built in place and then configured through `&mut self`: the model is about 100 KB,
+        // and every by-value move of it is a copy on the stack in unoptimised builds (rayon's
+        // worker threads, with 2 MiB stacks, nest several of these).
+        let mut acc = ModelAccelerator {
+            driver: Driver::unattached(ModelBus::new()),
+            centre: [0.0; 3],
+            scale: 1.0,
+            frame: None,
+            origin: None,
+            mode: None,
+            origin_patch: None,
+            skip: None,
+            rays: 0,
+            out_of_range: 0,
+        };
+        acc.load(patches, config)?;
+        Ok(acc)
+    }
+
+    fn load(&mut self, patches: &[Patch], config: ModelConfig) -> Result<(), ModelError> {
+        let driver = &mut self.driver;
+        driver.attach()?;
         driver.configure(config.iterations, config.width, config.depth)?;
+        driver.configure_subdivision(config.subdivision_depth, config.coord_width)?;
         let capacity = driver.patch_capacity();
         if patches.len() > capacity as usize {
             return Err(ModelError::TooManyPatches {
@@ -101,16 +153,24 @@ impl ModelAccelerator {
                 capacity,
             });
         }
-        // bounding box → centre and power-of-two scale (so the conversion is exact)
+        let beziers = patches
+            .iter()
+            .filter(|p| matches!(p.shape, Shape::Bezier(_)))
+            .count();
+        if beziers > BEZIER_ROWS {
+            return Err(ModelError::TooManyBezierPatches {
+                count: beziers,
+                capacity: BEZIER_ROWS,
+            });
+        }
+        // bounding box (of vertices and control points) → centre and power-of-two scale (so the
+        // conversion is exact)
         let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
         for p in patches {
-            #[allow(irrefutable_let_patterns)] // Bezier patches will join `Shape`
-            if let Shape::Polygon(poly) = &p.shape {
-                for v in poly.vertices() {
-                    for (c, x) in [v.x, v.y, v.z].into_iter().enumerate() {
-                        lo[c] = lo[c].min(x as f64);
-                        hi[c] = hi[c].max(x as f64);
-                    }
+            for v in p.hull() {
+                for (c, x) in [v.x, v.y, v.z].into_iter().enumerate() {
+                    lo[c] = lo[c].min(x as f64);
+                    hi[c] = hi[c].max(x as f64);
                 }
             }
         }
@@ -128,43 +188,66 @@ impl ModelAccelerator {
         while half > 0.0 && half * scale * 2.0 <= 1.0 {
             scale *= 2.0;
         }
-        let frame = Normalise { centre, scale };
-        for (index, p) in patches.iter().enumerate() {
-            match frame.encode(p) {
-                None => return Err(ModelError::BadGeometry(index)),
-                Some(None) => return Err(ModelError::UnsupportedPatch(index)),
-                Some(Some(_)) => {}
-            }
-        }
-        // PATCH_ADDR auto-increments: one run of PATCH_DATA writes fills every slot
-        driver.load_patches(
-            patches
-                .iter()
-                .map(|p| frame.encode(p).flatten().unwrap_or_default()),
-        )?;
-        Ok(ModelAccelerator {
-            driver,
+        let frame = Normalise {
             centre,
             scale,
-            frame: None,
-            origin: None,
-            mode: None,
-            rays: 0,
-            out_of_range: 0,
-        })
+            flatness: config.flatness,
+        };
+        // Check every patch converts, then stream the words: nothing patch-sized is kept on the
+        // stack (one model per worker thread lives there, and rayon's workers nest jobs).
+        let mut row = 0u32;
+        for (index, p) in patches.iter().enumerate() {
+            let ok = match &p.shape {
+                Shape::Polygon(_) => frame.encode(p).is_some(),
+                Shape::Bezier(b) => frame.encode_bezier(b, 0).is_some(),
+            };
+            if !ok {
+                return Err(ModelError::BadGeometry(index));
+            }
+        }
+        // PATCH_ADDR auto-increments: one run of PATCH_DATA writes fills every control-point
+        // row, another every slot
+        driver.load_control_points(patches.iter().filter_map(|p| match &p.shape {
+            Shape::Bezier(b) => frame.encode_bezier(b, 0).map(|(_, words)| words),
+            Shape::Polygon(_) => None,
+        }))?;
+        driver.load_patches(patches.iter().map(|p| match &p.shape {
+            Shape::Polygon(_) => frame.encode(p).unwrap_or_default(),
+            Shape::Bezier(b) => {
+                let slot = frame.encode_bezier(b, row).map(|(s, _)| s);
+                row += 1;
+                slot.unwrap_or_default()
+            }
+        }))?;
+        self.centre = centre;
+        self.scale = scale;
+        Ok(())
     }
 
     fn coord(&self, v: Vec3) -> Option<[u32; 3]> {
         Normalise {
             centre: self.centre,
             scale: self.scale,
+            flatness: 0.0,
         }
         .coord(v)
+    }
+
+    fn set_skip(&mut self, patch: Option<u32>) {
+        if self.skip != Some(patch) {
+            self.driver.set_skip(patch);
+            self.skip = Some(patch);
+        }
     }
 
     /// Clocks the model has run (the CYCLE counter, read without spending bus cycles on it).
     pub fn cycles(&self) -> u64 {
         self.driver.bus().device().cycles()
+    }
+
+    /// The Bezier unit's work counters: patch tests, subdivision steps, leaves, clocks.
+    pub fn bezier_stats(&self) -> crate::intersect::bezier::BezierStats {
+        self.driver.bus().device().bezier_stats()
     }
 
     /// Rays traced (rotations alone not counted).
@@ -244,6 +327,10 @@ impl Accelerator for ModelAccelerator {
         out
     }
 
+    fn set_origin_patch(&mut self, patch: Option<u32>) {
+        self.origin_patch = patch;
+    }
+
     fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let mut hit = None;
         self.cast_from(ray.origin, &[ray.dir], true, |_, h| hit = h);
@@ -266,6 +353,7 @@ impl Accelerator for ModelAccelerator {
             return;
         }
         self.set_mode(mode::TRACE);
+        self.set_skip(self.origin_patch);
         self.rays += dirs.len() as u64;
         let mut hits = HitSink {
             scale: self.scale,
@@ -298,6 +386,7 @@ impl Accelerator for ModelAccelerator {
         }
         self.set_frame(rot);
         self.set_mode(mode::ROTATE_TRACE);
+        self.set_skip(self.origin_patch);
         self.rays += n as u64;
         let mut push = RingCursor::new(hemi, rings.clone());
         let mut pop = RingCursor::new(hemi, rings);
@@ -318,11 +407,13 @@ impl Accelerator for ModelAccelerator {
     }
 }
 
-/// The scene-to-fixed-point normalisation: centre and power-of-two scale.
+/// The scene-to-fixed-point normalisation: centre and power-of-two scale, and the Bezier
+/// flatness fraction.
 #[derive(Clone, Copy, Debug)]
 struct Normalise {
     centre: [f64; 3],
     scale: f64,
+    flatness: f32,
 }
 
 impl Normalise {
@@ -337,14 +428,31 @@ impl Normalise {
         Some(out)
     }
 
-    /// The slot words of a patch: `None` if its geometry does not convert, `Some(None)` if its
-    /// kind is not supported.
-    fn encode(&self, p: &Patch) -> Option<Option<[u32; PATCH_WORDS]>> {
-        #[allow(unreachable_patterns)] // Bezier patches will join `Shape`
-        let poly = match &p.shape {
-            Shape::Polygon(poly) => poly,
-            _ => return Some(None),
+    /// The slot of a Bezier patch using control-point row `row`, and that row's words; `None`
+    /// if its geometry does not convert.
+    fn encode_bezier(
+        &self,
+        b: &hemi_kernel::geometry::Bezier,
+        row: u32,
+    ) -> Option<([u32; PATCH_WORDS], [u32; CP_WORDS])> {
+        let mut words = [0u32; CP_WORDS];
+        for (i, p) in b.cp.iter().enumerate() {
+            words[3 * i..3 * i + 3].copy_from_slice(&self.coord(*p)?);
+        }
+        // the criteria in scene units, computed in f32 as the soft engine does
+        let size = b.bounds().size();
+        let to_coord = |x: f32| Coord::checked_from_num(x as f64 * self.scale);
+        let slot = BezierSlot {
+            row,
+            tol: to_coord(self.flatness * size)?,
+            t_min: to_coord(CURVED_T_MIN * size)?,
         };
+        Some((slot.encode(), words))
+    }
+
+    /// The slot words of a planar patch: `None` if its geometry does not convert.
+    fn encode(&self, p: &Patch) -> Option<[u32; PATCH_WORDS]> {
+        let poly = p.as_polygon()?;
         let mut w = PatchWords {
             kind: if poly.sides == 3 {
                 KIND_TRIANGLE
@@ -362,7 +470,7 @@ impl Normalise {
             return None;
         }
         w.n = [n.x, n.y, n.z].map(|x| Unit::from_bits(unit_word(x) as i32));
-        Some(Some(w.encode()))
+        Some(w.encode())
     }
 }
 

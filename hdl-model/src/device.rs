@@ -15,9 +15,12 @@ use crate::cordic::CordicConfig;
 use crate::fifo::Fifo;
 use crate::format::{Angle, Coord, Unit};
 use crate::frame::{FrameRequest, FrameUnit};
+use crate::intersect::bezier::{
+    BezierStats, SubdivConfig, BEZIER_ROWS, MAX_DEPTH, RECIP_LATENCY, STACK_ENTRIES,
+};
 use crate::intersect::patch_mem::{PatchMem, PATCH_CAPACITY, PATCH_WORDS};
 use crate::intersect::{IntersectUnit, RayIn, RayOut};
-use crate::regs::{self, config, ctrl, error, irq, mode, result, status};
+use crate::regs::{self, bz_config, config, ctrl, error, irq, mode, result, skip, status};
 use crate::rotator::{RotIn, Rotator};
 
 /// Ray FIFO depth (entries).
@@ -29,6 +32,9 @@ const QUEUE_DEPTH: usize = 4;
 
 /// The reset value of CONFIG: 24 iterations, 32-bit words, 16 (u,v) levels.
 pub const CONFIG_RESET: u32 = 24 | (32 << config::WIDTH_SHIFT) | (16 << config::DEPTH_SHIFT);
+/// The reset value of BZ_CONFIG: depth 10, 26-bit control points.
+pub const BZ_CONFIG_RESET: u32 = SubdivConfig::DEFAULT.depth << bz_config::DEPTH_SHIFT
+    | SubdivConfig::DEFAULT.coord_width << bz_config::CWIDTH_SHIFT;
 
 /// What a ray entry carries through the units.
 #[derive(Clone, Copy, Debug, Default)]
@@ -36,6 +42,7 @@ pub struct Info {
     mode: u32,
     error: bool,
     origin: [Coord; 3],
+    skip: Option<u32>,
 }
 
 /// A ray FIFO entry: a ray (with its latched mode and origin) or a frame command, kept in order.
@@ -44,6 +51,7 @@ struct Entry {
     frame: Option<FrameRequest>,
     mode: u32,
     origin: [Coord; 3],
+    skip: Option<u32>,
     dir: [Unit; 3],
 }
 
@@ -58,11 +66,22 @@ pub fn decode_config(v: u32) -> Option<(CordicConfig, u32)> {
         .then_some((cfg, depth))
 }
 
+/// Decoded BZ_CONFIG, if valid for the unit's stack.
+pub fn decode_bz_config(v: u32) -> Option<SubdivConfig> {
+    let cfg = SubdivConfig {
+        depth: (v >> bz_config::DEPTH_SHIFT) & 0x1F,
+        coord_width: (v >> bz_config::CWIDTH_SHIFT) & 0x3F,
+    };
+    cfg.is_valid_for(STACK_ENTRIES).then_some(cfg)
+}
+
 /// The accelerator.
 #[derive(Clone, Debug)]
 pub struct Device {
     config_reg: u32,
     config_active: u32,
+    bz_config_reg: u32,
+    bz_config_active: u32,
     enable: bool,
     error: u32,
     irq_status: u32,
@@ -74,6 +93,7 @@ pub struct Device {
     results_done: u32,
     mode: u32,
     origin: [Coord; 3],
+    skip_reg: u32,
     normal: [Unit; 3],
     spin: [Unit; 2],
     phi: [Unit; 2],
@@ -104,9 +124,12 @@ impl Device {
     /// The device after power-on reset (patch memory zero, CONFIG at [`CONFIG_RESET`]).
     pub fn new() -> Self {
         let (cfg, depth) = decode_config(CONFIG_RESET).expect("reset configuration is valid");
+        let subdiv = decode_bz_config(BZ_CONFIG_RESET).expect("reset configuration is valid");
         Device {
             config_reg: CONFIG_RESET,
             config_active: CONFIG_RESET,
+            bz_config_reg: BZ_CONFIG_RESET,
+            bz_config_active: BZ_CONFIG_RESET,
             enable: false,
             error: 0,
             irq_status: 0,
@@ -118,6 +141,7 @@ impl Device {
             results_done: 0,
             mode: mode::TRACE,
             origin: [Coord::ZERO; 3],
+            skip_reg: 0,
             normal: [Unit::ZERO; 3],
             spin: [Unit::ONE.wrapping_sub(Unit::DELTA), Unit::ZERO],
             phi: [Unit::ZERO; 2],
@@ -131,7 +155,7 @@ impl Device {
             frame_valid: false,
             rotator: Rotator::new(cfg),
             queue: Fifo::default(),
-            intersect: IntersectUnit::new(depth),
+            intersect: IntersectUnit::new(depth, subdiv),
             mem: PatchMem::default(),
             patch_addr: 0,
             patch_count: 0,
@@ -165,16 +189,20 @@ impl Device {
     fn soft_reset(&mut self) {
         // patch memory and the configuration in force survive; everything else is reset
         let mem = core::mem::take(&mut self.mem);
-        let (config, patch_count) = (self.config_active, self.patch_count);
+        let (config, bz, patch_count) =
+            (self.config_active, self.bz_config_active, self.patch_count);
         let (cfg, depth) = decode_config(config).expect("active configuration is valid");
+        let subdiv = decode_bz_config(bz).expect("active configuration is valid");
         *self = Device::new();
         self.mem = mem;
         self.config_reg = config;
         self.config_active = config;
+        self.bz_config_reg = bz;
+        self.bz_config_active = bz;
         self.patch_count = patch_count;
         self.rotator = Rotator::new(cfg);
         self.frame = FrameUnit::new(cfg);
-        self.intersect = IntersectUnit::new(depth);
+        self.intersect = IntersectUnit::new(depth, subdiv);
     }
 
     fn apply_config(&mut self) {
@@ -182,15 +210,19 @@ impl Device {
             self.raise(error::CONFIG_BUSY);
             return;
         }
-        match decode_config(self.config_reg) {
-            Some((cfg, depth)) => {
+        match (
+            decode_config(self.config_reg),
+            decode_bz_config(self.bz_config_reg),
+        ) {
+            (Some((cfg, depth)), Some(subdiv)) => {
                 self.config_active = self.config_reg;
+                self.bz_config_active = self.bz_config_reg;
                 self.rotator = Rotator::new(cfg);
                 self.frame = FrameUnit::new(cfg);
                 self.frame_valid = false;
-                self.intersect = IntersectUnit::new(depth);
+                self.intersect.reconfigure(depth, subdiv);
             }
-            None => self.raise(error::BAD_CONFIG),
+            _ => self.raise(error::BAD_CONFIG),
         }
     }
 
@@ -292,6 +324,13 @@ impl Device {
                 v.unwrap_or(0)
             }
             regs::PATCH_COUNT => self.patch_count,
+            regs::SKIP_PATCH => self.skip_reg,
+            regs::BZ_CONFIG => self.bz_config_reg,
+            regs::BZ_CONFIG_ACTIVE => self.bz_config_active,
+            regs::CAPS_BEZIER => {
+                BEZIER_ROWS as u32 | (STACK_ENTRIES as u32) << 16 | MAX_DEPTH << 24
+            }
+            regs::STACK_HIGH => self.intersect.stack_high_water() as u32,
             _ => 0,
         }
     }
@@ -336,6 +375,8 @@ impl Device {
             regs::IRQ_STATUS => self.irq_status &= !value,
             regs::IRQ_ENABLE => self.irq_enable = value & 0xF,
             regs::CONFIG => self.config_reg = value,
+            regs::BZ_CONFIG => self.bz_config_reg = value,
+            regs::SKIP_PATCH => self.skip_reg = value & (skip::ENABLE | result::PATCH_MASK),
             regs::MODE => {
                 if value <= mode::ROTATE_TRACE {
                     self.mode = value;
@@ -364,6 +405,8 @@ impl Device {
                         frame: None,
                         mode: self.mode,
                         origin: self.origin,
+                        skip: (self.skip_reg & skip::ENABLE != 0)
+                            .then_some(self.skip_reg & result::PATCH_MASK),
                         dir: self.staging,
                     };
                     self.push_entry(e);
@@ -416,7 +459,10 @@ impl Device {
     /// One clock.
     pub fn tick(&mut self) {
         // intersection unit → result FIFO (room was reserved when the ray started)
-        if let Some(r) = self.intersect.tick(&self.mem, self.patch_count) {
+        if let Some(r) = self
+            .intersect
+            .tick(&self.mem, self.patch_count, self.cycles)
+        {
             let words = Self::result_words(&r);
             let pushed = self.result_fifo.push(words);
             debug_assert!(pushed.is_ok(), "result credit accounting");
@@ -425,6 +471,9 @@ impl Device {
         }
         if core::mem::take(&mut self.intersect.unsupported) {
             self.raise(error::UNSUPPORTED_PATCH);
+        }
+        if core::mem::take(&mut self.intersect.overflow) {
+            self.raise(error::STACK_OVERFLOW);
         }
         if self.intersect.ready() {
             let credit = self.result_fifo.len() as u32 + self.intersect.in_flight();
@@ -463,6 +512,7 @@ impl Device {
                                     mode: e.mode,
                                     error: no_frame,
                                     origin: e.origin,
+                                    skip: e.skip,
                                 },
                             });
                         }
@@ -472,10 +522,14 @@ impl Device {
         }
         if let Some((dir, info)) = self.rotator.tick(rot_in) {
             // room was reserved when the entry left the FIFO
+            // the reciprocal unit (1/d for the Bezier unit's slab tests) sits at the queue's
+            // input: pipelined, its answer is ready RECIP_LATENCY clocks after the ray enters
             let pushed = self.queue.push(RayIn {
                 origin: info.origin,
                 dir,
                 bypass: info.mode == mode::ROTATE || info.error,
+                skip: info.skip,
+                recip_at: self.cycles + RECIP_LATENCY,
                 info,
             });
             debug_assert!(pushed.is_ok(), "queue credit accounting");
@@ -497,6 +551,11 @@ impl Device {
     /// Patch memory (for white-box tests of the units).
     pub fn patch_mem(&self) -> &PatchMem {
         &self.mem
+    }
+
+    /// The subdivision engine's work counters (for measurements).
+    pub fn bezier_stats(&self) -> BezierStats {
+        self.intersect.bezier_stats()
     }
 }
 

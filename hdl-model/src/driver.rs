@@ -4,7 +4,8 @@
 //! clock per bus access, so host runs and QEMU runs drive the same code the board runs.
 
 use crate::device::Device;
-use crate::regs::{self, config, ctrl, error, result, status};
+use crate::intersect::patch_mem::CP_BASE;
+use crate::regs::{self, bz_config, config, ctrl, error, result, skip, status};
 
 /// 32-bit register access at byte offsets from the accelerator's base.
 pub trait RegisterAccess {
@@ -89,19 +90,35 @@ pub struct Driver<B: RegisterAccess> {
 
 impl<B: RegisterAccess> Driver<B> {
     /// Checks the ID and version, learns the FIFO depth, and enables the device.
-    pub fn new(mut bus: B) -> Result<Self, DriverError> {
-        let id = bus.read(regs::ID);
-        let version = bus.read(regs::VERSION);
+    pub fn new(bus: B) -> Result<Self, DriverError> {
+        let mut d = Self::unattached(bus);
+        d.attach()?;
+        Ok(d)
+    }
+
+    /// A driver that has not talked to the device yet: [`Driver::attach`] before anything else.
+    /// (For owners that build the driver in place, see `ModelAccelerator::new`.)
+    pub fn unattached(bus: B) -> Self {
+        Driver {
+            bus,
+            ray_depth: 0,
+            patch_capacity: 0,
+        }
+    }
+
+    /// What [`Driver::new`] does on the bus: checks the ID and version, learns the FIFO depth,
+    /// and enables the device.
+    pub fn attach(&mut self) -> Result<(), DriverError> {
+        let id = self.bus.read(regs::ID);
+        let version = self.bus.read(regs::VERSION);
         if id != regs::ID_VALUE || version >> 16 != regs::VERSION_VALUE >> 16 {
             return Err(DriverError::WrongDevice { id, version });
         }
-        let caps = bus.read(regs::CAPS);
-        bus.write(regs::CTRL, ctrl::ENABLE);
-        Ok(Driver {
-            bus,
-            ray_depth: caps & 0xFF,
-            patch_capacity: caps >> 16,
-        })
+        let caps = self.bus.read(regs::CAPS);
+        self.bus.write(regs::CTRL, ctrl::ENABLE);
+        self.ray_depth = caps & 0xFF;
+        self.patch_capacity = caps >> 16;
+        Ok(())
     }
 
     /// The bus.
@@ -156,6 +173,58 @@ impl<B: RegisterAccess> Driver<B> {
             return Err(DriverError::BadConfig(e));
         }
         Ok(())
+    }
+
+    /// Applies the Bezier unit's subdivision depth and control-point width (with the CONFIG in
+    /// force); refused configurations (a depth whose worst case exceeds the on-chip stack, a
+    /// width outside 12..=26) leave the device as it was.
+    pub fn configure_subdivision(
+        &mut self,
+        depth: u32,
+        coord_width: u32,
+    ) -> Result<(), DriverError> {
+        self.take_errors();
+        let v = (depth & 0x1F) << bz_config::DEPTH_SHIFT
+            | (coord_width & 0x3F) << bz_config::CWIDTH_SHIFT;
+        let config = self.bus.read(regs::CONFIG_ACTIVE);
+        self.bus.write(regs::CONFIG, config);
+        self.bus.write(regs::BZ_CONFIG, v);
+        self.bus
+            .write(regs::CTRL, ctrl::ENABLE | ctrl::APPLY_CONFIG);
+        let e = self.take_errors();
+        if e & (error::BAD_CONFIG | error::CONFIG_BUSY) != 0
+            || self.bus.read(regs::BZ_CONFIG_ACTIVE) != v
+        {
+            // leave BZ_CONFIG as in force, so a later APPLY_CONFIG of CONFIG alone succeeds
+            let active = self.bus.read(regs::BZ_CONFIG_ACTIVE);
+            self.bus.write(regs::BZ_CONFIG, active);
+            return Err(DriverError::BadConfig(e));
+        }
+        Ok(())
+    }
+
+    /// Writes control-point rows (48 words each: 16 points, x y z, Q8.24) from row 0.
+    pub fn load_control_points<W: AsRef<[u32]>>(
+        &mut self,
+        rows: impl IntoIterator<Item = W>,
+    ) -> Result<(), DriverError> {
+        self.take_errors();
+        self.bus.write(regs::PATCH_ADDR, CP_BASE);
+        for row in rows {
+            for &w in row.as_ref() {
+                self.bus.write(regs::PATCH_DATA, w);
+            }
+        }
+        match self.take_errors() {
+            0 => Ok(()),
+            e => Err(DriverError::PatchMemory(e)),
+        }
+    }
+
+    /// Sets the patch the entries pushed from now on skip (`None`: none).
+    pub fn set_skip(&mut self, patch: Option<u32>) {
+        let v = patch.map_or(0, |p| skip::ENABLE | (p & result::PATCH_MASK));
+        self.bus.write(regs::SKIP_PATCH, v);
     }
 
     /// Writes `slots` (each one patch slot's words) from slot 0 and sets PATCH_COUNT.

@@ -73,11 +73,23 @@ pub const PATCH_ADDR: u32 = 0x090;
 pub const PATCH_DATA: u32 = 0x094;
 /// Number of patch slots scanned per ray.
 pub const PATCH_COUNT: u32 = 0x098;
+/// Patch the following ray entries skip (bit 31 enables; latched per entry).
+pub const SKIP_PATCH: u32 = 0x09C;
+/// Subdivision configuration to apply (CTRL.APPLY_CONFIG, together with CONFIG).
+pub const BZ_CONFIG: u32 = 0x0A0;
+/// Subdivision configuration in force, read-only.
+pub const BZ_CONFIG_ACTIVE: u32 = 0x0A4;
+/// Bezier capabilities, read-only: control-point rows 15:0, stack entries 23:16, maximum depth
+/// 31:24.
+pub const CAPS_BEZIER: u32 = 0x0A8;
+/// Most subdivision stack entries in use at once since reset or APPLY_CONFIG, read-only.
+pub const STACK_HIGH: u32 = 0x0AC;
 
 /// ID register value.
 pub const ID_VALUE: u32 = 0x4845_4D49;
-/// VERSION register value: 1.0.
-pub const VERSION_VALUE: u32 = 0x0001_0000;
+/// VERSION register value: 1.1 (1.1 added the Bezier unit: BZ_CONFIG, SKIP_PATCH, the
+/// control-point memory; a 1.0 driver still works against it).
+pub const VERSION_VALUE: u32 = 0x0001_0001;
 
 /// CTRL bits.
 pub mod ctrl {
@@ -129,6 +141,8 @@ pub mod error {
     pub const UNSUPPORTED_PATCH: u32 = 1 << 6;
     /// Patch memory or PATCH_COUNT written while busy; the write was ignored.
     pub const PATCH_BUSY: u32 = 1 << 7;
+    /// The subdivision stack was full at a push: a subtree was dropped, a hit may be missing.
+    pub const STACK_OVERFLOW: u32 = 1 << 8;
 }
 
 /// IRQ_STATUS / IRQ_ENABLE bits.
@@ -155,6 +169,20 @@ pub mod config {
     pub const MIN_DEPTH: u32 = 1;
     /// Most (u,v) levels.
     pub const MAX_DEPTH: u32 = 24;
+}
+
+/// BZ_CONFIG fields.
+pub mod bz_config {
+    /// Maximum subdivision depth D, bits 4:0 (1..=16, and 3·D ≤ the stack entries).
+    pub const DEPTH_SHIFT: u32 = 0;
+    /// Control-point datapath width Wc, bits 13:8 (12..=26).
+    pub const CWIDTH_SHIFT: u32 = 8;
+}
+
+/// SKIP_PATCH bits.
+pub mod skip {
+    /// Skip the patch in 23:0.
+    pub const ENABLE: u32 = 1 << 31;
 }
 
 /// MODE values.

@@ -240,3 +240,100 @@ pub fn bezier_vs_tessellated(
     }
     Ok(())
 }
+
+/// Worst rotation error of a CORDIC pipe of configuration `cfg` over `n` angles of the full
+/// circle (a unit vector (0.8, 0.6) turned by each), against f64.
+fn cordic_rotation_error(cfg: hemi_hdl_model::cordic::CordicConfig, n: usize) -> f64 {
+    use hemi_hdl_model::cordic::{CordicPipe, CordicSlot, Mode};
+    use hemi_hdl_model::format::{Angle, Unit};
+    let mut pipe: CordicPipe<u32> = CordicPipe::new(Mode::Rotate, cfg);
+    let angle = |i: usize| (i as f64 / n as f64 * 2.0 - 1.0) * std::f64::consts::PI;
+    let (mut worst, mut got, mut i) = (0.0f64, 0, 0);
+    while got < n {
+        let input = (i < n).then(|| CordicSlot {
+            x: Unit::from_num(0.8),
+            y: Unit::from_num(0.6),
+            z: Angle::from_num(angle(i)),
+            zero: false,
+            payload: i as u32,
+        });
+        i += 1;
+        if let Some(s) = pipe.tick(input) {
+            let a = angle(s.payload as usize);
+            let (xr, yr) = (0.8 * a.cos() - 0.6 * a.sin(), 0.8 * a.sin() + 0.6 * a.cos());
+            let e = (s.x.to_num::<f64>() - xr).hypot(s.y.to_num::<f64>() - yr);
+            worst = worst.max(e);
+            got += 1;
+        }
+    }
+    worst
+}
+
+/// The accelerator model's CORDIC: worst rotation error against iterations n and word width W,
+/// with the pipe's latency in clocks and an area proxy (the rotator's 3 pipes × n stages × 3
+/// W-bit adders); a markdown table of every configuration and, with `svg`, the chart of error
+/// against the area proxy, one line per W (n rising along it), with the Pareto front. (Against
+/// latency alone, n + 2 clocks whatever W, the widest word always wins: area is the cost that
+/// separates the configurations.)
+pub fn cordic_pareto(out: &mut impl Write, svg: Option<&std::path::Path>) -> Result<()> {
+    use hemi_hdl_model::cordic::CordicConfig;
+    let mut rows = Vec::new();
+    for width in (12..=32).step_by(4) {
+        for iterations in (4..=30).step_by(2) {
+            let cfg = CordicConfig { iterations, width };
+            if cfg.is_valid() {
+                let area = 3 * iterations * 3 * width;
+                rows.push((cfg, cordic_rotation_error(cfg, 20_000), area));
+            }
+        }
+    }
+    writeln!(
+        out,
+        "| W | n | latency (clocks) | area proxy (adder bits) | worst error | Pareto (error vs area) |"
+    )?;
+    writeln!(out, "|---|---|---|---|---|---|")?;
+    let mut series: Vec<crate::chart::Series> = Vec::new();
+    let mut front = crate::chart::Series {
+        name: "Pareto front".into(),
+        points: vec![],
+    };
+    for &(cfg, err, area) in &rows {
+        let dominated = rows
+            .iter()
+            .any(|&(_, e, a)| a <= area && e <= err && (a < area || e < err));
+        writeln!(
+            out,
+            "| {} | {} | {} | {} | {:.2e} | {} |",
+            cfg.width,
+            cfg.iterations,
+            cfg.latency(),
+            area,
+            err,
+            if dominated { "" } else { "yes" }
+        )?;
+        let name = format!("W = {}", cfg.width);
+        match series.iter_mut().find(|s| s.name == name) {
+            Some(s) => s.points.push((area as f64, err)),
+            None => series.push(crate::chart::Series {
+                name,
+                points: vec![(area as f64, err)],
+            }),
+        }
+        if !dominated {
+            front.points.push((area as f64, err));
+        }
+    }
+    front.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+    series.push(front);
+    if let Some(path) = svg {
+        let chart = crate::chart::log_log(
+            "Accelerator CORDIC: error against area, n and W",
+            "area proxy: 3 pipes × n stages × 3 W-bit adders (bits)",
+            "worst |v − v_ref|",
+            "reference: f64 rotation of (0.8, 0.6) by 20 000 angles over the full circle; hdl-model CORDIC pipe",
+            &series,
+        );
+        std::fs::write(path, chart)?;
+    }
+    Ok(())
+}

@@ -15,6 +15,9 @@ use std::ops::Range;
 /// The kernel's f32 engine with its scratch memory, sized for any hemisphere table.
 pub struct SoftEngine<'p> {
     patches: &'p [Patch],
+    /// The patch casts start on (the kernel accelerator is rebuilt per call, so the engine
+    /// keeps this between calls and hands it on each time).
+    origin_patch: Option<u32>,
     local: Vec<LocalPatch>,
     best_t: Vec<f32>,
     best_id: Vec<u32>,
@@ -26,6 +29,7 @@ impl<'p> SoftEngine<'p> {
         let max_ring = 4 * MAX_CIRCLES;
         SoftEngine {
             patches,
+            origin_patch: None,
             local: vec![LocalPatch::default(); patches.len()],
             best_t: vec![0.0; max_ring],
             best_id: vec![0; max_ring],
@@ -33,7 +37,8 @@ impl<'p> SoftEngine<'p> {
     }
 
     fn accel(&mut self) -> SoftAccelerator<'p, '_> {
-        SoftAccelerator::new(
+        let origin_patch = self.origin_patch;
+        let mut accel = SoftAccelerator::new(
             self.patches,
             SoftScratch {
                 local: &mut self.local,
@@ -41,13 +46,18 @@ impl<'p> SoftEngine<'p> {
                 best_id: &mut self.best_id,
             },
         )
-        .expect("scratch is sized for the patches and the largest ring")
+        .expect("scratch is sized for the patches and the largest ring");
+        accel.set_origin_patch(origin_patch);
+        accel
     }
 }
 
 impl Accelerator for SoftEngine<'_> {
     fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
         rot.apply(d)
+    }
+    fn set_origin_patch(&mut self, patch: Option<u32>) {
+        self.origin_patch = patch;
     }
     fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<Hit> {
         self.accel().nearest_hit(ray, t_max)
@@ -160,9 +170,16 @@ pub fn model_engine(
     patches: &[Patch],
     config: hemi_hdl_model::ModelConfig,
 ) -> anyhow::Result<hemi_hdl_model::ModelAccelerator> {
+    use hemi_hdl_model::ModelError;
     hemi_hdl_model::ModelAccelerator::new(patches, config).map_err(|e| match e {
-        hemi_hdl_model::ModelError::UnsupportedPatch(i) => anyhow::anyhow!(
-            "--backend model: patch {i} is a Bezier patch, which the model's intersection unit cannot test yet (use --backend soft)"
+        ModelError::TooManyPatches { count, capacity } => anyhow::anyhow!(
+            "--backend model: the scene has {count} patches, the accelerator's patch memory holds {capacity}"
+        ),
+        ModelError::TooManyBezierPatches { count, capacity } => anyhow::anyhow!(
+            "--backend model: the scene has {count} Bezier patches, the accelerator's control-point memory holds {capacity}"
+        ),
+        ModelError::BadGeometry(i) => anyhow::anyhow!(
+            "--backend model: patch {i} does not fit the accelerator's fixed-point formats (non-finite or out of range)"
         ),
         other => anyhow::anyhow!("--backend model: {other:?}"),
     })

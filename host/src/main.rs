@@ -10,6 +10,7 @@ use hemi_hdl_model::ModelConfig;
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
+use hemi_kernel::tracer::ShotStats;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
@@ -211,6 +212,13 @@ enum BenchCommand {
         #[arg(default_value = "scenes/teapot.toml")]
         scene: PathBuf,
         /// Also draw the chart (SVG).
+        #[arg(long)]
+        svg: Option<PathBuf>,
+    },
+    /// The accelerator model's CORDIC error against iterations and word width, with latency and
+    /// an area proxy: a markdown table with the Pareto front (docs/ACCURACY.md).
+    Cordic {
+        /// Also draw the chart (SVG): error against latency, one line per word width.
         #[arg(long)]
         svg: Option<PathBuf>,
     },
@@ -712,6 +720,11 @@ fn stdin_lines() -> impl Iterator<Item = (usize, std::io::Result<String>)> {
 
 fn main() -> Result<()> {
     let cli = Cli::parse();
+    // `--backend model` builds a ~100 KB accelerator model per worker thread, on its stack;
+    // unoptimised builds copy it several times while building it, beyond rayon's 2 MiB default.
+    let _ = rayon::ThreadPoolBuilder::new()
+        .stack_size(16 << 20)
+        .build_global();
     let out = std::io::stdout();
     let mut out = std::io::BufWriter::new(out.lock());
     match cli.command {
@@ -734,16 +747,16 @@ fn main() -> Result<()> {
             let settings = common.settings_for(&scene)?;
             let camera = hemi::render::camera_of(&scene)?;
             let t0 = std::time::Instant::now();
-            let (ff_rays, hemispheres, sol, grids, t1) = if common.streaming(&scene) {
+            let (ff_stats, hemispheres, sol, grids, t1) = if common.streaming(&scene) {
                 let (sol, grids) = solve_streaming(&scene, &settings, &common, true)?;
                 let t1 = std::time::Instant::now();
-                (0, 0, sol, grids.unwrap_or_default(), t1)
+                (ShotStats::default(), 0, sol, grids.unwrap_or_default(), t1)
             } else {
                 let ff = run_pass1(&scene, &settings, backend, &counters)?;
                 let t1 = std::time::Instant::now();
                 let sol = solve_scene(&scene, &ff, common.solver)?;
                 let grids = hemi::radiosity::grids(&scene, &ff, &sol);
-                (ff.stats.rays, ff.elements.len(), sol, grids, t1)
+                (ff.stats, ff.elements.len(), sol, grids, t1)
             };
             let t2 = std::time::Instant::now();
             let bar = progress(camera.height as u64, "pass 2");
@@ -785,7 +798,7 @@ fn main() -> Result<()> {
             eprintln!(
                 "pass 1 {:.3} s ({} rays), solve {:.3} s ({}, {} sweeps), pass 2 {:.3} s ({}x{}, {} spp), exposure {:+.2} EV -> {}",
                 (t1 - t0).as_secs_f64(),
-                ff_rays,
+                ff_stats.rays,
                 (t2 - t1).as_secs_f64(),
                 sol.solver.name(),
                 sol.iterations,
@@ -796,6 +809,26 @@ fn main() -> Result<()> {
                 ev,
                 output.display()
             );
+            if ff_stats.specular.frustums + rendered.specular.frustums > 0 {
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular, pass 1",
+                        &ff_stats.specular,
+                        ff_stats.rays as u64,
+                        &settings.specular
+                    )
+                );
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular, pass 2",
+                        &rendered.specular,
+                        camera.width as u64 * camera.height as u64 * spp as u64,
+                        &settings.specular
+                    )
+                );
+            }
             report_model(
                 backend,
                 &counters,
@@ -847,6 +880,17 @@ fn main() -> Result<()> {
                 }
                 eprintln!("{} rays, {} elements", ff.stats.rays, ff.elements.len());
             }
+            if ff.stats.specular.frustums > 0 {
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular",
+                        &ff.stats.specular,
+                        ff.stats.rays as u64,
+                        &settings.specular
+                    )
+                );
+            }
             report_model(
                 backend,
                 &counters,
@@ -865,11 +909,13 @@ fn main() -> Result<()> {
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
             let settings = common.settings_for(&scene)?;
-            let (sol, hemispheres) = if common.streaming(&scene) {
-                (solve_streaming(&scene, &settings, &common, false)?.0, 0)
+            let (sol, hemispheres, ff_stats) = if common.streaming(&scene) {
+                let sol = solve_streaming(&scene, &settings, &common, false)?.0;
+                (sol, 0, ShotStats::default())
             } else {
                 let ff = run_pass1(&scene, &settings, backend, &counters)?;
-                (solve_scene(&scene, &ff, common.solver)?, ff.elements.len())
+                let sol = solve_scene(&scene, &ff, common.solver)?;
+                (sol, ff.elements.len(), ff.stats)
             };
             if json {
                 let patches: Vec<_> = scene
@@ -892,6 +938,17 @@ fn main() -> Result<()> {
                     sol.solver.name(),
                     sol.iterations,
                     sol.residual
+                );
+            }
+            if ff_stats.specular.frustums > 0 {
+                eprintln!(
+                    "{}",
+                    hemi::optics::describe(
+                        "specular",
+                        &ff_stats.specular,
+                        ff_stats.rays as u64,
+                        &settings.specular
+                    )
                 );
             }
             report_model(
@@ -962,6 +1019,11 @@ fn main() -> Result<()> {
             }
             out.flush()?;
             report_model(backend, &counters, 0, common.clock_mhz, "trace");
+        }
+        Command::Bench {
+            command: BenchCommand::Cordic { svg },
+        } => {
+            hemi::bench::cordic_pareto(&mut out, svg.as_deref())?;
         }
         Command::Bench {
             command: BenchCommand::Bezier { scene, svg },

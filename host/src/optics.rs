@@ -9,7 +9,7 @@ use hemi_kernel::optics::{Lobe, Optics, Specular, Surface};
 use hemi_kernel::patch::Patch;
 use hemi_kernel::skeleton::Frame;
 use hemi_kernel::skeleton::Skeleton;
-use hemi_kernel::specular::{Pending, DEFAULT_THRESHOLD};
+use hemi_kernel::specular::{Pending, SpecularStats, DEFAULT_THRESHOLD};
 use hemi_kernel::tracer::TraceScratch;
 
 /// Settings of the specular transport (both passes).
@@ -192,4 +192,35 @@ pub fn check(settings: &SpecularSettings) -> Result<()> {
         "--stack must be between 1 and 4096 frames"
     );
     Ok(())
+}
+
+/// One line on what the frustums of a pass did, for stderr: counts, and the weights that did
+/// not reach a diffuse patch as a mean per primary ray (`primaries` of them; weights are in the
+/// pass's units, so pass 1's are form factors and pass 2's fractions of a pixel).
+pub fn describe(
+    label: &str,
+    s: &SpecularStats,
+    primaries: u64,
+    settings: &SpecularSettings,
+) -> String {
+    let per = |w: f64| w / primaries.max(1) as f64;
+    format!(
+        "{label}: {} frustums, {} frustum rays; stack high-water {}/{} frames; per primary ray: \
+         {:.2e} cut below Δ = {} ({} frustums), {:.2e} cut at {} bounces ({}), {:.2e} lost to a \
+         full stack ({}), {:.2e} absorbed by lobes, {:.2e} escaped",
+        s.frustums,
+        s.rays,
+        s.high_water,
+        settings.stack,
+        per(s.cut_weight),
+        settings.threshold,
+        s.below_threshold,
+        per(s.too_deep_weight),
+        settings.max_bounces,
+        s.too_deep,
+        per(s.overflow_weight),
+        s.overflows,
+        per(s.absorbed_weight),
+        per(s.escaped_weight),
+    )
 }

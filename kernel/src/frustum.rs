@@ -194,6 +194,14 @@ mod tests {
         let h = OwnedHemisphere::new(90, DeltaRule::Band).unwrap();
         let counts: [u32; 4] =
             [8.0, 6.0, 4.0, 2.0].map(|a| ray_count(&h.view(), size_for_angle(a, 90)));
+        std::println!(
+            "R = 90: frustum rays at 8°, 6°, 4°, 2°: {counts:?} (paper: 195, 121, 61, 19)"
+        );
+        for r in [32u32, 48, 64] {
+            let hr = OwnedHemisphere::new(r, DeltaRule::Band).unwrap();
+            let c = [8.0, 6.0, 4.0, 2.0].map(|a| ray_count(&hr.view(), size_for_angle(a, r)));
+            std::println!("R = {r}: {c:?}");
+        }
         assert_eq!(counts.map(|c| c > 0), [true; 4]);
         assert!(counts[0] > counts[1] && counts[1] > counts[2] && counts[2] > counts[3]);
         assert!((15..=25).contains(&counts[3]), "{counts:?}");

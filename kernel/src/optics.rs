@@ -83,6 +83,7 @@ pub struct Optics<'a> {
     weights: &'a [f32],
     columns: u32,
     specular: bool,
+    curved_specular: bool,
 }
 
 impl<'a> Optics<'a> {
@@ -98,7 +99,11 @@ impl<'a> Optics<'a> {
         }
         let mut columns = 0;
         let mut specular = false;
-        for s in surfaces {
+        let mut curved_specular = false;
+        for (s, p) in surfaces.iter().zip(patches) {
+            if s.is_specular() && p.as_polygon().is_none() {
+                curved_specular = true;
+            }
             if let Some(c) = s.column {
                 columns = columns.max(c + 1);
             }
@@ -119,6 +124,7 @@ impl<'a> Optics<'a> {
             weights,
             columns,
             specular,
+            curved_specular,
         })
     }
 
@@ -137,6 +143,11 @@ impl<'a> Optics<'a> {
     /// Whether any patch is specular (if not, the tracer takes the plain pass-1 path).
     pub fn has_specular(&self) -> bool {
         self.specular
+    }
+    /// Whether a curved patch is specular: its hits need (u,v) for the normal a frustum is
+    /// mirrored about (a planar patch's normal is one for the whole patch).
+    pub fn needs_uv(&self) -> bool {
+        self.curved_specular
     }
     /// Per-ray weight of ring `j` of `lobe`.
     pub fn weight(&self, lobe: &Lobe, j: usize) -> f32 {

@@ -47,6 +47,7 @@ pub fn trace_pixels<A: Accelerator, F: FnMut(u32, u32, &Hit, [f32; 3])>(
         max_depth: *max_depth,
         skeleton,
         parked,
+        want_uv: true,
         stats: SpecularStats::default(),
     };
     let room = if optics.has_specular() {

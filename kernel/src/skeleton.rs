@@ -144,4 +144,12 @@ mod tests {
         assert!(s.is_empty() && s.top_mut().is_none());
         assert_eq!(s.high_water(), 3);
     }
+
+    #[test]
+    fn a_frame_is_small_enough_for_sram() {
+        // docs/PERFORMANCE.md: the default 64-frame stack in firmware SRAM
+        let size = core::mem::size_of::<Frame>();
+        std::println!("Frame: {size} bytes, 64 frames: {} bytes", 64 * size);
+        assert!(size <= 72, "{size}");
+    }
 }

@@ -21,7 +21,7 @@
 //! one path (§5), and the stack's capacity the frustums waiting; a frustum cut by either is
 //! counted with the weight it carried, never a panic.
 
-use crate::accel::{Accelerator, Hit};
+use crate::accel::{Accelerator, Hit, Ray};
 use crate::geometry::Vec3;
 use crate::hemisphere::Hemisphere;
 use crate::optics::{Optics, Specular};
@@ -124,6 +124,8 @@ pub struct Walker<'w, 's> {
     pub skeleton: &'w mut Skeleton<'s>,
     /// Room for one frustum's hits on specular surfaces, pushed as frames when it is done.
     pub parked: &'w mut [Pending],
+    /// Whether the sink needs (u,v) of the hits it gets (pass 2 does, pass 1 does not).
+    pub want_uv: bool,
     /// What happened so far.
     pub stats: SpecularStats,
 }
@@ -157,6 +159,7 @@ impl Walker<'_, '_> {
             // on the stored direction, no rotation
             let side = f.rot.invert(f.side);
             let mut parked = 0usize;
+            let want_uv = self.want_uv || self.optics.needs_uv();
             let Walker {
                 optics,
                 hemi,
@@ -164,48 +167,62 @@ impl Walker<'_, '_> {
                 parked: park,
                 ..
             } = self;
-            accel.set_origin_patch(Some(f.from));
-            accel.cast_rings(
-                f.origin,
-                &f.rot,
-                hemi,
-                0..lobe.size as usize + 1,
-                true,
-                |j, k, hit| {
-                    stats.rays += 1;
-                    let w = optics.weight(&lobe, j);
-                    let weight = f.weight.map(|c| c * w);
-                    if hemi.direction(j, k).dot(side) <= 0.0 {
-                        stats.absorbed_weight += (max3(weight) * scale) as f64;
-                        return;
-                    }
-                    let Some(hit) = hit else {
-                        stats.escaped_weight += (max3(weight) * scale) as f64;
-                        return;
-                    };
-                    if hit.front && optics.surface(hit.patch).column.is_some() {
-                        sink(&hit, weight);
-                    }
-                    if spawns(optics, &hit) {
-                        match park.get_mut(parked) {
-                            Some(p) => {
-                                *p = Pending {
-                                    tag: j as u32,
-                                    k,
-                                    hit,
-                                };
-                                parked += 1;
-                            }
-                            None => {
-                                stats.overflows += 1;
-                                stats.overflow_weight += (max3(weight) * scale) as f64;
-                            }
+            let mut on_hit = |j: usize, k: u32, hit: Option<Hit>| {
+                stats.rays += 1;
+                let w = optics.weight(&lobe, j);
+                let weight = f.weight.map(|c| c * w);
+                if hemi.direction(j, k).dot(side) <= 0.0 {
+                    stats.absorbed_weight += (max3(weight) * scale) as f64;
+                    return;
+                }
+                let Some(hit) = hit else {
+                    stats.escaped_weight += (max3(weight) * scale) as f64;
+                    return;
+                };
+                if hit.front && optics.surface(hit.patch).column.is_some() {
+                    sink(&hit, weight);
+                }
+                if spawns(optics, &hit) {
+                    match park.get_mut(parked) {
+                        Some(p) => {
+                            *p = Pending {
+                                tag: j as u32,
+                                k,
+                                hit,
+                            };
+                            parked += 1;
                         }
-                    } else if !hit.front {
-                        stats.escaped_weight += (max3(weight) * scale) as f64;
+                        None => {
+                            stats.overflows += 1;
+                            stats.overflow_weight += (max3(weight) * scale) as f64;
+                        }
                     }
-                },
-            );
+                } else if !hit.front {
+                    stats.escaped_weight += (max3(weight) * scale) as f64;
+                }
+            };
+            accel.set_origin_patch(Some(f.from));
+            if lobe.size == 0 {
+                // a mirror: one ray, no ring set-up
+                let d = accel.rotate(&f.rot, Vec3::Z);
+                let hit = accel.nearest_hit(
+                    &Ray {
+                        origin: f.origin,
+                        dir: d,
+                    },
+                    f32::INFINITY,
+                );
+                on_hit(0, 0, hit);
+            } else {
+                accel.cast_rings(
+                    f.origin,
+                    &f.rot,
+                    hemi,
+                    0..lobe.size as usize + 1,
+                    want_uv,
+                    &mut on_hit,
+                );
+            }
             accel.set_origin_patch(None);
             for i in 0..parked {
                 let p = self.parked[i];

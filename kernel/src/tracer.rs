@@ -168,6 +168,7 @@ pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
         max_depth: *max_depth,
         skeleton,
         parked,
+        want_uv,
         stats: SpecularStats::default(),
     };
     let mut start = 0;
@@ -202,7 +203,8 @@ pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
                 }
             }
         } else {
-            accel.cast_rings(origin, &rot, hemi, start..end, true, |j, k, hit| {
+            let uv = want_uv || optics.needs_uv();
+            accel.cast_rings(origin, &rot, hemi, start..end, uv, |j, k, hit| {
                 count(&mut stats, &hit);
                 if let Some(h) = hit {
                     if diffuse(&h) {

@@ -65,6 +65,146 @@ fn cycles_per_ray_and_simulation_speed_on_the_cornell_box() {
     }
 }
 
+#[test]
+#[ignore = "measurement: run in release with --ignored --nocapture"]
+fn cycles_per_ray_on_the_teapot_and_per_bezier_patch_test() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let scene = hemi::scene::load(&root.join("scenes/teapot.toml")).unwrap();
+    let patches = scene.kernel_patches();
+    println!(
+        "\nteapot scene: {} patches (2 quads, {} Bezier), 16 sample points per Bezier patch, K = 2 on the quads",
+        patches.len(),
+        patches.len() - 2
+    );
+    println!("| R | hemispheres | rays/hemisphere | cycles/hemisphere | cycles/ray | Bezier tests/ray | clocks/Bezier test | steps/test | leaves/test | model Mcycles/s |");
+    println!("|---|---|---|---|---|---|---|---|---|---|");
+    for circles in [8u32, 16] {
+        let hemi = OwnedHemisphere::new(circles, DeltaRule::Band).unwrap();
+        let view = hemi.view();
+        let mut model = ModelAccelerator::new(&patches, ModelConfig::default()).unwrap();
+        let points: Vec<_> = (0..patches.len())
+            .flat_map(|i| {
+                hemi::pass1::sample_points(&scene, i, 2)
+                    .into_iter()
+                    .map(move |p| (i, p))
+            })
+            .collect();
+        let (c0, r0, b0) = (model.cycles(), model.rays(), model.bezier_stats());
+        let t0 = Instant::now();
+        for (q, (i, p)) in points.iter().enumerate() {
+            let rot = Rotation::onto_spun(p.normal, spin_for_sample(q as u32));
+            model.set_origin_patch(Some(*i as u32));
+            model.cast_rings(
+                p.position,
+                &rot,
+                &view,
+                0..view.rings().len(),
+                false,
+                |_, _, _| {},
+            );
+        }
+        let secs = t0.elapsed().as_secs_f64();
+        let cycles = model.cycles() - c0;
+        let rays = model.rays() - r0;
+        let b = model.bezier_stats();
+        let jobs = (b.jobs - b0.jobs) as f64;
+        let n = points.len() as f64;
+        println!(
+            "| {circles} | {} | {} | {:.0} | {:.1} | {:.2} | {:.1} | {:.1} | {:.2} | {:.1} |",
+            points.len(),
+            view.ray_count(),
+            cycles as f64 / n,
+            cycles as f64 / rays as f64,
+            jobs / rays as f64,
+            (b.clocks - b0.clocks) as f64 / jobs,
+            (b.steps - b0.steps) as f64 / jobs,
+            (b.leaves - b0.leaves) as f64 / jobs,
+            cycles as f64 / secs / 1e6,
+        );
+    }
+}
+
+/// Clocks of one Bezier patch test (root box hit) against the subdivision depth and the
+/// control-point width, over rays aimed at the teapot's patches one patch at a time: the
+/// figure to compare with Pulleyblank & Kapenga's 15 µs (12-bit) to 140 µs (24-bit).
+#[test]
+#[ignore = "measurement: run in release with --ignored --nocapture"]
+fn clocks_per_bezier_patch_test_against_depth_and_width() {
+    use hemi_kernel::accel::Ray;
+    use hemi_kernel::geometry::Vec3;
+    use hemi_kernel::patch::{Patch, Shape};
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let scene = hemi::scene::load(&root.join("scenes/teapot.toml")).unwrap();
+    let beziers: Vec<_> = scene
+        .patches
+        .iter()
+        .filter_map(|p| match p.shape {
+            Shape::Bezier(b) => Some(b),
+            _ => None,
+        })
+        .collect();
+    println!(
+        "\nOne Bezier patch test (rays aimed at random points of each teapot patch, 64 per patch)"
+    );
+    println!("| depth | Wc | flatness | clocks/test (mean) | clocks/test (max) | steps | leaves | µs at 100 MHz (mean) |");
+    println!("|---|---|---|---|---|---|---|---|");
+    for (depth, width, flatness) in [
+        (6, 12, 0.0f32),
+        (8, 16, 0.0),
+        (10, 20, 0.0),
+        (10, 24, 0.0),
+        (10, 26, 0.0),
+        (12, 26, 0.0),
+        (10, 26, 1e-4),
+    ] {
+        let cfg = ModelConfig {
+            subdivision_depth: depth,
+            coord_width: width,
+            flatness,
+            ..ModelConfig::default()
+        };
+        let (mut jobs, mut clocks, mut steps, mut leaves, mut worst) =
+            (0u64, 0u64, 0u64, 0u64, 0u64);
+        let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 11) as f32 / (1u64 << 53) as f32
+        };
+        for b in &beziers {
+            let mut model = ModelAccelerator::new(&[Patch::bezier(*b)], cfg).unwrap();
+            for _ in 0..64 {
+                let (u, v) = (0.05 + 0.9 * rnd(), 0.05 + 0.9 * rnd());
+                let Some(n) = b.normal(u, v) else { continue };
+                let tilt = Vec3::new(rnd() - 0.5, rnd() - 0.5, rnd() - 0.5) * 0.8;
+                let Some(dir) = (-n + tilt).try_normalize() else {
+                    continue;
+                };
+                let o = b.point(u, v) - dir * (0.5 + 2.5 * rnd());
+                let before = model.bezier_stats();
+                model.nearest_hit(&Ray { origin: o, dir }, f32::INFINITY);
+                let after = model.bezier_stats();
+                if after.jobs > before.jobs {
+                    jobs += 1;
+                    let c = after.clocks - before.clocks;
+                    clocks += c;
+                    worst = worst.max(c);
+                    steps += after.steps - before.steps;
+                    leaves += after.leaves - before.leaves;
+                }
+            }
+        }
+        let mean = clocks as f64 / jobs as f64;
+        println!(
+            "| {depth} | {width} | {flatness} | {mean:.1} | {worst} | {:.1} | {:.2} | {:.2} |",
+            steps as f64 / jobs as f64,
+            leaves as f64 / jobs as f64,
+            mean / 100.0
+        );
+    }
+}
+
 fn worst_error(cfg: CordicConfig, n: usize) -> f64 {
     let mut rot: CordicPipe<u32> = CordicPipe::new(Mode::Rotate, cfg);
     let mut worst = 0.0f64;

@@ -1,9 +1,11 @@
 //! Register-level behaviour of the accelerator model, through the bus the driver uses:
 //! handshakes, FIFO overflow and underflow, reset mid-job, refused configurations, interrupts.
 
-use hemi_hdl_model::device::{CONFIG_RESET, RAY_FIFO_DEPTH};
+use hemi_hdl_model::device::{BZ_CONFIG_RESET, CONFIG_RESET, RAY_FIFO_DEPTH};
 use hemi_hdl_model::driver::{Driver, ModelBus, RegisterAccess};
 use hemi_hdl_model::format::Unit;
+use hemi_hdl_model::intersect::bezier::{BEZIER_ROWS, CP_WORDS, LEAF_CLOCKS, STACK_ENTRIES};
+use hemi_hdl_model::intersect::patch_mem::{BezierSlot, CP_BASE};
 use hemi_hdl_model::regs::{self, ctrl, error, irq, mode, result, status};
 
 fn w(x: f32) -> u32 {
@@ -190,10 +192,10 @@ fn patch_memory_window_bounds_and_cycle_counter() {
     b.write(regs::ERROR, u32::MAX);
     b.write(regs::PATCH_COUNT, cap + 1);
     assert_eq!(b.read(regs::ERROR), error::PATCH_RANGE);
-    // unsupported kind (the reserved Bezier kind) is reported when scanned
+    // an unknown kind is reported when scanned
     b.write(regs::ERROR, u32::MAX);
     b.write(regs::PATCH_ADDR, 0);
-    b.write(regs::PATCH_DATA, 3);
+    b.write(regs::PATCH_DATA, 4);
     b.write(regs::PATCH_COUNT, 1);
     b.write(regs::MODE, mode::TRACE);
     for c in [0.0, 0.0, 1.0] {
@@ -207,4 +209,134 @@ fn patch_memory_window_bounds_and_cycle_counter() {
     let lo2 = b.read(regs::CYCLE_LO);
     assert_eq!(lo2, lo + 1, "one clock per bus access");
     assert_eq!(b.read(regs::CYCLE_HI), 0);
+}
+
+#[test]
+fn bezier_capabilities_and_configuration_refused_beyond_the_stack() {
+    let mut d = Driver::new(ModelBus::new()).unwrap();
+    let b = d.bus_mut();
+    assert_eq!(b.read(regs::BZ_CONFIG_ACTIVE), BZ_CONFIG_RESET);
+    let caps = b.read(regs::CAPS_BEZIER);
+    assert_eq!(caps & 0xFFFF, BEZIER_ROWS as u32);
+    assert_eq!((caps >> 16) & 0xFF, STACK_ENTRIES as u32);
+    assert_eq!(caps >> 24, 16);
+    // depth 14 needs 3·14 = 42 stack entries for its worst case: more than the 40 on chip
+    for (depth, width) in [(14, 26), (16, 26), (0, 26), (10, 27), (10, 11)] {
+        assert!(
+            d.configure_subdivision(depth, width).is_err(),
+            "{depth} {width}"
+        );
+        assert_eq!(d.bus_mut().read(regs::BZ_CONFIG_ACTIVE), BZ_CONFIG_RESET);
+    }
+    assert!(d.configure_subdivision(13, 26).is_ok());
+    assert!(d.configure_subdivision(6, 16).is_ok());
+    assert_eq!(d.bus_mut().read(regs::BZ_CONFIG_ACTIVE), 6 | 16 << 8);
+    // the CORDIC configuration stays as it was, and can still be changed
+    assert_eq!(d.bus_mut().read(regs::CONFIG_ACTIVE), CONFIG_RESET);
+    assert!(d.configure(20, 24, 12).is_ok());
+    assert_eq!(d.bus_mut().read(regs::BZ_CONFIG_ACTIVE), 6 | 16 << 8);
+    // refused while busy
+    d.bus_mut().write(regs::CTRL, 0);
+    d.set_mode(mode::TRACE);
+    d.push_ray([0, 0, w(1.0)]);
+    assert!(matches!(
+        d.configure_subdivision(8, 20),
+        Err(hemi_hdl_model::DriverError::BadConfig(e)) if e & error::CONFIG_BUSY != 0
+    ));
+}
+
+/// A flat Bezier patch over [−0.5, 0.5]² at z = 0 (control points on a regular grid), its
+/// control-point words.
+fn flat_patch() -> [u32; CP_WORDS] {
+    let mut words = [0u32; CP_WORDS];
+    for r in 0..4 {
+        for c in 0..4 {
+            let p = [c as f32 / 3.0 - 0.5, r as f32 / 3.0 - 0.5, 0.0];
+            for k in 0..3 {
+                words[3 * (4 * r + c) + k] =
+                    hemi_hdl_model::format::Coord::from_num(p[k]).to_bits() as u32;
+            }
+        }
+    }
+    words
+}
+
+fn trace(d: &mut Driver<ModelBus>, origin: [f32; 3], dir: [f32; 3]) -> [u32; 4] {
+    let c = |x: f32| hemi_hdl_model::format::Coord::from_num(x).to_bits() as u32;
+    d.set_origin(origin.map(c));
+    d.set_mode(mode::TRACE);
+    let mut got = [0; 4];
+    d.stream(1, |_| dir.map(w), |_, r| got = r).unwrap();
+    got
+}
+
+#[test]
+fn bezier_patch_uploaded_through_the_window_is_traced() {
+    let mut d = Driver::new(ModelBus::new()).unwrap();
+    d.load_control_points([flat_patch()]).unwrap();
+    d.load_patches([BezierSlot::default().encode()]).unwrap();
+    // read back through the window
+    let b = d.bus_mut();
+    b.write(regs::PATCH_ADDR, CP_BASE + 3);
+    assert_eq!(b.read(regs::PATCH_DATA), flat_patch()[3]);
+    // a ray straight down onto (u, v) = (0.3, 0.8): t = 1, front side (∂P/∂u × ∂P/∂v = +z)
+    let c0 = d.cycles();
+    let r = trace(&mut d, [-0.2, 0.3, 1.0], [0.0, 0.0, -1.0]);
+    let clocks = d.cycles() - c0;
+    assert_eq!(r[0], result::HIT | result::FRONT, "{r:x?}");
+    let t = hemi_hdl_model::format::Coord::from_bits(r[1] as i32).to_num::<f64>();
+    let u = Unit::from_bits(r[2] as i32).to_num::<f64>();
+    let v = Unit::from_bits(r[3] as i32).to_num::<f64>();
+    assert!((t - 1.0).abs() < 1e-6, "t {t}");
+    assert!(
+        (u - 0.3).abs() < 1e-6 && (v - 0.8).abs() < 1e-6,
+        "({u}, {v})"
+    );
+    // the subdivision costs clocks: at least 10 steps and a leaf beyond a planar scan
+    assert!(clocks > 10 + LEAF_CLOCKS as u64, "{clocks} clocks");
+    assert_eq!(d.take_errors(), 0);
+    // a miss beside the patch, and the patch skipped by SKIP_PATCH
+    assert_eq!(trace(&mut d, [0.7, 0.0, 1.0], [0.0, 0.0, -1.0])[0], 0);
+    d.set_skip(Some(0));
+    assert_eq!(trace(&mut d, [-0.2, 0.3, 1.0], [0.0, 0.0, -1.0])[0], 0);
+    d.set_skip(None);
+    assert_eq!(
+        trace(&mut d, [-0.2, 0.3, 1.0], [0.0, 0.0, -1.0])[0],
+        result::HIT | result::FRONT
+    );
+    // from below: the back side
+    assert_eq!(
+        trace(&mut d, [-0.2, 0.3, -1.0], [0.0, 0.0, 1.0])[0],
+        result::HIT
+    );
+}
+
+#[test]
+fn bezier_memory_bounds_are_reported() {
+    let mut d = Driver::new(ModelBus::new()).unwrap();
+    // one word past the last control-point row
+    let b = d.bus_mut();
+    b.write(
+        regs::PATCH_ADDR,
+        CP_BASE + (BEZIER_ROWS * CP_WORDS) as u32 - 1,
+    );
+    b.write(regs::PATCH_DATA, 1);
+    assert_eq!(b.read(regs::ERROR), 0);
+    b.write(regs::PATCH_DATA, 1);
+    assert_eq!(b.read(regs::ERROR), error::PATCH_RANGE);
+    b.write(regs::ERROR, u32::MAX);
+    // too many rows through the driver
+    let rows = vec![flat_patch(); BEZIER_ROWS + 1];
+    assert!(matches!(
+        d.load_control_points(&rows),
+        Err(hemi_hdl_model::DriverError::PatchMemory(e)) if e & error::PATCH_RANGE != 0
+    ));
+    // a slot naming a row outside the memory is skipped and reported when scanned
+    let slot = BezierSlot {
+        row: BEZIER_ROWS as u32,
+        ..BezierSlot::default()
+    };
+    d.load_patches([slot.encode()]).unwrap();
+    assert_eq!(trace(&mut d, [0.0, 0.0, 1.0], [0.0, 0.0, -1.0])[0], 0);
+    assert_ne!(d.take_errors() & error::UNSUPPORTED_PATCH, 0);
 }

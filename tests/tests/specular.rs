@@ -270,3 +270,82 @@ fn cut_paths_are_reported_not_fatal() {
     // the patch sees itself in the mirrors (through the gap around it) and nothing is NaN
     assert!(ff.matrix[0][0].is_finite() && ff.matrix[0][0] > 0.0);
 }
+
+#[test]
+fn pass_2_sees_a_light_in_a_mirror_at_k_r_times_its_radiance() {
+    // A mirror floor (k_r = 0.5) and an emitting wall of radiance 1 (E = π, no reflectance);
+    // the camera looks down at the floor, where the wall's image fills the centre.
+    let src = mirror("m", 0.5, "inf")
+        + "[[material]]\nname = \"lamp\"\ndiffuse = [0, 0, 0]\nemission = [3.141592653589793, 3.141592653589793, 3.141592653589793]\n\n"
+        + &quad(
+            "floor",
+            "m",
+            [[-20.0, 0.0, -20.0], [-20.0, 0.0, 20.0], [20.0, 0.0, 20.0], [20.0, 0.0, -20.0]],
+        )
+        + &quad(
+            "wall",
+            "lamp",
+            [[-3.0, 0.5, 5.0], [-3.0, 4.0, 5.0], [3.0, 4.0, 5.0], [3.0, 0.5, 5.0]],
+        )
+        + "[camera]\neye = [0, 1, -2]\nlook_at = [0, -1, 3]\nup = [0, 1, 0]\nfov_y_deg = 20\nwidth = 9\nheight = 9\n";
+    let scene = parse(&src, "mirror-lamp.toml").unwrap();
+    let settings = Pass1Settings {
+        circles: 16,
+        samples: 2,
+        ..Pass1Settings::default()
+    };
+    let ff = form_factors(&scene, &settings, &|_| {}).unwrap();
+    let n = scene.patches.len();
+    let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
+    let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
+    let sol = hemi::solve::gauss_seidel(ff.channels(), &rho, &e, &Default::default()).unwrap();
+    let grids = hemi::radiosity::grids(&scene, &ff, &sol);
+    let camera = hemi::render::camera_of(&scene).unwrap();
+    let out = hemi::render::render(&scene, &grids, &camera, 1, &settings, &|_| {}).unwrap();
+    let centre = out.image.pixels[4 * 9 + 4];
+    println!("centre pixel {centre:?}, {:?}", out.specular);
+    for c in centre {
+        assert!((c - 0.5).abs() < 1e-4, "{centre:?}");
+    }
+    assert!(out.specular.frustums > 0);
+}
+
+#[test]
+fn a_window_passes_k_t_of_the_form_factor_behind_it() {
+    // p1 at z = 0 facing +z, p2 at z = 1 facing −z (Howell C-11), and between them a large
+    // clear sheet (k_t = 0.7, phong = inf) whose front faces away from p1: transmission passes
+    // light from either side, so F_12 = k_t · F(C-11).
+    let k_t = 0.7;
+    let src = material("white", 0.5, 0.0)
+        + &format!(
+            "[[material]]\nname = \"glass\"\ndiffuse = [0, 0, 0]\ntransmission = [{k_t}, {k_t}, {k_t}]\nphong = inf\n\n"
+        )
+        + &quad(
+            "p1",
+            "white",
+            [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]],
+        )
+        + &quad(
+            "p2",
+            "white",
+            [[0.0, 0.0, 1.0], [0.0, 1.0, 1.0], [1.0, 1.0, 1.0], [1.0, 0.0, 1.0]],
+        )
+        + &quad(
+            "glass",
+            "glass",
+            [[-9.0, -9.0, 0.5], [9.0, -9.0, 0.5], [9.0, 9.0, 0.5], [-9.0, 9.0, 0.5]],
+        );
+    let scene = parse(&src, "window.toml").unwrap();
+    let ff = run(&scene, 32, 16);
+    let want = k_t * opposed_rectangles(1.0, 1.0, 1.0);
+    let got = ff.matrix[0][1];
+    let e = (got - want).abs() / want;
+    println!(
+        "through a window: F = {got:.6}, k_t·Howell = {want:.6}, error {:.3} %",
+        100.0 * e
+    );
+    assert!(e < 0.005, "error {e}");
+    // and symmetric from the other side (the sheet's back)
+    let back = ff.matrix[1][0];
+    assert!((back - got).abs() / got < 0.005, "{back} vs {got}");
+}

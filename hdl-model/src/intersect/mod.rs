@@ -19,16 +19,27 @@
 //! (32 bits), a_i 34 bits, e_i ≤ 62 bits (an origin-wide truncation keeps far origins in range),
 //! d · e_i and h, n · d up to 98 bits (i128 containers), t Q8.24.
 //!
-//! Only planar kinds are scanned; a slot of another kind (the Bezier kind reserved for the
-//! bounding-box subdivision unit with its on-chip stack, paper §6.1 and §7) is skipped and
-//! reported through the UNSUPPORTED_PATCH error.
+//! A Bezier slot is not pipelined: its clock in the issue stage slab-tests the ray against the
+//! patch's root box (computed in the set-up pass); a miss costs that one clock like a planar
+//! patch, a hit hands the patch to the subdivision engine ([`bezier`], paper §6.1 and §7) and
+//! the issue stage waits until the engine answers, then sends its t, (u,v) and side down the
+//! same pipeline (through the divider's delay line, unchanged, so tokens stay in order); the
+//! (u,v) pipe passes such a hit's (u,v) through instead of bisecting. The engine prunes with the
+//! ray's nearest Bezier hit so far (planar hits are still in the divider at that point).
+//! Slots of unknown kinds, and Bezier slots naming a row outside control-point memory, are
+//! skipped and reported through the UNSUPPORTED_PATCH error.
 
+pub mod bezier;
 pub mod patch_mem;
 pub mod uv;
 
 use crate::format::{Coord, Unit};
 use crate::pipe::{Delay, Pipe};
-use patch_mem::{PatchMem, PatchWords, KIND_EMPTY, KIND_QUAD, KIND_TRIANGLE, PATCH_CAPACITY};
+use bezier::{BezierEngine, BezierStats, Box3, Job, RaySetup, SubdivConfig, BEZIER_ROWS};
+use patch_mem::{
+    BezierSlot, PatchMem, PatchWords, KIND_BEZIER, KIND_EMPTY, KIND_QUAD, KIND_TRIANGLE,
+    PATCH_CAPACITY,
+};
 use uv::{Cell, UvStage};
 
 /// Clocks of the pipelined divider (a quotient bit per clock for a 32-bit t plus two).
@@ -46,6 +57,8 @@ pub struct LocalPatch {
     n: [i32; 3],
     h: i128,
     active: bool,
+    /// a Bezier slot with a valid row (its root box is in the unit's `bez_root`)
+    bezier: bool,
 }
 
 /// A ray for the unit, with the info the device carries through.
@@ -57,6 +70,11 @@ pub struct RayIn<T: Copy + Default> {
     pub dir: [Unit; 3],
     /// Skip the scan (rotate-only entries): one clock, no hit.
     pub bypass: bool,
+    /// A patch this ray never hits (the one its hemisphere stands on).
+    pub skip: Option<u32>,
+    /// The clock from which its reciprocals 1/d are ready (the reciprocal unit at the ray
+    /// queue's input); Bezier slots wait for it.
+    pub recip_at: u64,
     /// Carried to the result.
     pub info: T,
 }
@@ -90,6 +108,17 @@ pub struct RayOut<T: Copy + Default> {
 /// so slots are handed out round-robin and one is free again once `in_flight` is below this.
 pub const RAY_SLOTS: usize = 64;
 
+/// A Bezier patch's answer, computed by the subdivision engine: t (raw Q8.24), u, v (raw
+/// Q2.30), side.
+#[derive(Clone, Copy, Debug, Default)]
+struct Direct {
+    hit: bool,
+    t: i64,
+    u: i32,
+    v: i32,
+    front: bool,
+}
+
 /// The edge stage's output register.
 #[derive(Clone, Copy, Debug, Default)]
 struct Token {
@@ -102,6 +131,8 @@ struct Token {
     h: i128,
     den: i128,
     front: bool,
+    /// a Bezier slot's finished answer (bypasses the divider's arithmetic)
+    direct: Option<Direct>,
 }
 
 /// What the divider hands on (its h and n · d inputs are consumed): a register of the delay
@@ -116,6 +147,8 @@ struct Quotient {
     hit: bool,
     front: bool,
     t: i64,
+    /// (u,v) already known (Bezier hits)
+    uv: Option<(i32, i32)>,
 }
 
 /// A (u,v) pipeline register: the cell, whether the ray hit, and its slot.
@@ -124,6 +157,8 @@ struct UvReg {
     cell: Cell,
     hit: bool,
     slot: u8,
+    /// (u,v) known on entry: the stages pass it through
+    direct: Option<(i32, i32)>,
 }
 
 /// Stage 1: edge tests and the denominator.
@@ -164,7 +199,15 @@ impl DivideStage {
             hit: false,
             front: tok.front,
             t: 0,
+            uv: None,
         };
+        if let Some(d) = tok.direct {
+            out.hit = d.hit;
+            out.t = d.t;
+            out.front = d.front;
+            out.uv = Some((d.u, d.v));
+            return out;
+        }
         if !tok.inside || tok.den == 0 {
             return out;
         }
@@ -178,8 +221,8 @@ impl DivideStage {
     }
 }
 
-/// The best candidate of a ray so far: patch, t (raw Q8.24), front.
-type Best = Option<(u32, i64, bool)>;
+/// The best candidate of a ray so far: patch, t (raw Q8.24), front, (u,v) if already known.
+type Best = Option<(u32, i64, bool, Option<(i32, i32)>)>;
 
 /// Stage 3: the running minimum of one ray.
 #[derive(Clone, Copy, Debug, Default)]
@@ -193,8 +236,8 @@ impl SelectStage {
         if tok.first {
             self.best = None;
         }
-        if tok.hit && self.best.is_none_or(|(_, t, _)| tok.t < t) {
-            self.best = Some((tok.patch, tok.t, tok.front));
+        if tok.hit && self.best.is_none_or(|(_, t, _, _)| tok.t < t) {
+            self.best = Some((tok.patch, tok.t, tok.front, tok.uv));
         }
         tok.last.then(|| (tok.slot, self.best.take()))
     }
@@ -222,11 +265,25 @@ pub struct IntersectUnit<T: Copy + Default> {
     in_flight: u32,
     /// set when a slot of an unsupported kind was scanned
     pub unsupported: bool,
+    /// set when the subdivision stack overflowed (a subtree was dropped)
+    pub overflow: bool,
+    /// the subdivision engine, and whether it is working on the slot at the issue stage
+    engine: BezierEngine,
+    engine_on: bool,
+    /// root boxes of the control-point rows, from the set-up pass
+    bez_root: [Box3; BEZIER_ROWS],
+    /// the current ray with its reciprocals, and its nearest Bezier hit so far (raw Q8.24)
+    ray_setup: RaySetup,
+    bez_best_t: i64,
 }
 
+/// Exclusive bound of a Bezier hit's t: the largest Q8.24 t plus one LSB.
+const T_LIMIT: i64 = i32::MAX as i64 + 1;
+
 impl<T: Copy + Default> IntersectUnit<T> {
-    /// An idle unit whose (u,v) pipe has `depth` levels (1..=24).
-    pub fn new(depth: u32) -> Self {
+    /// An idle unit whose (u,v) pipe has `depth` levels (1..=24) and whose subdivision engine
+    /// runs `subdiv` (valid for [`bezier::STACK_ENTRIES`]).
+    pub fn new(depth: u32, subdiv: SubdivConfig) -> Self {
         IntersectUnit {
             local: [LocalPatch::default(); PATCH_CAPACITY],
             local_origin: None,
@@ -243,7 +300,35 @@ impl<T: Copy + Default> IntersectUnit<T> {
             depth,
             in_flight: 0,
             unsupported: false,
+            overflow: false,
+            engine: BezierEngine::new(subdiv, bezier::STACK_ENTRIES),
+            engine_on: false,
+            bez_root: [Box3::default(); BEZIER_ROWS],
+            ray_setup: RaySetup::default(),
+            bez_best_t: T_LIMIT,
         }
+    }
+
+    /// Rebuilt for a new configuration, in place: everything in flight and the set-up are
+    /// dropped (the per-slot tables are large, so they are not rebuilt by value).
+    pub fn reconfigure(&mut self, depth: u32, subdiv: SubdivConfig) {
+        self.flush();
+        self.depth = depth;
+        self.uv = Pipe::new(depth as usize + 1);
+        self.engine = BezierEngine::new(subdiv, bezier::STACK_ENTRIES);
+        self.select = SelectStage::default();
+        self.unsupported = false;
+        self.overflow = false;
+    }
+
+    /// The subdivision engine's work counters.
+    pub fn bezier_stats(&self) -> BezierStats {
+        self.engine.stats()
+    }
+
+    /// Most subdivision stack entries in use at once.
+    pub fn stack_high_water(&self) -> usize {
+        self.engine.stack_high_water()
     }
 
     /// Whether a new ray can be started this clock.
@@ -268,6 +353,11 @@ impl<T: Copy + Default> IntersectUnit<T> {
         }
         let slot = self.next_slot;
         self.next_slot = (slot + 1) % RAY_SLOTS as u8;
+        self.ray_setup = RaySetup::new(
+            ray.origin.map(|c| c.to_bits()),
+            ray.dir.map(|c| c.to_bits()),
+        );
+        self.bez_best_t = T_LIMIT;
         self.rays[slot as usize] = ray;
         self.current = Some(slot);
     }
@@ -285,13 +375,28 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.divide.flush();
         self.select = SelectStage::default();
         self.uv.flush();
+        self.engine.flush();
+        self.engine_on = false;
         self.in_flight = 0;
         self.local_origin = None;
     }
 
     fn setup(&mut self, mem: &PatchMem, i: usize, origin: [Coord; 3]) {
-        let p: PatchWords = mem.patch(i);
         let mut lp = LocalPatch::default();
+        if mem.kind(i) == KIND_BEZIER {
+            // the root box of its control points (a wide row read and three min/max trees)
+            let row = BezierSlot::decode(mem.slot(i)).row;
+            match mem.cp_row(row) {
+                Some(words) => {
+                    self.bez_root[row as usize] = Box3::of(&self.engine.load(words));
+                    lp.bezier = true;
+                }
+                None => self.unsupported = true,
+            }
+            self.local[i] = lp;
+            return;
+        }
+        let p: PatchWords = mem.patch(i);
         if p.kind == KIND_EMPTY {
             self.local[i] = lp;
             return;
@@ -335,12 +440,13 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.local[i] = lp;
     }
 
-    /// One clock over the first `count` slots of `mem`; returns the ray leaving the (u,v) pipe.
-    pub fn tick(&mut self, mem: &PatchMem, count: u32) -> Option<RayOut<T>> {
+    /// One clock (the device's clock `now`) over the first `count` slots of `mem`; returns the
+    /// ray leaving the (u,v) pipe.
+    pub fn tick(&mut self, mem: &PatchMem, count: u32, now: u64) -> Option<RayOut<T>> {
         // (u,v) pipe, fed by the select stage
         let depth = self.depth;
         let out = self.uv.tick(None, |_, s| {
-            if s.hit {
+            if s.hit && s.direct.is_none() {
                 s.cell = UvStage.eval(s.cell);
             }
         });
@@ -348,20 +454,29 @@ impl<T: Copy + Default> IntersectUnit<T> {
             let ray = self.rays[reg.slot as usize];
             let hit = reg.hit.then(|| {
                 let mut h = self.hits[reg.slot as usize];
-                h.u = uv::centre(reg.cell.iu, depth);
-                h.v = uv::centre(reg.cell.iv, depth);
+                match reg.direct {
+                    Some((u, v)) => {
+                        h.u = Unit::from_bits(u);
+                        h.v = Unit::from_bits(v);
+                    }
+                    None => {
+                        h.u = uv::centre(reg.cell.iu, depth);
+                        h.v = uv::centre(reg.cell.iv, depth);
+                    }
+                }
                 h
             });
             self.in_flight -= 1;
-            return self.finish_tick(mem, count, Some(RayOut { ray, hit }));
+            return self.finish_tick(mem, count, now, Some(RayOut { ray, hit }));
         }
-        self.finish_tick(mem, count, None)
+        self.finish_tick(mem, count, now, None)
     }
 
     fn finish_tick(
         &mut self,
         mem: &PatchMem,
         count: u32,
+        now: u64,
         out: Option<RayOut<T>>,
     ) -> Option<RayOut<T>> {
         // divider output → select → (u,v) pipe entry
@@ -371,7 +486,22 @@ impl<T: Copy + Default> IntersectUnit<T> {
         {
             if let Some((slot, best)) = self.select.eval(tok) {
                 let entry = match best {
-                    Some((patch, t, front)) => {
+                    Some((patch, t, front, Some(direct))) => {
+                        self.hits[slot as usize] = HitOut {
+                            patch,
+                            t: Coord::from_bits(t as i32),
+                            u: Unit::ZERO,
+                            v: Unit::ZERO,
+                            front,
+                        };
+                        UvReg {
+                            cell: Cell::default(),
+                            hit: true,
+                            slot,
+                            direct: Some(direct),
+                        }
+                    }
+                    Some((patch, t, front, None)) => {
                         let ray = &self.rays[slot as usize];
                         let p = mem.patch(patch as usize);
                         let o = ray.origin.map(|c| c.to_bits() as i64);
@@ -396,12 +526,14 @@ impl<T: Copy + Default> IntersectUnit<T> {
                             cell,
                             hit: true,
                             slot,
+                            direct: None,
                         }
                     }
                     None => UvReg {
                         cell: Cell::default(),
                         hit: false,
                         slot,
+                        direct: None,
                     },
                 };
                 // the first (u,v) stage is this register; the pipe's other stages bisect
@@ -426,6 +558,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         } else if let Some(slot) = self.current {
             let ray = &self.rays[slot as usize];
             let p = self.next_patch;
+            let pi = (p as usize).min(PATCH_CAPACITY - 1);
             let last = ray.bypass || count == 0 || p + 1 >= count;
             let mut tok = Token {
                 slot,
@@ -434,9 +567,19 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 last,
                 ..Token::default()
             };
-            tok = EdgeStage.eval(tok, ray, &self.local[(p as usize).min(PATCH_CAPACITY - 1)]);
-            if ray.bypass || count == 0 {
-                tok.inside = false;
+            let skip = ray.skip == Some(p);
+            if self.local[pi].bezier && !ray.bypass && count > 0 && !skip {
+                let recip_at = ray.recip_at;
+                match self.bezier_issue(mem, pi, recip_at, now) {
+                    Some(d) => tok.direct = Some(d),
+                    // waiting for the reciprocals or for the engine: the issue stage stalls
+                    None => return out,
+                }
+            } else {
+                tok = EdgeStage.eval(tok, ray, &self.local[pi]);
+                if ray.bypass || count == 0 || skip {
+                    tok.inside = false;
+                }
             }
             self.edge_reg = Some(tok);
             self.next_patch += 1;
@@ -445,5 +588,61 @@ impl<T: Copy + Default> IntersectUnit<T> {
             }
         }
         out
+    }
+
+    /// The issue stage on Bezier slot `i`: the root slab test on its first clock, then one
+    /// engine clock per clock until the engine answers. `None` while the stage must stall.
+    fn bezier_issue(
+        &mut self,
+        mem: &PatchMem,
+        i: usize,
+        recip_at: u64,
+        now: u64,
+    ) -> Option<Direct> {
+        if self.engine_on {
+            let r = self.engine.tick()?;
+            self.engine_on = false;
+            self.overflow |= r.overflow;
+            return Some(match r.hit {
+                Some((t, u, v, front)) => {
+                    self.bez_best_t = t;
+                    Direct {
+                        hit: true,
+                        t,
+                        u,
+                        v,
+                        front,
+                    }
+                }
+                None => Direct::default(),
+            });
+        }
+        if now < recip_at {
+            return None;
+        }
+        let slot = BezierSlot::decode(mem.slot(i));
+        let t_min = slot.t_min.to_bits() as i64;
+        let root = self.bez_root[slot.row as usize];
+        match root.slab(&self.ray_setup, t_min, self.bez_best_t) {
+            None => Some(Direct::default()),
+            Some(enter) => {
+                let words = mem
+                    .cp_row(slot.row)
+                    .expect("row checked in the set-up pass");
+                let cp = self.engine.load(words);
+                self.engine.start(
+                    cp,
+                    enter,
+                    Job {
+                        ray: self.ray_setup,
+                        t_min,
+                        t_max: self.bez_best_t,
+                        tol: slot.tol.to_bits() as i64,
+                    },
+                );
+                self.engine_on = true;
+                None
+            }
+        }
     }
 }

@@ -9,9 +9,22 @@
 //! | 1–12  | v0.x v0.y v0.z v1.x … v3.z, Q8.24 normalised coordinates (triangle: v3 = v2) |
 //! | 13–15 | unit front normal n.x n.y n.z, Q2.30                                  |
 //!
-//! [`KIND_BEZIER`] is reserved for bicubic patches (paper §7): their 16 control points will take
-//! a slot of their own stride; the unit reports such a slot as unsupported and skips it.
+//! A bicubic Bezier slot ([`KIND_BEZIER`], paper §7) names a row of the control-point memory
+//! instead of holding vertices, so that planar slots keep their 16-word stride and patch index =
+//! slot index for every kind:
+//!
+//! | word | content                                                                  |
+//! |------|--------------------------------------------------------------------------|
+//! | 0    | header: kind 3                                                           |
+//! | 1    | control-point row (0..[`BEZIER_ROWS`])                                    |
+//! | 2    | flatness tolerance, Q8.24 normalised units (0: subdivide to the maximum depth) |
+//! | 3    | t_min, Q8.24: nearer hits are the surface the ray starts on              |
+//!
+//! The control-point memory sits at word address [`CP_BASE`] of the same window: row i is the
+//! [`CP_WORDS`] words from `CP_BASE + 48·i`, the 16 points row-major (c along u, r along v),
+//! x, y, z each, Q8.24.
 
+use super::bezier::{BEZIER_ROWS, CP_WORDS};
 use crate::format::{Coord, Unit};
 
 /// Words per patch slot.
@@ -25,8 +38,10 @@ pub const KIND_EMPTY: u32 = 0;
 pub const KIND_TRIANGLE: u32 = 1;
 /// Planar convex quad.
 pub const KIND_QUAD: u32 = 2;
-/// Bicubic Bezier patch (reserved: the subdivision unit is not built yet).
+/// Bicubic Bezier patch (control points in control-point memory).
 pub const KIND_BEZIER: u32 = 3;
+/// Word address of control-point row 0 in the PATCH_ADDR / PATCH_DATA window.
+pub const CP_BASE: u32 = 0x1_0000;
 
 /// A patch slot decoded from its words.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -37,6 +52,38 @@ pub struct PatchWords {
     pub v: [[Coord; 3]; 4],
     /// Front normal.
     pub n: [Unit; 3],
+}
+
+/// The fields of a Bezier slot.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BezierSlot {
+    /// Control-point row.
+    pub row: u32,
+    /// Flatness tolerance (Q8.24).
+    pub tol: Coord,
+    /// t_min (Q8.24).
+    pub t_min: Coord,
+}
+
+impl BezierSlot {
+    /// The slot's words.
+    pub fn encode(&self) -> [u32; PATCH_WORDS] {
+        let mut w = [0u32; PATCH_WORDS];
+        w[0] = KIND_BEZIER;
+        w[1] = self.row;
+        w[2] = self.tol.to_bits() as u32;
+        w[3] = self.t_min.to_bits() as u32;
+        w
+    }
+
+    /// Decodes the Bezier fields of a slot (whatever its kind).
+    pub fn decode(w: &[u32]) -> Self {
+        BezierSlot {
+            row: w[1],
+            tol: Coord::from_bits(w[2] as i32),
+            t_min: Coord::from_bits(w[3] as i32),
+        }
+    }
 }
 
 impl PatchWords {
@@ -74,29 +121,41 @@ impl PatchWords {
     }
 }
 
-/// The memory: [`PATCH_CAPACITY`] slots.
+/// The memory: [`PATCH_CAPACITY`] slots and [`BEZIER_ROWS`] control-point rows.
 #[derive(Clone, Debug)]
 pub struct PatchMem {
     words: [u32; PATCH_CAPACITY * PATCH_WORDS],
+    cp: [u32; BEZIER_ROWS * CP_WORDS],
 }
 
 impl Default for PatchMem {
     fn default() -> Self {
         PatchMem {
             words: [0; PATCH_CAPACITY * PATCH_WORDS],
+            cp: [0; BEZIER_ROWS * CP_WORDS],
         }
     }
 }
 
 impl PatchMem {
-    /// Word `addr`, if inside the memory.
+    fn word_mut(&mut self, addr: u32) -> Option<&mut u32> {
+        match addr.checked_sub(CP_BASE) {
+            Some(a) => self.cp.get_mut(a as usize),
+            None => self.words.get_mut(addr as usize),
+        }
+    }
+
+    /// Word `addr`, if inside the memory (slots from 0, control points from [`CP_BASE`]).
     pub fn read(&self, addr: u32) -> Option<u32> {
-        self.words.get(addr as usize).copied()
+        match addr.checked_sub(CP_BASE) {
+            Some(a) => self.cp.get(a as usize).copied(),
+            None => self.words.get(addr as usize).copied(),
+        }
     }
 
     /// Writes word `addr`; false if outside the memory.
     pub fn write(&mut self, addr: u32, value: u32) -> bool {
-        match self.words.get_mut(addr as usize) {
+        match self.word_mut(addr) {
             Some(w) => {
                 *w = value;
                 true
@@ -107,6 +166,22 @@ impl PatchMem {
 
     /// Slot `i` decoded.
     pub fn patch(&self, i: usize) -> PatchWords {
-        PatchWords::decode(&self.words[i * PATCH_WORDS..(i + 1) * PATCH_WORDS])
+        PatchWords::decode(self.slot(i))
+    }
+
+    /// Slot `i`'s raw words.
+    pub fn slot(&self, i: usize) -> &[u32] {
+        &self.words[i * PATCH_WORDS..(i + 1) * PATCH_WORDS]
+    }
+
+    /// The slot's kind (header bits 3:0).
+    pub fn kind(&self, i: usize) -> u32 {
+        self.words[i * PATCH_WORDS] & 0xF
+    }
+
+    /// Control-point row `row` (one wide read), if inside the memory.
+    pub fn cp_row(&self, row: u32) -> Option<&[u32]> {
+        let r = row as usize;
+        (r < BEZIER_ROWS).then(|| &self.cp[r * CP_WORDS..(r + 1) * CP_WORDS])
     }
 }

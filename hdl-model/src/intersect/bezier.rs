@@ -1,0 +1,837 @@
+//! The Bezier unit: ray against one bicubic Bezier patch by bounding-box subdivision with an
+//! on-chip stack (paper §6.1, §7), the algorithm of the kernel's `Bezier::intersect` in fixed
+//! point:
+//!
+//! ```text
+//!  REPEAT UNTIL STACK IS EMPTY:
+//!    node := working register, or POP                           (1 clock when popped)
+//!    IF node.enter ≥ best_t: drop it                            (1 clock)
+//!    ELSE IF depth = D or (depth ≥ 2 and flat within tol): LEAF  (LEAF_CLOCKS)
+//!    ELSE split into four by midpoint de Casteljau, box and slab-test each child,
+//!         keep the nearest hit child in the working register,
+//!         PUSH the others far-to-near                           (STEP_CLOCKS + 1 per push)
+//! ```
+//!
+//! The state machine ([`BezierEngine`]) is sequential: one node per step, as in Pulleyblank &
+//! Kapenga's chip and the paper's fig. 7. Each step's combinational logic is evaluated at once
+//! on the clock the step begins and the engine then waits out the step's clocks (the way the
+//! planar path models its divider): the counts are those of the datapath described at each
+//! constant below, not of the model's own work.
+//!
+//! Formats and widths:
+//! - control points: the configured coordinate width Wc, Q2.(Wc−2), held in the Q8.24 containers
+//!   of patch memory (the low 26 − Wc bits are cleared on load and after every midpoint; values
+//!   wrap at ±2, which the driver's normalisation into [−1, 1] never reaches). Midpoints are an
+//!   add and a shift by the constant 1, truncating.
+//! - ray: origin Q8.24, direction Q2.30, and per ray the reciprocals 1/d as Q32.32 (computed by
+//!   the ray's reciprocal unit before it starts, see [`RECIP_LATENCY`]).
+//! - slab distances: (box − origin) · 1/d, 34 × 64-bit products truncated to Q8.24 (64-bit
+//!   saturating registers), widened by [`SLAB_MARGIN`] LSBs on each side so that truncation
+//!   never rejects a box the exact test would accept.
+//! - flatness: 9·P_rc − Σ w·corners with the integer weights of the bilinear map at (c/3, r/3),
+//!   compared with 9·tol: exact, no rounding.
+//! - leaf: the corner quad as two triangles, Möller–Trumbore in exact integer arithmetic
+//!   (products up to 103 bits, i128 registers); t, s and r come out of dividers as truncated
+//!   quotients (t as Q8.24, s and r as Q.30) after normalising the denominator to 62 bits.
+//! - (u, v) = cell origin (the depth bits of the cell index) + (s, r) · 2^-depth, Q2.30.
+
+use crate::format::width_mask;
+
+/// Coordinate words of one patch's control points in control-point memory: 16 points × (x, y, z).
+pub const CP_WORDS: usize = 48;
+/// Rows of control-point memory (one patch each): the 32-patch teapot with room to spare.
+pub const BEZIER_ROWS: usize = 64;
+/// Entries of the on-chip subdivision stack (each 16 points × 3 × Wc bits plus the cell index,
+/// depth and entry distance: about 1.35 kbit at Wc = 26, 54 kbit in all). A depth-first descent
+/// that keeps the nearest child in the working register leaves at most three siblings pending
+/// per level, so a depth D needs 3·D entries: D ≤ 13 fits.
+pub const STACK_ENTRIES: usize = 40;
+/// Deepest subdivision: the (u,v) cell index registers are 16 bits per axis.
+pub const MAX_DEPTH: u32 = 16;
+/// Narrowest control-point datapath.
+pub const MIN_COORD_WIDTH: u32 = 12;
+/// Widest control-point datapath: Q2.24, exactly the memory's Q8.24 fraction.
+pub const MAX_COORD_WIDTH: u32 = 26;
+/// Clocks of a subdivision step besides its pushes: (1) the de Casteljau midpoint network (three
+/// levels of adders along u, then three along v, all 49 points of the 7×7 grid at once) and the
+/// flatness test; (2) the four children's boxes (16-input min/max trees) and their slab tests
+/// (24 multipliers against 1/d), then the near-to-far sort of four entry distances.
+pub const STEP_CLOCKS: u32 = 2;
+/// Clocks of a leaf test: two for the cross and dot products of both triangles (p = d × e2,
+/// q = s × e1, then the four dot products), 32 for radix-2 restoring dividers (t, s, r of both
+/// triangles in parallel, 32 quotient bits each).
+pub const LEAF_CLOCKS: u32 = 34;
+/// Clocks of the reciprocal unit that computes 1/d (three radix-2 dividers, 32 quotient bits,
+/// plus one to load): pipelined, at the input of the ray queue.
+pub const RECIP_LATENCY: u64 = 33;
+/// LSBs (Q8.24) each slab interval is widened by.
+pub const SLAB_MARGIN: i64 = 2;
+/// The barycentric tolerance of the leaf test as a shift of the determinant: 2^-20 ≈ 1e-6, the
+/// kernel's `EPS`, so rays through a leaf edge are not lost between two leaves.
+const BARY_EPS_SHIFT: u32 = 20;
+
+/// A control point: x, y, z raw Q8.24 (holding Q2.(Wc−2)).
+pub type Point = [i32; 3];
+
+/// The subdivision parameters (the BZ_CONFIG register).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SubdivConfig {
+    /// Maximum subdivision depth D.
+    pub depth: u32,
+    /// Control-point datapath width Wc in bits.
+    pub coord_width: u32,
+}
+
+impl SubdivConfig {
+    /// Depth 10 (the kernel's default) on the full 26-bit datapath.
+    pub const DEFAULT: SubdivConfig = SubdivConfig {
+        depth: 10,
+        coord_width: 26,
+    };
+
+    /// Whether a unit with a `stack`-entry stack can run it: D within the cell index and its
+    /// worst case of 3·D pending siblings within the stack, Wc within the datapath.
+    pub fn is_valid_for(&self, stack: usize) -> bool {
+        (1..=MAX_DEPTH).contains(&self.depth)
+            && 3 * self.depth as usize <= stack
+            && (MIN_COORD_WIDTH..=MAX_COORD_WIDTH).contains(&self.coord_width)
+    }
+
+    /// The mask that keeps Wc bits of a Q8.24 container as Q2.(Wc−2).
+    pub fn mask(&self) -> i32 {
+        width_mask(self.coord_width + 6)
+    }
+}
+
+/// A coordinate word as the Wc-bit datapath holds it: wrapped to Q2.24 (±2), low bits cleared.
+#[inline]
+pub fn to_datapath(raw: i32, mask: i32) -> i32 {
+    ((raw << 6) >> 6) & mask
+}
+
+/// The per-ray inputs of the unit.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct RaySetup {
+    /// Origin, raw Q8.24.
+    pub origin: [i64; 3],
+    /// Direction, raw Q2.30.
+    pub dir: [i64; 3],
+    /// 1/d per axis, raw Q32.32 (unused where `parallel`).
+    pub inv: [i64; 3],
+    /// d is zero on this axis.
+    pub parallel: [bool; 3],
+}
+
+impl RaySetup {
+    /// The ray with its reciprocals: 2^62 / d (a Q2.30 divisor gives Q32.32), truncated.
+    pub fn new(origin: [i32; 3], dir: [i32; 3]) -> Self {
+        let d = dir.map(|c| c as i64);
+        RaySetup {
+            origin: origin.map(|c| c as i64),
+            dir: d,
+            inv: d.map(|c| if c == 0 { 0 } else { (1i64 << 62) / c }),
+            parallel: d.map(|c| c == 0),
+        }
+    }
+}
+
+/// An axis-aligned box, raw Q8.24.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Box3 {
+    /// Minimum corner.
+    pub lo: [i64; 3],
+    /// Maximum corner.
+    pub hi: [i64; 3],
+}
+
+impl Box3 {
+    /// The box of 16 control points (three 16-input min/max trees).
+    pub fn of(cp: &[Point; 16]) -> Box3 {
+        let mut b = Box3 {
+            lo: [i64::MAX; 3],
+            hi: [i64::MIN; 3],
+        };
+        for p in cp {
+            for (k, &c) in p.iter().enumerate() {
+                b.lo[k] = b.lo[k].min(c as i64);
+                b.hi[k] = b.hi[k].max(c as i64);
+            }
+        }
+        b
+    }
+
+    /// The slab test of §6.1: the entry distance (raw Q8.24, at least `t_min`) if the ray meets
+    /// the box with entry ≤ exit, exit ≥ `t_min` and entry < `t_max`.
+    #[inline]
+    pub fn slab(&self, ray: &RaySetup, t_min: i64, t_max: i64) -> Option<i64> {
+        let mut enter = i64::MIN;
+        let mut exit = i64::MAX;
+        for k in 0..3 {
+            let o = ray.origin[k];
+            if ray.parallel[k] {
+                if o < self.lo[k] || o > self.hi[k] {
+                    return None;
+                }
+                continue;
+            }
+            let a = mul_q32(self.lo[k] - o, ray.inv[k]);
+            let b = mul_q32(self.hi[k] - o, ray.inv[k]);
+            let (a, b) = if a < b { (a, b) } else { (b, a) };
+            enter = enter.max(a - SLAB_MARGIN);
+            exit = exit.min(b + SLAB_MARGIN);
+        }
+        (enter <= exit && exit >= t_min && enter < t_max).then_some(enter.max(t_min))
+    }
+}
+
+/// Q8.24 × Q32.32 → Q8.24 (the product truncated by the constant shift 32), saturated to a
+/// quarter of the 64-bit range so that the margins cannot wrap.
+#[inline]
+fn mul_q32(delta: i64, inv: i64) -> i64 {
+    ((delta as i128 * inv as i128) >> 32).clamp(i64::MIN as i128 / 4, i64::MAX as i128 / 4) as i64
+}
+
+/// Midpoint of two datapath words: a 1-bit-wider add and the constant shift 1, truncated to Wc.
+#[inline]
+fn mid(a: Point, b: Point, mask: i32) -> Point {
+    core::array::from_fn(|k| (((a[k] as i64 + b[k] as i64) >> 1) as i32) & mask)
+}
+
+/// A cubic split at ½ by de Casteljau's midpoints: the left and right halves.
+#[inline]
+fn split(p: [Point; 4], mask: i32) -> ([Point; 4], [Point; 4]) {
+    let p01 = mid(p[0], p[1], mask);
+    let p12 = mid(p[1], p[2], mask);
+    let p23 = mid(p[2], p[3], mask);
+    let a = mid(p01, p12, mask);
+    let b = mid(p12, p23, mask);
+    let c = mid(a, b, mask);
+    ([p[0], p01, a, c], [c, b, p23, p[3]])
+}
+
+/// The split stage: the four children at the parametric midpoints (index bit 0 = upper u half,
+/// bit 1 = upper v half, the kernel's order), rows along u first, then columns along v.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SplitStage;
+
+impl SplitStage {
+    /// The stage's logic.
+    pub fn eval(&self, cp: &[Point; 16], mask: i32) -> [[Point; 16]; 4] {
+        let mut left = [[0; 3]; 16];
+        let mut right = [[0; 3]; 16];
+        for r in 0..4 {
+            let (a, b) = split(
+                [cp[4 * r], cp[4 * r + 1], cp[4 * r + 2], cp[4 * r + 3]],
+                mask,
+            );
+            left[4 * r..4 * r + 4].copy_from_slice(&a);
+            right[4 * r..4 * r + 4].copy_from_slice(&b);
+        }
+        let mut out = [[[0; 3]; 16]; 4];
+        for (h, half) in [left, right].iter().enumerate() {
+            for c in 0..4 {
+                let (a, b) = split([half[c], half[4 + c], half[8 + c], half[12 + c]], mask);
+                for r in 0..4 {
+                    out[h][4 * r + c] = a[r];
+                    out[2 + h][4 * r + c] = b[r];
+                }
+            }
+        }
+        out
+    }
+}
+
+/// The flatness test: every control point within `tol` (max norm, raw Q8.24) of the bilinear
+/// map of the four corners at (c/3, r/3). Scaled by 9 so that the weights are integers.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct FlatnessStage;
+
+impl FlatnessStage {
+    /// The stage's logic.
+    pub fn eval(&self, cp: &[Point; 16], tol: i64) -> bool {
+        let (p00, p10, p01, p11) = (cp[0], cp[3], cp[12], cp[15]);
+        let lim = 9 * tol;
+        for r in 0..4i64 {
+            for c in 0..4i64 {
+                let p = cp[4 * r as usize + c as usize];
+                for k in 0..3 {
+                    let bilinear = (3 - r) * (3 - c) * p00[k] as i64
+                        + (3 - r) * c * p10[k] as i64
+                        + r * (3 - c) * p01[k] as i64
+                        + r * c * p11[k] as i64;
+                    if (9 * p[k] as i64 - bilinear).abs() > lim {
+                        return false;
+                    }
+                }
+            }
+        }
+        true
+    }
+}
+
+fn sub(a: Point, b: Point) -> [i128; 3] {
+    core::array::from_fn(|k| a[k] as i128 - b[k] as i128)
+}
+
+fn cross(a: [i128; 3], b: [i128; 3]) -> [i128; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+fn dot(a: [i128; 3], b: [i128; 3]) -> i128 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// Möller–Trumbore numerators of one triangle, sign-normalised so that det > 0: (det, b1·det,
+/// b2·det, t·det), and the side (det > 0 before normalisation: the ray meets the side
+/// ∂P/∂u × ∂P/∂v points away from). Units: det, b1n, b2n Q.78; tn Q.72.
+struct Numerators {
+    det: i128,
+    b1n: i128,
+    b2n: i128,
+    tn: i128,
+    front: bool,
+}
+
+fn triangle(ray: &RaySetup, a: Point, b: Point, c: Point) -> Option<Numerators> {
+    let d = ray.dir.map(|x| x as i128);
+    let e1 = sub(b, a);
+    let e2 = sub(c, a);
+    let p = cross(d, e2);
+    let det = dot(e1, p);
+    if det == 0 {
+        // degenerate (a collapsed edge at a pole) or parallel: the other triangle answers
+        return None;
+    }
+    let s: [i128; 3] = core::array::from_fn(|k| ray.origin[k] as i128 - a[k] as i128);
+    let q = cross(s, e1);
+    let (mut b1n, mut b2n, mut tn) = (dot(s, p), dot(d, q), dot(e2, q));
+    let front = det > 0;
+    let mut det = det;
+    if det < 0 {
+        (det, b1n, b2n, tn) = (-det, -b1n, -b2n, -tn);
+    }
+    let eps = det >> BARY_EPS_SHIFT;
+    if b1n < -eps || b1n > det + eps || b2n < -eps || b1n + b2n > det + eps {
+        return None;
+    }
+    Some(Numerators {
+        det,
+        b1n,
+        b2n,
+        tn,
+        front,
+    })
+}
+
+/// A divider's truncated quotient n · 2^30 / det for 0 ≤ n ≤ 2·det, det normalised to 62 bits
+/// first (both shifted by the same amount, so the quotient keeps 30+ significant bits).
+fn quotient30(n: i128, det: i128) -> i64 {
+    let k = (128 - det.leading_zeros()).saturating_sub(62);
+    (((n >> k) << 30) / (det >> k)) as i64
+}
+
+/// The leaf stage: the ray against the leaf's corner quad as the triangles (P00, P10, P11) and
+/// (P00, P11, P01), two-sided. Returns t (raw Q8.24), the leaf-local (s, r) as Q.30 in
+/// [0, 2^30], and the side, for the nearer hit with `t_min < t < t_max`.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LeafStage;
+
+impl LeafStage {
+    /// The stage's logic.
+    pub fn eval(
+        &self,
+        cp: &[Point; 16],
+        ray: &RaySetup,
+        t_min: i64,
+        t_max: i64,
+    ) -> Option<(i64, i64, i64, bool)> {
+        let (p00, p10, p01, p11) = (cp[0], cp[3], cp[12], cp[15]);
+        let mut best: Option<(i64, i64, i64, bool)> = None;
+        let mut best_t = t_max;
+        for (tri, (a, b, c)) in [(p00, p10, p11), (p00, p11, p01)].into_iter().enumerate() {
+            let Some(n) = triangle(ray, a, b, c) else {
+                continue;
+            };
+            // t ≤ 0, or beyond the Q8.24 range (t·det·2^30 > 2^31·det): no hit
+            if n.tn <= 0 || n.tn > 2 * n.det {
+                continue;
+            }
+            let t = quotient30(n.tn, n.det);
+            if t <= t_min || t >= best_t {
+                continue;
+            }
+            // triangle A maps (s, r) = (b1 + b2, b2), triangle B (b1, b1 + b2); clamped to the leaf
+            let (sn, rn) = if tri == 0 {
+                (n.b1n + n.b2n, n.b2n)
+            } else {
+                (n.b1n, n.b1n + n.b2n)
+            };
+            let s = quotient30(sn.clamp(0, n.det), n.det);
+            let r = quotient30(rn.clamp(0, n.det), n.det);
+            best_t = t;
+            best = Some((t, s, r, n.front));
+        }
+        best
+    }
+}
+
+/// A sub-patch in the working register or on the stack.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Node {
+    /// Control points (Wc-bit datapath words).
+    pub cp: [Point; 16],
+    /// Cell index along u (`depth` bits).
+    pub iu: u32,
+    /// Cell index along v.
+    pub iv: u32,
+    /// Subdivision level.
+    pub depth: u32,
+    /// Entry distance of its box (raw Q8.24).
+    pub enter: i64,
+}
+
+/// The on-chip stack: `cap` entries of a single-port memory.
+#[derive(Clone, Debug)]
+pub struct Stack {
+    mem: [Node; STACK_ENTRIES],
+    len: usize,
+    cap: usize,
+    high_water: usize,
+}
+
+impl Stack {
+    /// An empty stack of `cap` (≤ [`STACK_ENTRIES`]) entries.
+    pub fn new(cap: usize) -> Self {
+        assert!(cap <= STACK_ENTRIES);
+        Stack {
+            mem: [Node::default(); STACK_ENTRIES],
+            len: 0,
+            cap,
+            high_water: 0,
+        }
+    }
+
+    /// Pushes; false (and nothing stored) when full.
+    pub fn push(&mut self, n: Node) -> bool {
+        if self.len == self.cap {
+            return false;
+        }
+        self.mem[self.len] = n;
+        self.len += 1;
+        self.high_water = self.high_water.max(self.len);
+        true
+    }
+
+    /// Pops the top.
+    pub fn pop(&mut self) -> Option<Node> {
+        self.len = self.len.checked_sub(1)?;
+        Some(self.mem[self.len])
+    }
+
+    /// Most entries held at once since built.
+    pub fn high_water(&self) -> usize {
+        self.high_water
+    }
+
+    /// Empties it.
+    pub fn clear(&mut self) {
+        self.len = 0;
+    }
+}
+
+/// One patch test's inputs besides the control points.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Job {
+    /// The ray.
+    pub ray: RaySetup,
+    /// Hits at or below this t (raw Q8.24) are the surface the ray starts on.
+    pub t_min: i64,
+    /// Only hits nearer than this count (the ray's nearest Bezier hit so far).
+    pub t_max: i64,
+    /// Flatness tolerance (raw Q8.24; 0: subdivide to the maximum depth).
+    pub tol: i64,
+}
+
+/// What the engine returns for one patch.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BezierOut {
+    /// The nearest hit: t (raw Q8.24), u, v (raw Q2.30), front side.
+    pub hit: Option<(i64, i32, i32, bool)>,
+    /// A push found the stack full: a subtree was dropped and the hit may be missing.
+    pub overflow: bool,
+}
+
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+enum State {
+    #[default]
+    Idle,
+    /// Take the next node: the working register if it holds one, else pop.
+    Fetch,
+    /// The working register holds a node to test.
+    Eval,
+}
+
+/// Counters of the work done (for measurements).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct BezierStats {
+    /// Patch tests run.
+    pub jobs: u64,
+    /// Subdivision steps (splits).
+    pub steps: u64,
+    /// Leaf tests.
+    pub leaves: u64,
+    /// Nodes dropped because a nearer hit was already known.
+    pub pruned: u64,
+    /// Clocks spent.
+    pub clocks: u64,
+}
+
+/// The subdivision state machine.
+#[derive(Clone, Debug)]
+pub struct BezierEngine {
+    cfg: SubdivConfig,
+    mask: i32,
+    state: State,
+    wait: u32,
+    work: Option<Node>,
+    stack: Stack,
+    job: Job,
+    best: Option<(i64, i32, i32, bool)>,
+    best_t: i64,
+    overflow: bool,
+    stats: BezierStats,
+}
+
+impl BezierEngine {
+    /// An idle engine for `cfg` with a stack of `stack` entries (the device builds it with
+    /// [`STACK_ENTRIES`]; smaller stacks are for tests of the overflow report).
+    pub fn new(cfg: SubdivConfig, stack: usize) -> Self {
+        BezierEngine {
+            cfg,
+            mask: cfg.mask(),
+            state: State::Idle,
+            wait: 0,
+            work: None,
+            stack: Stack::new(stack),
+            job: Job::default(),
+            best: None,
+            best_t: 0,
+            overflow: false,
+            stats: BezierStats::default(),
+        }
+    }
+
+    /// The configuration.
+    pub fn config(&self) -> SubdivConfig {
+        self.cfg
+    }
+
+    /// Whether a patch test is running.
+    pub fn busy(&self) -> bool {
+        self.state != State::Idle
+    }
+
+    /// Work counters since built.
+    pub fn stats(&self) -> BezierStats {
+        self.stats
+    }
+
+    /// Most stack entries in use at once since built.
+    pub fn stack_high_water(&self) -> usize {
+        self.stack.high_water()
+    }
+
+    /// Drops the test in flight.
+    pub fn flush(&mut self) {
+        self.state = State::Idle;
+        self.work = None;
+        self.stack.clear();
+    }
+
+    /// The control points as the datapath holds them.
+    pub fn load(&self, words: &[u32]) -> [Point; 16] {
+        core::array::from_fn(|i| {
+            core::array::from_fn(|k| to_datapath(words[3 * i + k] as i32, self.mask))
+        })
+    }
+
+    /// Starts a test of the patch `cp` (datapath words, see [`BezierEngine::load`]) whose root
+    /// box the ray enters at `enter`: the root goes into the working register.
+    pub fn start(&mut self, cp: [Point; 16], enter: i64, job: Job) {
+        debug_assert!(!self.busy());
+        self.job = job;
+        self.best = None;
+        self.best_t = job.t_max;
+        self.overflow = false;
+        self.stack.clear();
+        self.work = Some(Node {
+            cp,
+            iu: 0,
+            iv: 0,
+            depth: 0,
+            enter,
+        });
+        self.state = State::Eval;
+        self.wait = 0;
+        self.stats.jobs += 1;
+    }
+
+    /// One clock; the result on the clock the test ends.
+    pub fn tick(&mut self) -> Option<BezierOut> {
+        if self.state == State::Idle {
+            return None;
+        }
+        self.stats.clocks += 1;
+        if self.wait > 0 {
+            self.wait -= 1;
+            return None;
+        }
+        match self.state {
+            State::Idle => None,
+            State::Fetch => match self.stack.pop() {
+                Some(n) => {
+                    self.work = Some(n);
+                    self.state = State::Eval;
+                    None
+                }
+                None => {
+                    self.state = State::Idle;
+                    Some(BezierOut {
+                        hit: self.best,
+                        overflow: self.overflow,
+                    })
+                }
+            },
+            State::Eval => {
+                let node = self.work.take().expect("Eval holds a node");
+                self.state = State::Fetch;
+                if node.enter >= self.best_t {
+                    self.stats.pruned += 1;
+                    return None;
+                }
+                let leaf = node.depth >= self.cfg.depth
+                    || (node.depth >= 2
+                        && self.job.tol > 0
+                        && FlatnessStage.eval(&node.cp, self.job.tol));
+                if leaf {
+                    self.stats.leaves += 1;
+                    self.wait = LEAF_CLOCKS - 1;
+                    if let Some((t, s, r, front)) =
+                        LeafStage.eval(&node.cp, &self.job.ray, self.job.t_min, self.best_t)
+                    {
+                        let at =
+                            |i: u32, x: i64| ((i as i64) << (30 - node.depth)) + (x >> node.depth);
+                        self.best_t = t;
+                        self.best = Some((t, at(node.iu, s) as i32, at(node.iv, r) as i32, front));
+                    }
+                    return None;
+                }
+                self.step(node);
+                None
+            }
+        }
+    }
+
+    /// A subdivision step: split, slab-test the children, keep the nearest, push the others.
+    fn step(&mut self, node: Node) {
+        self.stats.steps += 1;
+        let children = SplitStage.eval(&node.cp, self.mask);
+        let mut hit: [(i64, usize); 4] = [(0, 0); 4];
+        let mut n = 0;
+        for (k, child) in children.iter().enumerate() {
+            if let Some(e) = Box3::of(child).slab(&self.job.ray, self.job.t_min, self.best_t) {
+                hit[n] = (e, k);
+                n += 1;
+            }
+        }
+        // a four-input sorting network on the entry distances (ties: lower index nearer)
+        let hit = &mut hit[..n];
+        hit.sort_unstable();
+        let child = |(e, k): (i64, usize)| Node {
+            cp: children[k],
+            iu: (node.iu << 1) | (k & 1) as u32,
+            iv: (node.iv << 1) | (k >> 1) as u32,
+            depth: node.depth + 1,
+            enter: e,
+        };
+        let mut pushes = 0;
+        for &h in hit.iter().skip(1).rev() {
+            pushes += 1;
+            if !self.stack.push(child(h)) {
+                self.overflow = true;
+            }
+        }
+        if let Some(&h) = hit.first() {
+            self.work = Some(child(h));
+            self.state = State::Eval;
+        }
+        self.wait = STEP_CLOCKS - 1 + pushes;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ONE: f64 = (1u64 << 24) as f64;
+
+    fn q(x: f64) -> i32 {
+        (x * ONE).round() as i32
+    }
+
+    /// A patch from a function of (u, v) sampled at thirds (a bilinear or flat map is exact).
+    fn patch(f: impl Fn(f64, f64) -> [f64; 3]) -> [u32; CP_WORDS] {
+        let mut w = [0u32; CP_WORDS];
+        for r in 0..4 {
+            for c in 0..4 {
+                let p = f(c as f64 / 3.0, r as f64 / 3.0);
+                for k in 0..3 {
+                    w[3 * (4 * r + c) + k] = q(p[k]) as u32;
+                }
+            }
+        }
+        w
+    }
+
+    /// Runs one test to completion: (result, clocks).
+    fn run(
+        e: &mut BezierEngine,
+        words: &[u32],
+        o: [f64; 3],
+        d: [f64; 3],
+        tol: i64,
+    ) -> (BezierOut, u32) {
+        let ray = RaySetup::new(
+            o.map(q),
+            d.map(|x| (x * (1u64 << 30) as f64).round() as i32),
+        );
+        let cp = e.load(words);
+        let Some(enter) = Box3::of(&cp).slab(&ray, 0, i32::MAX as i64) else {
+            return (BezierOut::default(), 0);
+        };
+        e.start(
+            cp,
+            enter,
+            Job {
+                ray,
+                t_min: 0,
+                t_max: i32::MAX as i64,
+                tol,
+            },
+        );
+        let mut clocks = 0;
+        loop {
+            clocks += 1;
+            assert!(clocks < 100_000, "engine hangs");
+            if let Some(r) = e.tick() {
+                return (r, clocks);
+            }
+        }
+    }
+
+    fn f(x: i64) -> f64 {
+        x as f64 / ONE
+    }
+
+    fn uv(x: i32) -> f64 {
+        x as f64 / (1u64 << 30) as f64
+    }
+
+    #[test]
+    fn a_flat_patch_gives_exact_t_and_uv() {
+        // the unit square at z = 0.25, hit from above
+        let w = patch(|u, v| [u - 0.5, v - 0.5, 0.25]);
+        let mut e = BezierEngine::new(SubdivConfig::DEFAULT, STACK_ENTRIES);
+        let (r, clocks) = run(
+            &mut e,
+            &w,
+            [0.3 - 0.5, 0.8 - 0.5, 0.75],
+            [0.0, 0.0, -1.0],
+            0,
+        );
+        let (t, u, v, front) = r.hit.expect("hit");
+        assert!((f(t) - 0.5).abs() < 2.0 / ONE, "t {}", f(t));
+        // (u,v) of a flat unit patch is the hit point: limited by the Q.30 quotient
+        assert!(
+            (uv(u) - 0.3).abs() < 1e-6 && (uv(v) - 0.8).abs() < 1e-6,
+            "{} {}",
+            uv(u),
+            uv(v)
+        );
+        // ∂P/∂u × ∂P/∂v = +z: hit from above is the front
+        assert!(front);
+        // ten levels of one step each, then one leaf
+        assert!(clocks >= 10 * STEP_CLOCKS + LEAF_CLOCKS, "{clocks}");
+        assert!(!r.overflow);
+        // from below: the back side
+        let (r, _) = run(&mut e, &w, [-0.2, 0.3, -0.5], [0.0, 0.0, 1.0], 0);
+        assert!(!r.hit.expect("hit").3);
+    }
+
+    #[test]
+    fn a_miss_beside_the_patch_ends_without_a_hit() {
+        let w = patch(|u, v| [u, v, 0.1 * (u * 6.0).sin()]);
+        let mut e = BezierEngine::new(SubdivConfig::DEFAULT, STACK_ENTRIES);
+        let (r, _) = run(&mut e, &w, [1.2, 0.5, 1.0], [0.0, 0.0, -1.0], 0);
+        assert_eq!(r.hit, None);
+    }
+
+    #[test]
+    fn a_small_stack_reports_overflow() {
+        // a ray along the plane's diagonal through a wavy sheet touches many boxes per level
+        let w = patch(|u, v| [u, v, 0.3 * (u - 0.5) * (v - 0.5)]);
+        let cfg = SubdivConfig {
+            depth: 8,
+            coord_width: 26,
+        };
+        let d: [f64; 3] = [1.0, 1.0, -0.02];
+        let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        let d = d.map(|x| x / n);
+        let mut big = BezierEngine::new(cfg, STACK_ENTRIES);
+        let (r, _) = run(&mut big, &w, [-0.5, -0.5, 0.02], d, 0);
+        assert!(
+            !r.overflow && big.stack_high_water() >= 2,
+            "{}",
+            big.stack_high_water()
+        );
+        let mut small = BezierEngine::new(cfg, 1);
+        let (r, _) = run(&mut small, &w, [-0.5, -0.5, 0.02], d, 0);
+        assert!(r.overflow);
+    }
+
+    #[test]
+    fn configurations_beyond_the_stack_are_invalid() {
+        assert!(SubdivConfig::DEFAULT.is_valid_for(STACK_ENTRIES));
+        let deep = SubdivConfig {
+            depth: 14,
+            coord_width: 26,
+        };
+        assert!(!deep.is_valid_for(STACK_ENTRIES) && deep.is_valid_for(42));
+        assert!(!SubdivConfig {
+            depth: 8,
+            coord_width: 27
+        }
+        .is_valid_for(STACK_ENTRIES));
+        assert!(!SubdivConfig {
+            depth: 0,
+            coord_width: 20
+        }
+        .is_valid_for(STACK_ENTRIES));
+    }
+
+    #[test]
+    fn flatness_is_exact_on_bilinear_patches() {
+        // a twisted bilinear patch: its control points lie exactly on the bilinear map
+        let w = patch(|u, v| [u, v, 0.5 * u * v]);
+        let e = BezierEngine::new(SubdivConfig::DEFAULT, STACK_ENTRIES);
+        let cp = e.load(&w);
+        // thirds are rounded to the LSB: within 9 LSBs
+        assert!(FlatnessStage.eval(&cp, 1));
+        let w = patch(|u, v| [u, v, 0.5 * u * u * v]);
+        assert!(!FlatnessStage.eval(&e.load(&w), 1 << 12));
+    }
+}
