@@ -11,6 +11,7 @@ use hemi_hdl_model::ModelConfig;
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
+use hemi_kernel::tracer::ShotStats;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
@@ -73,6 +74,22 @@ struct Common {
     /// The most specular bounces one path may take (paper §5).
     #[arg(long, default_value_t = 24)]
     max_bounces: u16,
+    /// Radiosity solver: auto | gauss-seidel | sor | direct | progressive (auto measures the
+    /// system and says on stderr what it picked and why).
+    #[arg(long, default_value = "auto")]
+    solver: solve::Solver,
+    /// Pass-1 method: hemisphere (the paper's) | hemicube | monte-carlo | monte-carlo-plain; the
+    /// peers shoot as many rays per sample point as the hemisphere of --circles.
+    #[arg(long, default_value = "hemisphere")]
+    method: hemi::method::Method,
+    /// Preset R and K from a target error and the scene's size: draft | default | high
+    /// (overrides --circles and --samples; see docs/PERFORMANCE.md for what each costs).
+    #[arg(long)]
+    quality: Option<hemi::quality::Quality>,
+    /// Largest N×N form-factor matrix pass 1 may form, in MiB (three f64 channels); above it,
+    /// `--solver auto` shoots rows on demand with progressive refinement instead.
+    #[arg(long, default_value_t = 4096)]
+    matrix_mib: u64,
 }
 
 impl Common {
@@ -113,6 +130,7 @@ impl Common {
                 stack: self.stack,
                 max_bounces: self.max_bounces,
             },
+            method: self.method,
         })
     }
 
@@ -137,6 +155,31 @@ impl Common {
             },
             ..AdaptiveSettings::default()
         }))
+    }
+
+    /// [`Common::pass1`] with `--quality` applied for `scene`.
+    fn settings_for(&self, scene: &Scene) -> Result<Pass1Settings> {
+        let mut settings = self.pass1()?;
+        if let Some(q) = self.quality {
+            let p = hemi::quality::apply(q, scene, &mut settings);
+            eprintln!("{}", p.why);
+        }
+        Ok(settings)
+    }
+
+    /// Whether this run solves without a matrix: `--solver progressive`, or `auto` on a scene
+    /// whose N×N matrices would exceed `--matrix-mib`.
+    fn streaming(&self, scene: &Scene) -> bool {
+        let n = scene.patches.len() as u64;
+        let bytes = 3 * 8 * n * n;
+        match self.solver {
+            solve::Solver::Progressive => true,
+            solve::Solver::Auto if bytes > self.matrix_mib << 20 => {
+                eprintln!("solver auto: {n} patches need {:.1} MiB of form factors (> --matrix-mib {}): progressive refinement with rows shot on demand", bytes as f64 / (1 << 20) as f64, self.matrix_mib);
+                true
+            }
+            _ => false,
+        }
     }
 }
 
@@ -276,6 +319,60 @@ enum BenchCommand {
         /// Also draw the chart (SVG): max error against rays, one line per K.
         #[arg(long)]
         svg: Option<PathBuf>,
+    },
+    /// The solvers' convergence (residual against work) on the Cornell box and a ρ = 0.99
+    /// furnace: markdown tables, and with --svg-dir the charts solvers-*.svg.
+    Solvers {
+        #[arg(default_value = "scenes/cornell.toml")]
+        scene: PathBuf,
+        /// Pass-1 R for both systems.
+        #[arg(long, default_value_t = 32)]
+        circles: u32,
+        /// Pass-1 K for both systems.
+        #[arg(long, default_value_t = 8)]
+        samples: u32,
+        /// Furnace: n×n quads per face.
+        #[arg(long, default_value_t = 4)]
+        furnace: usize,
+        #[arg(long)]
+        svg_dir: Option<PathBuf>,
+    },
+    /// Hemisphere, hemicube and Monte Carlo at equal rays against Howell B-3: a markdown table,
+    /// and with --svg-dir the chart methods-error.svg.
+    Methods {
+        /// Comma-separated R values (the ray budgets).
+        #[arg(long, default_value = "8,12,16,24,32,48,64,96,128")]
+        circles: String,
+        /// Rectangle configurations (fixed seed).
+        #[arg(long, default_value_t = 200)]
+        cases: usize,
+        #[arg(long)]
+        svg_dir: Option<PathBuf>,
+    },
+    /// The paper's figure 9 on the Cornell box: b_R of two patches against R (9a) and rays
+    /// against R (9b); with --svg-dir the charts fig9a.svg and fig9b.svg.
+    PaperFig9 {
+        #[arg(default_value = "scenes/cornell.toml")]
+        scene: PathBuf,
+        /// The two patches.
+        #[arg(long, default_value = "floor,red_wall")]
+        patches: String,
+        /// K.
+        #[arg(long, default_value_t = 8)]
+        samples: u32,
+        /// Comma-separated R values.
+        #[arg(long, default_value = "4,6,8,12,16,24,32,48,64,96,128")]
+        circles: String,
+        /// Ray budget of the Monte Carlo reference, as R.
+        #[arg(long, default_value_t = 256)]
+        reference_circles: u32,
+        #[arg(long)]
+        svg_dir: Option<PathBuf>,
+    },
+    /// What each --quality preset picks on SCENE, its cost there, and its measured error.
+    Quality {
+        #[arg(default_value = "scenes/cornell.toml")]
+        scene: PathBuf,
     },
     /// Pass-1 hemisphere rays per second of the soft backend on SCENE, on 1 thread and on all,
     /// printed as one machine-readable line per run.
@@ -490,14 +587,63 @@ fn trace_lines<A: Accelerator>(engine: &mut A, scene: &Scene, out: &mut impl Wri
     Ok(())
 }
 
-fn solve_scene(scene: &Scene, ff: &FormFactors) -> Result<solve::Solution> {
+fn solve_scene(scene: &Scene, ff: &FormFactors, solver: solve::Solver) -> Result<solve::Solution> {
     let rho: Vec<[f64; 3]> = (0..scene.patches.len())
         .map(|i| scene.material_of(i).diffuse)
         .collect();
     let e: Vec<[f64; 3]> = (0..scene.patches.len())
         .map(|i| scene.material_of(i).emission)
         .collect();
-    solve::gauss_seidel(ff.channels(), &rho, &e, &SolveSettings::default())
+    let system = solve::System::new(ff.channels(), &rho, &e)?;
+    if solver != solve::Solver::Auto {
+        let d = solve::diagnose::row_sums(&system);
+        if d.rows_above_one > 0 {
+            eprintln!("warning: {} rows of F sum above 1 (largest {:.5}): sampling error; --solver auto would scale them back", d.rows_above_one, d.max_row_sum);
+        }
+    }
+    solve::solve(&system, solver, &SolveSettings::default(), &mut |m| {
+        eprintln!("{m}")
+    })
+}
+
+/// Progressive refinement with rows shot on demand (soft backend), and the grids from a second
+/// shot of every patch: no N×N matrix and no stored element rows.
+fn solve_streaming(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    common: &Common,
+    with_grids: bool,
+) -> Result<(solve::Solution, Option<Vec<hemi::radiosity::Grid>>)> {
+    anyhow::ensure!(
+        common.backend()? == Backend::Soft,
+        "--solver progressive shoots rows on demand on the soft backend only"
+    );
+    let patches = scene.kernel_patches();
+    let make = || SoftEngine::new(&patches);
+    let n = scene.patches.len();
+    // keep at most about a quarter of --matrix-mib in cached rows
+    let cache = ((common.matrix_mib << 20) / 4 / (24 * n.max(1) as u64)) as usize;
+    let mut shooter = solve::rows::RowShooter::new(scene, settings, &make, cache)?;
+    let bar = progress(n as u64, "shots");
+    let sol = solve::rows::solve_streaming(
+        &mut shooter,
+        &SolveSettings {
+            tolerance: 1e-6,
+            max_iterations: 1_000_000,
+        },
+        &mut |k, _| bar.set_position(k as u64),
+    )?;
+    bar.finish_and_clear();
+    eprintln!(
+        "progressive refinement: {} shots, {} rows shot ({} cached), {} rays, unshot residual {:.2e}",
+        sol.iterations, shooter.shot, cache.min(n), shooter.rays, sol.residual
+    );
+    let grids = if with_grids {
+        Some(solve::rows::grids_streaming(&mut shooter, &sol)?)
+    } else {
+        None
+    };
+    Ok((sol, grids))
 }
 
 /// The closed-form cases of the accuracy table: (name, scene TOML, Howell value of F_01).
@@ -680,6 +826,16 @@ fn bench_per_ray(scene: &Scene, settings: &Pass1Settings) -> Result<(u64, f64)> 
     Ok((rays, t0.elapsed().as_secs_f64()))
 }
 
+fn u32_list(s: &str) -> Result<Vec<u32>> {
+    s.split(',')
+        .map(|x| {
+            x.trim()
+                .parse::<u32>()
+                .with_context(|| format!("bad number `{x}`"))
+        })
+        .collect()
+}
+
 fn parse_ray_line(line: &str, n: usize) -> Result<(Vec3, Vec3)> {
     let v: Vec<f32> = line
         .split_whitespace()
@@ -727,7 +883,7 @@ fn main() -> Result<()> {
             show_samples,
             common,
         } => {
-            let settings = common.pass1()?;
+            common.pass1()?;
             let backend = common.backend()?;
             let counters = Counters::default();
             anyhow::ensure!(
@@ -735,17 +891,31 @@ fn main() -> Result<()> {
                 "--spp must be between 1 and 4096"
             );
             let scene = scene::load(&scene)?;
+            let settings = common.settings_for(&scene)?;
             let camera = hemi::render::camera_of(&scene)?;
             let t0 = std::time::Instant::now();
             anyhow::ensure!(
                 !show_samples || common.adaptive,
                 "--show-samples draws the points of adaptive sampling: add --adaptive"
             );
-            let (ff, sampled) =
-                run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
-            let t1 = std::time::Instant::now();
-            let sol = solve_scene(&scene, &ff)?;
-            let grids = hemi::radiosity::grids(&scene, &ff, &sol);
+            let mut sampled = Vec::new();
+            let (ff_stats, hemispheres, sol, grids, t1) = if common.streaming(&scene) {
+                anyhow::ensure!(
+                    !common.adaptive,
+                    "--adaptive refines from solved rows and needs the form-factor matrix: choose a --solver other than progressive"
+                );
+                let (sol, grids) = solve_streaming(&scene, &settings, &common, true)?;
+                let t1 = std::time::Instant::now();
+                (ShotStats::default(), 0, sol, grids.unwrap_or_default(), t1)
+            } else {
+                let (ff, points) =
+                    run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
+                sampled = points;
+                let t1 = std::time::Instant::now();
+                let sol = solve_scene(&scene, &ff, common.solver)?;
+                let grids = hemi::radiosity::grids(&scene, &ff, &sol);
+                (ff.stats, ff.elements.len(), sol, grids, t1)
+            };
             let t2 = std::time::Instant::now();
             let bar = progress(camera.height as u64, "pass 2");
             let patches = scene.kernel_patches();
@@ -796,10 +966,11 @@ fn main() -> Result<()> {
                 hemi::render::write_exr(&img, &exr)?;
             }
             eprintln!(
-                "pass 1 {:.3} s ({} rays), solve {:.3} s ({} sweeps), pass 2 {:.3} s ({}x{}, {} spp), exposure {:+.2} EV -> {}",
+                "pass 1 {:.3} s ({} rays), solve {:.3} s ({}, {} sweeps), pass 2 {:.3} s ({}x{}, {} spp), exposure {:+.2} EV -> {}",
                 (t1 - t0).as_secs_f64(),
-                ff.stats.rays,
+                ff_stats.rays,
                 (t2 - t1).as_secs_f64(),
+                sol.solver.name(),
                 sol.iterations,
                 (t3 - t2).as_secs_f64(),
                 camera.width,
@@ -808,13 +979,13 @@ fn main() -> Result<()> {
                 ev,
                 output.display()
             );
-            if ff.stats.specular.frustums + rendered.specular.frustums > 0 {
+            if ff_stats.specular.frustums + rendered.specular.frustums > 0 {
                 eprintln!(
                     "{}",
                     hemi::optics::describe(
                         "specular, pass 1",
-                        &ff.stats.specular,
-                        ff.stats.rays as u64,
+                        &ff_stats.specular,
+                        ff_stats.rays as u64,
                         &settings.specular
                     )
                 );
@@ -831,7 +1002,7 @@ fn main() -> Result<()> {
             report_model(
                 backend,
                 &counters,
-                ff.elements.len() as u64,
+                hemispheres as u64,
                 common.clock_mhz,
                 "pass 1 and pass 2",
             );
@@ -840,7 +1011,7 @@ fn main() -> Result<()> {
                 let (c1, r1) = pass1_counts;
                 eprintln!(
                     "model: pass 1 {c1} cycles ({:.0} per hemisphere), pass 2 {} cycles for {} rays",
-                    c1 as f64 / ff.elements.len().max(1) as f64,
+                    c1 as f64 / hemispheres.max(1) as f64,
                     c - c1,
                     r - r1
                 );
@@ -851,10 +1022,11 @@ fn main() -> Result<()> {
             json,
             common,
         } => {
-            let settings = common.pass1()?;
+            common.pass1()?;
             let backend = common.backend()?;
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
+            let settings = common.settings_for(&scene)?;
             let (ff, _) = run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
             if json {
                 let patches: Vec<_> = scene
@@ -902,12 +1074,20 @@ fn main() -> Result<()> {
             json,
             common,
         } => {
-            let settings = common.pass1()?;
+            common.pass1()?;
             let backend = common.backend()?;
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
-            let (ff, _) = run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
-            let sol = solve_scene(&scene, &ff)?;
+            let settings = common.settings_for(&scene)?;
+            let (sol, hemispheres, ff_stats) = if common.streaming(&scene) {
+                let sol = solve_streaming(&scene, &settings, &common, false)?.0;
+                (sol, 0, ShotStats::default())
+            } else {
+                let (ff, _) =
+                    run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
+                let sol = solve_scene(&scene, &ff, common.solver)?;
+                (sol, ff.elements.len(), ff.stats)
+            };
             if json {
                 let patches: Vec<_> = scene
                     .patches
@@ -925,17 +1105,19 @@ fn main() -> Result<()> {
                     writeln!(out, "{:<16} {:.6} {:.6} {:.6}", p.name, b[0], b[1], b[2])?;
                 }
                 eprintln!(
-                    "Gauss-Seidel: {} sweeps, residual {:.2e}",
-                    sol.iterations, sol.residual
+                    "{}: {} iterations, residual {:.2e}",
+                    sol.solver.name(),
+                    sol.iterations,
+                    sol.residual
                 );
             }
-            if ff.stats.specular.frustums > 0 {
+            if ff_stats.specular.frustums > 0 {
                 eprintln!(
                     "{}",
                     hemi::optics::describe(
                         "specular",
-                        &ff.stats.specular,
-                        ff.stats.rays as u64,
+                        &ff_stats.specular,
+                        ff_stats.rays as u64,
                         &settings.specular
                     )
                 );
@@ -943,19 +1125,26 @@ fn main() -> Result<()> {
             report_model(
                 backend,
                 &counters,
-                ff.elements.len() as u64,
+                hemispheres as u64,
                 common.clock_mhz,
                 "pass 1",
             );
         }
         Command::Irradiance { scene, common } => {
-            let settings = common.pass1()?;
+            common.pass1()?;
             let backend = common.backend()?;
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
-            let (ff, _) = run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
-            let sol = solve_scene(&scene, &ff)?;
-            let grids = hemi::radiosity::grids(&scene, &ff, &sol);
+            let settings = common.settings_for(&scene)?;
+            let (grids, hemispheres) = if common.streaming(&scene) {
+                let (_, grids) = solve_streaming(&scene, &settings, &common, true)?;
+                (grids.unwrap_or_default(), 0)
+            } else {
+                let (ff, _) =
+                    run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
+                let sol = solve_scene(&scene, &ff, common.solver)?;
+                (hemi::radiosity::grids(&scene, &ff, &sol), ff.elements.len())
+            };
             let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
                 .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
             let view = hemi.view();
@@ -981,7 +1170,7 @@ fn main() -> Result<()> {
             report_model(
                 backend,
                 &counters,
-                ff.elements.len() as u64,
+                hemispheres as u64,
                 common.clock_mhz,
                 "pass 1 and queries",
             );
@@ -1144,6 +1333,72 @@ fn main() -> Result<()> {
                     rays as f64 / secs
                 )?;
             }
+        }
+        Command::Bench {
+            command:
+                BenchCommand::Solvers {
+                    scene,
+                    circles,
+                    samples,
+                    furnace,
+                    svg_dir,
+                },
+        } => {
+            let settings = Pass1Settings {
+                circles,
+                samples,
+                ..Pass1Settings::default()
+            };
+            hemi::bench::solvers::bench_solvers(
+                &scene::load(&scene)?,
+                &settings,
+                furnace,
+                &mut out,
+                svg_dir.as_deref(),
+            )?;
+        }
+        Command::Bench {
+            command:
+                BenchCommand::Methods {
+                    circles,
+                    cases,
+                    svg_dir,
+                },
+        } => {
+            hemi::bench::methods::bench_methods(
+                &u32_list(&circles)?,
+                cases,
+                &mut out,
+                svg_dir.as_deref(),
+            )?;
+        }
+        Command::Bench {
+            command:
+                BenchCommand::PaperFig9 {
+                    scene,
+                    patches,
+                    samples,
+                    circles,
+                    reference_circles,
+                    svg_dir,
+                },
+        } => {
+            let names: Vec<&str> = patches.split(',').map(str::trim).collect();
+            hemi::bench::paper::bench_fig9(
+                &scene::load(&scene)?,
+                &names,
+                samples,
+                &u32_list(&circles)?,
+                reference_circles,
+                &mut out,
+                svg_dir.as_deref(),
+            )?;
+        }
+        Command::Bench {
+            command: BenchCommand::Quality { scene },
+        } => {
+            let label = scene.display().to_string();
+            hemi::bench::quality::bench_quality(&scene::load(&scene)?, &label, &mut out)?;
         }
         Command::Board {
             command: BoardCommand::Info { backend, firmware },

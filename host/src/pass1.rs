@@ -2,14 +2,14 @@
 //! hemisphere from each, and form patch form factors from the element rows by (4.3).
 
 use crate::engine::SoftEngine;
+use crate::method::Shooter;
 use crate::optics::{pending_for, SceneOptics, Scratch, SpecularSettings};
 use crate::scene::Scene;
 use hemi_kernel::accel::Accelerator;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
 use hemi_kernel::patch::Shape;
-use hemi_kernel::rotation::spin_for_sample;
 use hemi_kernel::sampling::{bezier_sample, grid_sample, SamplePoint};
-use hemi_kernel::tracer::{shoot_hemisphere, ShotStats};
+use hemi_kernel::tracer::ShotStats;
 use rayon::prelude::*;
 
 /// Settings of pass 1.
@@ -23,6 +23,8 @@ pub struct Pass1Settings {
     pub rule: DeltaRule,
     /// Frustums through specular surfaces.
     pub specular: SpecularSettings,
+    /// The hemisphere, or a peer method at the same ray budget (`--method`).
+    pub method: crate::method::Method,
 }
 
 impl Default for Pass1Settings {
@@ -35,6 +37,7 @@ impl Default for Pass1Settings {
             samples: 16,
             rule: DeltaRule::Band,
             specular: SpecularSettings::default(),
+            method: crate::method::Method::Hemisphere,
         }
     }
 }
@@ -169,6 +172,7 @@ pub fn shoot_rows<A: Accelerator>(
     crate::optics::check(&settings.specular)?;
     let optics = SceneOptics::new(scene, &view)?;
     let kernel_optics = optics.view();
+    settings.method.check(&kernel_optics)?;
     let cols = optics.columns.len();
     let pending = if kernel_optics.has_specular() {
         pending_for(&view)
@@ -183,21 +187,21 @@ pub fn shoot_rows<A: Accelerator>(
                     make(),
                     vec![[0.0f32; 3]; cols],
                     Scratch::new(pending, &settings.specular),
+                    Shooter::new(settings.method, settings.circles),
                 )
             },
-            |(engine, row, scratch), &(i, q, point)| {
+            |(engine, row, scratch, shooter), &(i, q, point)| {
                 row.fill([0.0; 3]);
-                let stats = shoot_hemisphere(
+                let stats = shooter.shoot(
                     engine,
                     &view,
                     &kernel_optics,
                     &mut scratch.view(),
-                    point.position,
-                    point.normal,
-                    spin_for_sample(q),
-                    Some(i as u32),
+                    &point,
+                    q,
+                    i,
                     row,
-                );
+                )?;
                 let sparse = row
                     .iter()
                     .enumerate()
@@ -205,17 +209,17 @@ pub fn shoot_rows<A: Accelerator>(
                     .map(|(c, f)| (optics.columns[c] as u32, *f))
                     .collect();
                 progress(1);
-                (
+                Ok((
                     ElementRow {
                         patch: i,
                         point,
                         row: sparse,
                     },
                     stats,
-                )
+                ))
             },
         )
-        .collect();
+        .collect::<anyhow::Result<_>>()?;
     let mut stats = ShotStats::default();
     let mut elements = Vec::with_capacity(results.len());
     for (e, s) in results {
