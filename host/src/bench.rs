@@ -1,6 +1,12 @@
 //! Benchmarks that regenerate figures of docs/ACCURACY.md and docs/PERFORMANCE.md (speed is
 //! measured here, never asserted in tests).
 
+pub mod methods;
+pub mod paper;
+pub mod plot;
+pub mod quality;
+pub mod solvers;
+
 use crate::analytic::bezier_newton;
 use crate::engine::SoftEngine;
 use crate::pass1::{form_factors_with, Pass1Settings};

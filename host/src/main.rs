@@ -2,6 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand};
+use hemi::adaptive::{AdaptiveSettings, PatchReport};
 use hemi::engine::{model_engine, Backend, CountedModel, Counters, SoftEngine};
 use hemi::pass1::{self, FormFactors, Pass1Settings};
 use hemi::scene::{self, Scene};
@@ -10,6 +11,7 @@ use hemi_hdl_model::ModelConfig;
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
+use hemi_kernel::tracer::ShotStats;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::io::{BufRead, Write};
 use std::path::PathBuf;
@@ -33,9 +35,23 @@ struct Common {
     /// Hemisphere circles R (M = 4R rays on the horizon circle).
     #[arg(long, default_value_t = 64)]
     circles: u32,
-    /// Initial K×K sample points per polygon patch.
-    #[arg(long, default_value_t = 16)]
-    samples: u32,
+    /// Initial K×K sample points per polygon patch [default: 16, or 2 with --adaptive].
+    #[arg(long)]
+    samples: Option<u32>,
+    /// Adaptive patch sampling (paper §4): refine each patch where the gradient test fails.
+    #[arg(long)]
+    adaptive: bool,
+    /// Gradient test margin (--adaptive): a 4-sample window fails when its luminances spread
+    /// by more than this fraction of their mean.
+    #[arg(long, default_value_t = 0.1)]
+    margin: f64,
+    /// Most subdivision levels beyond the initial guess (--adaptive).
+    #[arg(long, default_value_t = 4)]
+    max_depth: u32,
+    /// What the gradient test compares (--adaptive): surplus (each sample against the previous
+    /// level's interpolation of it) or spread (the paper's: the window's max − min).
+    #[arg(long, default_value = "surplus", value_parser = ["surplus", "spread"])]
+    test: String,
     /// Delta form factor rule: band (exact band integral, default) or paper (cos χ / K).
     #[arg(long, default_value = "band", value_parser = ["band", "paper"])]
     delta: String,
@@ -58,6 +74,22 @@ struct Common {
     /// The most specular bounces one path may take (paper §5).
     #[arg(long, default_value_t = 24)]
     max_bounces: u16,
+    /// Radiosity solver: auto | gauss-seidel | sor | direct | progressive (auto measures the
+    /// system and says on stderr what it picked and why).
+    #[arg(long, default_value = "auto")]
+    solver: solve::Solver,
+    /// Pass-1 method: hemisphere (the paper's) | hemicube | monte-carlo | monte-carlo-plain; the
+    /// peers shoot as many rays per sample point as the hemisphere of --circles.
+    #[arg(long, default_value = "hemisphere")]
+    method: hemi::method::Method,
+    /// Preset R and K from a target error and the scene's size: draft | default | high
+    /// (overrides --circles and --samples; see docs/PERFORMANCE.md for what each costs).
+    #[arg(long)]
+    quality: Option<hemi::quality::Quality>,
+    /// Largest N×N form-factor matrix pass 1 may form, in MiB (three f64 channels); above it,
+    /// `--solver auto` shoots rows on demand with progressive refinement instead.
+    #[arg(long, default_value_t = 4096)]
+    matrix_mib: u64,
 }
 
 impl Common {
@@ -84,12 +116,13 @@ impl Common {
         if self.circles < 2 || self.circles > 1024 {
             bail!("--circles must be between 2 and 1024");
         }
-        if self.samples < 1 || self.samples > 256 {
+        let samples = self.samples.unwrap_or(if self.adaptive { 2 } else { 16 });
+        if !(1..=256).contains(&samples) {
             bail!("--samples must be between 1 and 256");
         }
         Ok(Pass1Settings {
             circles: self.circles,
-            samples: self.samples,
+            samples,
             rule: if self.delta == "paper" {
                 DeltaRule::Paper
             } else {
@@ -100,7 +133,56 @@ impl Common {
                 stack: self.stack,
                 max_bounces: self.max_bounces,
             },
+            method: self.method,
         })
+    }
+
+    /// Adaptive sampling settings with `--adaptive`, else `None` (uniform K×K).
+    fn adaptive(&self) -> Result<Option<AdaptiveSettings>> {
+        if !self.adaptive {
+            return Ok(None);
+        }
+        if !(self.margin >= 0.0 && self.margin.is_finite()) {
+            bail!("--margin must be a finite number ≥ 0");
+        }
+        if self.max_depth > 8 {
+            bail!("--max-depth must be at most 8 (a 2×2 guess becomes 512×512)");
+        }
+        Ok(Some(AdaptiveSettings {
+            margin: self.margin,
+            max_depth: self.max_depth,
+            test: if self.test == "spread" {
+                hemi::adaptive::Test::Spread
+            } else {
+                hemi::adaptive::Test::Surplus
+            },
+            ..AdaptiveSettings::default()
+        }))
+    }
+
+    /// [`Common::pass1`] with `--quality` applied for `scene`.
+    fn settings_for(&self, scene: &Scene) -> Result<Pass1Settings> {
+        let mut settings = self.pass1()?;
+        if let Some(q) = self.quality {
+            let p = hemi::quality::apply(q, scene, &mut settings);
+            eprintln!("{}", p.why);
+        }
+        Ok(settings)
+    }
+
+    /// Whether this run solves without a matrix: `--solver progressive`, or `auto` on a scene
+    /// whose N×N matrices would exceed `--matrix-mib`.
+    fn streaming(&self, scene: &Scene) -> bool {
+        let n = scene.patches.len() as u64;
+        let bytes = 3 * 8 * n * n;
+        match self.solver {
+            solve::Solver::Progressive => true,
+            solve::Solver::Auto if bytes > self.matrix_mib << 20 => {
+                eprintln!("solver auto: {n} patches need {:.1} MiB of form factors (> --matrix-mib {}): progressive refinement with rows shot on demand", bytes as f64 / (1 << 20) as f64, self.matrix_mib);
+                true
+            }
+            _ => false,
+        }
     }
 }
 
@@ -121,6 +203,10 @@ enum Command {
         /// Exposure in stops applied before the PNG's sRGB encoding (default: automatic).
         #[arg(long, allow_hyphen_values = true)]
         exposure: Option<f64>,
+        /// Draw the sample points adaptive sampling shot over the image, coloured by level
+        /// (white: initial guess, then yellow, orange, red, magenta, blue); needs --adaptive.
+        #[arg(long)]
+        show_samples: bool,
         #[command(flatten)]
         common: Common,
     },
@@ -166,6 +252,37 @@ enum Command {
 
 #[derive(Subcommand)]
 enum BenchCommand {
+    /// Adaptive against uniform sampling: the error of the radiosity field B(u,v) against rows
+    /// computed, measured against a finely sampled uniform reference: a markdown table
+    /// (docs/ACCURACY.md).
+    Adaptive {
+        #[arg(default_value = "scenes/cornell.toml")]
+        scene: PathBuf,
+        /// K of the uniform reference (not a power of two times 2, so that no adaptive level
+        /// shares its sample points and hemisphere spins).
+        #[arg(long, default_value_t = 96)]
+        reference: u32,
+        /// Comma-separated K of the uniform runs.
+        #[arg(long, default_value = "2,4,8,16,32")]
+        uniform: String,
+        /// Initial guess K of the adaptive runs.
+        #[arg(long, default_value_t = 2)]
+        initial: u32,
+        /// Comma-separated margins of the adaptive runs (the points of each chart line).
+        #[arg(long, default_value = "0.4,0.3,0.2,0.15,0.1,0.05")]
+        margins: String,
+        /// Comma-separated depth limits of the adaptive runs (one chart line each, per test).
+        #[arg(long, default_value = "4,5")]
+        depths: String,
+        /// Comma-separated gradient tests of the adaptive runs: surplus, spread.
+        #[arg(long, default_value = "surplus,spread")]
+        tests: String,
+        /// Also draw the chart (SVG).
+        #[arg(long)]
+        svg: Option<PathBuf>,
+        #[command(flatten)]
+        common: Common,
+    },
     /// Bezier intersection error (against an f64 Newton reference) over subdivision depth and
     /// flatness, with the cost per ray: a markdown table (docs/ACCURACY.md).
     Bezier {
@@ -205,6 +322,60 @@ enum BenchCommand {
         /// Also draw the chart (SVG): max error against rays, one line per K.
         #[arg(long)]
         svg: Option<PathBuf>,
+    },
+    /// The solvers' convergence (residual against work) on the Cornell box and a ρ = 0.99
+    /// furnace: markdown tables, and with --svg-dir the charts solvers-*.svg.
+    Solvers {
+        #[arg(default_value = "scenes/cornell.toml")]
+        scene: PathBuf,
+        /// Pass-1 R for both systems.
+        #[arg(long, default_value_t = 32)]
+        circles: u32,
+        /// Pass-1 K for both systems.
+        #[arg(long, default_value_t = 8)]
+        samples: u32,
+        /// Furnace: n×n quads per face.
+        #[arg(long, default_value_t = 4)]
+        furnace: usize,
+        #[arg(long)]
+        svg_dir: Option<PathBuf>,
+    },
+    /// Hemisphere, hemicube and Monte Carlo at equal rays against Howell B-3: a markdown table,
+    /// and with --svg-dir the chart methods-error.svg.
+    Methods {
+        /// Comma-separated R values (the ray budgets).
+        #[arg(long, default_value = "8,12,16,24,32,48,64,96,128")]
+        circles: String,
+        /// Rectangle configurations (fixed seed).
+        #[arg(long, default_value_t = 200)]
+        cases: usize,
+        #[arg(long)]
+        svg_dir: Option<PathBuf>,
+    },
+    /// The paper's figure 9 on the Cornell box: b_R of two patches against R (9a) and rays
+    /// against R (9b); with --svg-dir the charts fig9a.svg and fig9b.svg.
+    PaperFig9 {
+        #[arg(default_value = "scenes/cornell.toml")]
+        scene: PathBuf,
+        /// The two patches.
+        #[arg(long, default_value = "floor,red_wall")]
+        patches: String,
+        /// K.
+        #[arg(long, default_value_t = 8)]
+        samples: u32,
+        /// Comma-separated R values.
+        #[arg(long, default_value = "4,6,8,12,16,24,32,48,64,96,128")]
+        circles: String,
+        /// Ray budget of the Monte Carlo reference, as R.
+        #[arg(long, default_value_t = 256)]
+        reference_circles: u32,
+        #[arg(long)]
+        svg_dir: Option<PathBuf>,
+    },
+    /// What each --quality preset picks on SCENE, its cost there, and its measured error.
+    Quality {
+        #[arg(default_value = "scenes/cornell.toml")]
+        scene: PathBuf,
     },
     /// Pass-1 hemisphere rays per second of the soft backend on SCENE, on 1 thread and on all,
     /// printed as one machine-readable line per run.
@@ -302,6 +473,85 @@ fn run_pass1(
     Ok(ff)
 }
 
+/// Pass 1, uniform or adaptive (`--adaptive`, paper §4). Adaptive sampling prints per patch the
+/// depth it reached and the rows it computed to stderr and returns the same per patch.
+fn run_sampling(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    adaptive: Option<AdaptiveSettings>,
+    backend: Backend,
+    counters: &Counters,
+    farm: Option<&hemi::board::jobs::Farm>,
+) -> Result<(FormFactors, Vec<PatchReport>)> {
+    let Some(adaptive) = adaptive else {
+        return Ok((
+            run_pass1(scene, settings, backend, counters, farm)?,
+            Vec::new(),
+        ));
+    };
+    let bar = progress(0, "pass 1");
+    let on = |p: hemi::adaptive::Progress| match p {
+        hemi::adaptive::Progress::Planned(n) => bar.inc_length(n),
+        hemi::adaptive::Progress::Done(n) => bar.inc(n),
+    };
+    let patches = scene.kernel_patches();
+    let refined = match backend {
+        Backend::Boards(_) => bail!(
+            "--adaptive runs on the soft and model backends: boards take uniform sample jobs so far"
+        ),
+        Backend::Soft => hemi::adaptive::refine_with(
+            scene,
+            settings,
+            &adaptive,
+            &|| SoftEngine::new(&patches),
+            &on,
+        )?,
+        Backend::Model(cfg) => {
+            model_engine(&patches, cfg)?;
+            hemi::adaptive::refine_with(
+                scene,
+                settings,
+                &adaptive,
+                &|| {
+                    CountedModel::new(
+                        model_engine(&patches, cfg).expect("checked above"),
+                        counters,
+                    )
+                },
+                &on,
+            )?
+        }
+    };
+    bar.finish_and_clear();
+    let deepest = refined.patches.iter().map(|p| p.k).max().unwrap_or(0) as usize;
+    let diffuse = refined.patches.iter().filter(|p| p.k > 0).count();
+    eprintln!(
+        "adaptive sampling (K = {}, margin {}, max depth {}): {} solves, {} rows computed (uniform {deepest}×{deepest} on the {diffuse} diffuse patches: {})",
+        settings.samples,
+        adaptive.margin,
+        adaptive.max_depth,
+        refined.rounds,
+        refined.rows_computed(),
+        diffuse * deepest * deepest
+    );
+    eprintln!(
+        "{:<16} {:>5} {:>9} {:>14}",
+        "patch", "depth", "grid", "rows computed"
+    );
+    for (p, r) in scene.patches.iter().zip(&refined.patches) {
+        if r.k > 0 {
+            eprintln!(
+                "{:<16} {:>5} {:>9} {:>14}",
+                p.name,
+                r.depth,
+                format!("{}×{}", r.k, r.k),
+                r.rows_computed()
+            );
+        }
+    }
+    Ok((refined.form_factors, refined.patches))
+}
+
 /// What the modelled accelerator did, on stderr: cycles per ray and per hemisphere, and the
 /// time at the assumed clock.
 fn report_model(
@@ -366,14 +616,63 @@ fn trace_lines<A: Accelerator>(engine: &mut A, scene: &Scene, out: &mut impl Wri
     Ok(())
 }
 
-fn solve_scene(scene: &Scene, ff: &FormFactors) -> Result<solve::Solution> {
+fn solve_scene(scene: &Scene, ff: &FormFactors, solver: solve::Solver) -> Result<solve::Solution> {
     let rho: Vec<[f64; 3]> = (0..scene.patches.len())
         .map(|i| scene.material_of(i).diffuse)
         .collect();
     let e: Vec<[f64; 3]> = (0..scene.patches.len())
         .map(|i| scene.material_of(i).emission)
         .collect();
-    solve::gauss_seidel(ff.channels(), &rho, &e, &SolveSettings::default())
+    let system = solve::System::new(ff.channels(), &rho, &e)?;
+    if solver != solve::Solver::Auto {
+        let d = solve::diagnose::row_sums(&system);
+        if d.rows_above_one > 0 {
+            eprintln!("warning: {} rows of F sum above 1 (largest {:.5}): sampling error; --solver auto would scale them back", d.rows_above_one, d.max_row_sum);
+        }
+    }
+    solve::solve(&system, solver, &SolveSettings::default(), &mut |m| {
+        eprintln!("{m}")
+    })
+}
+
+/// Progressive refinement with rows shot on demand (soft backend), and the grids from a second
+/// shot of every patch: no N×N matrix and no stored element rows.
+fn solve_streaming(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    common: &Common,
+    with_grids: bool,
+) -> Result<(solve::Solution, Option<Vec<hemi::radiosity::Grid>>)> {
+    anyhow::ensure!(
+        common.backend()? == Backend::Soft,
+        "--solver progressive shoots rows on demand on the soft backend only"
+    );
+    let patches = scene.kernel_patches();
+    let make = || SoftEngine::new(&patches);
+    let n = scene.patches.len();
+    // keep at most about a quarter of --matrix-mib in cached rows
+    let cache = ((common.matrix_mib << 20) / 4 / (24 * n.max(1) as u64)) as usize;
+    let mut shooter = solve::rows::RowShooter::new(scene, settings, &make, cache)?;
+    let bar = progress(n as u64, "shots");
+    let sol = solve::rows::solve_streaming(
+        &mut shooter,
+        &SolveSettings {
+            tolerance: 1e-6,
+            max_iterations: 1_000_000,
+        },
+        &mut |k, _| bar.set_position(k as u64),
+    )?;
+    bar.finish_and_clear();
+    eprintln!(
+        "progressive refinement: {} shots, {} rows shot ({} cached), {} rays, unshot residual {:.2e}",
+        sol.iterations, shooter.shot, cache.min(n), shooter.rays, sol.residual
+    );
+    let grids = if with_grids {
+        Some(solve::rows::grids_streaming(&mut shooter, &sol)?)
+    } else {
+        None
+    };
+    Ok((sol, grids))
 }
 
 /// The closed-form cases of the accuracy table: (name, scene TOML, Howell value of F_01).
@@ -556,6 +855,16 @@ fn bench_per_ray(scene: &Scene, settings: &Pass1Settings) -> Result<(u64, f64)> 
     Ok((rays, t0.elapsed().as_secs_f64()))
 }
 
+fn u32_list(s: &str) -> Result<Vec<u32>> {
+    s.split(',')
+        .map(|x| {
+            x.trim()
+                .parse::<u32>()
+                .with_context(|| format!("bad number `{x}`"))
+        })
+        .collect()
+}
+
 fn parse_ray_line(line: &str, n: usize) -> Result<(Vec3, Vec3)> {
     let v: Vec<f32> = line
         .split_whitespace()
@@ -600,9 +909,10 @@ fn main() -> Result<()> {
             exr,
             spp,
             exposure,
+            show_samples,
             common,
         } => {
-            let settings = common.pass1()?;
+            common.pass1()?;
             let backend = common.backend()?;
             let counters = Counters::default();
             anyhow::ensure!(
@@ -610,13 +920,38 @@ fn main() -> Result<()> {
                 "--spp must be between 1 and 4096"
             );
             let scene = scene::load(&scene)?;
+            let settings = common.settings_for(&scene)?;
             let camera = hemi::render::camera_of(&scene)?;
             let farm = farm_for(backend)?;
             let t0 = std::time::Instant::now();
-            let ff = run_pass1(&scene, &settings, backend, &counters, farm.as_ref())?;
-            let t1 = std::time::Instant::now();
-            let sol = solve_scene(&scene, &ff)?;
-            let grids = hemi::radiosity::grids(&scene, &ff, &sol);
+            anyhow::ensure!(
+                !show_samples || common.adaptive,
+                "--show-samples draws the points of adaptive sampling: add --adaptive"
+            );
+            let mut sampled = Vec::new();
+            let (ff_stats, hemispheres, sol, grids, t1) = if common.streaming(&scene) {
+                anyhow::ensure!(
+                    !common.adaptive,
+                    "--adaptive refines from solved rows and needs the form-factor matrix: choose a --solver other than progressive"
+                );
+                let (sol, grids) = solve_streaming(&scene, &settings, &common, true)?;
+                let t1 = std::time::Instant::now();
+                (ShotStats::default(), 0, sol, grids.unwrap_or_default(), t1)
+            } else {
+                let (ff, points) = run_sampling(
+                    &scene,
+                    &settings,
+                    common.adaptive()?,
+                    backend,
+                    &counters,
+                    farm.as_ref(),
+                )?;
+                sampled = points;
+                let t1 = std::time::Instant::now();
+                let sol = solve_scene(&scene, &ff, common.solver)?;
+                let grids = hemi::radiosity::grids(&scene, &ff, &sol);
+                (ff.stats, ff.elements.len(), sol, grids, t1)
+            };
             let t2 = std::time::Instant::now();
             let bar = progress(camera.height as u64, "pass 2");
             let patches = scene.kernel_patches();
@@ -655,19 +990,32 @@ fn main() -> Result<()> {
                     &|n| bar.inc(n),
                 )?,
             };
-            let img = rendered.image;
+            let mut img = rendered.image;
             bar.finish_and_clear();
             let t3 = std::time::Instant::now();
             let ev = exposure.unwrap_or_else(|| hemi::render::auto_exposure(&img));
+            if show_samples {
+                let radius = (camera.height as f32 / 400.0).max(1.0);
+                let dots = hemi::overlay::draw_samples(
+                    &mut img,
+                    &camera,
+                    &sampled,
+                    &mut SoftEngine::new(&patches),
+                    ev,
+                    radius,
+                );
+                eprintln!("--show-samples: {dots} visible sample points drawn");
+            }
             hemi::render::write_png(&img, ev, &output)?;
             if let Some(exr) = exr {
                 hemi::render::write_exr(&img, &exr)?;
             }
             eprintln!(
-                "pass 1 {:.3} s ({} rays), solve {:.3} s ({} sweeps), pass 2 {:.3} s ({}x{}, {} spp), exposure {:+.2} EV -> {}",
+                "pass 1 {:.3} s ({} rays), solve {:.3} s ({}, {} sweeps), pass 2 {:.3} s ({}x{}, {} spp), exposure {:+.2} EV -> {}",
                 (t1 - t0).as_secs_f64(),
-                ff.stats.rays,
+                ff_stats.rays,
                 (t2 - t1).as_secs_f64(),
+                sol.solver.name(),
                 sol.iterations,
                 (t3 - t2).as_secs_f64(),
                 camera.width,
@@ -676,13 +1024,13 @@ fn main() -> Result<()> {
                 ev,
                 output.display()
             );
-            if ff.stats.specular.frustums + rendered.specular.frustums > 0 {
+            if ff_stats.specular.frustums + rendered.specular.frustums > 0 {
                 eprintln!(
                     "{}",
                     hemi::optics::describe(
                         "specular, pass 1",
-                        &ff.stats.specular,
-                        ff.stats.rays as u64,
+                        &ff_stats.specular,
+                        ff_stats.rays as u64,
                         &settings.specular
                     )
                 );
@@ -699,7 +1047,7 @@ fn main() -> Result<()> {
             report_model(
                 backend,
                 &counters,
-                ff.elements.len() as u64,
+                hemispheres as u64,
                 common.clock_mhz,
                 "pass 1 and pass 2",
             );
@@ -708,7 +1056,7 @@ fn main() -> Result<()> {
                 let (c1, r1) = pass1_counts;
                 eprintln!(
                     "model: pass 1 {c1} cycles ({:.0} per hemisphere), pass 2 {} cycles for {} rays",
-                    c1 as f64 / ff.elements.len().max(1) as f64,
+                    c1 as f64 / hemispheres.max(1) as f64,
                     c - c1,
                     r - r1
                 );
@@ -719,12 +1067,20 @@ fn main() -> Result<()> {
             json,
             common,
         } => {
-            let settings = common.pass1()?;
+            common.pass1()?;
             let backend = common.backend()?;
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
+            let settings = common.settings_for(&scene)?;
             let farm = farm_for(backend)?;
-            let ff = run_pass1(&scene, &settings, backend, &counters, farm.as_ref())?;
+            let (ff, _) = run_sampling(
+                &scene,
+                &settings,
+                common.adaptive()?,
+                backend,
+                &counters,
+                farm.as_ref(),
+            )?;
             if json {
                 let patches: Vec<_> = scene
                     .patches
@@ -771,13 +1127,27 @@ fn main() -> Result<()> {
             json,
             common,
         } => {
-            let settings = common.pass1()?;
+            common.pass1()?;
             let backend = common.backend()?;
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
+            let settings = common.settings_for(&scene)?;
             let farm = farm_for(backend)?;
-            let ff = run_pass1(&scene, &settings, backend, &counters, farm.as_ref())?;
-            let sol = solve_scene(&scene, &ff)?;
+            let (sol, hemispheres, ff_stats) = if common.streaming(&scene) {
+                let sol = solve_streaming(&scene, &settings, &common, false)?.0;
+                (sol, 0, ShotStats::default())
+            } else {
+                let (ff, _) = run_sampling(
+                    &scene,
+                    &settings,
+                    common.adaptive()?,
+                    backend,
+                    &counters,
+                    farm.as_ref(),
+                )?;
+                let sol = solve_scene(&scene, &ff, common.solver)?;
+                (sol, ff.elements.len(), ff.stats)
+            };
             if json {
                 let patches: Vec<_> = scene
                     .patches
@@ -795,17 +1165,19 @@ fn main() -> Result<()> {
                     writeln!(out, "{:<16} {:.6} {:.6} {:.6}", p.name, b[0], b[1], b[2])?;
                 }
                 eprintln!(
-                    "Gauss-Seidel: {} sweeps, residual {:.2e}",
-                    sol.iterations, sol.residual
+                    "{}: {} iterations, residual {:.2e}",
+                    sol.solver.name(),
+                    sol.iterations,
+                    sol.residual
                 );
             }
-            if ff.stats.specular.frustums > 0 {
+            if ff_stats.specular.frustums > 0 {
                 eprintln!(
                     "{}",
                     hemi::optics::describe(
                         "specular",
-                        &ff.stats.specular,
-                        ff.stats.rays as u64,
+                        &ff_stats.specular,
+                        ff_stats.rays as u64,
                         &settings.specular
                     )
                 );
@@ -813,20 +1185,33 @@ fn main() -> Result<()> {
             report_model(
                 backend,
                 &counters,
-                ff.elements.len() as u64,
+                hemispheres as u64,
                 common.clock_mhz,
                 "pass 1",
             );
         }
         Command::Irradiance { scene, common } => {
-            let settings = common.pass1()?;
+            common.pass1()?;
             let backend = common.backend()?;
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
+            let settings = common.settings_for(&scene)?;
             let farm = farm_for(backend)?;
-            let ff = run_pass1(&scene, &settings, backend, &counters, farm.as_ref())?;
-            let sol = solve_scene(&scene, &ff)?;
-            let grids = hemi::radiosity::grids(&scene, &ff, &sol);
+            let (grids, hemispheres) = if common.streaming(&scene) {
+                let (_, grids) = solve_streaming(&scene, &settings, &common, true)?;
+                (grids.unwrap_or_default(), 0)
+            } else {
+                let (ff, _) = run_sampling(
+                    &scene,
+                    &settings,
+                    common.adaptive()?,
+                    backend,
+                    &counters,
+                    farm.as_ref(),
+                )?;
+                let sol = solve_scene(&scene, &ff, common.solver)?;
+                (hemi::radiosity::grids(&scene, &ff, &sol), ff.elements.len())
+            };
             let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
                 .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
             let view = hemi.view();
@@ -867,7 +1252,7 @@ fn main() -> Result<()> {
             report_model(
                 backend,
                 &counters,
-                ff.elements.len() as u64,
+                hemispheres as u64,
                 common.clock_mhz,
                 "pass 1 and queries",
             );
@@ -891,6 +1276,63 @@ fn main() -> Result<()> {
             }
             out.flush()?;
             report_model(backend, &counters, 0, common.clock_mhz, "trace");
+        }
+        Command::Bench {
+            command:
+                BenchCommand::Adaptive {
+                    scene,
+                    reference,
+                    uniform,
+                    initial,
+                    margins,
+                    depths,
+                    tests,
+                    svg,
+                    common,
+                },
+        } => {
+            fn list<T: std::str::FromStr>(s: &str) -> Result<Vec<T>> {
+                s.split(',')
+                    .map(|x| {
+                        x.trim()
+                            .parse::<T>()
+                            .ok()
+                            .with_context(|| format!("bad number `{x}`"))
+                    })
+                    .collect()
+            }
+            let settings = common.pass1()?;
+            let bench = hemi::adaptive::bench::BenchSettings {
+                reference,
+                uniform: list(&uniform)?,
+                initial,
+                margins: list(&margins)?,
+                depths: list(&depths)?,
+                tests: tests
+                    .split(',')
+                    .map(|t| match t.trim() {
+                        "surplus" => Ok(hemi::adaptive::Test::Surplus),
+                        "spread" => Ok(hemi::adaptive::Test::Spread),
+                        t => bail!("--tests: unknown test `{t}` (surplus, spread)"),
+                    })
+                    .collect::<Result<_>>()?,
+            };
+            anyhow::ensure!(
+                (1..=256).contains(&reference) && (1..=256).contains(&initial),
+                "--reference and --initial must be between 1 and 256"
+            );
+            let command = format!(
+                "hemi {}",
+                std::env::args().skip(1).collect::<Vec<_>>().join(" ")
+            );
+            hemi::adaptive::bench::adaptive_vs_uniform(
+                &scene::load(&scene)?,
+                &settings,
+                &bench,
+                &mut out,
+                svg.as_deref(),
+                &command,
+            )?;
         }
         Command::Bench {
             command: BenchCommand::Cordic { svg },
@@ -976,6 +1418,72 @@ fn main() -> Result<()> {
                     rays as f64 / secs
                 )?;
             }
+        }
+        Command::Bench {
+            command:
+                BenchCommand::Solvers {
+                    scene,
+                    circles,
+                    samples,
+                    furnace,
+                    svg_dir,
+                },
+        } => {
+            let settings = Pass1Settings {
+                circles,
+                samples,
+                ..Pass1Settings::default()
+            };
+            hemi::bench::solvers::bench_solvers(
+                &scene::load(&scene)?,
+                &settings,
+                furnace,
+                &mut out,
+                svg_dir.as_deref(),
+            )?;
+        }
+        Command::Bench {
+            command:
+                BenchCommand::Methods {
+                    circles,
+                    cases,
+                    svg_dir,
+                },
+        } => {
+            hemi::bench::methods::bench_methods(
+                &u32_list(&circles)?,
+                cases,
+                &mut out,
+                svg_dir.as_deref(),
+            )?;
+        }
+        Command::Bench {
+            command:
+                BenchCommand::PaperFig9 {
+                    scene,
+                    patches,
+                    samples,
+                    circles,
+                    reference_circles,
+                    svg_dir,
+                },
+        } => {
+            let names: Vec<&str> = patches.split(',').map(str::trim).collect();
+            hemi::bench::paper::bench_fig9(
+                &scene::load(&scene)?,
+                &names,
+                samples,
+                &u32_list(&circles)?,
+                reference_circles,
+                &mut out,
+                svg_dir.as_deref(),
+            )?;
+        }
+        Command::Bench {
+            command: BenchCommand::Quality { scene },
+        } => {
+            let label = scene.display().to_string();
+            hemi::bench::quality::bench_quality(&scene::load(&scene)?, &label, &mut out)?;
         }
         Command::Board {
             command: BoardCommand::Info { backend, firmware },

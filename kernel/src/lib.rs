@@ -26,6 +26,7 @@ pub mod hemisphere;
 pub mod link;
 pub mod optics;
 pub mod patch;
+pub mod peers;
 pub mod pixels;
 pub mod rotation;
 pub mod sampling;

@@ -50,7 +50,7 @@ impl LocalPatch {
     /// Sets up `poly` as seen from `origin`, in the frame of `rot` (identity frame: pass a
     /// rotation onto +z), with the bounding cone used to cull bundles of rays.
     pub fn setup(poly: &Polygon, origin: Vec3, rot: &Rotation) -> LocalPatch {
-        Self::setup_with(poly, origin, Some(rot), true)
+        Self::setup_with(poly, origin, Some(rot), true, true)
     }
 
     /// Sets up any patch as seen from `origin` in the frame of `rot`: polygons as above, Bezier
@@ -59,6 +59,16 @@ impl LocalPatch {
         match &patch.shape {
             Shape::Polygon(p) => Self::setup(p, origin, rot),
             Shape::Bezier(b) => Self::setup_curved(b, origin, Some(rot)),
+        }
+    }
+
+    /// Sets up any patch for rays in every direction from `origin` (the scene's own frame), as
+    /// `cast_from` casts them: the same cone, but no cull of patches below the frame's
+    /// horizon, which only a hemisphere above +z may skip.
+    pub fn setup_patch_any(patch: &Patch, origin: Vec3) -> LocalPatch {
+        match &patch.shape {
+            Shape::Polygon(p) => Self::setup_with(p, origin, None, true, false),
+            Shape::Bezier(b) => Self::setup_curved(b, origin, None),
         }
     }
 
@@ -99,11 +109,17 @@ impl LocalPatch {
 
     /// The set-up for a single ray: edges and plane only (the cone would cost more than it saves).
     pub fn setup_single(poly: &Polygon, origin: Vec3) -> LocalPatch {
-        Self::setup_with(poly, origin, None, false)
+        Self::setup_with(poly, origin, None, false, false)
     }
 
     /// `rot: None` is the scene's own frame (no rotation at all).
-    fn setup_with(poly: &Polygon, origin: Vec3, rot: Option<&Rotation>, cone: bool) -> LocalPatch {
+    fn setup_with(
+        poly: &Polygon,
+        origin: Vec3,
+        rot: Option<&Rotation>,
+        cone: bool,
+        horizon: bool,
+    ) -> LocalPatch {
         let turn = |v: Vec3| match rot {
             Some(r) => r.invert(v),
             None => v,
@@ -152,7 +168,7 @@ impl LocalPatch {
                 lp.axis_rho = libm::sqrtf(axis.x * axis.x + axis.y * axis.y);
                 lp.axis_phi = libm::atan2f(axis.y, axis.x);
                 lp.full = cos_alpha < 0.05;
-                if !lp.full && axis.z < 0.0 {
+                if horizon && !lp.full && axis.z < 0.0 {
                     // entirely below the horizon: polar angle of the cone's top edge > 90°
                     let sin_alpha = libm::sqrtf((1.0 - cos_alpha * cos_alpha).max(0.0));
                     // max z over the cone = cos(θc − α) = cz cosα + ρ sinα
@@ -486,7 +502,7 @@ impl Accelerator for SoftAccelerator<'_, '_> {
     ) {
         // One set-up per patch for the shared origin, in the scene's own frame; each ray is
         // first checked against the patch's bounding cone (3 multiply-adds) before the edges.
-        let frame = Rotation::onto(Vec3::Z);
+        // The rays go in any direction, so nothing is culled by a horizon.
         for (id, (lp, p)) in self
             .scratch
             .local
@@ -497,7 +513,7 @@ impl Accelerator for SoftAccelerator<'_, '_> {
             *lp = if id as u32 == self.origin_patch {
                 LocalPatch::default()
             } else {
-                LocalPatch::setup_patch(p, origin, &frame)
+                LocalPatch::setup_patch_any(p, origin)
             };
         }
         for (i, &d) in dirs.iter().enumerate() {
