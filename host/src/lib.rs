@@ -1,6 +1,7 @@
 //! hemi on the host: scenes, sample points, backends, the radiosity solve and image assembly.
 #![forbid(unsafe_code)]
 
+pub mod adaptive;
 pub mod analytic;
 pub mod bench;
 pub mod board;
@@ -9,6 +10,7 @@ pub mod engine;
 pub mod irradiance;
 pub mod method;
 pub mod optics;
+pub mod overlay;
 pub mod pass1;
 pub mod quality;
 pub mod radiosity;

@@ -2,6 +2,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Parser, Subcommand};
+use hemi::adaptive::{AdaptiveSettings, PatchReport};
 use hemi::engine::{model_engine, Backend, CountedModel, Counters, SoftEngine};
 use hemi::pass1::{self, FormFactors, Pass1Settings};
 use hemi::scene::{self, Scene};
@@ -34,9 +35,23 @@ struct Common {
     /// Hemisphere circles R (M = 4R rays on the horizon circle).
     #[arg(long, default_value_t = 64)]
     circles: u32,
-    /// Initial K×K sample points per polygon patch.
-    #[arg(long, default_value_t = 16)]
-    samples: u32,
+    /// Initial K×K sample points per polygon patch [default: 16, or 2 with --adaptive].
+    #[arg(long)]
+    samples: Option<u32>,
+    /// Adaptive patch sampling (paper §4): refine each patch where the gradient test fails.
+    #[arg(long)]
+    adaptive: bool,
+    /// Gradient test margin (--adaptive): a 4-sample window fails when its luminances spread
+    /// by more than this fraction of their mean.
+    #[arg(long, default_value_t = 0.1)]
+    margin: f64,
+    /// Most subdivision levels beyond the initial guess (--adaptive).
+    #[arg(long, default_value_t = 4)]
+    max_depth: u32,
+    /// What the gradient test compares (--adaptive): surplus (each sample against the previous
+    /// level's interpolation of it) or spread (the paper's: the window's max − min).
+    #[arg(long, default_value = "surplus", value_parser = ["surplus", "spread"])]
+    test: String,
     /// Delta form factor rule: band (exact band integral, default) or paper (cos χ / K).
     #[arg(long, default_value = "band", value_parser = ["band", "paper"])]
     delta: String,
@@ -98,12 +113,13 @@ impl Common {
         if self.circles < 2 || self.circles > 1024 {
             bail!("--circles must be between 2 and 1024");
         }
-        if self.samples < 1 || self.samples > 256 {
+        let samples = self.samples.unwrap_or(if self.adaptive { 2 } else { 16 });
+        if !(1..=256).contains(&samples) {
             bail!("--samples must be between 1 and 256");
         }
         Ok(Pass1Settings {
             circles: self.circles,
-            samples: self.samples,
+            samples,
             rule: if self.delta == "paper" {
                 DeltaRule::Paper
             } else {
@@ -142,6 +158,29 @@ impl Common {
             _ => false,
         }
     }
+
+    /// Adaptive sampling settings with `--adaptive`, else `None` (uniform K×K).
+    fn adaptive(&self) -> Result<Option<AdaptiveSettings>> {
+        if !self.adaptive {
+            return Ok(None);
+        }
+        if !(self.margin >= 0.0 && self.margin.is_finite()) {
+            bail!("--margin must be a finite number ≥ 0");
+        }
+        if self.max_depth > 8 {
+            bail!("--max-depth must be at most 8 (a 2×2 guess becomes 512×512)");
+        }
+        Ok(Some(AdaptiveSettings {
+            margin: self.margin,
+            max_depth: self.max_depth,
+            test: if self.test == "spread" {
+                hemi::adaptive::Test::Spread
+            } else {
+                hemi::adaptive::Test::Surplus
+            },
+            ..AdaptiveSettings::default()
+        }))
+    }
 }
 
 #[derive(Subcommand)]
@@ -161,6 +200,10 @@ enum Command {
         /// Exposure in stops applied before the PNG's sRGB encoding (default: automatic).
         #[arg(long, allow_hyphen_values = true)]
         exposure: Option<f64>,
+        /// Draw the sample points adaptive sampling shot over the image, coloured by level
+        /// (white: initial guess, then yellow, orange, red, magenta, blue); needs --adaptive.
+        #[arg(long)]
+        show_samples: bool,
         #[command(flatten)]
         common: Common,
     },
@@ -206,6 +249,37 @@ enum Command {
 
 #[derive(Subcommand)]
 enum BenchCommand {
+    /// Adaptive against uniform sampling: the error of the radiosity field B(u,v) against rows
+    /// computed, measured against a finely sampled uniform reference: a markdown table
+    /// (docs/ACCURACY.md).
+    Adaptive {
+        #[arg(default_value = "scenes/cornell.toml")]
+        scene: PathBuf,
+        /// K of the uniform reference (not a power of two times 2, so that no adaptive level
+        /// shares its sample points and hemisphere spins).
+        #[arg(long, default_value_t = 96)]
+        reference: u32,
+        /// Comma-separated K of the uniform runs.
+        #[arg(long, default_value = "2,4,8,16,32")]
+        uniform: String,
+        /// Initial guess K of the adaptive runs.
+        #[arg(long, default_value_t = 2)]
+        initial: u32,
+        /// Comma-separated margins of the adaptive runs (the points of each chart line).
+        #[arg(long, default_value = "0.4,0.3,0.2,0.15,0.1,0.05")]
+        margins: String,
+        /// Comma-separated depth limits of the adaptive runs (one chart line each, per test).
+        #[arg(long, default_value = "4,5")]
+        depths: String,
+        /// Comma-separated gradient tests of the adaptive runs: surplus, spread.
+        #[arg(long, default_value = "surplus,spread")]
+        tests: String,
+        /// Also draw the chart (SVG).
+        #[arg(long)]
+        svg: Option<PathBuf>,
+        #[command(flatten)]
+        common: Common,
+    },
     /// Bezier intersection error (against an f64 Newton reference) over subdivision depth and
     /// flatness, with the cost per ray: a markdown table (docs/ACCURACY.md).
     Bezier {
@@ -375,6 +449,78 @@ fn run_pass1(
     };
     bar.finish_and_clear();
     Ok(ff)
+}
+
+/// Pass 1, uniform or adaptive (`--adaptive`, paper §4). Adaptive sampling prints per patch the
+/// depth it reached and the rows it computed to stderr and returns the same per patch.
+fn run_sampling(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    adaptive: Option<AdaptiveSettings>,
+    backend: Backend,
+    counters: &Counters,
+) -> Result<(FormFactors, Vec<PatchReport>)> {
+    let Some(adaptive) = adaptive else {
+        return Ok((run_pass1(scene, settings, backend, counters)?, Vec::new()));
+    };
+    let bar = progress(0, "pass 1");
+    let on = |p: hemi::adaptive::Progress| match p {
+        hemi::adaptive::Progress::Planned(n) => bar.inc_length(n),
+        hemi::adaptive::Progress::Done(n) => bar.inc(n),
+    };
+    let patches = scene.kernel_patches();
+    let refined = match backend {
+        Backend::Soft => hemi::adaptive::refine_with(
+            scene,
+            settings,
+            &adaptive,
+            &|| SoftEngine::new(&patches),
+            &on,
+        )?,
+        Backend::Model(cfg) => {
+            model_engine(&patches, cfg)?;
+            hemi::adaptive::refine_with(
+                scene,
+                settings,
+                &adaptive,
+                &|| {
+                    CountedModel::new(
+                        model_engine(&patches, cfg).expect("checked above"),
+                        counters,
+                    )
+                },
+                &on,
+            )?
+        }
+    };
+    bar.finish_and_clear();
+    let deepest = refined.patches.iter().map(|p| p.k).max().unwrap_or(0) as usize;
+    let diffuse = refined.patches.iter().filter(|p| p.k > 0).count();
+    eprintln!(
+        "adaptive sampling (K = {}, margin {}, max depth {}): {} solves, {} rows computed (uniform {deepest}×{deepest} on the {diffuse} diffuse patches: {})",
+        settings.samples,
+        adaptive.margin,
+        adaptive.max_depth,
+        refined.rounds,
+        refined.rows_computed(),
+        diffuse * deepest * deepest
+    );
+    eprintln!(
+        "{:<16} {:>5} {:>9} {:>14}",
+        "patch", "depth", "grid", "rows computed"
+    );
+    for (p, r) in scene.patches.iter().zip(&refined.patches) {
+        if r.k > 0 {
+            eprintln!(
+                "{:<16} {:>5} {:>9} {:>14}",
+                p.name,
+                r.depth,
+                format!("{}×{}", r.k, r.k),
+                r.rows_computed()
+            );
+        }
+    }
+    Ok((refined.form_factors, refined.patches))
 }
 
 /// What the modelled accelerator did, on stderr: cycles per ray and per hemisphere, and the
@@ -734,6 +880,7 @@ fn main() -> Result<()> {
             exr,
             spp,
             exposure,
+            show_samples,
             common,
         } => {
             common.pass1()?;
@@ -747,16 +894,26 @@ fn main() -> Result<()> {
             let settings = common.settings_for(&scene)?;
             let camera = hemi::render::camera_of(&scene)?;
             let t0 = std::time::Instant::now();
-            let (ff_stats, hemispheres, sol, grids, t1) = if common.streaming(&scene) {
+            anyhow::ensure!(
+                !show_samples || common.adaptive,
+                "--show-samples draws the points of adaptive sampling: add --adaptive"
+            );
+            let (ff_stats, hemispheres, sol, grids, t1, sampled) = if common.streaming(&scene) {
+                anyhow::ensure!(
+                    !common.adaptive,
+                    "--adaptive refines from stored element rows; progressive refinement keeps none (use another --solver)"
+                );
                 let (sol, grids) = solve_streaming(&scene, &settings, &common, true)?;
                 let t1 = std::time::Instant::now();
-                (ShotStats::default(), 0, sol, grids.unwrap_or_default(), t1)
+                let grids = grids.unwrap_or_default();
+                (ShotStats::default(), 0, sol, grids, t1, Vec::new())
             } else {
-                let ff = run_pass1(&scene, &settings, backend, &counters)?;
+                let (ff, sampled) =
+                    run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
                 let t1 = std::time::Instant::now();
                 let sol = solve_scene(&scene, &ff, common.solver)?;
                 let grids = hemi::radiosity::grids(&scene, &ff, &sol);
-                (ff.stats, ff.elements.len(), sol, grids, t1)
+                (ff.stats, ff.elements.len(), sol, grids, t1, sampled)
             };
             let t2 = std::time::Instant::now();
             let bar = progress(camera.height as u64, "pass 2");
@@ -787,10 +944,22 @@ fn main() -> Result<()> {
                     &|n| bar.inc(n),
                 )?,
             };
-            let img = rendered.image;
+            let mut img = rendered.image;
             bar.finish_and_clear();
             let t3 = std::time::Instant::now();
             let ev = exposure.unwrap_or_else(|| hemi::render::auto_exposure(&img));
+            if show_samples {
+                let radius = (camera.height as f32 / 400.0).max(1.0);
+                let dots = hemi::overlay::draw_samples(
+                    &mut img,
+                    &camera,
+                    &sampled,
+                    &mut SoftEngine::new(&patches),
+                    ev,
+                    radius,
+                );
+                eprintln!("--show-samples: {dots} visible sample points drawn");
+            }
             hemi::render::write_png(&img, ev, &output)?;
             if let Some(exr) = exr {
                 hemi::render::write_exr(&img, &exr)?;
@@ -857,7 +1026,7 @@ fn main() -> Result<()> {
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
             let settings = common.settings_for(&scene)?;
-            let ff = run_pass1(&scene, &settings, backend, &counters)?;
+            let (ff, _) = run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
             if json {
                 let patches: Vec<_> = scene
                     .patches
@@ -910,10 +1079,15 @@ fn main() -> Result<()> {
             let scene = scene::load(&scene)?;
             let settings = common.settings_for(&scene)?;
             let (sol, hemispheres, ff_stats) = if common.streaming(&scene) {
+                anyhow::ensure!(
+                    !common.adaptive,
+                    "--adaptive refines from stored element rows; progressive refinement keeps none (use another --solver)"
+                );
                 let sol = solve_streaming(&scene, &settings, &common, false)?.0;
                 (sol, 0, ShotStats::default())
             } else {
-                let ff = run_pass1(&scene, &settings, backend, &counters)?;
+                let (ff, _) =
+                    run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
                 let sol = solve_scene(&scene, &ff, common.solver)?;
                 (sol, ff.elements.len(), ff.stats)
             };
@@ -966,10 +1140,15 @@ fn main() -> Result<()> {
             let scene = scene::load(&scene)?;
             let settings = common.settings_for(&scene)?;
             let (grids, hemispheres) = if common.streaming(&scene) {
+                anyhow::ensure!(
+                    !common.adaptive,
+                    "--adaptive refines from stored element rows; progressive refinement keeps none (use another --solver)"
+                );
                 let (_, grids) = solve_streaming(&scene, &settings, &common, true)?;
                 (grids.unwrap_or_default(), 0)
             } else {
-                let ff = run_pass1(&scene, &settings, backend, &counters)?;
+                let (ff, _) =
+                    run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
                 let sol = solve_scene(&scene, &ff, common.solver)?;
                 (hemi::radiosity::grids(&scene, &ff, &sol), ff.elements.len())
             };
@@ -1019,6 +1198,63 @@ fn main() -> Result<()> {
             }
             out.flush()?;
             report_model(backend, &counters, 0, common.clock_mhz, "trace");
+        }
+        Command::Bench {
+            command:
+                BenchCommand::Adaptive {
+                    scene,
+                    reference,
+                    uniform,
+                    initial,
+                    margins,
+                    depths,
+                    tests,
+                    svg,
+                    common,
+                },
+        } => {
+            fn list<T: std::str::FromStr>(s: &str) -> Result<Vec<T>> {
+                s.split(',')
+                    .map(|x| {
+                        x.trim()
+                            .parse::<T>()
+                            .ok()
+                            .with_context(|| format!("bad number `{x}`"))
+                    })
+                    .collect()
+            }
+            let settings = common.pass1()?;
+            let bench = hemi::adaptive::bench::BenchSettings {
+                reference,
+                uniform: list(&uniform)?,
+                initial,
+                margins: list(&margins)?,
+                depths: list(&depths)?,
+                tests: tests
+                    .split(',')
+                    .map(|t| match t.trim() {
+                        "surplus" => Ok(hemi::adaptive::Test::Surplus),
+                        "spread" => Ok(hemi::adaptive::Test::Spread),
+                        t => bail!("--tests: unknown test `{t}` (surplus, spread)"),
+                    })
+                    .collect::<Result<_>>()?,
+            };
+            anyhow::ensure!(
+                (1..=256).contains(&reference) && (1..=256).contains(&initial),
+                "--reference and --initial must be between 1 and 256"
+            );
+            let command = format!(
+                "hemi {}",
+                std::env::args().skip(1).collect::<Vec<_>>().join(" ")
+            );
+            hemi::adaptive::bench::adaptive_vs_uniform(
+                &scene::load(&scene)?,
+                &settings,
+                &bench,
+                &mut out,
+                svg.as_deref(),
+                &command,
+            )?;
         }
         Command::Bench {
             command: BenchCommand::Cordic { svg },

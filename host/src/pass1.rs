@@ -137,21 +137,7 @@ pub fn form_factors_with<A: Accelerator>(
     progress: &(dyn Fn(u64) + Sync),
 ) -> anyhow::Result<FormFactors> {
     anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
-    let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
-        .map_err(|e| anyhow::anyhow!("--circles {}: {e:?}", settings.circles))?;
-    let view = hemi.view();
-    crate::optics::check(&settings.specular)?;
-    let optics = SceneOptics::new(scene, &view)?;
-    let kernel_optics = optics.view();
-    settings.method.check(&kernel_optics)?;
-    let n = scene.patches.len();
-    let cols = optics.columns.len();
-    let pending = if kernel_optics.has_specular() {
-        pending_for(&view)
-    } else {
-        0
-    };
-    let points: Vec<(usize, u32, SamplePoint)> = (0..n)
+    let points: Vec<(usize, u32, SamplePoint)> = (0..scene.patches.len())
         .flat_map(|i| {
             sample_points(scene, i, settings.samples)
                 .into_iter()
@@ -159,6 +145,40 @@ pub fn form_factors_with<A: Accelerator>(
                 .map(move |(q, p)| (i, q as u32, p))
         })
         .collect();
+    let (elements, stats) = shoot_rows(scene, settings, make, &points, progress)?;
+    Ok(FormFactors::from_elements(
+        scene.patches.len(),
+        elements,
+        settings.samples,
+        stats,
+    ))
+}
+
+/// Shoots one hemisphere from each of `points` — (patch i, sample index q, the point) — on all
+/// cores with engines made by `make`, and returns their rows F_iq,· in the order of `points`.
+/// The index q only chooses the hemisphere's spin ψ (`spin_for_sample`), so the same q on the
+/// same point gives the same row whichever caller asks (uniform K×K here, adaptive sampling in
+/// [`crate::adaptive`]).
+pub fn shoot_rows<A: Accelerator>(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    make: &(dyn Fn() -> A + Sync),
+    points: &[(usize, u32, SamplePoint)],
+    progress: &(dyn Fn(u64) + Sync),
+) -> anyhow::Result<(Vec<ElementRow>, ShotStats)> {
+    let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
+        .map_err(|e| anyhow::anyhow!("--circles {}: {e:?}", settings.circles))?;
+    let view = hemi.view();
+    crate::optics::check(&settings.specular)?;
+    let optics = SceneOptics::new(scene, &view)?;
+    let kernel_optics = optics.view();
+    settings.method.check(&kernel_optics)?;
+    let cols = optics.columns.len();
+    let pending = if kernel_optics.has_specular() {
+        pending_for(&view)
+    } else {
+        0
+    };
     let results: Vec<(ElementRow, ShotStats)> = points
         .par_iter()
         .map_init(
@@ -200,23 +220,60 @@ pub fn form_factors_with<A: Accelerator>(
             },
         )
         .collect::<anyhow::Result<_>>()?;
+    let mut stats = ShotStats::default();
+    let mut elements = Vec::with_capacity(results.len());
+    for (e, s) in results {
+        stats += s;
+        elements.push(e);
+    }
+    Ok((elements, stats))
+}
+
+impl FormFactors {
+    /// Patch form factors of `n` patches from element rows by (4.3),
+    /// F_ij = Σ_q W_iq F_iq,j, with W_iq each element's area share (`SamplePoint::weight`).
+    /// `samples` and `stats` are recorded as given.
+    pub fn from_elements(
+        n: usize,
+        elements: Vec<ElementRow>,
+        samples: u32,
+        stats: ShotStats,
+    ) -> FormFactors {
+        let (matrix, tinted) = patch_matrix(n, elements.iter());
+        FormFactors {
+            elements,
+            matrix,
+            tinted,
+            samples,
+            stats,
+        }
+    }
+}
+
+/// F_ij = Σ_q W_iq F_iq,j (4.3) over `elements`, for `n` patches: the grey matrix (the mean of
+/// the channels) and, when coloured mirrors make the channels differ, the three per-channel
+/// matrices (see [`FormFactors::matrix`] and [`FormFactors::tinted`]).
+#[allow(
+    clippy::type_complexity,
+    reason = "the two fields of FormFactors, as they are stored"
+)]
+pub fn patch_matrix<'a>(
+    n: usize,
+    elements: impl Iterator<Item = &'a ElementRow>,
+) -> (Vec<Vec<f64>>, Option<[Vec<Vec<f64>>; 3]>) {
     let mut rgb = [
         vec![vec![0.0f64; n]; n],
         vec![vec![0.0f64; n]; n],
         vec![vec![0.0f64; n]; n],
     ];
-    let mut stats = ShotStats::default();
-    let mut elements = Vec::with_capacity(results.len());
-    for (e, s) in results {
-        stats += s;
+    for e in elements {
         for &(j, f) in &e.row {
             for (c, m) in rgb.iter_mut().enumerate() {
                 m[e.patch][j as usize] += e.point.weight as f64 * f[c] as f64;
             }
         }
-        elements.push(e);
     }
-    let (matrix, tinted) = if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
+    if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
         let [r, _, _] = rgb;
         (r, None)
     } else {
@@ -228,12 +285,5 @@ pub fn form_factors_with<A: Accelerator>(
             })
             .collect();
         (mean, Some(rgb))
-    };
-    Ok(FormFactors {
-        elements,
-        matrix,
-        tinted,
-        samples: settings.samples,
-        stats,
-    })
+    }
 }

@@ -1,7 +1,7 @@
 //! From patch radiosities back to the elements (4.2), and the vertex grids of paper §4.3 that
 //! pass 2 and the irradiance queries interpolate.
 
-use crate::pass1::FormFactors;
+use crate::pass1::{ElementRow, FormFactors};
 use crate::scene::Scene;
 use crate::solve::Solution;
 
@@ -61,6 +61,11 @@ impl Grid {
         Grid { k, vertices }
     }
 
+    /// K: the grid has K×K cells, one per sample point.
+    pub fn k(&self) -> usize {
+        self.k
+    }
+
     /// B at (u, v).
     pub fn at(&self, u: f32, v: f32) -> [f64; 3] {
         let k = self.k;
@@ -82,24 +87,32 @@ impl Grid {
     }
 }
 
+/// The radiosity of one element (4.2): `B_iq = E_i + ρ_i Σ_j F_iq,j B_j` per channel, from the
+/// patch radiosities B_j of a solve. (The paper's (4.2) writes the gathered sum alone; the
+/// element's own emission and reflectance make it a radiosity like the patches'.)
+pub fn element_radiosity(scene: &Scene, e: &ElementRow, radiosity: &[[f64; 3]]) -> [f64; 3] {
+    let m = scene.material_of(e.patch);
+    let mut b = m.emission;
+    for (c, bc) in b.iter_mut().enumerate() {
+        let gathered: f64 = e
+            .row
+            .iter()
+            .map(|&(j, f)| f[c] as f64 * radiosity[j as usize][c])
+            .sum();
+        *bc += m.diffuse[c] * gathered;
+    }
+    b
+}
+
 /// Element radiosities (4.2) `B_iq = E_i + ρ_i Σ_j F_iq,j B_j`, gathered into one grid per patch.
 pub fn grids(scene: &Scene, ff: &FormFactors, sol: &Solution) -> Vec<Grid> {
     let mut samples: Vec<Vec<[f64; 3]>> = vec![Vec::new(); scene.patches.len()];
     for e in &ff.elements {
-        let m = scene.material_of(e.patch);
-        let mut b = m.emission;
-        for (c, bc) in b.iter_mut().enumerate() {
-            let gathered: f64 = e
-                .row
-                .iter()
-                .map(|&(j, f)| f[c] as f64 * sol.radiosity[j as usize][c])
-                .sum();
-            *bc += m.diffuse[c] * gathered;
-        }
-        samples[e.patch].push(b);
+        samples[e.patch].push(element_radiosity(scene, e, &sol.radiosity));
     }
-    // K per patch: K×K for polygons, 4×4 for Bezier patches; a pure specular patch has no
-    // samples and no diffuse radiosity but its emission (a constant grid)
+    // K per patch: K×K for polygons, 4×4 for Bezier patches, or the last level of adaptive
+    // sampling (K·2^depth, per patch); a pure specular patch has no samples and no diffuse
+    // radiosity but its emission (a constant grid)
     samples
         .iter()
         .enumerate()

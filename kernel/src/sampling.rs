@@ -75,12 +75,27 @@ pub fn bezier_area(b: &Bezier) -> f32 {
 /// the corners so that the diagonals are parallel, the analytic normal at the centre is used.
 /// `area` is the whole patch's area (for the weight).
 pub fn bezier_sample(patch: &Bezier, a: u32, b: u32, area: f32) -> SamplePoint {
-    let (u0, v0) = (a as f32 * 0.25, b as f32 * 0.25);
-    let (u, v) = (u0 + 0.125, v0 + 0.125);
+    bezier_cell_sample(patch, a as f32 * 0.25, b as f32 * 0.25, 0.25, 0.25, area)
+}
+
+/// The centre of the (u,v) cell `[u0, u0+du] × [v0, v0+dv]` of a Bezier patch as a sample
+/// point, the §7 rule at any subdivision depth (adaptive patch sampling refines Bezier patches
+/// in the same (u,v) hierarchy as polygons, §7 last paragraph): the normal from the cell's four
+/// corners (or the analytic one where a pole makes the diagonals parallel), the weight the
+/// cell's area over `area`, the whole patch's.
+pub fn bezier_cell_sample(
+    patch: &Bezier,
+    u0: f32,
+    v0: f32,
+    du: f32,
+    dv: f32,
+    area: f32,
+) -> SamplePoint {
+    let (u, v) = (u0 + 0.5 * du, v0 + 0.5 * dv);
     let p00 = patch.point(u0, v0);
-    let p10 = patch.point(u0 + 0.25, v0);
-    let p01 = patch.point(u0, v0 + 0.25);
-    let p11 = patch.point(u0 + 0.25, v0 + 0.25);
+    let p10 = patch.point(u0 + du, v0);
+    let p01 = patch.point(u0, v0 + dv);
+    let p11 = patch.point(u0 + du, v0 + dv);
     let diag = (p11 - p00).cross(p01 - p10);
     let scale = (p11 - p00).length() * (p01 - p10).length();
     let normal = if diag.length() > 1e-4 * scale {
@@ -96,9 +111,9 @@ pub fn bezier_sample(patch: &Bezier, a: u32, b: u32, area: f32) -> SamplePoint {
         u,
         v,
         weight: if area > 0.0 {
-            bezier_cell_area(patch, u0, v0, 0.25, 0.25) / area
+            bezier_cell_area(patch, u0, v0, du, dv) / area
         } else {
-            1.0 / 16.0
+            du * dv
         },
     }
 }

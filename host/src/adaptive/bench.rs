@@ -1,0 +1,289 @@
+//! `hemi bench adaptive`: the error of the radiosity field against the rows computed, adaptive
+//! against uniform sampling, against a very finely sampled uniform reference
+//! (docs/ACCURACY.md, "Adaptive patch sampling").
+//!
+//! The error is what pass 2 shows: the radiosity B(u,v) that the vertex grids of §4.3 give over
+//! the surfaces, compared with the reference's grids, as a relative L1 norm of luminance over
+//! the area of all diffuse patches that do not emit,
+//!
+//! ```text
+//!     error = ∫ |Y(u,v) − Y_ref(u,v)| dA / ∫ Y_ref(u,v) dA,
+//! ```
+//!
+//! integrated by the midpoint rule on an M×M lattice per patch (M = 4·K_ref, so every cell of
+//! the reference is sampled 16 times). Emitters are left out: their E dwarfs what they reflect
+//! and would dilute the error of the surfaces around them.
+
+use super::gradient::luminance;
+use super::{refine, AdaptiveSettings, Refined, Test};
+use crate::chart::{log_log, Series};
+use crate::pass1::{form_factors, Pass1Settings};
+use crate::radiosity::{grids, Grid};
+use crate::scene::Scene;
+use crate::solve::gauss_seidel;
+use anyhow::Result;
+use hemi_kernel::patch::Shape;
+use hemi_kernel::sampling::grid_sample;
+use std::io::Write;
+use std::path::Path;
+use std::time::Instant;
+
+/// What to compare.
+#[derive(Clone, Debug)]
+pub struct BenchSettings {
+    /// K of the uniform reference.
+    pub reference: u32,
+    /// K of the uniform runs.
+    pub uniform: Vec<u32>,
+    /// The adaptive runs' initial guess K.
+    pub initial: u32,
+    /// Margins of the adaptive runs (the points of each chart line).
+    pub margins: Vec<f64>,
+    /// The adaptive runs' depth limits (one chart line each, per test).
+    pub depths: Vec<u32>,
+    /// The gradient tests of the adaptive runs.
+    pub tests: Vec<Test>,
+}
+
+/// Relative L1 error of the luminance of `got` against `reference` over the diffuse,
+/// non-emitting patches of `scene` (see the module documentation), on `m`×`m` points a patch.
+pub fn field_error(scene: &Scene, got: &[Grid], reference: &[Grid], m: u32) -> f64 {
+    field_errors(scene, got, reference, m).0
+}
+
+/// The relative L1 error of [`field_error`] and the relative RMS error
+/// (∫ (Y − Y_ref)² dA / A)^½ / (∫ Y_ref dA / A), which weighs large local errors (a missed
+/// shadow edge) more.
+pub fn field_errors(scene: &Scene, got: &[Grid], reference: &[Grid], m: u32) -> (f64, f64) {
+    let (mut diff, mut sq, mut total, mut area) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for (i, p) in scene.patches.iter().enumerate() {
+        let mat = scene.material_of(i);
+        if !mat.is_diffuse() || mat.emission.iter().any(|e| *e > 0.0) {
+            continue;
+        }
+        for b in 0..m {
+            for a in 0..m {
+                // the area of the lattice cell, on any polygon; Bezier cells are taken as equal
+                let (u, v, w) = match &p.shape {
+                    Shape::Polygon(poly) => {
+                        let s = grid_sample(poly, m, a, b);
+                        (s.u, s.v, s.weight as f64 * p.area as f64)
+                    }
+                    Shape::Bezier(_) => (
+                        (a as f32 + 0.5) / m as f32,
+                        (b as f32 + 0.5) / m as f32,
+                        p.area as f64 / (m * m) as f64,
+                    ),
+                };
+                let y = luminance(&got[i].at(u, v));
+                let yr = luminance(&reference[i].at(u, v));
+                diff += w * (y - yr).abs();
+                sq += w * (y - yr) * (y - yr);
+                total += w * yr;
+                area += w;
+            }
+        }
+    }
+    if total > 0.0 {
+        (diff / total, (sq / area).sqrt() / (total / area))
+    } else {
+        (diff, sq.sqrt())
+    }
+}
+
+fn uniform_grids(scene: &Scene, settings: &Pass1Settings) -> Result<(Vec<Grid>, usize)> {
+    let ff = form_factors(scene, settings, &|_| {})?;
+    let n = scene.patches.len();
+    let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
+    let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
+    let sol = gauss_seidel(ff.channels(), &rho, &e, &Default::default())?;
+    Ok((grids(scene, &ff, &sol), ff.elements.len()))
+}
+
+/// One measured configuration.
+#[derive(Clone, Debug)]
+pub struct Measured {
+    /// "uniform" or "adaptive".
+    pub sampling: &'static str,
+    /// The settings, as a table cell.
+    pub setting: String,
+    /// Rows computed (hemispheres shot).
+    pub rows: usize,
+    /// Relative L1 error against the reference.
+    pub error: f64,
+    /// Relative RMS error against the reference.
+    pub rms: f64,
+    /// Wall time of pass 1 and the solves.
+    pub seconds: f64,
+}
+
+/// Runs the comparison on `scene`, writes a markdown table and a summary to `out`, and the
+/// chart to `svg` if given (with `command` as its note). Returns the measurements.
+pub fn adaptive_vs_uniform(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    bench: &BenchSettings,
+    out: &mut impl Write,
+    svg: Option<&Path>,
+    command: &str,
+) -> Result<Vec<Measured>> {
+    let t0 = Instant::now();
+    let (reference, ref_rows) = uniform_grids(
+        scene,
+        &Pass1Settings {
+            samples: bench.reference,
+            ..*settings
+        },
+    )?;
+    let ref_seconds = t0.elapsed().as_secs_f64();
+    let m = 4 * bench.reference;
+    writeln!(
+        out,
+        "reference: uniform K = {}, R = {}: {ref_rows} rows, {ref_seconds:.1} s; error = relative L1 of luminance over {m}×{m} points per patch\n",
+        bench.reference, settings.circles
+    )?;
+    writeln!(
+        out,
+        "| sampling | setting | rows computed | L1 error | RMS error | seconds |"
+    )?;
+    writeln!(out, "|---|---|---|---|---|---|")?;
+    let mut all = Vec::new();
+    let mut uniform = Series {
+        name: "uniform K×K".into(),
+        points: vec![],
+    };
+    for &k in &bench.uniform {
+        let t = Instant::now();
+        let (g, rows) = uniform_grids(
+            scene,
+            &Pass1Settings {
+                samples: k,
+                ..*settings
+            },
+        )?;
+        let (error, rms) = field_errors(scene, &g, &reference, m);
+        let r = Measured {
+            sampling: "uniform",
+            setting: format!("K = {k}"),
+            rows,
+            error,
+            rms,
+            seconds: t.elapsed().as_secs_f64(),
+        };
+        uniform.points.push((r.rows as f64, r.error));
+        row(out, &r)?;
+        all.push(r);
+    }
+    let mut series = vec![uniform];
+    for &test in &bench.tests {
+        for &depth in &bench.depths {
+            let name = match test {
+                Test::Surplus => "surplus",
+                Test::Spread => "spread (paper)",
+            };
+            let mut s = Series {
+                name: format!("{name}, depth {depth}"),
+                points: vec![],
+            };
+            for &margin in &bench.margins {
+                let t = Instant::now();
+                let refined: Refined = refine(
+                    scene,
+                    &Pass1Settings {
+                        samples: bench.initial,
+                        ..*settings
+                    },
+                    &AdaptiveSettings {
+                        margin,
+                        max_depth: depth,
+                        test,
+                        ..AdaptiveSettings::default()
+                    },
+                    &|_| {},
+                )?;
+                let g = grids(scene, &refined.form_factors, &refined.solution);
+                let (error, rms) = field_errors(scene, &g, &reference, m);
+                let r = Measured {
+                    sampling: "adaptive",
+                    setting: format!(
+                        "{name}, K = {}, max depth {depth}, margin {margin}",
+                        bench.initial
+                    ),
+                    rows: refined.rows_computed(),
+                    error,
+                    rms,
+                    seconds: t.elapsed().as_secs_f64(),
+                };
+                s.points.push((r.rows as f64, r.error));
+                row(out, &r)?;
+                all.push(r);
+            }
+            s.points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            series.push(s);
+        }
+    }
+    // At the error of each uniform run, the fewest rows an adaptive run of each test needed to
+    // match it, in L1 and in RMS.
+    writeln!(
+        out,
+        "\n| uniform | its rows | its L1 / RMS error | test | fewest adaptive rows at ≤ its L1 error | ratio | fewest at ≤ its RMS error | ratio |"
+    )?;
+    writeln!(out, "|---|---|---|---|---|---|---|---|")?;
+    for u in all.iter().filter(|r| r.sampling == "uniform") {
+        for &test in &bench.tests {
+            let name = match test {
+                Test::Surplus => "surplus",
+                Test::Spread => "spread (paper)",
+            };
+            let fewest = |err: &dyn Fn(&Measured) -> f64| {
+                all.iter()
+                    .filter(|r| {
+                        r.sampling == "adaptive" && r.setting.starts_with(name) && err(r) <= err(u)
+                    })
+                    .min_by_key(|r| r.rows)
+                    .map_or(("none reaches it".to_string(), "–".to_string()), |a| {
+                        (
+                            format!("{} ({})", a.rows, a.setting),
+                            format!("{:.1}×", u.rows as f64 / a.rows as f64),
+                        )
+                    })
+            };
+            let (l1, l1_ratio) = fewest(&|r| r.error);
+            let (rms, rms_ratio) = fewest(&|r| r.rms);
+            writeln!(
+                out,
+                "| {} | {} | {:.3} % / {:.3} % | {name} | {l1} | {l1_ratio} | {rms} | {rms_ratio} |",
+                u.setting,
+                u.rows,
+                100.0 * u.error,
+                100.0 * u.rms,
+            )?;
+        }
+    }
+    if let Some(path) = svg {
+        let chart = log_log(
+            "Radiosity error against rows computed",
+            "rows computed (hemispheres shot)",
+            "relative L1 error of B(u,v)",
+            command,
+            &series,
+        );
+        std::fs::write(path, chart)?;
+    }
+    Ok(all)
+}
+
+fn row(out: &mut impl Write, r: &Measured) -> Result<()> {
+    writeln!(
+        out,
+        "| {} | {} | {} | {:.3} % | {:.3} % | {:.2} |",
+        r.sampling,
+        r.setting,
+        r.rows,
+        100.0 * r.error,
+        100.0 * r.rms,
+        r.seconds
+    )?;
+    out.flush()?;
+    Ok(())
+}

@@ -1,0 +1,489 @@
+//! Adaptive patch sampling (paper §4; spec §2 step 3): sample points are added where the light
+//! changes across a patch and nowhere else, and the number of patches never grows.
+//!
+//! Every diffuse patch starts from an initial guess of K×K sample points (4×4 on a Bezier
+//! patch, §7) and then:
+//!
+//! 1. the rows F_iq,· of the computed points come from the ray engine (one hemisphere each);
+//! 2. patch form factors by (4.3), F_ij = Σ_q W_iq F_iq,j over all of the patch's current
+//!    elements; the system (2.6) is solved; element radiosities follow from (4.2);
+//! 3. the gradient test ([`gradient`], [`Test`]) runs over every 4-sample window of every patch
+//!    not yet at the depth limit. A patch with a failing window is subdivided one level *as a whole*
+//!    (k×k → 2k×2k, [`lattice`]): the new centre points on the part of the patch a failing
+//!    window covers are shot (their rows replace the parent's, "removing the old row and
+//!    inserting the four new rows", §4.2); everywhere else they are interpolated bilinearly
+//!    from the previous level — rows, not just intensities, so that (4.3) and (4.2) stay one
+//!    linear system and the next solve sees the interpolated elements too;
+//! 4. back to 2 until no window fails or every failing patch is at `max_depth`.
+//!
+//! The last level of each patch is a uniform k×k lattice, so pass 2 gets the same vertex grid
+//! ([`crate::radiosity::Grid`]) as uniform sampling, one resolution per patch (§4.3: "a uniform
+//! intensity grid which is anyhow desired for the rendering process").
+//!
+//! A patch whose initial windows all pass keeps its initial K×K points: a flat, evenly lit
+//! patch costs K² rows and no more. K = 1 would make that one row, but a single sample has no
+//! window and so could never detect a gradient; the smallest guess that can is 2×2, which is
+//! what the CLI starts from (`--adaptive`; docs/ACCURACY.md, "Adaptive patch sampling").
+//!
+//! The hemisphere spin of a computed point is chosen by its index in its level's lattice, as in
+//! uniform sampling, so a level whose windows all failed holds exactly the rows uniform K·2^n
+//! sampling would compute (margin 0 reproduces uniform sampling bit for bit).
+
+pub mod bench;
+pub mod gradient;
+pub mod lattice;
+
+use crate::engine::SoftEngine;
+use crate::pass1::{patch_matrix, shoot_rows, ElementRow, FormFactors, Pass1Settings};
+use crate::radiosity::element_radiosity;
+use crate::scene::Scene;
+use crate::solve::{gauss_seidel, Solution, SolveSettings};
+use hemi_kernel::accel::Accelerator;
+use hemi_kernel::patch::Shape;
+use hemi_kernel::sampling::{bezier_cell_sample, grid_sample, SamplePoint};
+use hemi_kernel::tracer::ShotStats;
+
+/// Settings of adaptive patch sampling (the initial guess K is [`Pass1Settings::samples`]).
+#[derive(Clone, Copy, Debug)]
+pub struct AdaptiveSettings {
+    /// The gradient test's margin: a window fails when its luminance differences ([`Test`])
+    /// exceed this fraction of its mean luminance ([`gradient`]).
+    pub margin: f64,
+    /// The most levels a patch is subdivided beyond its initial guess (the paper's picture 4
+    /// uses 4).
+    pub max_depth: u32,
+    /// The solver of step 2.
+    pub solve: SolveSettings,
+    /// What a window's four samples are compared by ([`Test`]).
+    pub test: Test,
+}
+
+/// The comparison the gradient test makes in a 4-sample window ([`gradient`]). Both compare
+/// luminance differences against `margin` times the window's mean luminance; they differ in
+/// which differences.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Test {
+    /// The paper's (§4.3): the differences among the four intensities themselves, max − min.
+    /// It asks "is the light changing here?", so it also refines smooth slopes that bilinear
+    /// interpolation reproduces exactly, and stops on curved ones whose steps are small.
+    Spread,
+    /// From level 1 on, each sample's difference from what the level before predicted for it
+    /// by the bilinear interpolation of [`lattice`] (its hierarchical surplus, zero for an
+    /// interpolated sample); level 0 has no level before and uses [`Test::Spread`]. It asks
+    /// "did interpolating miss something here?", which is what decides the error of the grid
+    /// pass 2 interpolates: on the Cornell box it reaches uniform K = 16's error with about
+    /// half the rows the spread test needs (docs/ACCURACY.md).
+    Surplus,
+}
+
+impl Default for AdaptiveSettings {
+    fn default() -> Self {
+        AdaptiveSettings {
+            margin: 0.1,
+            max_depth: 4,
+            solve: SolveSettings::default(),
+            test: Test::Surplus,
+        }
+    }
+}
+
+/// A sample point that was shot (not interpolated), and the level it was shot at.
+#[derive(Clone, Copy, Debug)]
+pub struct ComputedSample {
+    /// Level: 0 is the initial guess.
+    pub depth: u32,
+    /// Index (a, b) in that level's k×k lattice.
+    pub cell: (u32, u32),
+    /// The point.
+    pub point: SamplePoint,
+}
+
+/// What adaptive sampling did on one patch.
+#[derive(Clone, Debug, Default)]
+pub struct PatchReport {
+    /// Levels subdivided beyond the initial guess.
+    pub depth: u32,
+    /// k of the last level: its lattice (and the vertex grid pass 2 reads) is k×k. 0 for a pure
+    /// specular patch, which has no sample points.
+    pub k: u32,
+    /// Every sample point shot on the patch, at every level (the rows computed).
+    pub computed: Vec<ComputedSample>,
+}
+
+impl PatchReport {
+    /// Rows computed by form factors (hemisphere shots) on this patch, over all levels.
+    pub fn rows_computed(&self) -> usize {
+        self.computed.len()
+    }
+}
+
+/// The outcome of adaptive sampling.
+#[derive(Clone, Debug)]
+pub struct Refined {
+    /// The last level of every patch as pass-1 output: element rows (computed and interpolated,
+    /// each patch's k×k v-major) and F_ij of (4.3). `samples` is the initial guess K.
+    pub form_factors: FormFactors,
+    /// The last solve of (2.6), on `form_factors`.
+    pub solution: Solution,
+    /// Per patch, in scene order.
+    pub patches: Vec<PatchReport>,
+    /// Solves done (one per level reached, the initial one included).
+    pub rounds: u32,
+}
+
+impl Refined {
+    /// Rows computed over all patches and levels: the hemispheres shot, the cost of pass 1.
+    pub fn rows_computed(&self) -> usize {
+        self.patches.iter().map(PatchReport::rows_computed).sum()
+    }
+}
+
+/// What [`refine_with`] reports while it works.
+#[derive(Clone, Copy, Debug)]
+pub enum Progress {
+    /// This many more rows are about to be shot (a new level).
+    Planned(u64),
+    /// This many rows are done.
+    Done(u64),
+}
+
+/// Sample point (a, b) of the k×k lattice on patch `i` (the cell's centre, its area share).
+pub fn cell_point(scene: &Scene, i: usize, k: u32, a: u32, b: u32) -> SamplePoint {
+    let patch = &scene.patches[i];
+    match &patch.shape {
+        Shape::Polygon(poly) => grid_sample(poly, k, a, b),
+        Shape::Bezier(bez) => {
+            let d = 1.0 / k as f32;
+            bezier_cell_sample(bez, a as f32 * d, b as f32 * d, d, d, patch.area)
+        }
+    }
+}
+
+/// The initial guess on patch `i`: K×K on a polygon, the 4×4 of §7 on a Bezier patch, none on a
+/// pure specular patch (it has no column and shoots no hemisphere).
+fn initial_k(scene: &Scene, i: usize, k: u32) -> u32 {
+    if !scene.material_of(i).is_diffuse() {
+        return 0;
+    }
+    match scene.patches[i].shape {
+        Shape::Polygon(_) => k,
+        Shape::Bezier(_) => 4,
+    }
+}
+
+/// Adaptive sampling with the software engine on all cores.
+pub fn refine(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    adaptive: &AdaptiveSettings,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> anyhow::Result<Refined> {
+    let patches = scene.kernel_patches();
+    refine_with(
+        scene,
+        settings,
+        adaptive,
+        &|| SoftEngine::new(&patches),
+        progress,
+    )
+}
+
+/// One level of patch `i` subdivided into the next (k → 2k, §4.3): the 2k×2k elements
+/// (v-major) with the rows of those outside every failing window interpolated from `rows` (the
+/// k×k level) and `None` for those to shoot, and the list of the latter as (index, cell (a, b),
+/// sample point). `failing` holds the (k−1)² windows of the gradient test.
+#[allow(
+    clippy::type_complexity,
+    reason = "the level and its shot list, used together"
+)]
+pub fn subdivide(
+    scene: &Scene,
+    i: usize,
+    k: u32,
+    rows: &[ElementRow],
+    failing: &[bool],
+) -> (
+    Vec<Option<ElementRow>>,
+    Vec<(usize, (u32, u32), SamplePoint)>,
+) {
+    let k = k as usize;
+    assert!(k >= 2 && rows.len() == k * k && failing.len() == (k - 1) * (k - 1));
+    let k2 = 2 * k;
+    let mut next: Vec<Option<ElementRow>> = Vec::with_capacity(k2 * k2);
+    let mut shoot = Vec::new();
+    for b in 0..k2 {
+        for a in 0..k2 {
+            let window = lattice::owner(k, b) * (k - 1) + lattice::owner(k, a);
+            let point = cell_point(scene, i, k2 as u32, a as u32, b as u32);
+            if failing[window] {
+                shoot.push((next.len(), (a as u32, b as u32), point));
+                next.push(None);
+            } else {
+                let parts: Vec<lattice::Part<'_>> = lattice::stencil(k, a, b)
+                    .iter()
+                    .map(|&(p, w)| (&rows[p].row[..], w))
+                    .collect();
+                next.push(Some(ElementRow {
+                    patch: i,
+                    point,
+                    row: lattice::blend(&parts),
+                }));
+            }
+        }
+    }
+    (next, shoot)
+}
+
+/// One patch's current level.
+struct Level {
+    k: u32,
+    rows: Vec<ElementRow>,
+    /// The level before (its k is half this one's), for the surplus test.
+    parent: Option<Vec<ElementRow>>,
+}
+
+/// Adaptive sampling on all cores with engines made by `make` (one per worker thread), from the
+/// initial guess `settings.samples` (see the module documentation for the procedure).
+pub fn refine_with<A: Accelerator>(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    adaptive: &AdaptiveSettings,
+    make: &(dyn Fn() -> A + Sync),
+    progress: &(dyn Fn(Progress) + Sync),
+) -> anyhow::Result<Refined> {
+    anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
+    anyhow::ensure!(
+        adaptive.margin >= 0.0 && adaptive.margin.is_finite(),
+        "--margin must be a finite number ≥ 0"
+    );
+    let n = scene.patches.len();
+    let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
+    let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
+    let done = |d: u64| progress(Progress::Done(d));
+    let mut reports = vec![PatchReport::default(); n];
+    let mut stats = ShotStats::default();
+
+    // Level 0: the initial guess, every point shot.
+    let mut shots: Vec<(usize, u32, SamplePoint)> = Vec::new();
+    let mut cells: Vec<(u32, u32)> = Vec::new();
+    for (i, report) in reports.iter_mut().enumerate() {
+        let k = initial_k(scene, i, settings.samples);
+        for b in 0..k {
+            for a in 0..k {
+                shots.push((i, b * k + a, cell_point(scene, i, k, a, b)));
+                cells.push((a, b));
+            }
+        }
+        report.k = k;
+    }
+    progress(Progress::Planned(shots.len() as u64));
+    let (rows, s) = shoot_rows(scene, settings, make, &shots, &done)?;
+    stats += s;
+    let mut levels: Vec<Option<Level>> = (0..n)
+        .map(|i| {
+            (reports[i].k > 0).then(|| Level {
+                k: reports[i].k,
+                rows: Vec::new(),
+                parent: None,
+            })
+        })
+        .collect();
+    for (row, cell) in rows.into_iter().zip(cells) {
+        reports[row.patch].computed.push(ComputedSample {
+            depth: 0,
+            cell,
+            point: row.point,
+        });
+        levels[row.patch]
+            .as_mut()
+            .expect("only diffuse patches are shot")
+            .rows
+            .push(row);
+    }
+
+    let mut rounds = 0;
+    loop {
+        // (4.3), (2.6)
+        let (matrix, tinted) = patch_matrix(n, levels.iter().flatten().flat_map(|l| l.rows.iter()));
+        let channels = match &tinted {
+            Some(t) => [&t[0][..], &t[1][..], &t[2][..]],
+            None => [&matrix[..], &matrix[..], &matrix[..]],
+        };
+        let solution = gauss_seidel(channels, &rho, &e, &adaptive.solve)?;
+        rounds += 1;
+
+        // (4.2) and the gradient test; the next level of every patch with a failing window
+        let mut next: Vec<(usize, Vec<Option<ElementRow>>)> = Vec::new();
+        let mut shots: Vec<(usize, u32, SamplePoint)> = Vec::new();
+        let mut targets: Vec<(usize, usize, (u32, u32))> = Vec::new();
+        for (i, level) in levels.iter().enumerate() {
+            let Some(level) = level else { continue };
+            if reports[i].depth >= adaptive.max_depth || level.k < 2 {
+                continue;
+            }
+            let k = level.k as usize;
+            let values: Vec<[f64; 3]> = level
+                .rows
+                .iter()
+                .map(|r| element_radiosity(scene, r, &solution.radiosity))
+                .collect();
+            let failing = match (&level.parent, adaptive.test) {
+                (Some(parent), Test::Surplus) => {
+                    let pv: Vec<[f64; 3]> = parent
+                        .iter()
+                        .map(|r| element_radiosity(scene, r, &solution.radiosity))
+                        .collect();
+                    let predicted: Vec<[f64; 3]> = (0..k * k)
+                        .map(|q| {
+                            let mut b = [0.0; 3];
+                            for (p, w) in lattice::stencil(k / 2, q % k, q / k) {
+                                for c in 0..3 {
+                                    b[c] += w * pv[p][c];
+                                }
+                            }
+                            b
+                        })
+                        .collect();
+                    gradient::failing_windows_surplus(k, &values, &predicted, adaptive.margin)
+                }
+                _ => gradient::failing_windows(k, &values, adaptive.margin),
+            };
+            if !failing.iter().any(|f| *f) {
+                continue;
+            }
+            let (rows, shoot) = subdivide(scene, i, level.k, &level.rows, &failing);
+            for (q, cell, point) in shoot {
+                targets.push((next.len(), q, cell));
+                shots.push((i, cell.1 * 2 * level.k + cell.0, point));
+            }
+            next.push((i, rows));
+        }
+        if next.is_empty() {
+            let elements: Vec<ElementRow> =
+                levels.into_iter().flatten().flat_map(|l| l.rows).collect();
+            return Ok(Refined {
+                form_factors: FormFactors {
+                    elements,
+                    matrix,
+                    tinted,
+                    samples: settings.samples,
+                    stats,
+                },
+                solution,
+                patches: reports,
+                rounds,
+            });
+        }
+        progress(Progress::Planned(shots.len() as u64));
+        let (rows, s) = shoot_rows(scene, settings, make, &shots, &done)?;
+        stats += s;
+        for (row, (slot, q, cell)) in rows.into_iter().zip(targets) {
+            let depth = reports[row.patch].depth + 1;
+            reports[row.patch].computed.push(ComputedSample {
+                depth,
+                cell,
+                point: row.point,
+            });
+            next[slot].1[q] = Some(row);
+        }
+        for (i, rows) in next {
+            let old = levels[i].take().expect("refined patches have a level");
+            let k = old.k * 2;
+            levels[i] = Some(Level {
+                k,
+                rows: rows
+                    .into_iter()
+                    .map(|r| r.expect("every element is shot or interpolated"))
+                    .collect(),
+                parent: Some(old.rows),
+            });
+            reports[i].depth += 1;
+            reports[i].k = k;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::pass1::{form_factors, patch_matrix};
+
+    const SCENE: &str = r#"
+[[material]]
+name = "m"
+diffuse = [0.5, 0.5, 0.5]
+[[material]]
+name = "lamp"
+diffuse = [0.0, 0.0, 0.0]
+emission = [1.0, 1.0, 1.0]
+[[quad]]
+name = "floor"
+material = "m"
+vertices = [[0, 0, 0], [0, 0, 1], [1.5, 0, 1.2], [1.5, 0, 0.2]]
+[[quad]]
+name = "lamp"
+material = "lamp"
+vertices = [[0.2, 0.6, 0.2], [0.5, 0.6, 0.2], [0.5, 0.6, 0.5], [0.2, 0.6, 0.5]]
+"#;
+
+    #[test]
+    fn interpolating_a_whole_level_changes_no_patch_form_factor() {
+        // (4.3) over the interpolated 2k×2k level equals (4.3) over the k×k level: each parent
+        // hands its children exactly its own weight (a parallelogram's cells are equal).
+        let scene = crate::scene::parse(SCENE, "t.toml").unwrap();
+        let settings = Pass1Settings {
+            circles: 16,
+            samples: 4,
+            ..Pass1Settings::default()
+        };
+        let ff = form_factors(&scene, &settings, &|_| {}).unwrap();
+        let floor: Vec<ElementRow> = ff
+            .elements
+            .iter()
+            .filter(|e| e.patch == 0)
+            .cloned()
+            .collect();
+        let (next, shoot) = subdivide(&scene, 0, 4, &floor, &[false; 9]);
+        assert!(shoot.is_empty());
+        let next: Vec<ElementRow> = next.into_iter().map(Option::unwrap).collect();
+        assert_eq!(next.len(), 64);
+        let before = patch_matrix(2, floor.iter()).0;
+        let after = patch_matrix(2, next.iter()).0;
+        assert!(
+            before[0][1] > 0.01,
+            "the floor sees the lamp: {}",
+            before[0][1]
+        );
+        assert!(
+            (before[0][1] - after[0][1]).abs() < 1e-6 * before[0][1],
+            "{} → {}",
+            before[0][1],
+            after[0][1]
+        );
+    }
+
+    #[test]
+    fn a_failing_window_shoots_the_children_between_its_samples() {
+        let scene = crate::scene::parse(SCENE, "t.toml").unwrap();
+        let rows: Vec<ElementRow> = (0..16)
+            .map(|q| ElementRow {
+                patch: 0,
+                point: cell_point(&scene, 0, 4, q % 4, q / 4),
+                row: vec![(1, [0.1; 3])],
+            })
+            .collect();
+        let mut failing = [false; 9];
+        failing[4] = true; // window (1, 1): samples 1..2 × 1..2
+        let (next, shoot) = subdivide(&scene, 0, 4, &rows, &failing);
+        let cells: Vec<(u32, u32)> = shoot.iter().map(|s| s.1).collect();
+        assert_eq!(cells, [(3, 3), (4, 3), (3, 4), (4, 4)]);
+        for (q, cell, point) in &shoot {
+            assert!(next[*q].is_none());
+            assert_eq!(*point, cell_point(&scene, 0, 8, cell.0, cell.1));
+        }
+        // the others are interpolated from rows that are all alike, so they are alike too
+        for r in next.iter().flatten() {
+            assert_eq!(r.row, vec![(1, [0.1; 3])]);
+        }
+    }
+}
