@@ -13,6 +13,9 @@ fn main() {
     // Copy rather than point at the root: cortex-m-rt's link.x INCLUDEs `memory.x` from the
     // search path, and a stray memory.x in this folder would silently win (field notes).
     fs::copy(root.join("memory.x"), out.join("memory.x")).expect("workspace memory.x");
+    // The accelerator model stands in for the FPGA and is larger than a small MCU: memory.x
+    // gives `model` builds (QEMU only) QEMU's whole memories when this symbol is defined.
+    let model = env::var_os("CARGO_FEATURE_MODEL").is_some();
     println!("cargo:rustc-link-search={}", out.display());
     println!("cargo:rerun-if-changed=../memory.x");
 
@@ -21,6 +24,9 @@ fn main() {
             println!("cargo:rustc-link-arg-{kind}=--nmagic");
             println!("cargo:rustc-link-arg-{kind}=-Tlink.x");
             println!("cargo:rustc-link-arg-{kind}=-Tdefmt.x");
+            if model {
+                println!("cargo:rustc-link-arg-{kind}=--defsym=_hemi_qemu_model=1");
+            }
         }
     }
 

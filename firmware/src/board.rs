@@ -1,6 +1,6 @@
 //! What this firmware says about itself in the handshake.
 
-use hemi_kernel::link::{AccelKind, HelloInfo, BUILD_LEN, KERNEL_CAPACITIES, PROTOCOL_VERSION};
+use hemi_kernel::link::{HelloInfo, BUILD_LEN, ENGINE_CAPACITIES, PROTOCOL_VERSION};
 
 /// Name, version and git revision, as reported in the handshake.
 pub const BUILD: &str = concat!(
@@ -11,7 +11,7 @@ pub const BUILD: &str = concat!(
     ")"
 );
 
-/// The handshake: the kernel runs on the CPU (the accelerator model and MMIO come later).
+/// The handshake: this build's accelerator and the engine's capacities.
 pub fn hello_info() -> HelloInfo {
     let mut build = heapless::String::<BUILD_LEN>::new();
     // Truncate rather than fail: the build string is informational.
@@ -23,7 +23,7 @@ pub fn hello_info() -> HelloInfo {
     HelloInfo {
         protocol: PROTOCOL_VERSION,
         build,
-        accel: AccelKind::Soft,
-        caps: KERNEL_CAPACITIES,
+        accel: crate::accel::FwAccel::native(),
+        caps: ENGINE_CAPACITIES,
     }
 }

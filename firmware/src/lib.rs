@@ -1,10 +1,11 @@
 //! hemi's co-processor firmware: boots on a Cortex-M4F (QEMU `mps2-an386` or an MPS2+ board),
-//! serves the link protocol of `hemi_kernel::link` over UART0 and, in later issues, runs the
-//! kernel's jobs.
+//! serves the link protocol of `hemi_kernel::link` over UART0 and runs the kernel's jobs
+//! (scene upload, hemisphere shots, pixel and gather rays) on its accelerator.
 //!
 //! The library holds everything the binary and the on-target tests share: the UART driver
-//! ([`uart`], the only `unsafe` code), the job loop ([`job`]), the handshake contents
-//! ([`board`]) and the failure path ([`fault`]). Nothing that arrives on the wire can panic it.
+//! ([`uart`], the only `unsafe` code besides the entry), the job loop and engine ([`job`]), the
+//! accelerators ([`accel`]), the SysTick clock ([`clock`]), the handshake contents ([`board`])
+//! and the failure path ([`fault`]). Nothing that arrives on the wire can panic it.
 #![no_std]
 #![deny(unsafe_code)]
 
@@ -14,8 +15,10 @@ use cortex_m as _;
 use cortex_m_rt as _;
 use defmt_semihosting as _;
 
+pub mod accel;
 pub mod accel_mmio;
 pub mod board;
+pub mod clock;
 pub mod fault;
 pub mod job;
 pub mod uart;

@@ -92,6 +92,8 @@ pub enum Backend {
     Soft,
     /// The cycle-level model of the accelerator, driven through its register driver.
     Model(hemi_hdl_model::ModelConfig),
+    /// Boards over the link (`qemu`, `serial:PATH`, comma-separated): the firmware runs the jobs.
+    Boards(&'static [crate::board::jobs::BoardSpec]),
 }
 
 /// Cycles and rays summed over the model engines of a run (one engine per worker thread).

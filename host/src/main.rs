@@ -104,7 +104,10 @@ impl Common {
                     ..ModelConfig::default()
                 }))
             }
-            b => bail!("--backend {b}: `soft` and `model` run the passes so far; boards (qemu, serial:PATH, lists) answer `hemi board info` but do not take jobs yet (issue \"The firmware as the ray engine\")"),
+            b => match hemi::board::jobs::parse_boards(b)? {
+                Some(list) => Ok(Backend::Boards(Vec::leak(list))),
+                None => bail!("--backend {b}: expected soft, model, qemu or serial:PATH (boards may be listed comma-separated)"),
+            },
         }
     }
 
@@ -134,6 +137,29 @@ impl Common {
         })
     }
 
+    /// Adaptive sampling settings with `--adaptive`, else `None` (uniform K×K).
+    fn adaptive(&self) -> Result<Option<AdaptiveSettings>> {
+        if !self.adaptive {
+            return Ok(None);
+        }
+        if !(self.margin >= 0.0 && self.margin.is_finite()) {
+            bail!("--margin must be a finite number ≥ 0");
+        }
+        if self.max_depth > 8 {
+            bail!("--max-depth must be at most 8 (a 2×2 guess becomes 512×512)");
+        }
+        Ok(Some(AdaptiveSettings {
+            margin: self.margin,
+            max_depth: self.max_depth,
+            test: if self.test == "spread" {
+                hemi::adaptive::Test::Spread
+            } else {
+                hemi::adaptive::Test::Surplus
+            },
+            ..AdaptiveSettings::default()
+        }))
+    }
+
     /// [`Common::pass1`] with `--quality` applied for `scene`.
     fn settings_for(&self, scene: &Scene) -> Result<Pass1Settings> {
         let mut settings = self.pass1()?;
@@ -157,29 +183,6 @@ impl Common {
             }
             _ => false,
         }
-    }
-
-    /// Adaptive sampling settings with `--adaptive`, else `None` (uniform K×K).
-    fn adaptive(&self) -> Result<Option<AdaptiveSettings>> {
-        if !self.adaptive {
-            return Ok(None);
-        }
-        if !(self.margin >= 0.0 && self.margin.is_finite()) {
-            bail!("--margin must be a finite number ≥ 0");
-        }
-        if self.max_depth > 8 {
-            bail!("--max-depth must be at most 8 (a 2×2 guess becomes 512×512)");
-        }
-        Ok(Some(AdaptiveSettings {
-            margin: self.margin,
-            max_depth: self.max_depth,
-            test: if self.test == "spread" {
-                hemi::adaptive::Test::Spread
-            } else {
-                hemi::adaptive::Test::Surplus
-            },
-            ..AdaptiveSettings::default()
-        }))
     }
 }
 
@@ -415,11 +418,20 @@ fn progress(len: u64, what: &str) -> ProgressBar {
     bar
 }
 
+/// The boards of a `Boards` backend, connected (QEMU booted); `None` for in-process backends.
+fn farm_for(backend: Backend) -> Result<Option<hemi::board::jobs::Farm>> {
+    match backend {
+        Backend::Boards(list) => Ok(Some(hemi::board::jobs::Farm::connect(list, None)?)),
+        _ => Ok(None),
+    }
+}
+
 fn run_pass1(
     scene: &Scene,
     settings: &Pass1Settings,
     backend: Backend,
     counters: &Counters,
+    farm: Option<&hemi::board::jobs::Farm>,
 ) -> Result<FormFactors> {
     let elements: u64 = (0..scene.patches.len())
         .map(|i| pass1::sample_count(scene, i, settings.samples) as u64)
@@ -446,6 +458,16 @@ fn run_pass1(
                 &|n| bar.inc(n),
             )?
         }
+        Backend::Boards(_) => {
+            let farm = farm.context("boards not connected")?;
+            let t0 = std::time::Instant::now();
+            let ff = hemi::board::remote::form_factors(farm, scene, settings, &|n| bar.inc(n))?;
+            if std::env::var_os("HEMI_BOARD_STATS").is_some() {
+                eprintln!("pass 1 on boards: {:.3} s", t0.elapsed().as_secs_f64());
+                hemi::board::remote::report(farm, "after pass 1");
+            }
+            ff
+        }
     };
     bar.finish_and_clear();
     Ok(ff)
@@ -459,9 +481,13 @@ fn run_sampling(
     adaptive: Option<AdaptiveSettings>,
     backend: Backend,
     counters: &Counters,
+    farm: Option<&hemi::board::jobs::Farm>,
 ) -> Result<(FormFactors, Vec<PatchReport>)> {
     let Some(adaptive) = adaptive else {
-        return Ok((run_pass1(scene, settings, backend, counters)?, Vec::new()));
+        return Ok((
+            run_pass1(scene, settings, backend, counters, farm)?,
+            Vec::new(),
+        ));
     };
     let bar = progress(0, "pass 1");
     let on = |p: hemi::adaptive::Progress| match p {
@@ -470,6 +496,9 @@ fn run_sampling(
     };
     let patches = scene.kernel_patches();
     let refined = match backend {
+        Backend::Boards(_) => bail!(
+            "--adaptive runs on the soft and model backends: boards take uniform sample jobs so far"
+        ),
         Backend::Soft => hemi::adaptive::refine_with(
             scene,
             settings,
@@ -893,27 +922,35 @@ fn main() -> Result<()> {
             let scene = scene::load(&scene)?;
             let settings = common.settings_for(&scene)?;
             let camera = hemi::render::camera_of(&scene)?;
+            let farm = farm_for(backend)?;
             let t0 = std::time::Instant::now();
             anyhow::ensure!(
                 !show_samples || common.adaptive,
                 "--show-samples draws the points of adaptive sampling: add --adaptive"
             );
-            let (ff_stats, hemispheres, sol, grids, t1, sampled) = if common.streaming(&scene) {
+            let mut sampled = Vec::new();
+            let (ff_stats, hemispheres, sol, grids, t1) = if common.streaming(&scene) {
                 anyhow::ensure!(
                     !common.adaptive,
-                    "--adaptive refines from stored element rows; progressive refinement keeps none (use another --solver)"
+                    "--adaptive refines from solved rows and needs the form-factor matrix: choose a --solver other than progressive"
                 );
                 let (sol, grids) = solve_streaming(&scene, &settings, &common, true)?;
                 let t1 = std::time::Instant::now();
-                let grids = grids.unwrap_or_default();
-                (ShotStats::default(), 0, sol, grids, t1, Vec::new())
+                (ShotStats::default(), 0, sol, grids.unwrap_or_default(), t1)
             } else {
-                let (ff, sampled) =
-                    run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
+                let (ff, points) = run_sampling(
+                    &scene,
+                    &settings,
+                    common.adaptive()?,
+                    backend,
+                    &counters,
+                    farm.as_ref(),
+                )?;
+                sampled = points;
                 let t1 = std::time::Instant::now();
                 let sol = solve_scene(&scene, &ff, common.solver)?;
                 let grids = hemi::radiosity::grids(&scene, &ff, &sol);
-                (ff.stats, ff.elements.len(), sol, grids, t1, sampled)
+                (ff.stats, ff.elements.len(), sol, grids, t1)
             };
             let t2 = std::time::Instant::now();
             let bar = progress(camera.height as u64, "pass 2");
@@ -941,6 +978,15 @@ fn main() -> Result<()> {
                             &counters,
                         )
                     },
+                    &|n| bar.inc(n),
+                )?,
+                Backend::Boards(_) => hemi::board::remote::render(
+                    farm.as_ref().context("boards not connected")?,
+                    &scene,
+                    &settings,
+                    &grids,
+                    &camera,
+                    spp,
                     &|n| bar.inc(n),
                 )?,
             };
@@ -1026,7 +1072,15 @@ fn main() -> Result<()> {
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
             let settings = common.settings_for(&scene)?;
-            let (ff, _) = run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
+            let farm = farm_for(backend)?;
+            let (ff, _) = run_sampling(
+                &scene,
+                &settings,
+                common.adaptive()?,
+                backend,
+                &counters,
+                farm.as_ref(),
+            )?;
             if json {
                 let patches: Vec<_> = scene
                     .patches
@@ -1078,16 +1132,19 @@ fn main() -> Result<()> {
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
             let settings = common.settings_for(&scene)?;
+            let farm = farm_for(backend)?;
             let (sol, hemispheres, ff_stats) = if common.streaming(&scene) {
-                anyhow::ensure!(
-                    !common.adaptive,
-                    "--adaptive refines from stored element rows; progressive refinement keeps none (use another --solver)"
-                );
                 let sol = solve_streaming(&scene, &settings, &common, false)?.0;
                 (sol, 0, ShotStats::default())
             } else {
-                let (ff, _) =
-                    run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
+                let (ff, _) = run_sampling(
+                    &scene,
+                    &settings,
+                    common.adaptive()?,
+                    backend,
+                    &counters,
+                    farm.as_ref(),
+                )?;
                 let sol = solve_scene(&scene, &ff, common.solver)?;
                 (sol, ff.elements.len(), ff.stats)
             };
@@ -1139,16 +1196,19 @@ fn main() -> Result<()> {
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
             let settings = common.settings_for(&scene)?;
+            let farm = farm_for(backend)?;
             let (grids, hemispheres) = if common.streaming(&scene) {
-                anyhow::ensure!(
-                    !common.adaptive,
-                    "--adaptive refines from stored element rows; progressive refinement keeps none (use another --solver)"
-                );
                 let (_, grids) = solve_streaming(&scene, &settings, &common, true)?;
                 (grids.unwrap_or_default(), 0)
             } else {
-                let (ff, _) =
-                    run_sampling(&scene, &settings, common.adaptive()?, backend, &counters)?;
+                let (ff, _) = run_sampling(
+                    &scene,
+                    &settings,
+                    common.adaptive()?,
+                    backend,
+                    &counters,
+                    farm.as_ref(),
+                )?;
                 let sol = solve_scene(&scene, &ff, common.solver)?;
                 (hemi::radiosity::grids(&scene, &ff, &sol), ff.elements.len())
             };
@@ -1173,6 +1233,21 @@ fn main() -> Result<()> {
                     &grids,
                     &mut out,
                 )?,
+                Backend::Boards(_) => {
+                    let farm = farm.as_ref().context("boards not connected")?;
+                    for (n, line) in stdin_lines() {
+                        let (p, d) = parse_ray_line(&line?, n)?;
+                        let e = hemi::board::remote::irradiance(
+                            farm,
+                            settings.circles,
+                            settings.rule,
+                            &grids,
+                            p,
+                            d,
+                        )?;
+                        writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
+                    }
+                }
             }
             report_model(
                 backend,
@@ -1195,6 +1270,9 @@ fn main() -> Result<()> {
                     &scene,
                     &mut out,
                 )?,
+                Backend::Boards(_) => bail!(
+                    "trace: boards answer form-factors, solve, irradiance and render; use --backend soft or model"
+                ),
             }
             out.flush()?;
             report_model(backend, &counters, 0, common.clock_mhz, "trace");

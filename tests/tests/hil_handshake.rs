@@ -46,7 +46,11 @@ fn handshake_ping_and_recovery_from_damaged_frames() {
 
     let hello = &board.handshake.hello;
     assert_eq!(hello.protocol, PROTOCOL_VERSION);
-    assert_eq!(hello.accel, AccelKind::Soft);
+    assert_eq!(
+        hello.accel,
+        AccelKind::Model,
+        "QEMU builds run jobs on the HDL model"
+    );
     assert!(
         hello.build.starts_with("hemi-firmware "),
         "build: {}",

@@ -16,6 +16,9 @@ use hemi_kernel::link::{
 pub trait Port: Read + Write + Send {}
 impl<T: Read + Write + Send> Port for T {}
 
+/// The first id of the link's own requests: job ids (chosen by the caller) stay below it.
+pub const FIRST_LINK_ID: u32 = (1 << 21) + 1;
+
 /// Baud rate asked of a real serial port (a pty ignores it).
 pub const BAUD: u32 = 115_200;
 /// How long one read may block; bounds how late a deadline is noticed.
@@ -80,7 +83,7 @@ impl Link {
         Self {
             port,
             decoder: Box::new(MaxFrameDecoder::new()),
-            next_id: 1,
+            next_id: FIRST_LINK_ID,
             frame: vec![0; MAX_WIRE_LEN],
             rx: vec![0; 4096],
             rx_start: 0,
@@ -90,27 +93,30 @@ impl Link {
 
     fn fresh_id(&mut self) -> u32 {
         let id = self.next_id;
-        // Skip NO_ID on wrap-around: it means "no request" on the wire.
-        self.next_id = self.next_id.wrapping_add(1).max(1);
+        // Stay above the job ids (see `send_as`), which also skips NO_ID on wrap-around.
+        self.next_id = self.next_id.wrapping_add(1).max(FIRST_LINK_ID);
         id
     }
 
     /// Sends a request; returns its id.
     pub fn send(&mut self, req: &Request) -> Result<u32> {
         let id = self.fresh_id();
+        self.send_as(id, req)?;
+        Ok(id)
+    }
+
+    /// Sends a request with the caller's id: a job's id, the same on every retry so the board
+    /// counts the job once. Job ids must not collide with this link's own (see `fresh_id`): the
+    /// job farm's are at most 2^21, the link's own above.
+    pub fn send_as(&mut self, id: u32, req: &Request) -> Result<()> {
         let n = encode_request(id, req, &mut self.frame)
             .map_err(|e| anyhow!("request too large for one frame: {e:?}"))?;
-        self.port
-            .write_all(&self.frame[..n])
-            .context("writing to the board")?;
-        self.port.flush().context("writing to the board")?;
-        Ok(id)
+        write_patiently(&mut self.port, &self.frame[..n])
     }
 
     /// Sends raw bytes (fault-injection tests; a lone 0x00 to flush the board's decoder).
     pub fn send_raw(&mut self, bytes: &[u8]) -> Result<()> {
-        self.port.write_all(bytes).context("writing to the board")?;
-        self.port.flush().context("writing to the board")
+        write_patiently(&mut self.port, bytes)
     }
 
     /// The next good response frame, whatever its id; `None` at the deadline. Damaged frames
@@ -231,6 +237,34 @@ impl Link {
     }
 }
 
+/// How long a write may wait for the board to take its bytes. The port's timeout (20 ms) is
+/// for reads; QEMU drains a pty at only ~10-15 KB/s, slower still on a loaded machine, so a full
+/// pty buffer is not a dead link.
+const WRITE_PATIENCE: Duration = Duration::from_secs(5);
+
+/// Writes all of `bytes`, waiting out write timeouts up to [`WRITE_PATIENCE`] of no progress.
+fn write_patiently(port: &mut Box<dyn Port>, mut bytes: &[u8]) -> Result<()> {
+    let mut last_progress = Instant::now();
+    while !bytes.is_empty() {
+        match port.write(bytes) {
+            Ok(0) => bail!("writing to the board: the port accepts no bytes"),
+            Ok(n) => {
+                bytes = &bytes[n..];
+                last_progress = Instant::now();
+            }
+            Err(e)
+                if matches!(
+                    e.kind(),
+                    io::ErrorKind::TimedOut
+                        | io::ErrorKind::WouldBlock
+                        | io::ErrorKind::Interrupted
+                ) && last_progress.elapsed() < WRITE_PATIENCE => {}
+            Err(e) => return Err(e).context("writing to the board"),
+        }
+    }
+    port.flush().context("writing to the board")
+}
+
 /// A human-readable reason for an error code.
 pub fn describe(code: ErrorCode) -> &'static str {
     match code {
@@ -238,6 +272,11 @@ pub fn describe(code: ErrorCode) -> &'static str {
         ErrorCode::BadFraming => "frame damaged in transit (bad framing)",
         ErrorCode::TooLong => "too long for the board's buffers",
         ErrorCode::Malformed => "message did not decode (protocol mismatch?)",
-        ErrorCode::Unsupported => "message unknown to this firmware (older protocol)",
+        ErrorCode::Unsupported => {
+            "message or engine unknown to this firmware (older protocol, or another build)"
+        }
+        ErrorCode::NoScene => "no complete scene and configuration loaded on the board",
+        ErrorCode::OutOfRange => "an index or setting is outside the board's range",
+        ErrorCode::BadScene => "the board's accelerator cannot load this scene",
     }
 }

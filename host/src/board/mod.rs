@@ -3,10 +3,15 @@
 //! - [`link`]: request/response client of the wire protocol of `hemi_kernel::link`, with
 //!   timeouts and the handshake's retries;
 //! - [`qemu`]: boots the firmware in QEMU with UART0 on a pty and never leaves QEMU behind;
-//! - [`info`]: the handshake of a backend, for `hemi board info`.
+//! - [`info`]: the handshake of a backend, for `hemi board info`;
+//! - [`jobs`]: a farm of boards taking jobs, several in flight per link, re-issued when a link
+//!   fails;
+//! - [`remote`]: pass 1, pass 2 and irradiance cut into jobs for the farm.
 
+pub mod jobs;
 pub mod link;
 pub mod qemu;
+pub mod remote;
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -164,8 +169,14 @@ impl fmt::Display for BoardInfo {
         writeln!(f, "accelerator  {}", accel_name(h.accel))?;
         writeln!(
             f,
-            "capacities   {} patches, {} sample rows, skeleton stack depth {}, frames up to {} bytes",
-            h.caps.max_patches, h.caps.max_sample_rows, h.caps.stack_depth, h.caps.max_frame_len
+            "capacities   {} patches, {} sample rows, skeleton stack depth {}, frames up to {} bytes, \
+             hemispheres up to {} circles, {} jobs in flight",
+            h.caps.max_patches,
+            h.caps.max_sample_rows,
+            h.caps.stack_depth,
+            h.caps.max_frame_len,
+            h.caps.max_circles,
+            h.caps.max_in_flight
         )?;
         if let Some((attempts, rtt)) = self.handshake {
             writeln!(

@@ -144,7 +144,15 @@ impl Qemu {
             .args(["-machine", "mps2-an386", "-cpu", "cortex-m4"])
             .args(["-display", "none", "-monitor", "none"])
             .args(["-semihosting-config", "enable=on,target=native"])
-            .args(["-serial", "pty", "-kernel"])
+            .args(["-serial", "pty"])
+            // HEMI_QEMU_ICOUNT=1: one instruction per virtual ns, so SysTick counts instructions
+            // deterministically (docs/PERFORMANCE.md, firmware instructions per ray).
+            .args(if std::env::var_os("HEMI_QEMU_ICOUNT").is_some() {
+                &["-icount", "shift=0"][..]
+            } else {
+                &[][..]
+            })
+            .arg("-kernel")
             .arg(elf)
             .stdin(Stdio::null())
             .stdout(Stdio::piped())

@@ -10,19 +10,33 @@
 use heapless::{String, Vec};
 use serde::{Deserialize, Serialize};
 
+use crate::camera::Camera;
+use crate::geometry::Vec3;
+use crate::hemisphere::DeltaRule;
+use crate::patch::Patch;
+
 /// Version of the wire protocol. Bumped on any incompatible change to an existing message.
-pub const PROTOCOL_VERSION: u16 = 1;
+pub const PROTOCOL_VERSION: u16 = 2;
 /// Longest firmware build string in the handshake.
 pub const BUILD_LEN: usize = 48;
 /// Largest data block of the link-test messages ([`Request::Sink`], [`Response::Source`]).
 pub const MAX_BULK: usize = 512;
+/// Largest number of form-factor entries (over all rows) in one [`Response::Rows`]: each is at
+/// most 14 bytes on the wire (patch index varint ≤ 2, three f32), so 64 of them and their row
+/// lengths fit one frame.
+pub const MAX_ROW_ENTRIES: usize = 64;
+/// Largest number of rows (sample points) in one [`Request::Shoot`] job.
+pub const MAX_ROWS: usize = 64;
+/// Largest number of ray hits in one [`Response::Hits`]: each is at most 12 bytes on the wire
+/// (option tag, patch varint ≤ 2, front flag, u and v as f32), so 80 fit one frame.
+pub const MAX_HITS: usize = 80;
 
 /// Host → board.
 #[allow(
     clippy::large_enum_variant,
     reason = "no heap on the board: a message is decoded once into one bounded stack slot"
 )]
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Request {
     /// Handshake: the host's protocol version. Answered by [`Response::Hello`]. Idempotent, so the
     /// host may repeat it until it gets an answer (a pty drops bytes at start-up).
@@ -53,11 +67,70 @@ pub enum Request {
         /// [`ErrorCode::TooLong`].
         len: u16,
     },
+    /// Sets how jobs are run: hemisphere, samples per patch, pass-2 camera, accelerator.
+    /// Answered [`Response::Configured`]; idempotent. Refused [`ErrorCode::TooLong`] beyond the
+    /// board's capacities, [`ErrorCode::Unsupported`] for an accelerator it does not have.
+    Configure(JobConfig),
+    /// Starts uploading a scene of `patches` patches; drops the previous scene. Answered
+    /// [`Response::SceneAck`]. Idempotent (a repeat restarts the upload).
+    SceneBegin {
+        /// Number of patches that follow, at most `max_patches`.
+        patches: u16,
+    },
+    /// One patch of the scene being uploaded, with the area the host's sampling uses (so the
+    /// board's sample weights and Bezier sample points match the host's bit for bit). Answered
+    /// [`Response::SceneAck`]; storing the same index twice is harmless. When the last missing
+    /// patch arrives the board loads the scene into its accelerator.
+    ScenePatch {
+        /// Index of the patch, `< patches` of the `SceneBegin`.
+        index: u16,
+        /// The patch's area (the host's `ScenePatch::area`).
+        area: f32,
+        /// The geometry.
+        patch: Patch,
+    },
+    /// Pass-1 job: shoot the hemisphere from sample points `first .. first + count` of patch
+    /// `patch` (the board derives the points with `hemi_kernel::sampling`, K from
+    /// [`JobConfig::samples`], spin from `spin_for_sample`). Answered [`Response::Rows`]. The
+    /// request id is the job id: a job sent again with the same id is answered again but counted
+    /// once.
+    Shoot {
+        /// The patch the sample points lie on.
+        patch: u16,
+        /// First sample index (v-major: q = b·K + a).
+        first: u16,
+        /// Number of sample points; `count × patches ≤ MAX_ROW_ENTRIES`.
+        count: u16,
+    },
+    /// Pass-2 job: eye rays through pixels `first .. first + count` (row-major), `spp` each, of
+    /// the configured camera. Answered [`Response::Hits`] (pixel-major, sample-minor).
+    Trace {
+        /// First pixel index.
+        first: u32,
+        /// Number of pixels; `count × spp ≤ MAX_HITS`.
+        count: u16,
+    },
+    /// Query job (irradiance): the hemisphere placed at `point` around `normal` (no spin), rays
+    /// `first .. first + count` of ring `ring`. Answered [`Response::Hits`] in ray order.
+    Gather {
+        /// Where the hemisphere is placed.
+        point: Vec3,
+        /// The surface normal there.
+        normal: Vec3,
+        /// Ring j.
+        ring: u16,
+        /// First ray k on that ring.
+        first: u16,
+        /// Number of rays, at most `MAX_HITS`.
+        count: u16,
+    },
+    /// Asks for the engine's counters, answered [`Response::EngineStats`].
+    EngineStats,
 }
 
 impl Request {
     /// Number of variants: variant indices at or above it are unknown to this build.
-    pub const VARIANTS: u32 = 6;
+    pub const VARIANTS: u32 = 13;
 }
 
 /// Board → host. Every response carries the id of the request it answers (see `codec`).
@@ -65,7 +138,7 @@ impl Request {
     clippy::large_enum_variant,
     reason = "no heap on the board: a message is encoded from one bounded stack slot"
 )]
-#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Response {
     /// The handshake.
     Hello(HelloInfo),
@@ -96,11 +169,94 @@ pub enum Response {
         /// Why.
         code: ErrorCode,
     },
+    /// Answer to [`Request::Configure`].
+    Configured,
+    /// Answer to [`Request::SceneBegin`] and [`Request::ScenePatch`].
+    SceneAck {
+        /// Patches of the scene received so far.
+        loaded: u16,
+        /// Patches announced by `SceneBegin`.
+        total: u16,
+    },
+    /// Answer to [`Request::Shoot`]: one sparse row per sample point.
+    Rows(Rows),
+    /// Answer to [`Request::Trace`] and [`Request::Gather`]: the nearest hit of every ray, in
+    /// request order.
+    Hits(Vec<Option<RayHit>, MAX_HITS>),
+    /// Answer to [`Request::EngineStats`].
+    EngineStats(EngineStats),
 }
 
 impl Response {
     /// Number of variants: variant indices at or above it are unknown to this build.
-    pub const VARIANTS: u32 = 7;
+    pub const VARIANTS: u32 = 12;
+}
+
+/// How the board runs jobs (sent with [`Request::Configure`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct JobConfig {
+    /// Hemisphere circles R, at most `max_circles`.
+    pub circles: u16,
+    /// Delta form factor rule.
+    pub rule: DeltaRule,
+    /// K: K×K sample points per polygon patch (Bezier patches always have 4×4).
+    pub samples: u16,
+    /// Eye rays per pixel for [`Request::Trace`].
+    pub spp: u16,
+    /// The pass-2 camera, if pass 2 will run.
+    pub camera: Option<Camera>,
+    /// The engine wanted: the board's own kind, or [`AccelKind::Soft`] (always available).
+    pub accel: AccelKind,
+}
+
+/// Sparse form-factor rows of one [`Request::Shoot`] job: row r holds the next `lens[r]`
+/// entries of `entries`, ascending by patch, only non-zero F_iq,j.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct Rows {
+    /// Entries per row.
+    pub lens: Vec<u16, MAX_ROWS>,
+    /// (patch j, F_iq,j per channel) of all rows, concatenated.
+    pub entries: Vec<(u16, [f32; 3]), MAX_ROW_ENTRIES>,
+}
+
+/// A ray's nearest hit as the link carries it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RayHit {
+    /// Patch index.
+    pub patch: u16,
+    /// Whether the front side was hit.
+    pub front: bool,
+    /// Parametric u.
+    pub u: f32,
+    /// Parametric v.
+    pub v: f32,
+}
+
+/// The engine's counters since boot or the last [`Request::Reset`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct EngineStats {
+    /// The link counters (frame errors among them).
+    pub link: LinkStats,
+    /// The engine answering jobs now.
+    pub accel: Option<AccelKind>,
+    /// Patches of the loaded scene (0 while none is complete).
+    pub patches: u16,
+    /// Distinct jobs served (a job id seen again is not counted).
+    pub jobs: u32,
+    /// Jobs served again because their id came again (host retries).
+    pub repeats: u32,
+    /// Jobs refused with an error frame.
+    pub refused: u32,
+    /// Rays cast by distinct jobs.
+    pub rays: u64,
+    /// Accelerator clock cycles spent by distinct jobs (0 for the soft engine).
+    pub accel_cycles: u64,
+    /// CPU time spent in distinct jobs, in SysTick ticks (0 where the board has no tick source).
+    pub cpu_ticks: u64,
+    /// Deepest stack use since boot, in bytes (0 if the board does not measure it).
+    pub stack_high_water: u32,
+    /// Stack size, in bytes.
+    pub stack_size: u32,
 }
 
 /// What kind of engine answers: decides what "shoot" and "trace" cost and how exact they are.
@@ -127,6 +283,10 @@ pub struct Capacities {
     pub stack_depth: u16,
     /// Largest frame the board accepts and sends, payload plus CRC, before stuffing.
     pub max_frame_len: u16,
+    /// Largest hemisphere (circles R) the board can build.
+    pub max_circles: u16,
+    /// Jobs the host may keep in flight (the board's receive ring holds their requests).
+    pub max_in_flight: u16,
 }
 
 /// The handshake.
@@ -176,6 +336,13 @@ pub enum ErrorCode {
     TooLong,
     /// The frame was intact but its message did not decode.
     Malformed,
-    /// The message is unknown to this build (newer protocol).
+    /// The message is unknown to this build (newer protocol), or asks for an engine the board
+    /// does not have.
     Unsupported,
+    /// A job arrived before a complete scene and a configuration.
+    NoScene,
+    /// An index or setting is out of range (patch, sample, pixel, ring, circles).
+    OutOfRange,
+    /// The accelerator cannot load the scene (e.g. a patch kind it cannot intersect).
+    BadScene,
 }

@@ -12,6 +12,7 @@
 pub mod cobs;
 pub mod codec;
 pub mod crc;
+pub mod engine;
 pub mod frame;
 pub mod message;
 pub mod server;
@@ -22,24 +23,27 @@ mod tests;
 pub use codec::{
     decode_request, decode_response, encode_request, encode_response, MessageError, NO_ID,
 };
+pub use engine::{Engine, ENGINE_CAPACITIES};
 pub use frame::{
     encode_frame, EncodeError, FrameDecoder, FrameError, FrameWriter, MaxFrameDecoder,
     MAX_FRAME_LEN, MAX_PAYLOAD_LEN, MAX_STUFFED_LEN, MAX_WIRE_LEN,
 };
 pub use message::{
-    AccelKind, Capacities, ErrorCode, HelloInfo, LinkStats, Request, Response, BUILD_LEN, MAX_BULK,
+    AccelKind, Capacities, EngineStats, ErrorCode, HelloInfo, JobConfig, LinkStats, RayHit,
+    Request, Response, Rows, BUILD_LEN, MAX_BULK, MAX_HITS, MAX_ROWS, MAX_ROW_ENTRIES,
     PROTOCOL_VERSION,
 };
-pub use server::LinkServer;
+pub use server::{JobHandler, LinkServer, NoEngine};
 
 /// The kernel's fixed budgets, reported in the handshake by every backend that runs the kernel.
 ///
-/// They are the sizes the engine's bounded tables are to be built with (scene loading, sample
-/// rows and the skeleton stack arrive with later messages); the link itself enforces
-/// `max_frame_len` today.
+/// In-process engines (the host's soft and model backends) have no fixed tables; these are the
+/// budgets they report. A board's engine reports [`ENGINE_CAPACITIES`], which it enforces.
 pub const KERNEL_CAPACITIES: Capacities = Capacities {
     max_patches: 256,
     max_sample_rows: 64,
     stack_depth: 16,
     max_frame_len: MAX_FRAME_LEN as u16,
+    max_circles: crate::hemisphere::MAX_CIRCLES as u16,
+    max_in_flight: 1,
 };

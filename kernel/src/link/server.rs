@@ -6,8 +6,43 @@
 
 use super::codec::{decode_request, encode_response, MessageError, NO_ID};
 use super::crc::crc32;
+use super::engine::{AccelProvider, Engine, Platform};
 use super::frame::{FrameError, MaxFrameDecoder};
-use super::message::{ErrorCode, HelloInfo, LinkStats, Request, Response, MAX_BULK};
+use super::message::{EngineStats, ErrorCode, HelloInfo, LinkStats, Request, Response, MAX_BULK};
+
+/// What serves the requests beyond the link's own: a board's job engine, or nothing.
+pub trait JobHandler {
+    /// Serves `req` (sent with id `id`); `None` if it is not a request this handler knows.
+    fn handle(&mut self, id: u32, req: &Request) -> Option<Response>;
+    /// Drops all job state and counters ([`Request::Reset`]).
+    fn reset(&mut self) {}
+    /// The engine's counters, if there is an engine.
+    fn engine_stats(&self, link: LinkStats) -> Option<EngineStats> {
+        let _ = link;
+        None
+    }
+}
+
+/// No engine: a board that answers link messages only.
+pub struct NoEngine;
+
+impl JobHandler for NoEngine {
+    fn handle(&mut self, _id: u32, _req: &Request) -> Option<Response> {
+        None
+    }
+}
+
+impl<P: AccelProvider, T: Platform> JobHandler for Engine<P, T> {
+    fn handle(&mut self, id: u32, req: &Request) -> Option<Response> {
+        Engine::handle(self, id, req)
+    }
+    fn reset(&mut self) {
+        Engine::reset(self)
+    }
+    fn engine_stats(&self, link: LinkStats) -> Option<EngineStats> {
+        Some(self.stats(link))
+    }
+}
 
 /// Decoder, counters and handshake of one link.
 pub struct LinkServer {
@@ -40,6 +75,16 @@ impl LinkServer {
     /// (at least [`MAX_WIRE_LEN`](super::MAX_WIRE_LEN) bytes) and returns its length, which the
     /// caller must send. Never panics, whatever the bytes.
     pub fn push(&mut self, byte: u8, out: &mut [u8]) -> Option<usize> {
+        self.push_with(byte, out, &mut NoEngine)
+    }
+
+    /// [`push`](Self::push) with a job engine serving the requests beyond the link's own.
+    pub fn push_with<H: JobHandler>(
+        &mut self,
+        byte: u8,
+        out: &mut [u8],
+        jobs: &mut H,
+    ) -> Option<usize> {
         self.stats.bytes_rx = self.stats.bytes_rx.wrapping_add(1);
         let decoded = match self.decoder.push(byte)? {
             Ok(payload) => decode_request(payload),
@@ -56,7 +101,7 @@ impl LinkServer {
         self.stats.frames_ok = self.stats.frames_ok.wrapping_add(1);
         match decoded {
             Ok((id, req)) => {
-                let resp = self.handle(req);
+                let resp = self.handle(id, req, jobs);
                 self.reply(id, &resp, out)
             }
             Err(MessageError { id, code }) => {
@@ -70,7 +115,7 @@ impl LinkServer {
         }
     }
 
-    fn handle(&mut self, req: Request) -> Response {
+    fn handle<H: JobHandler>(&mut self, id: u32, req: Request, jobs: &mut H) -> Response {
         match req {
             // Answered whatever the host's version: the host decides whether it can go on.
             Request::Hello { .. } => Response::Hello(self.info.clone()),
@@ -79,8 +124,15 @@ impl LinkServer {
             Request::Reset => {
                 let before = self.stats;
                 self.stats = zero_stats();
+                jobs.reset();
                 Response::ResetDone(before)
             }
+            Request::EngineStats => match jobs.engine_stats(self.stats) {
+                Some(s) => Response::EngineStats(s),
+                None => Response::Error {
+                    code: ErrorCode::Unsupported,
+                },
+            },
             Request::Sink { data } => {
                 // `data` holds at most MAX_BULK (512) bytes, so the length fits a u16.
                 let len = u16::try_from(data.len()).unwrap_or(u16::MAX);
@@ -102,6 +154,9 @@ impl LinkServer {
                 }
                 Response::Source { data }
             }
+            other => jobs.handle(id, &other).unwrap_or(Response::Error {
+                code: ErrorCode::Unsupported,
+            }),
         }
     }
 
@@ -114,7 +169,7 @@ impl LinkServer {
     }
 }
 
-const fn zero_stats() -> LinkStats {
+pub(super) const fn zero_stats() -> LinkStats {
     LinkStats {
         frames_ok: 0,
         bad_crc: 0,

@@ -194,16 +194,11 @@ fn messages_round_trip() {
 #[test]
 fn variant_counts_match_the_enums() {
     // The last variant's index must be VARIANTS - 1, else "unsupported" detection is wrong.
-    let mut buf = [0u8; 8];
-    let tag = postcard::to_slice(&Request::Source { len: 0 }, &mut buf).unwrap()[0];
+    let mut buf = [0u8; 128];
+    let tag = postcard::to_slice(&Request::EngineStats, &mut buf).unwrap()[0];
     assert_eq!(u32::from(tag), Request::VARIANTS - 1);
-    let tag = postcard::to_slice(
-        &Response::Error {
-            code: ErrorCode::BadCrc,
-        },
-        &mut buf,
-    )
-    .unwrap()[0];
+    let tag =
+        postcard::to_slice(&Response::EngineStats(EngineStats::default()), &mut buf).unwrap()[0];
     assert_eq!(u32::from(tag), Response::VARIANTS - 1);
 }
 
@@ -389,4 +384,123 @@ fn random_damage_never_panics_and_good_frames_survive() {
         let _ = decode_request(&bytes);
         let _ = decode_response(&bytes);
     }
+}
+
+#[test]
+fn job_requests_fit_16_bytes_on_the_wire() {
+    // Worst cases the host sends: job id up to 2^21 (3-byte varint), patch < 128, sample index
+    // up to 255 (K = 16), pixel index of a 512×512 image.
+    let mut out = [0u8; MAX_WIRE_LEN];
+    let reqs = [
+        Request::Shoot {
+            patch: 47,
+            first: 255,
+            count: 64,
+        },
+        Request::Trace {
+            first: 512 * 512 - 1,
+            count: 80,
+        },
+    ];
+    for req in reqs {
+        let n = encode_request(1 << 21, &req, &mut out).unwrap();
+        assert!(n <= 16, "{req:?}: {n} bytes");
+    }
+}
+
+#[test]
+fn engine_answers_jobs_and_counts_repeats_once() {
+    use crate::geometry::{Polygon, Vec3};
+    use crate::link::engine::{NoPlatform, SoftProvider};
+    use crate::patch::Patch;
+    let quad = |v: [[f32; 3]; 4]| {
+        Patch::polygon(Polygon::quad(v.map(|p| Vec3::new(p[0], p[1], p[2]))).unwrap())
+    };
+    // Two unit squares facing each other at distance 1.
+    let a = quad([[0., 0., 0.], [1., 0., 0.], [1., 1., 0.], [0., 1., 0.]]);
+    let b = quad([[0., 0., 1.], [0., 1., 1.], [1., 1., 1.], [1., 0., 1.]]);
+    let mut engine = Engine::new(SoftProvider::new(), NoPlatform);
+    let shoot = Request::Shoot {
+        patch: 0,
+        first: 0,
+        count: 4,
+    };
+    assert_eq!(
+        engine.handle(7, &shoot),
+        Some(Response::Error {
+            code: ErrorCode::NoScene
+        })
+    );
+    let cfg = JobConfig {
+        circles: 8,
+        rule: crate::hemisphere::DeltaRule::Band,
+        samples: 2,
+        spp: 1,
+        camera: None,
+        accel: AccelKind::Soft,
+    };
+    assert_eq!(
+        engine.handle(1, &Request::Configure(cfg)),
+        Some(Response::Configured)
+    );
+    engine.handle(2, &Request::SceneBegin { patches: 2 });
+    for (i, p) in [a, b].into_iter().enumerate() {
+        engine.handle(
+            3 + i as u32,
+            &Request::ScenePatch {
+                index: i as u16,
+                area: 1.0,
+                patch: p,
+            },
+        );
+    }
+    let Some(Response::Rows(rows)) = engine.handle(10, &shoot) else {
+        panic!("no rows");
+    };
+    assert_eq!(rows.lens.len(), 4);
+    // F(square → opposite square at distance 1) = 0.1998 (Howell C-11); per sample ~ that.
+    for (_, f) in &rows.entries {
+        assert!(f[0] > 0.1 && f[0] < 0.4, "{f:?}");
+    }
+    // The same job id again: same bits, counted once.
+    assert_eq!(engine.handle(10, &shoot), Some(Response::Rows(rows)));
+    // Out of range and over capacity are refused, not indexed.
+    let bad = [
+        Request::Shoot {
+            patch: 2,
+            first: 0,
+            count: 1,
+        },
+        Request::Shoot {
+            patch: 0,
+            first: 3,
+            count: 2,
+        },
+        Request::Trace { first: 0, count: 1 },
+        Request::Gather {
+            point: Vec3::ZERO,
+            normal: Vec3::ZERO,
+            ring: 0,
+            first: 0,
+            count: 1,
+        },
+    ];
+    for req in &bad {
+        assert!(matches!(
+            engine.handle(20, req),
+            Some(Response::Error { .. })
+        ));
+    }
+    let s = engine.stats(LinkStats::default());
+    assert_eq!((s.jobs, s.repeats, s.refused), (1, 1, 5), "{s:?}");
+    assert!(s.rays > 0);
+}
+
+#[test]
+fn engine_tables_fit_the_largest_hemisphere() {
+    use crate::link::engine::{ENGINE_MAX_CIRCLES, ENGINE_MAX_QUARTER};
+    assert_eq!(
+        crate::hemisphere::quarter_len(ENGINE_MAX_CIRCLES as u32),
+        ENGINE_MAX_QUARTER
+    );
 }

@@ -1,0 +1,177 @@
+//! Hardware-in-the-loop over QEMU: the firmware as the ray engine. Form factors, a small render
+//! and an irradiance query through two QEMU boards (jobs spread over both, through ptys and the
+//! `serialport` crate) equal the in-process `model` backend's bit for bit: same kernel, same
+//! accelerator model. Small R and K keep it quick.
+//!
+//! Skips (passes with a printed notice) only when qemu-system-arm is missing and
+//! HEMI_REQUIRE_QEMU is unset.
+
+use hemi::board::jobs::{BoardSpec, Farm};
+use hemi::board::{qemu_available, remote};
+use hemi::pass1::{self, Pass1Settings};
+use hemi::scene::{self, Scene};
+use hemi_hdl_model::{ModelAccelerator, ModelConfig};
+use hemi_kernel::geometry::Vec3;
+use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
+use hemi_kernel::link::{AccelKind, ENGINE_CAPACITIES, PROTOCOL_VERSION};
+
+fn qemu_or_skip(test: &str) -> bool {
+    if qemu_available() {
+        return true;
+    }
+    let required = std::env::var("HEMI_REQUIRE_QEMU").is_ok_and(|v| !v.is_empty() && v != "0");
+    assert!(
+        !required,
+        "HEMI_REQUIRE_QEMU is set but qemu-system-arm is not runnable"
+    );
+    eprintln!("SKIPPED {test}: qemu-system-arm not found");
+    false
+}
+
+fn cornell() -> Scene {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    scene::load(&root.join("scenes/cornell.toml")).expect("cornell scene")
+}
+
+fn settings() -> Pass1Settings {
+    Pass1Settings {
+        circles: 8,
+        samples: 2,
+        rule: DeltaRule::Band,
+        ..Pass1Settings::default()
+    }
+}
+
+fn model(scene: &Scene) -> impl Fn() -> ModelAccelerator + Sync + '_ {
+    let patches = scene.kernel_patches();
+    move || ModelAccelerator::new(&patches, ModelConfig::default()).expect("model loads cornell")
+}
+
+fn solve(scene: &Scene, ff: &pass1::FormFactors) -> Vec<hemi::radiosity::Grid> {
+    let rho: Vec<[f64; 3]> = (0..scene.patches.len())
+        .map(|i| scene.material_of(i).diffuse)
+        .collect();
+    let e: Vec<[f64; 3]> = (0..scene.patches.len())
+        .map(|i| scene.material_of(i).emission)
+        .collect();
+    let sol = hemi::solve::gauss_seidel(ff.channels(), &rho, &e, &Default::default()).unwrap();
+    hemi::radiosity::grids(scene, ff, &sol)
+}
+
+/// Bit patterns, so that equality means identical, not merely close.
+fn bits(m: &[Vec<f64>]) -> Vec<Vec<u64>> {
+    m.iter()
+        .map(|r| r.iter().map(|x| x.to_bits()).collect())
+        .collect()
+}
+
+#[test]
+fn form_factors_render_and_irradiance_through_two_qemu_boards_equal_the_model_backend() {
+    if !qemu_or_skip("hil_jobs") {
+        return;
+    }
+    // The model is large and debug builds keep it on the stack, in rayon's workers too.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .stack_size(256 << 20)
+        .build()
+        .unwrap();
+    std::thread::Builder::new()
+        .stack_size(256 << 20)
+        .spawn(move || pool.install(run))
+        .unwrap()
+        .join()
+        .unwrap();
+}
+
+fn run() {
+    let scene = cornell();
+    let settings = settings();
+    let farm = Farm::connect(&[BoardSpec::Qemu, BoardSpec::Qemu], None).expect("boot two boards");
+    for hello in farm.hellos() {
+        let hello = hello.expect("connected");
+        assert_eq!(hello.protocol, PROTOCOL_VERSION);
+        assert_eq!(
+            hello.accel,
+            AccelKind::Model,
+            "QEMU builds run the HDL model"
+        );
+        assert_eq!(hello.caps, ENGINE_CAPACITIES);
+    }
+
+    // Pass 1.
+    let make = model(&scene);
+    let want = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
+    let got = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap();
+    assert_eq!(got.elements.len(), want.elements.len(), "every row, once");
+    for (g, w) in got.elements.iter().zip(&want.elements) {
+        assert_eq!((g.patch, g.point), (w.patch, w.point));
+        assert_eq!(g.row, w.row, "row of patch {} differs", g.patch);
+    }
+    assert_eq!(bits(&got.matrix), bits(&want.matrix));
+
+    // Pass 2 on a small image.
+    let grids = solve(&scene, &want);
+    let mut small = scene.clone();
+    if let Some(c) = small.camera.as_mut() {
+        c.width = 24;
+        c.height = 20;
+    }
+    let camera = hemi::render::camera_of(&small).unwrap();
+    let want_img = hemi::render::render_with(&small, &grids, &camera, 2, &settings, &make, &|_| {})
+        .unwrap()
+        .image;
+    let got_img = remote::render(&farm, &scene, &settings, &grids, &camera, 2, &|_| {})
+        .unwrap()
+        .image;
+    assert_eq!((got_img.width, got_img.height), (24, 20));
+    let px = |img: &hemi::render::Image| -> Vec<[u32; 3]> {
+        img.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
+    };
+    assert_eq!(px(&got_img), px(&want_img));
+    assert!(
+        got_img.pixels.iter().any(|p| p[0] > 0.0),
+        "the image is not black"
+    );
+
+    // An irradiance query (the gather job), against the model in-process.
+    let hemi = OwnedHemisphere::new(settings.circles, settings.rule).unwrap();
+    let view = hemi.view();
+    let optics = hemi::optics::SceneOptics::new(&scene, &view).unwrap();
+    let mut scratch =
+        hemi::optics::Scratch::new(hemi::optics::pending_for(&view), &settings.specular);
+    let (p, n) = (Vec3::new(278.0, 1.0, 280.0), Vec3::new(0.0, 1.0, 0.0));
+    let want_e = hemi::irradiance::irradiance(
+        &mut make(),
+        &view,
+        &optics.view(),
+        &mut scratch.view(),
+        &grids,
+        p,
+        n,
+    );
+    let got_e = remote::irradiance(&farm, settings.circles, settings.rule, &grids, p, n).unwrap();
+    assert_eq!(got_e.map(f64::to_bits), want_e.map(f64::to_bits));
+    assert!(got_e[0] > 0.0);
+
+    // The boards' counters: every job counted once, nothing refused, the stack measured.
+    let stats: Vec<_> = farm
+        .engine_stats()
+        .into_iter()
+        .map(|s| s.unwrap())
+        .collect();
+    let jobs: u32 = stats.iter().map(|s| s.jobs).sum();
+    let events = farm.events();
+    assert_eq!(u64::from(jobs), events.answered, "{stats:?} {events:?}");
+    for s in &stats {
+        eprintln!("board: {s:?}");
+        assert_eq!(s.refused, 0);
+        assert_eq!(s.link.bad_crc + s.link.bad_framing + s.link.too_long, 0);
+        assert!(s.rays > 0 && s.accel_cycles > 0, "{s:?}");
+        // The model build's stack carries the model's state while it is built (~70 KiB).
+        assert!(
+            s.stack_high_water > 0 && s.stack_high_water < s.stack_size,
+            "{s:?}"
+        );
+    }
+}
