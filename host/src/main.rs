@@ -647,6 +647,10 @@ fn solve_streaming(
         common.backend()? == Backend::Soft,
         "--solver progressive shoots rows on demand on the soft backend only"
     );
+    anyhow::ensure!(
+        !common.adaptive,
+        "--adaptive refines from solved rows and needs the form-factor matrix: choose a --solver other than progressive"
+    );
     let patches = scene.kernel_patches();
     let make = || SoftEngine::new(&patches);
     let n = scene.patches.len();
@@ -930,10 +934,6 @@ fn main() -> Result<()> {
             );
             let mut sampled = Vec::new();
             let (ff_stats, hemispheres, sol, grids, t1) = if common.streaming(&scene) {
-                anyhow::ensure!(
-                    !common.adaptive,
-                    "--adaptive refines from solved rows and needs the form-factor matrix: choose a --solver other than progressive"
-                );
                 let (sol, grids) = solve_streaming(&scene, &settings, &common, true)?;
                 let t1 = std::time::Instant::now();
                 (ShotStats::default(), 0, sol, grids.unwrap_or_default(), t1)
