@@ -15,7 +15,7 @@ use hemi_hdl_model::{ModelAccelerator, ModelConfig};
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::{Bezier, Vec3};
 use hemi_kernel::patch::{Patch, Shape};
-use hemi_kernel::rotation::Rotation;
+use hemi_tests::BoxedModel;
 use std::path::Path;
 
 fn scene() -> hemi::scene::Scene {
@@ -213,65 +213,6 @@ fn soft_and_model_nearest_hits_agree_on_the_teapot() {
     assert!(worst_uv < 2e-2, "{worst_uv}");
 }
 
-/// The kernel's soft accelerator with the origin patch honoured. (`hemi::engine::SoftEngine`
-/// builds a new `SoftAccelerator` per call and does not forward `set_origin_patch`, so through
-/// it a concave Bezier patch sees itself, F_ii > 0, against the trait's contract; the model
-/// implements the skip, so it is compared with the kernel's engine as specified.)
-struct SoftSkipping<'p> {
-    patches: &'p [Patch],
-    local: Vec<hemi_kernel::accel::soft::LocalPatch>,
-    best_t: Vec<f32>,
-    best_id: Vec<u32>,
-    origin_patch: Option<u32>,
-}
-
-impl<'p> SoftSkipping<'p> {
-    fn new(patches: &'p [Patch]) -> Self {
-        let n = 4 * hemi_kernel::hemisphere::MAX_CIRCLES;
-        SoftSkipping {
-            patches,
-            local: vec![Default::default(); patches.len()],
-            best_t: vec![0.0; n],
-            best_id: vec![0; n],
-            origin_patch: None,
-        }
-    }
-}
-
-impl Accelerator for SoftSkipping<'_> {
-    fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
-        rot.apply(d)
-    }
-    fn set_origin_patch(&mut self, patch: Option<u32>) {
-        self.origin_patch = patch;
-    }
-    fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<hemi_kernel::accel::Hit> {
-        SoftEngine::new(self.patches).nearest_hit(ray, t_max)
-    }
-    fn cast_rings<F: FnMut(usize, u32, Option<hemi_kernel::accel::Hit>)>(
-        &mut self,
-        origin: Vec3,
-        rot: &Rotation,
-        hemi: &hemi_kernel::hemisphere::Hemisphere<'_>,
-        rings: std::ops::Range<usize>,
-        want_uv: bool,
-        sink: F,
-    ) {
-        use hemi_kernel::accel::soft::{SoftAccelerator, SoftScratch};
-        let mut a = SoftAccelerator::new(
-            self.patches,
-            SoftScratch {
-                local: &mut self.local,
-                best_t: &mut self.best_t,
-                best_id: &mut self.best_id,
-            },
-        )
-        .unwrap();
-        a.set_origin_patch(self.origin_patch);
-        a.cast_rings(origin, rot, hemi, rings, want_uv, sink)
-    }
-}
-
 #[test]
 fn soft_and_model_form_factors_agree_on_the_teapot() {
     use hemi::pass1::{form_factors_with, Pass1Settings};
@@ -284,8 +225,8 @@ fn soft_and_model_form_factors_agree_on_the_teapot() {
         rule: DeltaRule::Band,
         ..Pass1Settings::default()
     };
-    let soft = form_factors_with(&sc, &settings, &|| SoftSkipping::new(&patches), &|_| {}).unwrap();
-    let model = form_factors_with(&sc, &settings, &|| Boxed::new(&patches), &|_| {}).unwrap();
+    let soft = form_factors_with(&sc, &settings, &|| SoftEngine::new(&patches), &|_| {}).unwrap();
+    let model = form_factors_with(&sc, &settings, &|| BoxedModel::new(&patches), &|_| {}).unwrap();
     let mut worst = 0.0f32;
     for (a, b) in soft.elements.iter().zip(&model.elements) {
         assert_eq!(a.patch, b.patch);
@@ -314,49 +255,4 @@ fn soft_and_model_form_factors_agree_on_the_teapot() {
     // Each element row is one hemisphere of about 40 rays (δD ≤ 0.15 at R = 4): rays agree on
     // their patch within 1 % (above), so at most one ray of a hemisphere may move.
     assert!(worst < 0.15, "{worst}");
-}
-
-/// A model engine on the heap. pass 1 makes one engine per rayon worker and keeps it in the
-/// worker's frames; the model is ~100 KB, and unoptimised builds copy such values several times
-/// there, beyond rayon's 2 MiB stacks. Boxed, only its construction touches the stack.
-struct Boxed(Box<ModelAccelerator>);
-
-impl Boxed {
-    fn new(patches: &[hemi_kernel::patch::Patch]) -> Self {
-        Boxed(Box::new(
-            ModelAccelerator::new(patches, ModelConfig::default()).unwrap(),
-        ))
-    }
-}
-
-impl Accelerator for Boxed {
-    fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
-        self.0.rotate(rot, d)
-    }
-    fn set_origin_patch(&mut self, patch: Option<u32>) {
-        self.0.set_origin_patch(patch)
-    }
-    fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<hemi_kernel::accel::Hit> {
-        self.0.nearest_hit(ray, t_max)
-    }
-    fn cast_from<F: FnMut(usize, Option<hemi_kernel::accel::Hit>)>(
-        &mut self,
-        origin: Vec3,
-        dirs: &[Vec3],
-        want_uv: bool,
-        sink: F,
-    ) {
-        self.0.cast_from(origin, dirs, want_uv, sink)
-    }
-    fn cast_rings<F: FnMut(usize, u32, Option<hemi_kernel::accel::Hit>)>(
-        &mut self,
-        origin: Vec3,
-        rot: &Rotation,
-        hemi: &hemi_kernel::hemisphere::Hemisphere<'_>,
-        rings: std::ops::Range<usize>,
-        want_uv: bool,
-        sink: F,
-    ) {
-        self.0.cast_rings(origin, rot, hemi, rings, want_uv, sink)
-    }
 }

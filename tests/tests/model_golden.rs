@@ -11,6 +11,7 @@ use hemi_hdl_model::{ModelAccelerator, ModelConfig};
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::rotation::{spin_for_sample, Rotation};
+use hemi_tests::BoxedModel;
 
 /// Tiny deterministic generator (the tests must not depend on a crate's RNG stream).
 struct Lcg(u64);
@@ -258,7 +259,8 @@ fn soft_and_model_form_factors_agree() {
     };
     let soft =
         form_factors_with(&scene, &settings, &|| SoftEngine::new(&patches), &|_| {}).unwrap();
-    let model = form_factors_with(&scene, &settings, &|| Boxed::new(&patches), &|_| {}).unwrap();
+    let model =
+        form_factors_with(&scene, &settings, &|| BoxedModel::new(&patches), &|_| {}).unwrap();
     let mut worst = 0.0f64;
     for (a, b) in soft.matrix.iter().zip(&model.matrix) {
         for (x, y) in a.iter().zip(b) {
@@ -269,49 +271,4 @@ fn soft_and_model_form_factors_agree() {
     // Rays within ~1e-7 rad of a patch edge may land on the other patch: one ray of R = 16
     // carries at most δD ≈ 1/320 of a row, averaged over K² = 4 samples.
     assert!(worst < 2e-3, "{worst}");
-}
-
-/// A model engine on the heap. pass 1 makes one engine per rayon worker and keeps it in the
-/// worker's frames; the model is ~100 KB, and unoptimised builds copy such values several times
-/// there, beyond rayon's 2 MiB stacks. Boxed, only its construction touches the stack.
-struct Boxed(Box<ModelAccelerator>);
-
-impl Boxed {
-    fn new(patches: &[hemi_kernel::patch::Patch]) -> Self {
-        Boxed(Box::new(
-            ModelAccelerator::new(patches, ModelConfig::default()).unwrap(),
-        ))
-    }
-}
-
-impl Accelerator for Boxed {
-    fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
-        self.0.rotate(rot, d)
-    }
-    fn set_origin_patch(&mut self, patch: Option<u32>) {
-        self.0.set_origin_patch(patch)
-    }
-    fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<hemi_kernel::accel::Hit> {
-        self.0.nearest_hit(ray, t_max)
-    }
-    fn cast_from<F: FnMut(usize, Option<hemi_kernel::accel::Hit>)>(
-        &mut self,
-        origin: Vec3,
-        dirs: &[Vec3],
-        want_uv: bool,
-        sink: F,
-    ) {
-        self.0.cast_from(origin, dirs, want_uv, sink)
-    }
-    fn cast_rings<F: FnMut(usize, u32, Option<hemi_kernel::accel::Hit>)>(
-        &mut self,
-        origin: Vec3,
-        rot: &Rotation,
-        hemi: &hemi_kernel::hemisphere::Hemisphere<'_>,
-        rings: std::ops::Range<usize>,
-        want_uv: bool,
-        sink: F,
-    ) {
-        self.0.cast_rings(origin, rot, hemi, rings, want_uv, sink)
-    }
 }
