@@ -74,28 +74,7 @@ pub fn log_log(title: &str, x_label: &str, y_label: &str, note: &str, series: &[
             y + 4.0
         );
     }
-    let _ = writeln!(
-        s,
-        r#"<rect x="{L}" y="{T}" width="{}" height="{}" fill="none" stroke="black"/>"#,
-        W - L - R,
-        H - T - B
-    );
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="{}" text-anchor="middle">{x_label}</text>"#,
-        (W - R + L) / 2.0,
-        H - B + 34.0
-    );
-    let _ = writeln!(
-        s,
-        r#"<text transform="translate(18,{}) rotate(-90)" text-anchor="middle">{y_label}</text>"#,
-        (H - B + T) / 2.0
-    );
-    let _ = writeln!(
-        s,
-        r##"<text x="{L}" y="{}" font-size="11" fill="#444">{note}</text>"##,
-        H - 8.0
-    );
+    frame(&mut s, R, x_label, y_label, note);
     for (i, se) in series.iter().enumerate() {
         let c = COLOURS[i % COLOURS.len()];
         let path: Vec<String> = se
@@ -126,4 +105,33 @@ pub fn log_log(title: &str, x_label: &str, y_label: &str, note: &str, series: &[
     }
     s.push_str("</svg>\n");
     s
+}
+
+/// The plot frame every chart shares (`right`: the margin its legend takes): the plot area's
+/// border, the axis labels and the note under
+/// the chart (which states the reference the chart's error is measured against).
+pub(crate) fn frame(s: &mut String, right: f64, x_label: &str, y_label: &str, note: &str) {
+    let r = right;
+    let _ = writeln!(
+        s,
+        r#"<rect x="{L}" y="{T}" width="{}" height="{}" fill="none" stroke="black"/>"#,
+        W - L - r,
+        H - T - B
+    );
+    let _ = writeln!(
+        s,
+        r#"<text x="{}" y="{}" text-anchor="middle">{x_label}</text>"#,
+        (W - r + L) / 2.0,
+        H - B + 34.0
+    );
+    let _ = writeln!(
+        s,
+        r#"<text transform="translate(18,{}) rotate(-90)" text-anchor="middle">{y_label}</text>"#,
+        (H - B + T) / 2.0
+    );
+    let _ = writeln!(
+        s,
+        r##"<text x="{L}" y="{}" font-size="11" fill="#444">{note}</text>"##,
+        H - 8.0
+    );
 }

@@ -88,28 +88,7 @@ pub fn linear(
         );
         y += ys;
     }
-    let _ = writeln!(
-        s,
-        r#"<rect x="{L}" y="{T}" width="{}" height="{}" fill="none" stroke="black"/>"#,
-        W - L - R,
-        H - T - B
-    );
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="{}" text-anchor="middle">{x_label}</text>"#,
-        (W - R + L) / 2.0,
-        H - B + 34.0
-    );
-    let _ = writeln!(
-        s,
-        r#"<text transform="translate(14,{}) rotate(-90)" text-anchor="middle">{y_label}</text>"#,
-        (H - B + T) / 2.0
-    );
-    let _ = writeln!(
-        s,
-        r##"<text x="{L}" y="{}" font-size="11" fill="#444">{note}</text>"##,
-        H - 8.0
-    );
+    crate::chart::frame(&mut s, R, x_label, y_label, note);
     let mut legend = 0;
     for (i, (v, label)) in refs.iter().enumerate() {
         let c = COLOURS[i % COLOURS.len()];
