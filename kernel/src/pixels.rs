@@ -10,7 +10,7 @@ use crate::camera::Camera;
 use crate::geometry::Vec3;
 use crate::hemisphere::Hemisphere;
 use crate::optics::Optics;
-use crate::specular::{spawns, Pending, SpecularStats, Walker};
+use crate::specular::{spawns, Pending, SpecularStats};
 use crate::tracer::TraceScratch;
 
 /// Traces `spp` eye rays through each pixel of `pixels` (row-major indices into the image) and
@@ -33,23 +33,7 @@ pub fn trace_pixels<A: Accelerator, F: FnMut(u32, u32, &Hit, [f32; 3])>(
     mut sink: F,
 ) -> SpecularStats {
     let spp = spp.max(1);
-    let TraceScratch {
-        pending,
-        parked,
-        skeleton,
-        threshold,
-        max_depth,
-    } = scratch;
-    let mut walker = Walker {
-        optics,
-        hemi,
-        threshold: *threshold,
-        max_depth: *max_depth,
-        skeleton,
-        parked,
-        want_uv: true,
-        stats: SpecularStats::default(),
-    };
+    let (pending, mut walker) = scratch.split(optics, hemi, true);
     let room = if optics.has_specular() {
         dirs.len().min(pending.len())
     } else {

@@ -54,6 +54,29 @@ pub struct TraceScratch<'s> {
     pub max_depth: u16,
 }
 
+impl<'s> TraceScratch<'s> {
+    /// The pending buffer, and a specular walker over the rest of the scratch: what a pass that
+    /// parks primary hits and then follows them needs (pass 1 and pass 2 alike).
+    pub fn split<'w>(
+        &'w mut self,
+        optics: &'w Optics<'w>,
+        hemi: &'w Hemisphere<'w>,
+        want_uv: bool,
+    ) -> (&'w mut [Pending], Walker<'w, 's>) {
+        let walker = Walker {
+            optics,
+            hemi,
+            threshold: self.threshold,
+            max_depth: self.max_depth,
+            skeleton: &mut self.skeleton,
+            parked: self.parked,
+            want_uv,
+            stats: SpecularStats::default(),
+        };
+        (self.pending, walker)
+    }
+}
+
 /// Shoots the hemisphere `hemi` from `origin` around `normal`, spun by `spin` about the normal
 /// (see [`crate::rotation::spin_for_sample`]), and accumulates the element-to-patch form factors
 /// F_iq,j per channel into `row` (one entry per diffuse column of `optics`; the caller zeroes
@@ -154,23 +177,7 @@ pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
         return stats;
     }
 
-    let TraceScratch {
-        pending,
-        parked,
-        skeleton,
-        threshold,
-        max_depth,
-    } = scratch;
-    let mut walker = Walker {
-        optics,
-        hemi,
-        threshold: *threshold,
-        max_depth: *max_depth,
-        skeleton,
-        parked,
-        want_uv,
-        stats: SpecularStats::default(),
-    };
+    let (pending, mut walker) = scratch.split(optics, hemi, want_uv);
     let mut start = 0;
     while start < rings.len() {
         // as many whole rings as the pending buffer holds
