@@ -679,68 +679,6 @@ fn solve_streaming(
     Ok((sol, grids))
 }
 
-/// The closed-form cases of the accuracy table: (name, scene TOML, Howell value of F_01).
-fn howell_cases() -> Vec<(&'static str, String, f64)> {
-    use hemi::analytic::*;
-    let mat = "[[material]]\nname = \"m\"\ndiffuse = [0.5, 0.5, 0.5]\n";
-    let quad = |name: &str, v: [[f64; 3]; 4]| {
-        let vs: Vec<String> = v
-            .iter()
-            .map(|p| format!("[{}, {}, {}]", p[0], p[1], p[2]))
-            .collect();
-        format!(
-            "[[quad]]\nname = \"{name}\"\nmaterial = \"m\"\nvertices = [{}]\n",
-            vs.join(", ")
-        )
-    };
-    let opposed = |a: f64, b: f64, c: f64| {
-        mat.to_string()
-            + &quad(
-                "p1",
-                [[0.0, 0.0, 0.0], [a, 0.0, 0.0], [a, b, 0.0], [0.0, b, 0.0]],
-            )
-            + &quad("p2", [[0.0, 0.0, c], [0.0, b, c], [a, b, c], [a, 0.0, c]])
-    };
-    let perpendicular = |l: f64, w: f64, h: f64| {
-        mat.to_string()
-            + &quad(
-                "floor",
-                [[0.0, 0.0, 0.0], [0.0, 0.0, w], [l, 0.0, w], [l, 0.0, 0.0]],
-            )
-            + &quad(
-                "wall",
-                [[0.0, 0.0, 0.0], [l, 0.0, 0.0], [l, h, 0.0], [0.0, h, 0.0]],
-            )
-    };
-    vec![
-        (
-            "opposed 1×1 at 1 (C-11)",
-            opposed(1.0, 1.0, 1.0),
-            opposed_rectangles(1.0, 1.0, 1.0),
-        ),
-        (
-            "opposed 1×1 at 3 (C-11)",
-            opposed(1.0, 1.0, 3.0),
-            opposed_rectangles(1.0, 1.0, 3.0),
-        ),
-        (
-            "opposed 2×1 at 0.5 (C-11)",
-            opposed(2.0, 1.0, 0.5),
-            opposed_rectangles(2.0, 1.0, 0.5),
-        ),
-        (
-            "perpendicular 1,1,1 (C-14)",
-            perpendicular(1.0, 1.0, 1.0),
-            perpendicular_common_edge(1.0, 1.0, 1.0),
-        ),
-        (
-            "perpendicular 1,2,1 (C-14)",
-            perpendicular(1.0, 2.0, 1.0),
-            perpendicular_common_edge(1.0, 2.0, 1.0),
-        ),
-    ]
-}
-
 fn bench_form_factors(
     out: &mut impl Write,
     circles: &[u32],
@@ -758,7 +696,7 @@ fn bench_form_factors(
             points: vec![],
         })
         .collect();
-    let cases = howell_cases();
+    let cases = hemi::analytic::howell_cases();
     let scenes: Vec<Scene> = cases
         .iter()
         .map(|(n, src, _)| scene::parse(src, n))
