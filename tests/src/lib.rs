@@ -111,3 +111,31 @@ impl Accelerator for BoxedModel {
         self.0.cast_rings(origin, rot, hemi, rings, want_uv, sink)
     }
 }
+
+// --- Hardware-in-the-loop helpers ---
+
+/// Whether a HIL test can run: true when qemu-system-arm is runnable. Otherwise the test is
+/// skipped with a message, unless `HEMI_REQUIRE_QEMU` is set (as `cargo xtask test` does), which
+/// turns the skip into a failure so that CI cannot pass by skipping.
+pub fn qemu_or_skip(test: &str) -> bool {
+    if hemi::board::qemu_available() {
+        return true;
+    }
+    let required = std::env::var("HEMI_REQUIRE_QEMU").is_ok_and(|v| !v.is_empty() && v != "0");
+    assert!(
+        !required,
+        "HEMI_REQUIRE_QEMU is set but qemu-system-arm is not runnable \
+         (install it: apt-get install -y qemu-system-arm)"
+    );
+    eprintln!(
+        "SKIPPED {test}: qemu-system-arm not found (apt-get install -y qemu-system-arm; \
+         HEMI_REQUIRE_QEMU=1 turns this skip into a failure)"
+    );
+    false
+}
+
+/// The Cornell box of `scenes/cornell.toml`.
+pub fn cornell_scene() -> hemi::scene::Scene {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    hemi::scene::load(&root.join("scenes/cornell.toml")).expect("cornell scene")
+}

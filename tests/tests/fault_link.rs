@@ -6,6 +6,7 @@
 //! its slave end as it would to a board; a relay thread carries bytes between its master end and
 //! QEMU's pty, damaging them at a set rate.
 
+use hemi_tests::{cornell_scene, qemu_or_skip};
 use std::io::{Read, Write};
 
 use serialport::SerialPort;
@@ -14,29 +15,11 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use hemi::board::jobs::{BoardSpec, Farm};
-use hemi::board::{firmware_elf, qemu_available, remote, Qemu};
+use hemi::board::{firmware_elf, remote, Qemu};
 use hemi::pass1::{self, Pass1Settings};
-use hemi::scene::{self, Scene};
+use hemi::scene::Scene;
 use hemi_hdl_model::{ModelAccelerator, ModelConfig};
 use hemi_kernel::hemisphere::DeltaRule;
-
-fn qemu_or_skip(test: &str) -> bool {
-    if qemu_available() {
-        return true;
-    }
-    let required = std::env::var("HEMI_REQUIRE_QEMU").is_ok_and(|v| !v.is_empty() && v != "0");
-    assert!(
-        !required,
-        "HEMI_REQUIRE_QEMU is set but qemu-system-arm is not runnable"
-    );
-    eprintln!("SKIPPED {test}: qemu-system-arm not found");
-    false
-}
-
-fn cornell() -> Scene {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    scene::load(&root.join("scenes/cornell.toml")).expect("cornell scene")
-}
 
 fn bits(m: &[Vec<f64>]) -> Vec<Vec<u64>> {
     m.iter()
@@ -181,7 +164,7 @@ fn pass1_through_a_proxy_that_flips_drops_and_truncates_bytes() {
             std::thread::spawn(move || relay(from, to, rate, seed, faults, stop))
         });
 
-        let scene = cornell();
+        let scene = cornell_scene();
         let settings = Pass1Settings {
             circles: 8,
             samples: 3,
@@ -219,7 +202,7 @@ fn pass1_survives_a_qemu_killed_mid_run() {
         return;
     }
     big_stack(|| {
-        let scene = cornell();
+        let scene = cornell_scene();
         let settings = Pass1Settings {
             circles: 12,
             samples: 4,

@@ -4,9 +4,10 @@
 //! Skips (passes with a printed notice) only when qemu-system-arm is missing and
 //! HEMI_REQUIRE_QEMU is unset; CI sets HEMI_REQUIRE_QEMU=1, making a missing QEMU a failure.
 
+use hemi_tests::qemu_or_skip;
 use std::time::Duration;
 
-use hemi::board::{qemu_available, QemuBoard};
+use hemi::board::QemuBoard;
 use hemi_kernel::link::{
     encode_frame, encode_request, AccelKind, ErrorCode, Request, Response, MAX_WIRE_LEN, NO_ID,
     PROTOCOL_VERSION,
@@ -14,30 +15,13 @@ use hemi_kernel::link::{
 
 const T: Duration = Duration::from_secs(3);
 
-fn qemu_or_skip() -> bool {
-    if qemu_available() {
-        return true;
-    }
-    let required = std::env::var("HEMI_REQUIRE_QEMU").is_ok_and(|v| !v.is_empty() && v != "0");
-    assert!(
-        !required,
-        "HEMI_REQUIRE_QEMU is set but qemu-system-arm is not runnable \
-         (install it: apt-get install -y qemu-system-arm)"
-    );
-    eprintln!(
-        "SKIPPED hil_handshake: qemu-system-arm not found (apt-get install -y qemu-system-arm; \
-         HEMI_REQUIRE_QEMU=1 turns this skip into a failure)"
-    );
-    false
-}
-
 fn process_alive(pid: u32) -> bool {
     std::path::Path::new(&format!("/proc/{pid}")).exists()
 }
 
 #[test]
 fn handshake_ping_and_recovery_from_damaged_frames() {
-    if !qemu_or_skip() {
+    if !qemu_or_skip("hil_handshake") {
         return;
     }
     let mut board = QemuBoard::boot(None).expect("boot the firmware in QEMU and handshake");

@@ -7,31 +7,14 @@
 //! HEMI_REQUIRE_QEMU is unset.
 
 use hemi::board::jobs::{BoardSpec, Farm};
-use hemi::board::{qemu_available, remote};
+use hemi::board::remote;
 use hemi::pass1::{self, Pass1Settings};
-use hemi::scene::{self, Scene};
+use hemi::scene::Scene;
 use hemi_hdl_model::{ModelAccelerator, ModelConfig};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
 use hemi_kernel::link::{AccelKind, ENGINE_CAPACITIES, PROTOCOL_VERSION};
-
-fn qemu_or_skip(test: &str) -> bool {
-    if qemu_available() {
-        return true;
-    }
-    let required = std::env::var("HEMI_REQUIRE_QEMU").is_ok_and(|v| !v.is_empty() && v != "0");
-    assert!(
-        !required,
-        "HEMI_REQUIRE_QEMU is set but qemu-system-arm is not runnable"
-    );
-    eprintln!("SKIPPED {test}: qemu-system-arm not found");
-    false
-}
-
-fn cornell() -> Scene {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    scene::load(&root.join("scenes/cornell.toml")).expect("cornell scene")
-}
+use hemi_tests::{cornell_scene, qemu_or_skip};
 
 fn settings() -> Pass1Settings {
     Pass1Settings {
@@ -85,7 +68,7 @@ fn form_factors_render_and_irradiance_through_two_qemu_boards_equal_the_model_ba
 }
 
 fn run() {
-    let scene = cornell();
+    let scene = cornell_scene();
     let settings = settings();
     let farm = Farm::connect(&[BoardSpec::Qemu, BoardSpec::Qemu], None).expect("boot two boards");
     for hello in farm.hellos() {
