@@ -21,6 +21,10 @@ pub struct FwAccel {
     /// type need not be.
     #[cfg(feature = "model")]
     model: heapless::Vec<hemi_hdl_model::ModelAccelerator, 1>,
+    /// CORDIC (iterations, width) the host asked for; (0, 0) = the model's defaults (zero bytes,
+    /// so the static engine stays in `.bss`).
+    #[cfg(feature = "model")]
+    cordic: (u8, u8),
     use_soft: bool,
 }
 
@@ -37,6 +41,8 @@ impl FwAccel {
             soft: SoftProvider::new(),
             #[cfg(feature = "model")]
             model: heapless::Vec::new(),
+            #[cfg(feature = "model")]
+            cordic: (0, 0),
             use_soft: false,
         }
     }
@@ -78,7 +84,7 @@ impl AccelProvider for FwAccel {
         {
             // Dropped first: the old model's state is not needed while the new one is built.
             self.model.clear();
-            let config = hemi_hdl_model::ModelConfig::default();
+            let config = self.model_config();
             match hemi_hdl_model::ModelAccelerator::new(patches, config) {
                 // Cannot fail: the Vec was emptied above.
                 Ok(m) => {
@@ -112,12 +118,47 @@ impl AccelProvider for FwAccel {
         self.soft.run(patches, job)
     }
 
+    #[cfg(feature = "model")]
+    fn set_cordic(&mut self, iterations: u8, width: u8) -> Result<bool, ErrorCode> {
+        let d = hemi_hdl_model::ModelConfig::default();
+        let (it, w) = (u32::from(iterations), u32::from(width));
+        // the model's own limits (ModelConfig): refused here, before any scene is touched
+        if !(12..=32).contains(&w) || !(4..=30).contains(&it) || it + 2 > w {
+            return Err(ErrorCode::OutOfRange);
+        }
+        let new = if (it, w) == (d.iterations, d.width) {
+            (0, 0)
+        } else {
+            (iterations, width)
+        };
+        if self.use_soft && new != (0, 0) {
+            // the soft engine answers jobs: f32, no CORDIC to set
+            return Err(ErrorCode::Unsupported);
+        }
+        let changed = new != self.cordic;
+        self.cordic = new;
+        Ok(changed)
+    }
+
     fn cycles(&self) -> u64 {
         #[cfg(feature = "model")]
         if let Some(m) = self.model.first() {
             return m.cycles();
         }
         0
+    }
+}
+
+#[cfg(feature = "model")]
+impl FwAccel {
+    /// The model's build parameters: the defaults, with the host's CORDIC if it sent one.
+    fn model_config(&self) -> hemi_hdl_model::ModelConfig {
+        let mut config = hemi_hdl_model::ModelConfig::default();
+        if self.cordic != (0, 0) {
+            config.iterations = u32::from(self.cordic.0);
+            config.width = u32::from(self.cordic.1);
+        }
+        config
     }
 }
 

@@ -419,9 +419,13 @@ fn progress(len: u64, what: &str) -> ProgressBar {
 }
 
 /// The boards of a `Boards` backend, connected (QEMU booted); `None` for in-process backends.
-fn farm_for(backend: Backend) -> Result<Option<hemi::board::jobs::Farm>> {
+fn farm_for(backend: Backend, common: &Common) -> Result<Option<hemi::board::jobs::Farm>> {
     match backend {
-        Backend::Boards(list) => Ok(Some(hemi::board::jobs::Farm::connect(list, None)?)),
+        Backend::Boards(list) => {
+            let farm = hemi::board::jobs::Farm::connect(list, None)?;
+            farm.set_cordic(common.cordic_iterations, common.cordic_width)?;
+            Ok(Some(farm))
+        }
         _ => Ok(None),
     }
 }
@@ -864,7 +868,7 @@ fn main() -> Result<()> {
             let scene = scene::load(&scene)?;
             let settings = common.settings_for(&scene)?;
             let camera = hemi::render::camera_of(&scene)?;
-            let farm = farm_for(backend)?;
+            let farm = farm_for(backend, &common)?;
             let t0 = std::time::Instant::now();
             anyhow::ensure!(
                 !show_samples || common.adaptive,
@@ -1010,7 +1014,7 @@ fn main() -> Result<()> {
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
             let settings = common.settings_for(&scene)?;
-            let farm = farm_for(backend)?;
+            let farm = farm_for(backend, &common)?;
             let (ff, _) = run_sampling(
                 &scene,
                 &settings,
@@ -1070,7 +1074,7 @@ fn main() -> Result<()> {
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
             let settings = common.settings_for(&scene)?;
-            let farm = farm_for(backend)?;
+            let farm = farm_for(backend, &common)?;
             let (sol, hemispheres, ff_stats) = if common.streaming(&scene) {
                 let sol = solve_streaming(&scene, &settings, &common, false)?.0;
                 (sol, 0, ShotStats::default())
@@ -1134,7 +1138,7 @@ fn main() -> Result<()> {
             let counters = Counters::default();
             let scene = scene::load(&scene)?;
             let settings = common.settings_for(&scene)?;
-            let farm = farm_for(backend)?;
+            let farm = farm_for(backend, &common)?;
             let (grids, hemispheres) = if common.streaming(&scene) {
                 let (_, grids) = solve_streaming(&scene, &settings, &common, true)?;
                 (grids.unwrap_or_default(), 0)

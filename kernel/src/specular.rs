@@ -58,6 +58,9 @@ pub struct SpecularStats {
     pub escaped_weight: f64,
     /// The deepest the skeleton stack has been.
     pub high_water: u32,
+    /// Extra hemisphere casts because the tracer's park of primary specular hits was full (the
+    /// same results, more rays: a board's small buffer).
+    pub recasts: u32,
 }
 
 impl core::ops::AddAssign for SpecularStats {
@@ -73,6 +76,7 @@ impl core::ops::AddAssign for SpecularStats {
         self.absorbed_weight += o.absorbed_weight;
         self.escaped_weight += o.escaped_weight;
         self.high_water = self.high_water.max(o.high_water);
+        self.recasts += o.recasts;
     }
 }
 

@@ -9,7 +9,7 @@
 //! a ray that leaves the scene adds nothing, so a row sums to the fraction of the hemisphere
 //! that sees diffuse front sides, directly or in mirrors.
 
-use crate::accel::{Accelerator, Hit, Ray};
+use crate::accel::{Accelerator, Hit};
 use crate::geometry::Vec3;
 use crate::hemisphere::Hemisphere;
 use crate::optics::Optics;
@@ -41,8 +41,9 @@ impl core::ops::AddAssign for ShotStats {
 
 /// The tracer's working memory, in caller storage (static SRAM on the board).
 pub struct TraceScratch<'s> {
-    /// Specular hits of one batch of rings, parked until the batch is cast. A batch holds as many
-    /// whole rings as fit; a ring larger than this is cast ray by ray.
+    /// Specular hits of a hemisphere, parked until it is cast. If more arrive than fit, the
+    /// hemisphere is cast again for each further window of them (same results, more rays cast):
+    /// the host holds a whole hemisphere, a board a few dozen.
     pub pending: &'s mut [Pending],
     /// Room for the specular hits of one frustum, turned into frames when it is shot.
     pub parked: &'s mut [Pending],
@@ -177,61 +178,71 @@ pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
         return stats;
     }
 
+    // The whole hemisphere is cast in one go, every diffuse hit sunk as it comes, and the
+    // specular hits parked in the order the engine reports them; then each parked hit is
+    // followed through the walker. When `pending` cannot hold every specular hit (a board's
+    // small buffer), the hemisphere is cast again for the next window of them, in the same
+    // order: the sink sees the same calls in the same order whatever the buffer's size, so a
+    // board's rows equal the host's bit for bit (only the engine's work grows).
     let (pending, mut walker) = scratch.split(optics, hemi, want_uv);
-    let mut start = 0;
-    while start < rings.len() {
-        // as many whole rings as the pending buffer holds
-        let mut end = start;
-        let mut fits = 0usize;
-        while end < rings.len() && fits + rings[end].count as usize <= pending.len() {
-            fits += rings[end].count as usize;
-            end += 1;
-        }
-        accel.set_origin_patch(origin_patch);
+    let uv = want_uv || optics.needs_uv();
+    // specular hits followed so far (in report order), and rings before the window's first
+    let mut done = 0usize;
+    let mut from_ring = 0usize;
+    let mut before = 0usize;
+    let mut first_cast = true;
+    loop {
         let mut parked = 0usize;
-        if end == start {
-            // a ring larger than the buffer: ray by ray, each followed at once
-            end = start + 1;
-            let delta = rings[start].delta_ff;
-            for k in 0..rings[start].count {
-                accel.set_origin_patch(origin_patch);
-                let dir = accel.rotate(&rot, hemi.direction(start, k));
-                let hit = accel.nearest_hit(&Ray { origin, dir }, f32::INFINITY);
-                count(&mut stats, &hit);
-                if let Some(h) = hit {
-                    if diffuse(&h) {
-                        sink(&h, [delta; 3]);
-                    }
-                    if spawns(optics, &h) {
-                        walker.follow(accel, origin, dir, &h, delta, &mut |hh, w| {
-                            sink(hh, w.map(|x| x * delta))
-                        });
-                    }
+        // specular hits seen by this cast, in rings `from_ring..`
+        let mut seen = before;
+        // where the next window starts: its ring, and the specular hits before that ring
+        let mut next: Option<(usize, usize)> = None;
+        let mut ring_now = usize::MAX;
+        let mut seen_at_ring = before;
+        accel.set_origin_patch(origin_patch);
+        accel.cast_rings(
+            origin,
+            &rot,
+            hemi,
+            from_ring..rings.len(),
+            uv,
+            |j, k, hit| {
+                if j != ring_now {
+                    ring_now = j;
+                    seen_at_ring = seen;
                 }
-            }
-        } else {
-            let uv = want_uv || optics.needs_uv();
-            accel.cast_rings(origin, &rot, hemi, start..end, uv, |j, k, hit| {
-                count(&mut stats, &hit);
-                if let Some(h) = hit {
-                    if diffuse(&h) {
-                        let d = rings[j].delta_ff;
-                        sink(&h, [d; 3]);
-                    }
-                    if spawns(optics, &h) {
-                        if let Some(p) = pending.get_mut(parked) {
-                            *p = Pending {
-                                tag: j as u32,
-                                k,
-                                hit: h,
-                            };
-                            parked += 1;
+                if first_cast {
+                    count(&mut stats, &hit);
+                }
+                let Some(h) = hit else { return };
+                if first_cast && diffuse(&h) {
+                    let d = rings[j].delta_ff;
+                    sink(&h, [d; 3]);
+                }
+                if spawns(optics, &h) {
+                    if seen >= done {
+                        match pending.get_mut(parked) {
+                            Some(p) => {
+                                *p = Pending {
+                                    tag: j as u32,
+                                    k,
+                                    hit: h,
+                                };
+                                parked += 1;
+                            }
+                            None => {
+                                if next.is_none() {
+                                    next = Some((j, seen_at_ring));
+                                }
+                            }
                         }
                     }
+                    seen += 1;
                 }
-            });
-        }
+            },
+        );
         accel.set_origin_patch(None);
+        first_cast = false;
         for p in pending.iter().take(parked) {
             let j = p.tag as usize;
             let delta = rings[j].delta_ff;
@@ -240,7 +251,20 @@ pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
                 sink(hh, w.map(|x| x * delta))
             });
         }
-        start = end;
+        done += parked;
+        match next {
+            Some((ring, hits_before)) if parked > 0 => {
+                walker.stats.recasts += 1;
+                from_ring = ring;
+                before = hits_before;
+            }
+            Some(_) => {
+                // no room at all: the hits not followed are lost, and counted
+                walker.stats.overflows += (seen - done) as u32;
+                break;
+            }
+            None => break,
+        }
     }
     stats.specular = walker.stats;
     stats

@@ -18,8 +18,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail, Context, Result};
 use hemi_kernel::link::{
-    AccelKind, EngineStats, ErrorCode, HelloInfo, JobConfig, Request, Response,
+    AccelKind, EngineStats, ErrorCode, HelloInfo, JobConfig, Request, Response, TraceSettings,
+    TraceStats, MAX_LOBE_CHUNK,
 };
+use hemi_kernel::optics::Surface;
 use hemi_kernel::patch::Patch;
 
 use super::link::{describe, Link, Retry};
@@ -74,6 +76,20 @@ pub struct Setup {
     pub patches: Vec<(Patch, f32)>,
     /// Hemisphere, samples, camera, spp. `accel: AccelKind::None` means each board's own.
     pub config: JobConfig,
+    /// The optics of the patches that are not plain diffuse with their own column (protocol 3;
+    /// empty for a diffuse scene).
+    pub surfaces: Vec<(u16, Surface)>,
+    /// The lobe-weight table the surfaces index.
+    pub weights: Vec<f32>,
+    /// Δ, bounces and stack frames (protocol 3).
+    pub tracing: TraceSettings,
+}
+
+impl Setup {
+    /// Whether the boards must hold an optics table (protocol 3).
+    pub fn specular(&self) -> bool {
+        self.surfaces.iter().any(|(_, s)| s.is_specular())
+    }
 }
 
 /// Job ids are 1..=JOB_IDS (the link's own requests use ids above, see `Link::send_as`).
@@ -127,6 +143,8 @@ pub struct Farm {
     next_job: AtomicU32,
     events: Mutex<FarmEvents>,
     quiet: bool,
+    /// CORDIC iterations and word width for the boards' accelerator model (protocol 3).
+    cordic: Mutex<Option<(u8, u8)>>,
 }
 
 impl Farm {
@@ -160,6 +178,7 @@ impl Farm {
             next_job: AtomicU32::new(0),
             events: Mutex::new(FarmEvents::default()),
             quiet: std::env::var_os("HEMI_QUIET_BOARDS").is_some(),
+            cordic: Mutex::new(None),
         };
         let results: Vec<Result<()>> = std::thread::scope(|s| {
             let handles: Vec<_> = farm
@@ -268,8 +287,24 @@ impl Farm {
             })
     }
 
+    /// The CORDIC settings (`--cordic-iterations`, `--cordic-width`) every board gets with its
+    /// configuration; a board whose engine cannot apply them refuses (an error frame) and the
+    /// run stops with that refusal.
+    pub fn set_cordic(&self, iterations: u32, width: u32) -> Result<()> {
+        let it = u8::try_from(iterations).context("--cordic-iterations")?;
+        let w = u8::try_from(width).context("--cordic-width")?;
+        *self.cordic.lock().map_err(|_| anyhow!("poisoned"))? = Some((it, w));
+        for slot in &self.slots {
+            if let Ok(mut s) = slot.lock() {
+                s.config_only = s.set_up || s.config_only;
+                s.set_up = false;
+            }
+        }
+        Ok(())
+    }
+
     /// Sets what the boards must hold; each board gets it before its next job (the scene is
-    /// uploaded again only when the patches changed).
+    /// uploaded again only when the patches or their optics changed).
     pub fn set_setup(&self, setup: Setup) -> Result<()> {
         if let Some(caps) = self.capacities() {
             anyhow::ensure!(
@@ -284,6 +319,12 @@ impl Farm {
                 setup.config.circles,
                 caps.max_circles
             );
+            anyhow::ensure!(
+                setup.tracing.stack <= caps.stack_depth,
+                "--stack {}: the board's skeleton stack holds {} frames",
+                setup.tracing.stack,
+                caps.stack_depth
+            );
         }
         let mut cur = self.setup.lock().map_err(|_| anyhow!("poisoned"))?;
         let same_scene = cur.as_ref().is_some_and(|c| {
@@ -292,6 +333,12 @@ impl Farm {
                     .iter()
                     .zip(&setup.patches)
                     .all(|(a, b)| a.0 == b.0 && a.1.to_bits() == b.1.to_bits())
+                && c.surfaces == setup.surfaces
+                && c.weights.len() == setup.weights.len()
+                && c.weights
+                    .iter()
+                    .zip(&setup.weights)
+                    .all(|(a, b)| a.to_bits() == b.to_bits())
         });
         *cur = Some(setup);
         drop(cur);
@@ -333,12 +380,77 @@ impl Farm {
             Response::Configured => {}
             other => bail!("unexpected answer to Configure: {other:?}"),
         }
+        let cordic = *self.cordic.lock().map_err(|_| anyhow!("poisoned"))?;
+        if conn.hello.protocol >= 3 {
+            match call(link, &Request::Tracing(setup.tracing))? {
+                Response::Configured => {}
+                Response::Error { code } => bail!(
+                    "the board refused the specular settings (--stack {}, Δ {}, {} bounces): {}",
+                    setup.tracing.stack,
+                    setup.tracing.threshold,
+                    setup.tracing.max_bounces,
+                    describe(code)
+                ),
+                other => bail!("unexpected answer to Tracing: {other:?}"),
+            }
+            if let Some((iterations, width)) = cordic {
+                match call(link, &Request::Cordic { iterations, width })? {
+                    Response::Configured => {}
+                    Response::Error { code } => bail!(
+                        "the board's {:?} engine refused --cordic-iterations {iterations} \
+                         --cordic-width {width}: {}",
+                        config.accel,
+                        describe(code)
+                    ),
+                    other => bail!("unexpected answer to Cordic: {other:?}"),
+                }
+            }
+        } else {
+            anyhow::ensure!(
+                !setup.specular(),
+                "the board speaks protocol {}: it cannot hold specular surfaces (protocol 3)",
+                conn.hello.protocol
+            );
+            anyhow::ensure!(
+                cordic.is_none_or(|c| c == (24, 32)),
+                "the board speaks protocol {}: it cannot take CORDIC settings (protocol 3)",
+                conn.hello.protocol
+            );
+        }
         if config_only {
             return Ok(());
         }
         match call(link, &Request::SceneBegin { patches: total })? {
             Response::SceneAck { .. } => {}
             other => bail!("unexpected answer to SceneBegin: {other:?}"),
+        }
+        if conn.hello.protocol >= 3 {
+            for (c, chunk) in setup.weights.chunks(MAX_LOBE_CHUNK).enumerate() {
+                let req = Request::SceneLobes {
+                    first: u16::try_from(c * MAX_LOBE_CHUNK).context("lobe table too long")?,
+                    weights: heapless::Vec::from_slice(chunk)
+                        .map_err(|_| anyhow!("lobe chunk too long"))?,
+                };
+                match call(link, &req)? {
+                    Response::SceneAck { .. } => {}
+                    Response::Error { code } => bail!(
+                        "the board refused the lobe table ({} weights): {}",
+                        setup.weights.len(),
+                        describe(code)
+                    ),
+                    other => bail!("unexpected answer to SceneLobes: {other:?}"),
+                }
+            }
+            for &(index, surface) in &setup.surfaces {
+                match call(link, &Request::SceneSurface { index, surface })? {
+                    Response::SceneAck { .. } => {}
+                    Response::Error { code } => bail!(
+                        "the board refused the optics of patch {index}: {}",
+                        describe(code)
+                    ),
+                    other => bail!("unexpected answer to SceneSurface: {other:?}"),
+                }
+            }
         }
         for (i, (patch, area)) in setup.patches.iter().enumerate() {
             let req = Request::ScenePatch {
@@ -352,6 +464,31 @@ impl Farm {
             }
         }
         Ok(())
+    }
+
+    /// Whether the current setup has specular surfaces.
+    pub fn specular(&self) -> bool {
+        self.setup
+            .lock()
+            .ok()
+            .and_then(|s| s.as_ref().map(Setup::specular))
+            .unwrap_or(false)
+    }
+
+    /// The specular counters of every connected board that speaks protocol 3.
+    pub fn trace_stats(&self) -> Vec<Result<TraceStats>> {
+        self.slots
+            .iter()
+            .map(|slot| {
+                let mut s = slot.lock().map_err(|_| anyhow!("poisoned"))?;
+                let conn = s.conn.as_mut().context("not connected")?;
+                anyhow::ensure!(conn.hello.protocol >= 3, "protocol {}", conn.hello.protocol);
+                match conn.link.call(&Request::TraceStats, CALL_TIMEOUT)? {
+                    Response::TraceStats(st) => Ok(st),
+                    other => bail!("unexpected answer to TraceStats: {other:?}"),
+                }
+            })
+            .collect()
     }
 
     /// The engine counters of every connected board.

@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 use anyhow::{anyhow, bail, Context, Result};
 use hemi_kernel::link::{
     decode_response, encode_request, ErrorCode, HelloInfo, LinkStats, MaxFrameDecoder, Request,
-    Response, MAX_WIRE_LEN, NO_ID, PROTOCOL_VERSION,
+    Response, MAX_WIRE_LEN, MIN_PROTOCOL_VERSION, NO_ID, PROTOCOL_VERSION,
 };
 
 /// A byte stream to a board: a serial port, a pty, or anything in memory. Reads must time out
@@ -195,10 +195,12 @@ impl Link {
                 retry.timeout,
             ) {
                 Ok(Response::Hello(hello)) => {
-                    if hello.protocol != PROTOCOL_VERSION {
+                    // The board answers the older of the two versions it speaks.
+                    if !(MIN_PROTOCOL_VERSION..=PROTOCOL_VERSION).contains(&hello.protocol) {
                         bail!(
-                            "the board speaks protocol {} but this host speaks {PROTOCOL_VERSION}: \
-                             rebuild the firmware or the host from the same revision",
+                            "the board speaks protocol {} but this host speaks \
+                             {MIN_PROTOCOL_VERSION} to {PROTOCOL_VERSION}: rebuild the firmware \
+                             or the host from the same revision",
                             hello.protocol
                         );
                     }

@@ -37,22 +37,32 @@ fn config(settings: &Pass1Settings, camera: Option<Camera>, spp: u32) -> Result<
     })
 }
 
-/// Gives the farm the scene and settings (uploaded to each board before its next job).
-/// Boards run diffuse scenes: the optics table (specular surfaces, lobes) is not uploaded yet.
+/// Gives the farm the scene and settings (uploaded to each board before its next job), with
+/// the optics table of a specular scene (protocol 3). Returns the scene patch of each
+/// form-factor column (boards answer rows over diffuse columns, as the in-process tracer).
+///
+/// Pass 2 (`pass2`) and irradiance through specular surfaces are not on boards yet: refused
+/// here, before any work.
 pub fn set_up(
     farm: &Farm,
     scene: &Scene,
     settings: &Pass1Settings,
     camera: Option<Camera>,
     spp: u32,
-) -> Result<()> {
+) -> Result<Vec<usize>> {
+    crate::optics::check(&settings.specular)?;
+    anyhow::ensure!(
+        settings.method == crate::method::Method::Hemisphere,
+        "boards shoot the hemisphere only (--method hemisphere)"
+    );
     let hemi = hemi_kernel::hemisphere::OwnedHemisphere::new(settings.circles, settings.rule)
         .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
     let optics = crate::optics::SceneOptics::new(scene, &hemi.view())?;
-    if optics.view().has_specular() {
+    let specular = optics.view().has_specular();
+    if specular && camera.is_some() {
         bail!(
-            "the scene has specular surfaces: boards run diffuse scenes only so far \
-             (use --backend soft or model)"
+            "the scene has specular surfaces: boards run pass 1 (form-factors, solve) through \
+             them, but not pass 2 or irradiance yet (use --backend soft or model)"
         );
     }
     let patches = scene
@@ -60,10 +70,35 @@ pub fn set_up(
         .into_iter()
         .zip(scene.patches.iter().map(|p| p.area))
         .collect();
+    let surfaces = optics
+        .surfaces
+        .iter()
+        .enumerate()
+        .filter(|(i, s)| **s != hemi_kernel::optics::Surface::diffuse(*i as u32))
+        .map(|(i, s)| Ok((u16::try_from(i).context("too many patches")?, *s)))
+        .collect::<Result<_>>()?;
+    // The board's stack: the host's --stack if it fits, else as many frames as the board holds
+    // (what a full stack cuts is counted on the board, `TraceStats::overflows`).
+    let cap = farm.capacities().map_or(u16::MAX, |c| c.stack_depth);
+    let stack = u16::try_from(settings.specular.stack).unwrap_or(u16::MAX);
+    if specular && stack > cap {
+        eprintln!(
+            "boards: --stack {stack} > the board's {cap} frames: the boards use {cap} (frustums \
+             a full stack cuts are counted)"
+        );
+    }
     farm.set_setup(Setup {
         patches,
         config: config(settings, camera, spp)?,
-    })
+        surfaces,
+        weights: optics.weights.clone(),
+        tracing: hemi_kernel::link::TraceSettings {
+            threshold: settings.specular.threshold,
+            max_bounces: settings.specular.max_bounces,
+            stack: stack.min(cap),
+        },
+    })?;
+    Ok(optics.columns)
 }
 
 /// Prints each board's engine counters to stderr (jobs, rays, CPU ticks per ray, stack, link
@@ -92,6 +127,29 @@ pub fn report(farm: &Farm, what: &str) {
             Err(e) => eprintln!("board {i}: no counters: {e:#}"),
         }
     }
+    if !farm.specular() {
+        return;
+    }
+    for (i, t) in farm.trace_stats().into_iter().enumerate() {
+        if let Ok(t) = t {
+            eprintln!(
+                "board {i}: {what}: {} frustums, {} frustum rays; stack high-water {}/{} frames \
+                 (capacity {}); cut: {} below Δ, {} too deep, {} overflows, weight {:.2e}; {} \
+                 extra hemisphere casts (park of {})",
+                t.frustums,
+                t.frustum_rays,
+                t.stack_high_water,
+                t.stack_frames,
+                t.stack_capacity,
+                t.below_threshold,
+                t.too_deep,
+                t.overflows,
+                t.cut_weight,
+                t.recasts,
+                t.pending_capacity
+            );
+        }
+    }
 }
 
 /// Pass 1 on the boards: one `Shoot` job per few sample points of a patch.
@@ -102,7 +160,7 @@ pub fn form_factors(
     progress: &(dyn Fn(u64) + Sync),
 ) -> Result<FormFactors> {
     anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
-    set_up(farm, scene, settings, None, 1)?;
+    let columns = set_up(farm, scene, settings, None, 1)?;
     let n = scene.patches.len();
     let per_job = u32::from(rows_per_job(n));
     let mut jobs = Vec::new();
@@ -151,10 +209,11 @@ pub fn form_factors(
         let mut entries = rows.entries.iter();
         for (r, len) in rows.lens.iter().enumerate() {
             let q = usize::from(*first) + r;
+            // columns → scene patches, as pass1::shoot_rows maps them
             let row: Vec<(u32, [f32; 3])> = entries
                 .by_ref()
                 .take(usize::from(*len))
-                .map(|&(j, f)| (u32::from(j), f))
+                .filter_map(|&(c, f)| Some((*columns.get(usize::from(c))? as u32, f)))
                 .collect();
             anyhow::ensure!(
                 row.len() == usize::from(*len) && row.iter().all(|&(j, _)| (j as usize) < n),
@@ -289,6 +348,11 @@ pub fn irradiance(
     point: Vec3,
     normal: Vec3,
 ) -> Result<[f64; 3]> {
+    anyhow::ensure!(
+        !farm.specular(),
+        "the scene has specular surfaces: irradiance through them is not on boards yet \
+         (use --backend soft or model)"
+    );
     let hemi = hemi_kernel::hemisphere::OwnedHemisphere::new(circles, rule)
         .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
     let view = hemi.view();

@@ -15,7 +15,7 @@ use heapless::{Deque, Vec};
 
 use super::message::{
     AccelKind, Capacities, EngineStats, ErrorCode, JobConfig, RayHit, Request, Response, Rows,
-    MAX_HITS, MAX_ROWS, MAX_ROW_ENTRIES,
+    TraceSettings, TraceStats, MAX_HITS, MAX_ROWS, MAX_ROW_ENTRIES,
 };
 use super::MAX_FRAME_LEN;
 use crate::accel::soft::{LocalPatch, SoftAccelerator, SoftScratch};
@@ -29,7 +29,7 @@ use crate::pixels::trace_pixels;
 use crate::rotation::{spin_for_sample, Rotation};
 use crate::sampling::{bezier_sample, grid_sample, SamplePoint};
 use crate::skeleton::{Frame, Skeleton};
-use crate::specular::Pending;
+use crate::specular::{Pending, SpecularStats, DEFAULT_THRESHOLD};
 use crate::tracer::{shoot_hemisphere, ShotStats, TraceScratch};
 
 /// Patches a board's engine stores (the Cornell box has 19, the teapot scene 34).
@@ -49,6 +49,21 @@ pub const ENGINE_MAX_IN_FLIGHT: usize = 8;
 pub const RECENT_JOBS: usize = 64;
 /// Frames of the skeleton stack (paper §6.2) the engine keeps in SRAM.
 pub const ENGINE_STACK_DEPTH: usize = 16;
+/// Primary specular hits the tracer parks per hemisphere cast; more make it cast the hemisphere
+/// again for the next window of them (same rows, more rays; `TraceStats::recasts`).
+pub const ENGINE_PENDING: usize = 48;
+/// Specular hits one frustum may park (frustum rays reaching another specular patch); beyond,
+/// they are cut and counted as overflows.
+pub const ENGINE_PARKED: usize = 16;
+/// Entries of the lobe-weight table: k + 1 per specular material, k < R ≤ 48.
+pub const ENGINE_MAX_LOBES: usize = 192;
+/// The specular settings until the host sends its own: the host's defaults, with the board's
+/// stack.
+pub const ENGINE_DEFAULT_TRACING: TraceSettings = TraceSettings {
+    threshold: DEFAULT_THRESHOLD,
+    max_bounces: 24,
+    stack: ENGINE_STACK_DEPTH as u16,
+};
 
 /// What a board's engine reports in the handshake.
 pub const ENGINE_CAPACITIES: Capacities = Capacities {
@@ -110,6 +125,17 @@ pub trait AccelProvider {
     /// Accelerator clock cycles so far (0 for engines without a clock of their own).
     fn cycles(&self) -> u64 {
         0
+    }
+    /// Sets the CORDIC of the accelerator (iterations, word width) for scenes loaded from now
+    /// on; `Ok(true)` if that changed it (the engine then loads its scene again). Engines
+    /// without a CORDIC compute in f32 and accept only the model's defaults (24, 32), which
+    /// stand for "as exact as f32".
+    fn set_cordic(&mut self, iterations: u8, width: u8) -> Result<bool, ErrorCode> {
+        if (iterations, width) == (24, 32) {
+            Ok(false)
+        } else {
+            Err(ErrorCode::Unsupported)
+        }
     }
 }
 
@@ -216,13 +242,19 @@ pub struct Engine<P: AccelProvider, T: Platform> {
     quarter: Vec<[f32; 2], ENGINE_MAX_QUARTER>,
     /// The form-factor row of one sample point (the tracer accumulates into it), per channel.
     row: [[f32; 3]; ENGINE_MAX_PATCHES],
-    /// The surface of every patch: diffuse, column = patch index (specular scenes are not
-    /// uploaded to boards yet).
+    /// The surface of every patch: diffuse with column = patch index unless the host sent
+    /// another (`SceneSurface`).
     surfaces: Vec<Surface, ENGINE_MAX_PATCHES>,
+    /// The lobe-weight table the surfaces' lobes index (`SceneLobes`).
+    weights: Vec<f32, ENGINE_MAX_LOBES>,
+    /// Δ, bounces and stack frames in use.
+    tracing: TraceSettings,
     /// The tracer's scratch: parked specular hits and the skeleton stack's frames.
-    pending: Vec<Pending, 1>,
-    parked: Vec<Pending, 1>,
+    pending: Vec<Pending, ENGINE_PENDING>,
+    parked: Vec<Pending, ENGINE_PARKED>,
     frames: Vec<Frame, ENGINE_STACK_DEPTH>,
+    /// What the frustums of distinct jobs did.
+    specular: SpecularStats,
     dirs: [Vec3; MAX_HITS],
     recent: Deque<u32, RECENT_JOBS>,
     counts: Counters,
@@ -244,7 +276,24 @@ struct Counters {
 #[derive(Clone, Copy, Debug, Default)]
 struct Work {
     rays: u64,
+    specular: SpecularStats,
 }
+
+/// No frustums yet (a `const` so the engine stays all zero bytes).
+const NO_SPECULAR: SpecularStats = SpecularStats {
+    frustums: 0,
+    rays: 0,
+    below_threshold: 0,
+    cut_weight: 0.0,
+    too_deep: 0,
+    too_deep_weight: 0.0,
+    overflows: 0,
+    overflow_weight: 0.0,
+    absorbed_weight: 0.0,
+    escaped_weight: 0.0,
+    high_water: 0,
+    recasts: 0,
+};
 
 impl<P: AccelProvider, T: Platform> Engine<P, T> {
     /// An engine with no scene.
@@ -269,9 +318,12 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             quarter: Vec::new(),
             row: [[0.0; 3]; ENGINE_MAX_PATCHES],
             surfaces: Vec::new(),
+            weights: Vec::new(),
+            tracing: ENGINE_DEFAULT_TRACING,
             pending: Vec::new(),
             parked: Vec::new(),
             frames: Vec::new(),
+            specular: NO_SPECULAR,
             dirs: [Vec3::ZERO; MAX_HITS],
             recent: Deque::new(),
             counts: Counters {
@@ -297,6 +349,30 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         self.recent.clear();
         let _ = self.provider.select(self.provider.kind());
         self.counts = Counters::default();
+        self.surfaces.clear();
+        self.weights.clear();
+        self.tracing = ENGINE_DEFAULT_TRACING;
+        self.specular = NO_SPECULAR;
+    }
+
+    /// The specular counters and the buffers that bound them.
+    pub fn trace_stats(&self) -> TraceStats {
+        let s = &self.specular;
+        TraceStats {
+            frustums: s.frustums,
+            frustum_rays: s.rays,
+            below_threshold: s.below_threshold,
+            too_deep: s.too_deep,
+            overflows: s.overflows,
+            cut_weight: (s.cut_weight + s.too_deep_weight + s.overflow_weight) as f32,
+            recasts: s.recasts,
+            stack_high_water: s.high_water as u16,
+            stack_frames: self.tracing.stack,
+            stack_capacity: ENGINE_STACK_DEPTH as u16,
+            pending_capacity: ENGINE_PENDING as u16,
+            parked_capacity: ENGINE_PARKED as u16,
+            lobe_capacity: ENGINE_MAX_LOBES as u16,
+        }
     }
 
     /// The counters, with the link's.
@@ -341,6 +417,11 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
                 first,
                 count,
             } => self.job(id, |e| e.gather(*point, *normal, *ring, *first, *count)),
+            Request::Tracing(t) => self.set_tracing(t).map(|()| Response::Configured),
+            Request::SceneSurface { index, surface } => self.scene_surface(*index, surface),
+            Request::SceneLobes { first, weights } => self.scene_lobes(*first, weights),
+            Request::Cordic { iterations, width } => self.set_cordic(*iterations, *width),
+            Request::TraceStats => Ok(Response::TraceStats(self.trace_stats())),
             _ => return None,
         };
         Some(result.unwrap_or_else(|code| {
@@ -401,10 +482,100 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         Ok(())
     }
 
+    fn set_tracing(&mut self, t: &TraceSettings) -> Result<(), ErrorCode> {
+        if !(t.threshold.is_finite() && t.threshold > 0.0 && t.threshold < 1.0) {
+            return Err(ErrorCode::OutOfRange);
+        }
+        if t.stack == 0 || t.max_bounces == 0 {
+            return Err(ErrorCode::OutOfRange);
+        }
+        if usize::from(t.stack) > ENGINE_STACK_DEPTH {
+            return Err(ErrorCode::TooLong);
+        }
+        self.tracing = *t;
+        Ok(())
+    }
+
+    fn set_cordic(&mut self, iterations: u8, width: u8) -> Result<Response, ErrorCode> {
+        if self.provider.set_cordic(iterations, width)? && self.scene == SceneState::Ready {
+            // the loaded scene goes into the accelerator again, under the new CORDIC
+            self.provider.load(&self.patches).inspect_err(|_| {
+                self.scene = SceneState::Empty;
+            })?;
+        }
+        Ok(Response::Configured)
+    }
+
+    /// The scene being uploaded (or the loaded one): its patch count.
+    fn scene_total(&self) -> Result<u16, ErrorCode> {
+        match self.scene {
+            SceneState::Loading { total } => Ok(total),
+            SceneState::Ready => Ok(self.patches.len() as u16),
+            SceneState::Empty => Err(ErrorCode::NoScene),
+        }
+    }
+
+    fn scene_surface(&mut self, index: u16, surface: &Surface) -> Result<Response, ErrorCode> {
+        let total = self.scene_total()?;
+        if index >= total || surface.column.is_some_and(|c| c >= u32::from(total)) {
+            return Err(ErrorCode::OutOfRange);
+        }
+        let bad_k = [surface.reflect, surface.transmit]
+            .into_iter()
+            .flatten()
+            .any(|s| s.k.iter().any(|k| !(k.is_finite() && *k >= 0.0)));
+        if bad_k {
+            return Err(ErrorCode::BadScene);
+        }
+        let slot = self
+            .surfaces
+            .get_mut(usize::from(index))
+            .ok_or(ErrorCode::OutOfRange)?;
+        *slot = *surface;
+        Ok(self.scene_ack(total))
+    }
+
+    fn scene_lobes(&mut self, first: u16, weights: &[f32]) -> Result<Response, ErrorCode> {
+        let total = self.scene_total()?;
+        let start = usize::from(first);
+        let end = start + weights.len();
+        if end > ENGINE_MAX_LOBES {
+            return Err(ErrorCode::TooLong);
+        }
+        if weights.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
+            return Err(ErrorCode::BadScene);
+        }
+        if self.weights.len() < end {
+            self.weights
+                .resize(end, 0.0)
+                .map_err(|_| ErrorCode::TooLong)?;
+        }
+        if let Some(dst) = self.weights.get_mut(start..end) {
+            dst.copy_from_slice(weights);
+        }
+        Ok(self.scene_ack(total))
+    }
+
+    fn scene_ack(&self, total: u16) -> Response {
+        let loaded = match self.scene {
+            SceneState::Ready => total,
+            _ => self.received.count_ones() as u16,
+        };
+        Response::SceneAck { loaded, total }
+    }
+
     fn scene_begin(&mut self, patches: u16) -> Result<Response, ErrorCode> {
         if usize::from(patches) > ENGINE_MAX_PATCHES || patches == 0 {
             return Err(ErrorCode::TooLong);
         }
+        // Every patch diffuse with its own column until the host says otherwise.
+        self.surfaces.clear();
+        for c in 0..u32::from(patches) {
+            self.surfaces
+                .push(Surface::diffuse(c))
+                .map_err(|_| ErrorCode::TooLong)?;
+        }
+        self.weights.clear();
         self.patches.clear();
         self.areas.clear();
         self.received = 0;
@@ -451,10 +622,6 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             self.provider.load(&self.patches).inspect_err(|_| {
                 self.scene = SceneState::Empty;
             })?;
-            self.surfaces.clear();
-            for c in 0..self.patches.len() {
-                let _ = self.surfaces.push(Surface::diffuse(c as u32));
-            }
             self.scene = SceneState::Ready;
         }
         Ok(Response::SceneAck { loaded, total })
@@ -479,6 +646,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
                 self.recent.pop_front();
             }
             let _ = self.recent.push_back(id);
+            self.specular += work.specular;
             let s = &mut self.counts;
             s.jobs = s.jobs.wrapping_add(1);
             s.rays = s.rays.wrapping_add(work.rays);
@@ -516,8 +684,9 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         let mut work = Work::default();
         for q in u32::from(first)..end {
             let point = sample_point(&p, area, k, q);
-            let shot = self.shoot_one(point.position, point.normal, spin_for_sample(q), patch);
-            work.rays += u64::from(shot.rays);
+            let shot = self.shoot_one(point.position, point.normal, spin_for_sample(q), patch)?;
+            work.rays += u64::from(shot.rays) + shot.specular.rays;
+            work.specular += shot.specular;
             let mut len = 0u16;
             for (j, f) in self.row.iter().take(n).enumerate() {
                 if *f != [0.0; 3] {
@@ -532,27 +701,34 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         Ok((Response::Rows(rows), work))
     }
 
-    /// One hemisphere into `self.row`: the one place the tracer is called for pass 1.
-    fn shoot_one(&mut self, origin: Vec3, normal: Vec3, spin: f32, patch: u16) -> ShotStats {
+    /// One hemisphere into `self.row` (over diffuse columns): the one place the tracer is
+    /// called for pass 1. `BadScene` if the optics table does not fit the scene and hemisphere.
+    fn shoot_one(
+        &mut self,
+        origin: Vec3,
+        normal: Vec3,
+        spin: f32,
+        patch: u16,
+    ) -> Result<ShotStats, ErrorCode> {
         let n = self.patches.len();
         let row = &mut self.row[..n.min(ENGINE_MAX_PATCHES)];
         row.fill([0.0; 3]);
         let rule = self.config.rule;
         let hemi = Hemisphere::new(&self.rings, &self.quarter, rule);
-        let Ok(optics) = Optics::new(&self.patches, &self.surfaces, &[], hemi.circles()) else {
-            return ShotStats::default();
-        };
+        let optics = Optics::new(&self.patches, &self.surfaces, &self.weights, hemi.circles())
+            .map_err(|_| ErrorCode::BadScene)?;
         fill(&mut self.pending, Pending::EMPTY);
         fill(&mut self.parked, Pending::EMPTY);
         fill(&mut self.frames, Frame::EMPTY);
+        let stack = usize::from(self.tracing.stack).min(self.frames.len());
         let scratch = TraceScratch {
             pending: &mut self.pending,
             parked: &mut self.parked,
-            skeleton: Skeleton::new(&mut self.frames),
-            threshold: 0.01,
-            max_depth: 0,
+            skeleton: Skeleton::new(&mut self.frames[..stack]),
+            threshold: self.tracing.threshold,
+            max_depth: self.tracing.max_bounces,
         };
-        self.provider.run(
+        Ok(self.provider.run(
             &self.patches,
             ShootJob {
                 hemi: &hemi,
@@ -564,7 +740,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
                 patch: u32::from(patch),
                 row,
             },
-        )
+        ))
     }
 
     fn trace(&mut self, first: u32, count: u16) -> Result<(Response, Work), ErrorCode> {
@@ -582,9 +758,13 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         let mut hits = Vec::new();
         let _ = hits.resize(rays, None);
         let hemi = Hemisphere::new(&self.rings, &self.quarter, cfg.rule);
-        let Ok(optics) = Optics::new(&self.patches, &self.surfaces, &[], hemi.circles()) else {
-            return Err(ErrorCode::NoScene);
-        };
+        let optics = Optics::new(&self.patches, &self.surfaces, &self.weights, hemi.circles())
+            .map_err(|_| ErrorCode::BadScene)?;
+        if optics.has_specular() {
+            // Pass 2 through mirrors reports several weighted hits per eye ray, which `Hits`
+            // cannot carry: not on boards yet.
+            return Err(ErrorCode::Unsupported);
+        }
         fill(&mut self.pending, Pending::EMPTY);
         fill(&mut self.parked, Pending::EMPTY);
         fill(&mut self.frames, Frame::EMPTY);
@@ -608,7 +788,13 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
                 hits: &mut hits,
             },
         );
-        Ok((Response::Hits(hits), Work { rays: rays as u64 }))
+        Ok((
+            Response::Hits(hits),
+            Work {
+                rays: rays as u64,
+                ..Work::default()
+            },
+        ))
     }
 
     fn gather(
@@ -634,6 +820,10 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             return Err(ErrorCode::TooLong);
         }
         let hemi = Hemisphere::new(&self.rings, &self.quarter, cfg.rule);
+        if self.surfaces.iter().any(Surface::is_specular) {
+            // Irradiance through mirrors needs the walker on the board: not yet.
+            return Err(ErrorCode::Unsupported);
+        }
         let mut hits = Vec::new();
         self.provider.run(
             &self.patches,
@@ -650,6 +840,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             Response::Hits(hits),
             Work {
                 rays: u64::from(on_ring),
+                ..Work::default()
             },
         ))
     }

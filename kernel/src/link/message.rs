@@ -13,10 +13,20 @@ use serde::{Deserialize, Serialize};
 use crate::camera::Camera;
 use crate::geometry::Vec3;
 use crate::hemisphere::DeltaRule;
+use crate::optics::Surface;
 use crate::patch::Patch;
 
-/// Version of the wire protocol. Bumped on any incompatible change to an existing message.
-pub const PROTOCOL_VERSION: u16 = 2;
+/// Version of the wire protocol. Bumped on any incompatible change to an existing message, and
+/// when messages are appended (so a host knows which a board understands).
+///
+/// - 2: scene upload, Shoot, Trace, Gather.
+/// - 3: the optics table (`SceneSurface`, `SceneLobes`), the specular settings (`Tracing`), the
+///   model's CORDIC settings (`Cordic`) and the specular counters (`TraceStats`); every message
+///   of version 2 is unchanged.
+pub const PROTOCOL_VERSION: u16 = 3;
+/// The oldest protocol this build still speaks: the handshake settles on the older of the two
+/// sides' versions if it is at least this, and the host sends only that version's messages.
+pub const MIN_PROTOCOL_VERSION: u16 = 2;
 /// Longest firmware build string in the handshake.
 pub const BUILD_LEN: usize = 48;
 /// Largest data block of the link-test messages ([`Request::Sink`], [`Response::Source`]).
@@ -27,6 +37,8 @@ pub const MAX_BULK: usize = 512;
 pub const MAX_ROW_ENTRIES: usize = 64;
 /// Largest number of rows (sample points) in one [`Request::Shoot`] job.
 pub const MAX_ROWS: usize = 64;
+/// Lobe weights in one [`Request::SceneLobes`] (4 + 5 bytes each on the wire at most).
+pub const MAX_LOBE_CHUNK: usize = 16;
 /// Largest number of ray hits in one [`Response::Hits`]: each is at most 12 bytes on the wire
 /// (option tag, patch varint ≤ 2, front flag, u and v as f32), so 80 fit one frame.
 pub const MAX_HITS: usize = 80;
@@ -126,11 +138,45 @@ pub enum Request {
     },
     /// Asks for the engine's counters, answered [`Response::EngineStats`].
     EngineStats,
+    // ---- protocol 3 ----
+    /// How specular surfaces are followed (paper §6.2, §6.5): Δ, bounces and the skeleton
+    /// stack's frames. Answered [`Response::Configured`]; refused [`ErrorCode::TooLong`] for a
+    /// stack deeper than the board's `stack_depth`, [`ErrorCode::OutOfRange`] for a bad Δ.
+    Tracing(TraceSettings),
+    /// The optics of patch `index` of the scene being uploaded (after `SceneBegin`; every patch
+    /// not sent is diffuse with column = its index). Answered [`Response::SceneAck`].
+    SceneSurface {
+        /// Patch index, `< patches` of the `SceneBegin`.
+        index: u16,
+        /// Its column, reflection and transmission.
+        surface: Surface,
+    },
+    /// Lobe weights `first .. first + weights.len()` of the scene's lobe-weight table (after
+    /// `SceneBegin`, which empties it). Answered [`Response::SceneAck`]; refused
+    /// [`ErrorCode::TooLong`] beyond the board's table.
+    SceneLobes {
+        /// Index of the first weight.
+        first: u16,
+        /// The weights ([`crate::frustum::lobe_weights`]).
+        weights: Vec<f32, MAX_LOBE_CHUNK>,
+    },
+    /// The CORDIC of the board's accelerator model: iterations and word width, as the host's
+    /// `--cordic-iterations` and `--cordic-width`. Answered [`Response::Configured`]; refused
+    /// [`ErrorCode::Unsupported`] by an engine that cannot change them (soft: f32, so only the
+    /// defaults 24 and 32 are accepted), [`ErrorCode::OutOfRange`] for values the model refuses.
+    Cordic {
+        /// CORDIC iterations.
+        iterations: u8,
+        /// Word width in bits.
+        width: u8,
+    },
+    /// Asks for the specular counters, answered [`Response::TraceStats`].
+    TraceStats,
 }
 
 impl Request {
     /// Number of variants: variant indices at or above it are unknown to this build.
-    pub const VARIANTS: u32 = 13;
+    pub const VARIANTS: u32 = 18;
 }
 
 /// Board → host. Every response carries the id of the request it answers (see `codec`).
@@ -185,11 +231,58 @@ pub enum Response {
     Hits(Vec<Option<RayHit>, MAX_HITS>),
     /// Answer to [`Request::EngineStats`].
     EngineStats(EngineStats),
+    // ---- protocol 3 ----
+    /// Answer to [`Request::TraceStats`].
+    TraceStats(TraceStats),
 }
 
 impl Response {
     /// Number of variants: variant indices at or above it are unknown to this build.
-    pub const VARIANTS: u32 = 12;
+    pub const VARIANTS: u32 = 13;
+}
+
+/// How specular surfaces are followed (sent with [`Request::Tracing`]); the host's
+/// `--specular-threshold`, `--max-bounces` and `--stack`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TraceSettings {
+    /// Δ of §6.5.
+    pub threshold: f32,
+    /// The most specular bounces a path may take.
+    pub max_bounces: u16,
+    /// Frames of the skeleton stack, at most the board's `stack_depth`.
+    pub stack: u16,
+}
+
+/// What the specular transport of a board's distinct jobs did (protocol 3), with the buffers
+/// that bound it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct TraceStats {
+    /// Frustums shot.
+    pub frustums: u32,
+    /// Frustum rays cast.
+    pub frustum_rays: u64,
+    /// Frustums cut below Δ.
+    pub below_threshold: u32,
+    /// Frustums cut at the bounce limit.
+    pub too_deep: u32,
+    /// Frustums (or parked hits) lost to a full stack or park.
+    pub overflows: u32,
+    /// Weight cut below Δ, at the bounce limit and by overflows, summed (form-factor units).
+    pub cut_weight: f32,
+    /// Extra hemisphere casts because the park of primary specular hits was full.
+    pub recasts: u32,
+    /// The deepest the skeleton stack has been, in frames.
+    pub stack_high_water: u16,
+    /// Frames of the stack in use (the configured `stack`).
+    pub stack_frames: u16,
+    /// The board's stack capacity, in frames.
+    pub stack_capacity: u16,
+    /// Primary specular hits parked per cast.
+    pub pending_capacity: u16,
+    /// Specular hits one frustum may park.
+    pub parked_capacity: u16,
+    /// Entries of the lobe-weight table.
+    pub lobe_capacity: u16,
 }
 
 /// How the board runs jobs (sent with [`Request::Configure`]).

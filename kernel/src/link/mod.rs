@@ -30,8 +30,8 @@ pub use frame::{
 };
 pub use message::{
     AccelKind, Capacities, EngineStats, ErrorCode, HelloInfo, JobConfig, LinkStats, RayHit,
-    Request, Response, Rows, BUILD_LEN, MAX_BULK, MAX_HITS, MAX_ROWS, MAX_ROW_ENTRIES,
-    PROTOCOL_VERSION,
+    Request, Response, Rows, TraceSettings, TraceStats, BUILD_LEN, MAX_BULK, MAX_HITS,
+    MAX_LOBE_CHUNK, MAX_ROWS, MAX_ROW_ENTRIES, MIN_PROTOCOL_VERSION, PROTOCOL_VERSION,
 };
 pub use server::{JobHandler, LinkServer, NoEngine};
 

@@ -8,7 +8,9 @@ use super::codec::{decode_request, encode_response, MessageError, NO_ID};
 use super::crc::crc32;
 use super::engine::{AccelProvider, Engine, Platform};
 use super::frame::{FrameError, MaxFrameDecoder};
-use super::message::{EngineStats, ErrorCode, HelloInfo, LinkStats, Request, Response, MAX_BULK};
+use super::message::{
+    EngineStats, ErrorCode, HelloInfo, LinkStats, Request, Response, MAX_BULK, MIN_PROTOCOL_VERSION,
+};
 
 /// What serves the requests beyond the link's own: a board's job engine, or nothing.
 pub trait JobHandler {
@@ -117,8 +119,18 @@ impl LinkServer {
 
     fn handle<H: JobHandler>(&mut self, id: u32, req: Request, jobs: &mut H) -> Response {
         match req {
-            // Answered whatever the host's version: the host decides whether it can go on.
-            Request::Hello { .. } => Response::Hello(self.info.clone()),
+            // The handshake settles on the older version of the two, if this build still
+            // speaks it; the host then sends only that version's messages.
+            Request::Hello { protocol } => {
+                if protocol < MIN_PROTOCOL_VERSION {
+                    return Response::Error {
+                        code: ErrorCode::Unsupported,
+                    };
+                }
+                let mut info = self.info.clone();
+                info.protocol = info.protocol.min(protocol);
+                Response::Hello(info)
+            }
             Request::Ping { nonce } => Response::Pong { nonce },
             Request::LinkStats => Response::LinkStats(self.stats),
             Request::Reset => {

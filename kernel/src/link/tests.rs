@@ -195,11 +195,16 @@ fn messages_round_trip() {
 fn variant_counts_match_the_enums() {
     // The last variant's index must be VARIANTS - 1, else "unsupported" detection is wrong.
     let mut buf = [0u8; 128];
-    let tag = postcard::to_slice(&Request::EngineStats, &mut buf).unwrap()[0];
+    let tag = postcard::to_slice(&Request::TraceStats, &mut buf).unwrap()[0];
     assert_eq!(u32::from(tag), Request::VARIANTS - 1);
+    let tag = postcard::to_slice(&Response::TraceStats(Default::default()), &mut buf).unwrap()[0];
+    assert_eq!(u32::from(tag), Response::VARIANTS - 1);
+    // protocol 2's messages keep their indices (appended, never inserted)
+    let tag = postcard::to_slice(&Request::EngineStats, &mut buf).unwrap()[0];
+    assert_eq!(tag, 12);
     let tag =
         postcard::to_slice(&Response::EngineStats(EngineStats::default()), &mut buf).unwrap()[0];
-    assert_eq!(u32::from(tag), Response::VARIANTS - 1);
+    assert_eq!(tag, 11);
 }
 
 #[test]
@@ -503,4 +508,232 @@ fn engine_tables_fit_the_largest_hemisphere() {
         crate::hemisphere::quarter_len(ENGINE_MAX_CIRCLES as u32),
         ENGINE_MAX_QUARTER
     );
+}
+
+#[test]
+fn engine_rows_through_mirrors_equal_the_tracer_with_a_whole_hemisphere_park() {
+    extern crate std;
+    use crate::accel::soft::{LocalPatch, SoftAccelerator, SoftScratch};
+    use crate::geometry::{Polygon, Vec3};
+    use crate::hemisphere::{DeltaRule, OwnedHemisphere};
+    use crate::link::engine::{sample_point, NoPlatform, SoftProvider, ENGINE_PENDING};
+    use crate::link::{TraceSettings, TraceStats, MAX_LOBE_CHUNK};
+    use crate::optics::{Lobe, Optics, Specular, Surface};
+    use crate::patch::Patch;
+    use crate::rotation::spin_for_sample;
+    use crate::skeleton::{Frame, Skeleton};
+    use crate::specular::Pending;
+    use crate::tracer::{shoot_hemisphere, TraceScratch};
+    use std::vec;
+    let quad = |v: [[f32; 3]; 4]| {
+        Patch::polygon(Polygon::quad(v.map(|p| Vec3::new(p[0], p[1], p[2]))).unwrap())
+    };
+    // A box 2 × 2 × 2 open at z = 2: floor, ceiling, back, a mirror at x = 0 (k_r 0.9, one
+    // ray) and a glossy wall at x = 2 (diffuse too, a 3-ring lobe), so frustums bounce between
+    // them.
+    let patches = [
+        quad([[0., 0., 0.], [0., 0., 2.], [2., 0., 2.], [2., 0., 0.]]),
+        quad([[0., 2., 0.], [2., 2., 0.], [2., 2., 2.], [0., 2., 2.]]),
+        quad([[0., 0., 0.], [2., 0., 0.], [2., 2., 0.], [0., 2., 0.]]),
+        quad([[0., 0., 0.], [0., 2., 0.], [0., 2., 2.], [0., 0., 2.]]),
+        quad([[2., 0., 0.], [2., 0., 2.], [2., 2., 2.], [2., 2., 0.]]),
+    ];
+    let circles = 12u32;
+    let hemi = OwnedHemisphere::new(circles, DeltaRule::Band).unwrap();
+    let view = hemi.view();
+    let mut weights = vec![1.0f32; 1];
+    let mut gloss = [0.0f32; 3];
+    crate::frustum::lobe_weights(&view, 40.0, 2, &mut gloss).unwrap();
+    weights.extend_from_slice(&gloss);
+    let mirror = Surface {
+        column: None,
+        reflect: Some(Specular {
+            k: [0.9; 3],
+            lobe: Lobe { first: 0, size: 0 },
+        }),
+        transmit: None,
+    };
+    let glossy = Surface {
+        column: Some(3),
+        reflect: Some(Specular {
+            k: [0.5, 0.4, 0.3],
+            lobe: Lobe { first: 1, size: 2 },
+        }),
+        transmit: None,
+    };
+    let surfaces = [
+        Surface::diffuse(0),
+        Surface::diffuse(1),
+        Surface::diffuse(2),
+        mirror,
+        glossy,
+    ];
+    let settings = TraceSettings {
+        threshold: 0.01,
+        max_bounces: 24,
+        stack: 16,
+    };
+
+    // The host's way: a park for the whole hemisphere, one cast per shot.
+    let optics = Optics::new(&patches, &surfaces, &weights, circles).unwrap();
+    let mut local = [LocalPatch::default(); 5];
+    let (mut bt, mut bi) = ([0.0f32; 64], [0u32; 64]);
+    let mut pending = vec![Pending::EMPTY; view.ray_count() as usize];
+    let mut parked = vec![Pending::EMPTY; 4096];
+    let mut frames = [Frame::EMPTY; 16];
+    let samples = 4u32;
+    let mut expected = vec![];
+    let mut host_frustums = 0;
+    for (i, p) in patches.iter().enumerate() {
+        if surfaces[i].column.is_none() {
+            continue;
+        }
+        let mut rows = vec![];
+        for q in 0..samples {
+            let point = sample_point(p, 4.0, 2, q);
+            let mut accel = SoftAccelerator::new(
+                &patches,
+                SoftScratch {
+                    local: &mut local,
+                    best_t: &mut bt,
+                    best_id: &mut bi,
+                },
+            )
+            .unwrap();
+            let mut scratch = TraceScratch {
+                pending: &mut pending,
+                parked: &mut parked,
+                skeleton: Skeleton::new(&mut frames),
+                threshold: settings.threshold,
+                max_depth: settings.max_bounces,
+            };
+            let mut row = [[0.0f32; 3]; 4];
+            let shot = shoot_hemisphere(
+                &mut accel,
+                &view,
+                &optics,
+                &mut scratch,
+                point.position,
+                point.normal,
+                spin_for_sample(q),
+                Some(i as u32),
+                &mut row,
+            );
+            assert_eq!(shot.specular.recasts, 0);
+            host_frustums += shot.specular.frustums;
+            rows.push(row);
+        }
+        expected.push((i, rows));
+    }
+    assert!(host_frustums > 0);
+
+    // The board's way: the optics uploaded over the link, a park of ENGINE_PENDING hits.
+    let mut engine = Engine::new(SoftProvider::new(), NoPlatform);
+    let cfg = JobConfig {
+        circles: circles as u16,
+        rule: DeltaRule::Band,
+        samples: 2,
+        spp: 1,
+        camera: None,
+        accel: AccelKind::Soft,
+    };
+    assert_eq!(
+        engine.handle(1, &Request::Configure(cfg)),
+        Some(Response::Configured)
+    );
+    assert_eq!(
+        engine.handle(2, &Request::Tracing(settings)),
+        Some(Response::Configured)
+    );
+    let too_deep = TraceSettings {
+        stack: 17,
+        ..settings
+    };
+    assert_eq!(
+        engine.handle(2, &Request::Tracing(too_deep)),
+        Some(Response::Error {
+            code: ErrorCode::TooLong
+        })
+    );
+    engine.handle(3, &Request::SceneBegin { patches: 5 });
+    for (c, chunk) in weights.chunks(MAX_LOBE_CHUNK).enumerate() {
+        let r = engine.handle(
+            4,
+            &Request::SceneLobes {
+                first: (c * MAX_LOBE_CHUNK) as u16,
+                weights: heapless::Vec::from_slice(chunk).unwrap(),
+            },
+        );
+        assert!(matches!(r, Some(Response::SceneAck { .. })), "{r:?}");
+    }
+    for (i, s) in surfaces.iter().enumerate() {
+        let r = engine.handle(
+            5,
+            &Request::SceneSurface {
+                index: i as u16,
+                surface: *s,
+            },
+        );
+        assert!(matches!(r, Some(Response::SceneAck { .. })), "{r:?}");
+    }
+    for (i, p) in patches.iter().enumerate() {
+        engine.handle(
+            6,
+            &Request::ScenePatch {
+                index: i as u16,
+                area: 4.0,
+                patch: *p,
+            },
+        );
+    }
+    for (k, (i, rows)) in expected.iter().enumerate() {
+        let shoot = Request::Shoot {
+            patch: *i as u16,
+            first: 0,
+            count: samples as u16,
+        };
+        let Some(Response::Rows(got)) = engine.handle(100 + k as u32, &shoot) else {
+            panic!("no rows for patch {i}");
+        };
+        let mut entries = got.entries.iter();
+        for (r, len) in got.lens.iter().enumerate() {
+            let mut want = vec![];
+            for (c, f) in rows[r].iter().enumerate() {
+                if *f != [0.0; 3] {
+                    want.push((c as u16, f.map(f32::to_bits)));
+                }
+            }
+            let have: std::vec::Vec<_> = entries
+                .by_ref()
+                .take(usize::from(*len))
+                .map(|(c, f)| (*c, f.map(f32::to_bits)))
+                .collect();
+            assert_eq!(have, want, "patch {i} sample {r}");
+        }
+    }
+    let Some(Response::TraceStats(t)) = engine.handle(200, &Request::TraceStats) else {
+        panic!("no trace stats");
+    };
+    let t: TraceStats = t;
+    assert_eq!(t.frustums, host_frustums);
+    assert!(t.stack_high_water >= 1 && t.stack_high_water <= 16, "{t:?}");
+    assert_eq!(usize::from(t.pending_capacity), ENGINE_PENDING);
+    // the mirror takes more primary hits than the board parks: it cast again, same rows
+    assert!(t.recasts > 0, "{t:?}");
+    // pass 2 and irradiance through mirrors are refused, not answered wrong
+    assert!(matches!(
+        engine.handle(
+            300,
+            &Request::Gather {
+                point: Vec3::new(1.0, 1.0, 1.0),
+                normal: Vec3::new(0.0, 1.0, 0.0),
+                ring: 0,
+                first: 0,
+                count: 1,
+            }
+        ),
+        Some(Response::Error {
+            code: ErrorCode::Unsupported
+        })
+    ));
 }
