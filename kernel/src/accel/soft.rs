@@ -554,6 +554,24 @@ impl Accelerator for SoftAccelerator<'_, '_> {
         want_uv: bool,
         mut sink: F,
     ) {
+        // One copy of the ring scan for every caller (hemisphere, frustums, gather): the sink
+        // is called through a pointer, which costs a call per ray and saves the firmware a
+        // copy of the scan per closure (~7 KiB of flash each).
+        self.cast_rings_dyn(origin, rot, hemi, rings, want_uv, &mut sink);
+    }
+}
+
+impl SoftAccelerator<'_, '_> {
+    #[inline(never)]
+    fn cast_rings_dyn(
+        &mut self,
+        origin: Vec3,
+        rot: &Rotation,
+        hemi: &Hemisphere<'_>,
+        rings: Range<usize>,
+        want_uv: bool,
+        sink: &mut dyn FnMut(usize, u32, Option<Hit>),
+    ) {
         let n_patches = self.patches.len();
         for (id, (lp, p)) in self
             .scratch

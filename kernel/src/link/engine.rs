@@ -247,7 +247,8 @@ pub struct Engine<P: AccelProvider, T: Platform> {
     surfaces: Vec<Surface, ENGINE_MAX_PATCHES>,
     /// The lobe-weight table the surfaces' lobes index (`SceneLobes`).
     weights: Vec<f32, ENGINE_MAX_LOBES>,
-    /// Δ, bounces and stack frames in use.
+    /// Δ, bounces and stack frames the host sent; all zero (so a `const` engine stays in
+    /// `.bss`) until then, meaning [`ENGINE_DEFAULT_TRACING`].
     tracing: TraceSettings,
     /// The tracer's scratch: parked specular hits and the skeleton stack's frames.
     pending: Vec<Pending, ENGINE_PENDING>,
@@ -278,6 +279,13 @@ struct Work {
     rays: u64,
     specular: SpecularStats,
 }
+
+/// No specular settings received (all zero bytes).
+const NO_TRACING: TraceSettings = TraceSettings {
+    threshold: 0.0,
+    max_bounces: 0,
+    stack: 0,
+};
 
 /// No frustums yet (a `const` so the engine stays all zero bytes).
 const NO_SPECULAR: SpecularStats = SpecularStats {
@@ -319,7 +327,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             row: [[0.0; 3]; ENGINE_MAX_PATCHES],
             surfaces: Vec::new(),
             weights: Vec::new(),
-            tracing: ENGINE_DEFAULT_TRACING,
+            tracing: NO_TRACING,
             pending: Vec::new(),
             parked: Vec::new(),
             frames: Vec::new(),
@@ -351,8 +359,17 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         self.counts = Counters::default();
         self.surfaces.clear();
         self.weights.clear();
-        self.tracing = ENGINE_DEFAULT_TRACING;
+        self.tracing = NO_TRACING;
         self.specular = NO_SPECULAR;
+    }
+
+    /// Δ, bounces and stack frames in use.
+    fn tracing(&self) -> TraceSettings {
+        if self.tracing.stack == 0 {
+            ENGINE_DEFAULT_TRACING
+        } else {
+            self.tracing
+        }
     }
 
     /// The specular counters and the buffers that bound them.
@@ -367,7 +384,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             cut_weight: (s.cut_weight + s.too_deep_weight + s.overflow_weight) as f32,
             recasts: s.recasts,
             stack_high_water: s.high_water as u16,
-            stack_frames: self.tracing.stack,
+            stack_frames: self.tracing().stack,
             stack_capacity: ENGINE_STACK_DEPTH as u16,
             pending_capacity: ENGINE_PENDING as u16,
             parked_capacity: ENGINE_PARKED as u16,
@@ -711,6 +728,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         patch: u16,
     ) -> Result<ShotStats, ErrorCode> {
         let n = self.patches.len();
+        let tracing = self.tracing();
         let row = &mut self.row[..n.min(ENGINE_MAX_PATCHES)];
         row.fill([0.0; 3]);
         let rule = self.config.rule;
@@ -720,13 +738,13 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         fill(&mut self.pending, Pending::EMPTY);
         fill(&mut self.parked, Pending::EMPTY);
         fill(&mut self.frames, Frame::EMPTY);
-        let stack = usize::from(self.tracing.stack).min(self.frames.len());
+        let stack = usize::from(tracing.stack).min(self.frames.len());
         let scratch = TraceScratch {
             pending: &mut self.pending,
             parked: &mut self.parked,
             skeleton: Skeleton::new(&mut self.frames[..stack]),
-            threshold: self.tracing.threshold,
-            max_depth: self.tracing.max_bounces,
+            threshold: tracing.threshold,
+            max_depth: tracing.max_bounces,
         };
         Ok(self.provider.run(
             &self.patches,
