@@ -158,3 +158,81 @@ fn run() {
         );
     }
 }
+
+/// The paper's picture 2 (`scenes/mirror-wall.toml`: a perfect mirror, k_r = 0.9) at small R and
+/// K through one QEMU board: the optics table goes up with the scene (protocol 3), the board's
+/// tracer follows the mirror through the same walker with its skeleton stack in SRAM and its
+/// small park of specular hits (casting the hemisphere again when it is full), and the rows
+/// equal the in-process model's bit for bit. Then the same with another CORDIC, sent to the
+/// board (`--cordic-iterations 16 --cordic-width 24`).
+#[test]
+fn form_factors_through_a_mirror_on_a_qemu_board_equal_the_model_backend() {
+    if !qemu_or_skip("hil_jobs mirror") {
+        return;
+    }
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .stack_size(256 << 20)
+        .build()
+        .unwrap();
+    std::thread::Builder::new()
+        .stack_size(256 << 20)
+        .spawn(move || pool.install(run_mirror))
+        .unwrap()
+        .join()
+        .unwrap();
+}
+
+fn run_mirror() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let scene = hemi::scene::load(&root.join("scenes/mirror-wall.toml")).unwrap();
+    let settings = settings();
+    let farm = Farm::connect(&[BoardSpec::Qemu], None).expect("boot a board");
+    let hello = farm.hellos()[0].clone().expect("connected");
+    assert_eq!(hello.protocol, PROTOCOL_VERSION);
+
+    for (iterations, width) in [(24, 32), (16, 24)] {
+        let config = ModelConfig {
+            iterations,
+            width,
+            ..ModelConfig::default()
+        };
+        let patches = scene.kernel_patches();
+        let make = move || ModelAccelerator::new(&patches, config).expect("model loads the scene");
+        farm.set_cordic(iterations, width).unwrap();
+        let want = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
+        let got = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap();
+        assert_eq!(got.elements.len(), want.elements.len(), "every row, once");
+        for (g, w) in got.elements.iter().zip(&want.elements) {
+            assert_eq!((g.patch, g.point), (w.patch, w.point));
+            assert_eq!(
+                g.row, w.row,
+                "CORDIC {iterations}/{width}: row of patch {}",
+                g.patch
+            );
+        }
+        assert_eq!(bits(&got.matrix), bits(&want.matrix));
+        let t = farm.trace_stats().remove(0).unwrap();
+        eprintln!("CORDIC {iterations}/{width}: board trace stats {t:?}");
+        assert!(t.frustums > 0, "the mirror spawned frustums: {t:?}");
+        assert!(t.stack_high_water >= 1 && t.stack_high_water <= t.stack_frames);
+        assert!(
+            t.recasts > 0,
+            "the mirror takes more hits than the board parks: {t:?}"
+        );
+    }
+    let s = farm.engine_stats().remove(0).unwrap();
+    eprintln!("board: {s:?}");
+    assert_eq!(s.refused, 0);
+
+    // An engine that cannot apply a CORDIC refuses it with an error frame.
+    farm.set_cordic(3, 32).unwrap();
+    let err = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap_err();
+    assert!(format!("{err:#}").contains("cordic"), "{err:#}");
+
+    // Pass 2 through the mirror is not on boards yet: refused before any job.
+    let camera = hemi::render::camera_of(&scene).unwrap();
+    let grids = vec![];
+    let err = remote::render(&farm, &scene, &settings, &grids, &camera, 1, &|_| {}).unwrap_err();
+    assert!(format!("{err:#}").contains("specular"), "{err:#}");
+}

@@ -367,6 +367,8 @@ impl Farm {
             for _ in 0..CALL_ATTEMPTS {
                 match link.call(req, CALL_TIMEOUT) {
                     Ok(r) => return Ok(r),
+                    // the board answered no: asking again would not change that
+                    Err(e) if format!("{e:#}").contains("refused") => return Err(e),
                     Err(e) => last = e,
                 }
             }
@@ -382,26 +384,25 @@ impl Farm {
         }
         let cordic = *self.cordic.lock().map_err(|_| anyhow!("poisoned"))?;
         if conn.hello.protocol >= 3 {
-            match call(link, &Request::Tracing(setup.tracing))? {
+            let t = setup.tracing;
+            match call(link, &Request::Tracing(t)).with_context(|| {
+                format!(
+                    "specular settings (--stack {}, Δ {}, {} bounces)",
+                    t.stack, t.threshold, t.max_bounces
+                )
+            })? {
                 Response::Configured => {}
-                Response::Error { code } => bail!(
-                    "the board refused the specular settings (--stack {}, Δ {}, {} bounces): {}",
-                    setup.tracing.stack,
-                    setup.tracing.threshold,
-                    setup.tracing.max_bounces,
-                    describe(code)
-                ),
                 other => bail!("unexpected answer to Tracing: {other:?}"),
             }
             if let Some((iterations, width)) = cordic {
-                match call(link, &Request::Cordic { iterations, width })? {
+                let req = Request::Cordic { iterations, width };
+                match call(link, &req).with_context(|| {
+                    format!(
+                        "{:?} engine: --cordic-iterations {iterations} --cordic-width {width}",
+                        config.accel
+                    )
+                })? {
                     Response::Configured => {}
-                    Response::Error { code } => bail!(
-                        "the board's {:?} engine refused --cordic-iterations {iterations} \
-                         --cordic-width {width}: {}",
-                        config.accel,
-                        describe(code)
-                    ),
                     other => bail!("unexpected answer to Cordic: {other:?}"),
                 }
             }
@@ -431,23 +432,18 @@ impl Farm {
                     weights: heapless::Vec::from_slice(chunk)
                         .map_err(|_| anyhow!("lobe chunk too long"))?,
                 };
-                match call(link, &req)? {
+                match call(link, &req)
+                    .with_context(|| format!("lobe table of {} weights", setup.weights.len()))?
+                {
                     Response::SceneAck { .. } => {}
-                    Response::Error { code } => bail!(
-                        "the board refused the lobe table ({} weights): {}",
-                        setup.weights.len(),
-                        describe(code)
-                    ),
                     other => bail!("unexpected answer to SceneLobes: {other:?}"),
                 }
             }
             for &(index, surface) in &setup.surfaces {
-                match call(link, &Request::SceneSurface { index, surface })? {
+                match call(link, &Request::SceneSurface { index, surface })
+                    .with_context(|| format!("optics of patch {index}"))?
+                {
                     Response::SceneAck { .. } => {}
-                    Response::Error { code } => bail!(
-                        "the board refused the optics of patch {index}: {}",
-                        describe(code)
-                    ),
                     other => bail!("unexpected answer to SceneSurface: {other:?}"),
                 }
             }
