@@ -13,6 +13,8 @@
 #                      (QEMU prints "char device redirected to /dev/pts/N"), `null` for tests
 #                      and examples.
 #   HEMI_QEMU          the qemu-system-arm to use.
+#   HEMI_QEMU_ARGS     extra QEMU arguments, split on spaces (e.g. "-icount shift=0" for the
+#                      `icount` example's calibration).
 set -uo pipefail
 
 if [ $# -lt 1 ]; then
@@ -69,6 +71,7 @@ timeout --foreground --kill-after=5 "$secs" "$QEMU" \
     -semihosting-config enable=on,target=native \
     -serial "$serial" \
     -kernel "$ELF" \
+    ${HEMI_QEMU_ARGS:-} \
     | split_pty_line | defmt-print -e "$ELF"
 status=("${PIPESTATUS[@]}")
 qemu_status="${status[0]}"
