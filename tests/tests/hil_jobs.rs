@@ -230,9 +230,29 @@ fn run_mirror() {
     let err = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap_err();
     assert!(format!("{err:#}").contains("cordic"), "{err:#}");
 
-    // Pass 2 through the mirror is not on boards yet: refused before any job.
-    let camera = hemi::render::camera_of(&scene).unwrap();
-    let grids = vec![];
-    let err = remote::render(&farm, &scene, &settings, &grids, &camera, 1, &|_| {}).unwrap_err();
-    assert!(format!("{err:#}").contains("specular"), "{err:#}");
+    // Pass 2 through the mirror on a small image: whole rows per job, weighted hits back.
+    farm.set_cordic(24, 32).unwrap();
+    let config = ModelConfig::default();
+    let patches = scene.kernel_patches();
+    let make = move || ModelAccelerator::new(&patches, config).expect("model loads the scene");
+    let ff = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
+    let grids = solve(&scene, &ff);
+    let mut small = scene.clone();
+    if let Some(c) = small.camera.as_mut() {
+        c.width = 16;
+        c.height = 12;
+    }
+    let camera = hemi::render::camera_of(&small).unwrap();
+    let want =
+        hemi::render::render_with(&small, &grids, &camera, 2, &settings, &make, &|_| {}).unwrap();
+    assert!(want.specular.frustums > 0, "the camera sees the mirror");
+    let got = remote::render(&farm, &scene, &settings, &grids, &camera, 2, &|_| {})
+        .unwrap()
+        .image;
+    let px = |img: &hemi::render::Image| -> Vec<[u32; 3]> {
+        img.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
+    };
+    assert_eq!(px(&got), px(&want.image));
+    let t = farm.trace_stats().remove(0).unwrap();
+    eprintln!("after pass 2: board trace stats {t:?}");
 }

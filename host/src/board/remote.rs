@@ -41,8 +41,7 @@ fn config(settings: &Pass1Settings, camera: Option<Camera>, spp: u32) -> Result<
 /// the optics table of a specular scene (protocol 3). Returns the scene patch of each
 /// form-factor column (boards answer rows over diffuse columns, as the in-process tracer).
 ///
-/// Pass 2 (`pass2`) and irradiance through specular surfaces are not on boards yet: refused
-/// here, before any work.
+/// Irradiance through specular surfaces is not on boards yet: refused by [`irradiance`].
 pub fn set_up(
     farm: &Farm,
     scene: &Scene,
@@ -59,12 +58,6 @@ pub fn set_up(
         .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
     let optics = crate::optics::SceneOptics::new(scene, &hemi.view())?;
     let specular = optics.view().has_specular();
-    if specular && camera.is_some() {
-        bail!(
-            "the scene has specular surfaces: boards run pass 1 (form-factors, solve) through \
-             them, but not pass 2 or irradiance yet (use --backend soft or model)"
-        );
-    }
     let patches = scene
         .kernel_patches()
         .into_iter()
@@ -279,6 +272,9 @@ pub fn render(
         "--spp {spp}: a board traces at most {MAX_HITS} rays per pixel"
     );
     set_up(farm, scene, settings, Some(*camera), spp)?;
+    if farm.specular() {
+        return render_rows(farm, grids, camera, spp, progress);
+    }
     let (w, h) = (camera.width, camera.height);
     let total = u64::from(w) * u64::from(h);
     anyhow::ensure!(total <= u64::from(u32::MAX), "image too large");
@@ -326,6 +322,103 @@ pub fn render(
                 for c in 0..3 {
                     px[c] += (weight[c] as f64 * b[c] / std::f64::consts::PI / spp as f64) as f32;
                 }
+            }
+        }
+    }
+    Ok(crate::render::Rendered {
+        image: Image {
+            width: w,
+            height: h,
+            pixels,
+        },
+        specular: Default::default(),
+    })
+}
+
+/// Pass 2 through specular surfaces: one `TraceRow` job per image row (the board traces the
+/// row as one `trace_pixels` call, as `render::render_with` does, so frustums are spun alike),
+/// then more for rows with more weighted hits than one answer holds; the hits are shaded here in
+/// the order the tracer made them, with render_with's arithmetic.
+fn render_rows(
+    farm: &Farm,
+    grids: &[Grid],
+    camera: &Camera,
+    spp: u32,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<crate::render::Rendered> {
+    use hemi_kernel::link::{WeightedHit, MAX_WEIGHTED};
+    let (w, h) = (camera.width, camera.height);
+    anyhow::ensure!(
+        u64::from(w) * u64::from(spp) <= 1 << 16,
+        "a board traces rows of at most 65536 eye rays through mirrors (width × spp)"
+    );
+    let row_id = |y: u32| u16::try_from(y).context("image too tall for row jobs");
+    let mut jobs = (0..h)
+        .map(|y| {
+            Ok(Request::TraceRow {
+                row: row_id(y)?,
+                skip: 0,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let answers = farm.run(&jobs, &|_| progress(1))?;
+    let mut per_row: Vec<Vec<WeightedHit>> = vec![Vec::new(); h as usize];
+    let mut totals = vec![0u32; h as usize];
+    fn take(
+        jobs: &[Request],
+        answers: Vec<Response>,
+        per_row: &mut [Vec<WeightedHit>],
+        totals: &mut [u32],
+    ) -> Result<()> {
+        for (job, answer) in jobs.iter().zip(answers) {
+            let (Request::TraceRow { row, skip }, Response::Weighted(got)) = (job, answer) else {
+                bail!("a board answered a TraceRow job with something else");
+            };
+            let y = usize::from(*row);
+            anyhow::ensure!(
+                per_row[y].len() == usize::from(*skip),
+                "row {y}: answers out of order"
+            );
+            totals[y] = got.total;
+            per_row[y].extend(got.hits.iter().copied());
+        }
+        Ok(())
+    }
+    take(&jobs, answers, &mut per_row, &mut totals)?;
+    // the rows with more reports than one answer: the rest, a window per job
+    jobs.clear();
+    for (y, &t) in totals.iter().enumerate() {
+        let mut skip = MAX_WEIGHTED as u32;
+        while skip < t {
+            jobs.push(Request::TraceRow {
+                row: row_id(y as u32)?,
+                skip: u16::try_from(skip).context("too many hits in one row")?,
+            });
+            skip += MAX_WEIGHTED as u32;
+        }
+    }
+    if !jobs.is_empty() {
+        let answers = farm.run(&jobs, &|_| {})?;
+        take(&jobs, answers, &mut per_row, &mut totals)?;
+    }
+    let mut pixels = vec![[0.0f32; 3]; (u64::from(w) * u64::from(h)) as usize];
+    for (y, hits) in per_row.iter().enumerate() {
+        anyhow::ensure!(
+            hits.len() == totals[y] as usize,
+            "row {y}: {} of {} reports",
+            hits.len(),
+            totals[y]
+        );
+        for hit in hits {
+            let x = u32::from(hit.ray) / spp;
+            anyhow::ensure!(x < w, "a board answered a ray outside the row");
+            let grid = grids
+                .get(usize::from(hit.patch))
+                .context("a board answered a hit on an unknown patch")?;
+            let b = grid.at(hit.u, hit.v);
+            let px = &mut pixels[y * w as usize + x as usize];
+            for c in 0..3 {
+                px[c] += (hit.weight[c] as f64 * b[c] / std::f64::consts::PI / spp as f64) as f32;
             }
         }
     }

@@ -15,7 +15,7 @@ use heapless::{Deque, Vec};
 
 use super::message::{
     AccelKind, Capacities, EngineStats, ErrorCode, JobConfig, RayHit, Request, Response, Rows,
-    TraceSettings, TraceStats, MAX_HITS, MAX_ROWS, MAX_ROW_ENTRIES,
+    TraceSettings, TraceStats, WeightedHit, WeightedHits, MAX_HITS, MAX_ROWS, MAX_ROW_ENTRIES,
 };
 use super::MAX_FRAME_LEN;
 use crate::accel::soft::{LocalPatch, SoftAccelerator, SoftScratch};
@@ -439,6 +439,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             Request::SceneLobes { first, weights } => self.scene_lobes(*first, weights),
             Request::Cordic { iterations, width } => self.set_cordic(*iterations, *width),
             Request::TraceStats => Ok(Response::TraceStats(self.trace_stats())),
+            Request::TraceRow { row, skip } => self.job(id, |e| e.trace_row(*row, *skip)),
             _ => return None,
         };
         Some(result.unwrap_or_else(|code| {
@@ -815,6 +816,56 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         ))
     }
 
+    fn trace_row(&mut self, row: u16, skip: u16) -> Result<(Response, Work), ErrorCode> {
+        let cfg = self.ready()?;
+        let cam = cfg.camera.ok_or(ErrorCode::NoScene)?;
+        if u32::from(row) >= cam.height {
+            return Err(ErrorCode::OutOfRange);
+        }
+        let rays = u64::from(cam.width) * u64::from(cfg.spp);
+        if rays > u64::from(u16::MAX) + 1 {
+            return Err(ErrorCode::TooLong);
+        }
+        let hemi = Hemisphere::new(&self.rings, &self.quarter, cfg.rule);
+        let optics = Optics::new(&self.patches, &self.surfaces, &self.weights, hemi.circles())
+            .map_err(|_| ErrorCode::BadScene)?;
+        let tracing = self.tracing();
+        fill(&mut self.pending, Pending::EMPTY);
+        fill(&mut self.parked, Pending::EMPTY);
+        fill(&mut self.frames, Frame::EMPTY);
+        let stack = usize::from(tracing.stack).min(self.frames.len());
+        let scratch = TraceScratch {
+            pending: &mut self.pending,
+            parked: &mut self.parked,
+            skeleton: Skeleton::new(&mut self.frames[..stack]),
+            threshold: tracing.threshold,
+            max_depth: tracing.max_bounces,
+        };
+        let first = u32::from(row) * cam.width;
+        let mut out = WeightedHits::default();
+        let specular = self.provider.run(
+            &self.patches,
+            TraceRowJob {
+                camera: &cam,
+                optics: &optics,
+                hemi: &hemi,
+                scratch,
+                pixels: first..first + cam.width,
+                spp: u32::from(cfg.spp),
+                dirs: &mut self.dirs,
+                skip: u32::from(skip),
+                out: &mut out,
+            },
+        );
+        Ok((
+            Response::Weighted(out),
+            Work {
+                rays: rays + specular.rays,
+                specular,
+            },
+        ))
+    }
+
     fn gather(
         &mut self,
         point: Vec3,
@@ -939,6 +990,51 @@ impl AccelJob for TraceJob<'_> {
                 }
             },
         );
+    }
+}
+
+struct TraceRowJob<'a> {
+    camera: &'a Camera,
+    optics: &'a Optics<'a>,
+    hemi: &'a Hemisphere<'a>,
+    scratch: TraceScratch<'a>,
+    pixels: core::ops::Range<u32>,
+    spp: u32,
+    dirs: &'a mut [Vec3],
+    skip: u32,
+    out: &'a mut WeightedHits,
+}
+
+impl AccelJob for TraceRowJob<'_> {
+    type Out = SpecularStats;
+    fn run<A: Accelerator>(mut self, accel: &mut A) -> SpecularStats {
+        let (first, spp, skip) = (self.pixels.start, self.spp.max(1), self.skip);
+        let out = self.out;
+        out.total = 0;
+        out.hits.clear();
+        // Every report of the row is counted; those from `skip` on are kept while they fit.
+        trace_pixels(
+            accel,
+            self.camera,
+            self.optics,
+            self.hemi,
+            &mut self.scratch,
+            self.pixels,
+            self.spp,
+            self.dirs,
+            |p, s, h, weight| {
+                if out.total >= skip {
+                    let _ = out.hits.push(WeightedHit {
+                        ray: ((p - first) * spp + s) as u16,
+                        patch: h.patch as u16,
+                        u: h.u,
+                        v: h.v,
+                        weight,
+                    });
+                }
+                out.total = out.total.saturating_add(1);
+            },
+        )
     }
 }
 

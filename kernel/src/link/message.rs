@@ -172,11 +172,23 @@ pub enum Request {
     },
     /// Asks for the specular counters, answered [`Response::TraceStats`].
     TraceStats,
+    /// Pass-2 job through specular surfaces: the eye rays of image row `row` (`spp` per pixel),
+    /// the whole row in one `trace_pixels` call as the host's pass 2 makes it (so the frustums
+    /// are spun alike), every ray or frustum ray that reaches a diffuse front side reported with
+    /// its weight. Answered [`Response::Weighted`] with reports `skip ..` (at most
+    /// [`MAX_WEIGHTED`]) and the row's total, so the host asks again with a larger `skip` for
+    /// the rest (the row is traced again). Row and skip < 16384 keep it ≤ 16 bytes.
+    TraceRow {
+        /// Image row.
+        row: u16,
+        /// Reports of the row already received.
+        skip: u16,
+    },
 }
 
 impl Request {
     /// Number of variants: variant indices at or above it are unknown to this build.
-    pub const VARIANTS: u32 = 18;
+    pub const VARIANTS: u32 = 19;
 }
 
 /// Board → host. Every response carries the id of the request it answers (see `codec`).
@@ -234,11 +246,41 @@ pub enum Response {
     // ---- protocol 3 ----
     /// Answer to [`Request::TraceStats`].
     TraceStats(TraceStats),
+    /// Answer to [`Request::TraceRow`].
+    Weighted(WeightedHits),
 }
 
 impl Response {
     /// Number of variants: variant indices at or above it are unknown to this build.
-    pub const VARIANTS: u32 = 13;
+    pub const VARIANTS: u32 = 14;
+}
+
+/// Largest number of reports in one [`Response::Weighted`]: each is at most 26 bytes on the wire
+/// (ray and patch varints ≤ 3 each, u, v and three weights as f32), so 36 fit one frame.
+pub const MAX_WEIGHTED: usize = 36;
+
+/// Weighted hits of one image row (see [`Request::TraceRow`]).
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct WeightedHits {
+    /// Reports of the whole row.
+    pub total: u32,
+    /// Reports `skip .. skip + hits.len()`, in the order the tracer made them.
+    pub hits: Vec<WeightedHit, MAX_WEIGHTED>,
+}
+
+/// A ray (eye or frustum) that reached the front of a diffuse patch in pass 2.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct WeightedHit {
+    /// Eye ray of the row: pixel × spp + sample.
+    pub ray: u16,
+    /// Patch index.
+    pub patch: u16,
+    /// Parametric u.
+    pub u: f32,
+    /// Parametric v.
+    pub v: f32,
+    /// Weight per channel relative to the eye ray (1 for a direct view).
+    pub weight: [f32; 3],
 }
 
 /// How specular surfaces are followed (sent with [`Request::Tracing`]); the host's

@@ -30,8 +30,9 @@ pub use frame::{
 };
 pub use message::{
     AccelKind, Capacities, EngineStats, ErrorCode, HelloInfo, JobConfig, LinkStats, RayHit,
-    Request, Response, Rows, TraceSettings, TraceStats, BUILD_LEN, MAX_BULK, MAX_HITS,
-    MAX_LOBE_CHUNK, MAX_ROWS, MAX_ROW_ENTRIES, MIN_PROTOCOL_VERSION, PROTOCOL_VERSION,
+    Request, Response, Rows, TraceSettings, TraceStats, WeightedHit, WeightedHits, BUILD_LEN,
+    MAX_BULK, MAX_HITS, MAX_LOBE_CHUNK, MAX_ROWS, MAX_ROW_ENTRIES, MAX_WEIGHTED,
+    MIN_PROTOCOL_VERSION, PROTOCOL_VERSION,
 };
 pub use server::{JobHandler, LinkServer, NoEngine};
 

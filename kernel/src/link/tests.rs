@@ -195,9 +195,9 @@ fn messages_round_trip() {
 fn variant_counts_match_the_enums() {
     // The last variant's index must be VARIANTS - 1, else "unsupported" detection is wrong.
     let mut buf = [0u8; 128];
-    let tag = postcard::to_slice(&Request::TraceStats, &mut buf).unwrap()[0];
+    let tag = postcard::to_slice(&Request::TraceRow { row: 0, skip: 0 }, &mut buf).unwrap()[0];
     assert_eq!(u32::from(tag), Request::VARIANTS - 1);
-    let tag = postcard::to_slice(&Response::TraceStats(Default::default()), &mut buf).unwrap()[0];
+    let tag = postcard::to_slice(&Response::Weighted(Default::default()), &mut buf).unwrap()[0];
     assert_eq!(u32::from(tag), Response::VARIANTS - 1);
     // protocol 2's messages keep their indices (appended, never inserted)
     let tag = postcard::to_slice(&Request::EngineStats, &mut buf).unwrap()[0];
@@ -405,6 +405,10 @@ fn job_requests_fit_16_bytes_on_the_wire() {
         Request::Trace {
             first: 512 * 512 - 1,
             count: 80,
+        },
+        Request::TraceRow {
+            row: 16383,
+            skip: 16383,
         },
     ];
     for req in reqs {
