@@ -273,7 +273,11 @@ pub fn render(
     );
     set_up(farm, scene, settings, Some(*camera), spp)?;
     if farm.specular() {
-        return render_rows(farm, grids, camera, spp, progress);
+        let out = render_rows(farm, grids, camera, spp, progress)?;
+        if std::env::var_os("HEMI_BOARD_STATS").is_some() {
+            report(farm, "after pass 2");
+        }
+        return Ok(out);
     }
     let (w, h) = (camera.width, camera.height);
     let total = u64::from(w) * u64::from(h);
