@@ -132,7 +132,7 @@ pub fn refuse(scene: &Scene, what: &str) -> Result<()> {
         .find(|p| matches!(p.sides, Sides::Front { .. }))
     {
         bail!(
-            "{what} does not handle diffusely transmitting (translucency) materials yet, and patch `{}` has one: run it on the soft or model backend with uniform sampling",
+            "{what} does not handle diffusely transmitting (translucency) materials yet, and patch `{}` has one (translucent scenes run on the soft and model backends, with uniform sampling and a solver other than progressive)",
             p.name
         );
     }
