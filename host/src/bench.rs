@@ -153,9 +153,14 @@ pub fn bezier_accuracy(
 pub fn tessellate(scene: &Scene, n: usize) -> Scene {
     let mut out = scene.clone();
     out.patches.clear();
-    for p in &scene.patches {
+    // back sides of translucent sheets are made again for the new patches at the end
+    let fronts = &scene.patches[..scene.fronts()];
+    for p in fronts {
         match p.shape {
-            Shape::Polygon(_) => out.patches.push(p.clone()),
+            Shape::Polygon(_) => out.patches.push(ScenePatch {
+                sides: crate::scene::Sides::Opaque,
+                ..p.clone()
+            }),
             Shape::Bezier(b) => {
                 let at = |i: usize, j: usize| b.point(i as f32 / n as f32, j as f32 / n as f32);
                 for j in 0..n {
@@ -168,6 +173,7 @@ pub fn tessellate(scene: &Scene, n: usize) -> Scene {
                                     material: p.material,
                                     area: poly.area,
                                     shape: Shape::Polygon(poly),
+                                    sides: crate::scene::Sides::Opaque,
                                 });
                             }
                         }
@@ -176,6 +182,7 @@ pub fn tessellate(scene: &Scene, n: usize) -> Scene {
             }
         }
     }
+    crate::translucent::add_back_sides(&mut out.materials, &mut out.patches);
     out
 }
 

@@ -596,6 +596,7 @@ fn irradiance_lines<A: Accelerator>(
             view,
             &optics.view(),
             &mut scratch.view(),
+            scene,
             grids,
             p,
             d,
@@ -621,13 +622,8 @@ fn trace_lines<A: Accelerator>(engine: &mut A, scene: &Scene, out: &mut impl Wri
 }
 
 fn solve_scene(scene: &Scene, ff: &FormFactors, solver: solve::Solver) -> Result<solve::Solution> {
-    let rho: Vec<[f64; 3]> = (0..scene.patches.len())
-        .map(|i| scene.material_of(i).diffuse)
-        .collect();
-    let e: Vec<[f64; 3]> = (0..scene.patches.len())
-        .map(|i| scene.material_of(i).emission)
-        .collect();
-    let system = solve::System::new(ff.channels(), &rho, &e)?;
+    let parts = solve::SceneParts::new(scene, ff);
+    let system = parts.system(ff)?;
     if solver != solve::Solver::Auto {
         let d = solve::diagnose::row_sums(&system);
         if d.rows_above_one > 0 {

@@ -49,6 +49,7 @@ pub fn set_up(
     camera: Option<Camera>,
     spp: u32,
 ) -> Result<Vec<usize>> {
+    crate::translucent::refuse(scene, "a board")?;
     crate::optics::check(&settings.specular)?;
     anyhow::ensure!(
         settings.method == crate::method::Method::Hemisphere,

@@ -538,6 +538,11 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         if index >= total || surface.column.is_some_and(|c| c >= u32::from(total)) {
             return Err(ErrorCode::OutOfRange);
         }
+        if surface.back_column.is_some() {
+            // Diffuse transmission: a back side's column lies past the patches, beyond the
+            // board's row; not on boards (the host refuses such scenes first).
+            return Err(ErrorCode::Unsupported);
+        }
         let bad_k = [surface.reflect, surface.transmit]
             .into_iter()
             .flatten()

@@ -551,6 +551,7 @@ fn engine_rows_through_mirrors_equal_the_tracer_with_a_whole_hemisphere_park() {
     weights.extend_from_slice(&gloss);
     let mirror = Surface {
         column: None,
+        back_column: None,
         reflect: Some(Specular {
             k: [0.9; 3],
             lobe: Lobe { first: 0, size: 0 },
@@ -559,6 +560,7 @@ fn engine_rows_through_mirrors_equal_the_tracer_with_a_whole_hemisphere_park() {
     };
     let glossy = Surface {
         column: Some(3),
+        back_column: None,
         reflect: Some(Specular {
             k: [0.5, 0.4, 0.3],
             lobe: Lobe { first: 1, size: 2 },
