@@ -1,7 +1,9 @@
 //! Hardware-in-the-loop over QEMU: the firmware as the ray engine. Form factors, a small render
 //! and an irradiance query through two QEMU boards (jobs spread over both, through ptys and the
 //! `serialport` crate) equal the in-process `model` backend's bit for bit: same kernel, same
-//! accelerator model. Small R and K keep it quick.
+//! accelerator model. Small R and K keep it quick. The same through the mirror of
+//! `scenes/mirror-wall.toml` on one board (protocol 3: the optics table uploaded), at two
+//! CORDIC settings sent to the board.
 //!
 //! Skips (passes with a printed notice) only when qemu-system-arm is missing and
 //! HEMI_REQUIRE_QEMU is unset.
@@ -165,9 +167,11 @@ fn run() {
 /// tracer follows the mirror through the same walker with its skeleton stack in SRAM and its
 /// small park of specular hits (casting the hemisphere again when it is full), and the rows
 /// equal the in-process model's bit for bit. Then the same with another CORDIC, sent to the
-/// board (`--cordic-iterations 16 --cordic-width 24`).
+/// board (`--cordic-iterations 16 --cordic-width 24`); a CORDIC the model cannot build is
+/// refused with an error frame; and a small render through the mirror (whole rows per job,
+/// weighted hits back) equals the model's pixels bit for bit.
 #[test]
-fn form_factors_through_a_mirror_on_a_qemu_board_equal_the_model_backend() {
+fn form_factors_and_a_render_through_a_mirror_on_a_qemu_board_equal_the_model_backend() {
     if !qemu_or_skip("hil_jobs mirror") {
         return;
     }
