@@ -743,3 +743,44 @@ fn engine_rows_through_mirrors_equal_the_tracer_with_a_whole_hemisphere_park() {
         })
     ));
 }
+
+#[test]
+fn the_handshake_settles_on_the_older_version() {
+    use crate::link::MIN_PROTOCOL_VERSION;
+    let mut s = LinkServer::new(hello_info());
+    let mut stream = request(
+        1,
+        &Request::Hello {
+            protocol: PROTOCOL_VERSION + 1,
+        },
+    );
+    stream.extend(request(
+        2,
+        &Request::Hello {
+            protocol: MIN_PROTOCOL_VERSION,
+        },
+    ));
+    stream.extend(request(
+        3,
+        &Request::Hello {
+            protocol: MIN_PROTOCOL_VERSION - 1,
+        },
+    ));
+    let r = serve(&mut s, &stream);
+    let version = |resp: &Response| match resp {
+        Response::Hello(h) => Some(h.protocol),
+        _ => None,
+    };
+    // a newer host: the board's own version; an older one it still speaks: that one
+    assert_eq!(version(&r[0].1), Some(PROTOCOL_VERSION));
+    assert_eq!(version(&r[1].1), Some(MIN_PROTOCOL_VERSION));
+    assert_eq!(
+        r[2],
+        (
+            3,
+            Response::Error {
+                code: ErrorCode::Unsupported
+            }
+        )
+    );
+}
