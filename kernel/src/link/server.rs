@@ -120,15 +120,14 @@ impl LinkServer {
     fn handle<H: JobHandler>(&mut self, id: u32, req: Request, jobs: &mut H) -> Response {
         match req {
             // The handshake settles on the older version of the two, if this build still
-            // speaks it; the host then sends only that version's messages.
+            // speaks it; the host then sends only that version's messages. A host older than
+            // that still gets an answer (with this build's version), so the mismatch is
+            // reported by the side that can explain it.
             Request::Hello { protocol } => {
-                if protocol < MIN_PROTOCOL_VERSION {
-                    return Response::Error {
-                        code: ErrorCode::Unsupported,
-                    };
-                }
                 let mut info = self.info.clone();
-                info.protocol = info.protocol.min(protocol);
+                if protocol >= MIN_PROTOCOL_VERSION {
+                    info.protocol = info.protocol.min(protocol);
+                }
                 Response::Hello(info)
             }
             Request::Ping { nonce } => Response::Pong { nonce },
