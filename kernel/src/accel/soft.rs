@@ -554,23 +554,29 @@ impl Accelerator for SoftAccelerator<'_, '_> {
         want_uv: bool,
         mut sink: F,
     ) {
-        // One copy of the ring scan for every caller (hemisphere, frustums, gather): the sink
-        // is called through a pointer, which costs a call per ray and saves the firmware a
-        // copy of the scan per closure (~7 KiB of flash each).
-        self.cast_rings_dyn(origin, rot, hemi, rings, want_uv, &mut sink);
+        // no_std builds (the firmware) keep one copy of the ring scan for every caller
+        // (hemisphere, frustums, gather, pass 2) and call the sink through a pointer: a call
+        // per ray, against ~7 KiB of flash per closure, which a 128 KiB part cannot spare. The
+        // host keeps a scan per closure, the sink inlined. Same code, same bits.
+        #[cfg(not(feature = "std"))]
+        self.scan_rings::<dyn FnMut(usize, u32, Option<Hit>)>(
+            origin, rot, hemi, rings, want_uv, &mut sink,
+        );
+        #[cfg(feature = "std")]
+        self.scan_rings(origin, rot, hemi, rings, want_uv, &mut sink);
     }
 }
 
 impl SoftAccelerator<'_, '_> {
-    #[inline(never)]
-    fn cast_rings_dyn(
+    #[cfg_attr(not(feature = "std"), inline(never))]
+    fn scan_rings<F: FnMut(usize, u32, Option<Hit>) + ?Sized>(
         &mut self,
         origin: Vec3,
         rot: &Rotation,
         hemi: &Hemisphere<'_>,
         rings: Range<usize>,
         want_uv: bool,
-        sink: &mut dyn FnMut(usize, u32, Option<Hit>),
+        sink: &mut F,
     ) {
         let n_patches = self.patches.len();
         for (id, (lp, p)) in self
