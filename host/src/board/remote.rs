@@ -40,6 +40,8 @@ fn config(settings: &Pass1Settings, camera: Option<Camera>, spp: u32) -> Result<
 /// Gives the farm the scene and settings (uploaded to each board before its next job), with
 /// the optics table of a specular scene (protocol 3). Returns the scene patch of each
 /// form-factor column (boards answer rows over diffuse columns, as the in-process tracer).
+///
+/// Irradiance through specular surfaces is not on boards yet: refused by [`irradiance`].
 pub fn set_up(
     farm: &Farm,
     scene: &Scene,
@@ -435,66 +437,6 @@ fn render_rows(
     })
 }
 
-/// Irradiance through specular surfaces: `Query` jobs (the board shoots the hemisphere through
-/// the walker, as `irradiance::irradiance` does), the weighted hits summed here in the order the
-/// tracer made them, with its arithmetic. Boards refuse translucent scenes, so every hit is a
-/// front side.
-fn irradiance_through_mirrors(
-    farm: &Farm,
-    grids: &[Grid],
-    point: Vec3,
-    normal: Vec3,
-) -> Result<[f64; 3]> {
-    use hemi_kernel::link::MAX_WEIGHTED;
-    let query = |skip: u32| -> Result<Request> {
-        Ok(Request::Query {
-            point,
-            normal,
-            skip: u16::try_from(skip).context("too many hits for one query")?,
-        })
-    };
-    let mut jobs = vec![query(0)?];
-    let first = farm.run(&jobs, &|_| {})?;
-    let total = match first.first() {
-        Some(Response::Weighted(w)) => w.total,
-        _ => bail!("a board answered a Query job with something else"),
-    };
-    jobs.clear();
-    let mut skip = MAX_WEIGHTED as u32;
-    while skip < total {
-        jobs.push(query(skip)?);
-        skip += MAX_WEIGHTED as u32;
-    }
-    let rest = if jobs.is_empty() {
-        Vec::new()
-    } else {
-        farm.run(&jobs, &|_| {})?
-    };
-    let mut e = [0.0f64; 3];
-    let mut seen = 0u32;
-    for answer in first.into_iter().chain(rest) {
-        let Response::Weighted(w) = answer else {
-            bail!("a board answered a Query job with something else");
-        };
-        anyhow::ensure!(
-            w.total == total,
-            "a board answered two totals for one query"
-        );
-        for hit in &w.hits {
-            let b = grids
-                .get(usize::from(hit.patch))
-                .context("a board answered a hit on an unknown patch")?
-                .at(hit.u, hit.v);
-            for c in 0..3 {
-                e[c] += hit.weight[c] as f64 * b[c];
-            }
-            seen += 1;
-        }
-    }
-    anyhow::ensure!(seen == total, "a board answered {seen} of {total} hits");
-    Ok(e)
-}
-
 /// Irradiance at `point` facing `normal` (as `irradiance::irradiance`), from `Gather` jobs.
 pub fn irradiance(
     farm: &Farm,
@@ -504,9 +446,11 @@ pub fn irradiance(
     point: Vec3,
     normal: Vec3,
 ) -> Result<[f64; 3]> {
-    if farm.specular() {
-        return irradiance_through_mirrors(farm, grids, point, normal);
-    }
+    anyhow::ensure!(
+        !farm.specular(),
+        "the scene has specular surfaces: irradiance through them is not on boards yet \
+         (use --backend soft or model)"
+    );
     let hemi = hemi_kernel::hemisphere::OwnedHemisphere::new(circles, rule)
         .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
     let view = hemi.view();

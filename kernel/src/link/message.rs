@@ -184,23 +184,11 @@ pub enum Request {
         /// Reports of the row already received.
         skip: u16,
     },
-    /// Query job through specular surfaces (irradiance): the hemisphere placed at `point`
-    /// around `normal` (no spin, no origin patch) shot through the walker as the host's
-    /// `irradiance` shoots it; answered [`Response::Weighted`] (with `ray` 0) from report `skip`
-    /// on, and the total, so the host asks again for the rest (the hemisphere is shot again).
-    Query {
-        /// Where the hemisphere is placed.
-        point: Vec3,
-        /// The surface normal there.
-        normal: Vec3,
-        /// Reports already received.
-        skip: u16,
-    },
 }
 
 impl Request {
     /// Number of variants: variant indices at or above it are unknown to this build.
-    pub const VARIANTS: u32 = 20;
+    pub const VARIANTS: u32 = 19;
 }
 
 /// Board → host. Every response carries the id of the request it answers (see `codec`).
@@ -258,7 +246,7 @@ pub enum Response {
     // ---- protocol 3 ----
     /// Answer to [`Request::TraceStats`].
     TraceStats(TraceStats),
-    /// Answer to [`Request::TraceRow`] and [`Request::Query`].
+    /// Answer to [`Request::TraceRow`].
     Weighted(WeightedHits),
 }
 
@@ -283,7 +271,7 @@ pub struct WeightedHits {
 /// A ray (eye or frustum) that reached the front of a diffuse patch in pass 2.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct WeightedHit {
-    /// Eye ray of the row: pixel × spp + sample (0 in a [`Request::Query`]'s answer).
+    /// Eye ray of the row: pixel × spp + sample.
     pub ray: u16,
     /// Patch index.
     pub patch: u16,
