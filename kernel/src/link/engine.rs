@@ -51,12 +51,12 @@ pub const RECENT_JOBS: usize = 64;
 pub const ENGINE_STACK_DEPTH: usize = 16;
 /// Primary specular hits the tracer parks per hemisphere cast; more make it cast the hemisphere
 /// again for the next window of them (same rows, more rays; `TraceStats::recasts`).
-pub const ENGINE_PENDING: usize = 48;
+pub const ENGINE_PENDING: usize = 32;
 /// Specular hits one frustum may park (frustum rays reaching another specular patch); beyond,
 /// they are cut and counted as overflows.
 pub const ENGINE_PARKED: usize = 16;
 /// Entries of the lobe-weight table: k + 1 per specular material, k < R ≤ 48.
-pub const ENGINE_MAX_LOBES: usize = 192;
+pub const ENGINE_MAX_LOBES: usize = 128;
 /// The specular settings until the host sends its own: the host's defaults, with the board's
 /// stack.
 pub const ENGINE_DEFAULT_TRACING: TraceSettings = TraceSettings {
