@@ -49,8 +49,11 @@ fn side(a: [i64; 3], b: [i64; 3], p: [i64; 3], n: [i64; 3]) -> i128 {
         e[2] * w[0] - e[0] * w[2],
         e[0] * w[1] - e[1] * w[0],
     ];
-    // the cross product is Q.48; drop 24 bits so the dot with the Q2.30 normal stays in 128
-    (c[0] >> 24) * n[0] as i128 + (c[1] >> 24) * n[1] as i128 + (c[2] >> 24) * n[2] as i128
+    // the cross product is Q.48; drop 24 bits so the dot with the Q2.30 normal stays in 128.
+    // (|e| < 2^32, |w| < 2^34, so |c| < 2^67 and c >> 24 fits 64 bits: the products below are
+    // 64 × 64 → 128, which is what the narrowing tells the host compiler.)
+    let c = c.map(|c| (c >> 24) as i64 as i128);
+    c[0] * n[0] as i128 + c[1] * n[1] as i128 + c[2] * n[2] as i128
 }
 
 /// One bisection level.
@@ -70,12 +73,11 @@ impl UvStage {
         // left of bottom→top means u < u_m; left of left→right means v > v_m
         let upper_u = side(bottom, top, c.p, c.n) < 0;
         let upper_v = side(left, right, c.p, c.n) > 0;
-        let q = match (upper_u, upper_v) {
-            (false, false) => [q0, bottom, centre, left],
-            (true, false) => [bottom, q1, right, centre],
-            (true, true) => [centre, right, q2, top],
-            (false, true) => [left, centre, top, q3],
-        };
+        // the sub-cell's corners: the 3 × 3 grid of corners, midpoints and centre, indexed by
+        // the two select bits (a multiplexer, with no data-dependent branch in the simulation)
+        let grid = [q0, bottom, q1, left, centre, right, q3, top, q2];
+        let base = 3 * upper_v as usize + upper_u as usize;
+        let q = [grid[base], grid[base + 1], grid[base + 4], grid[base + 3]];
         Cell {
             q,
             iu: (c.iu << 1) | upper_u as u32,
