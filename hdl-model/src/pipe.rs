@@ -6,7 +6,8 @@
 //! bubbles while the intersection unit scans patch memory, and simulation speed is a requirement
 //! (≥ 20 M cycles/s).
 
-/// The longest pipe any unit builds (CORDIC: 30 iterations + quadrant + gain).
+/// The default register count of a [`Pipe`]: the longest single pipe (CORDIC: 30 iterations +
+/// quadrant + gain). The rotator's chain of three pipes names its own.
 pub const MAX_STAGES: usize = 34;
 
 /// L pipeline registers holding `S`, with their valid bits.
@@ -15,19 +16,19 @@ pub const MAX_STAGES: usize = 34;
 /// `base` back by one instead of copying every register into the next. Each stage's logic
 /// updates its register in place, so a clock touches only the fields a stage changes.
 #[derive(Clone, Debug)]
-pub struct Pipe<S: Copy + Default> {
-    regs: [S; MAX_STAGES],
-    valid: u64,
+pub struct Pipe<S: Copy + Default, const N: usize = MAX_STAGES> {
+    regs: [S; N],
+    valid: u128,
     len: usize,
     base: usize,
 }
 
-impl<S: Copy + Default> Pipe<S> {
-    /// An empty pipe of `len` stages (1..=MAX_STAGES).
+impl<S: Copy + Default, const N: usize> Pipe<S, N> {
+    /// An empty pipe of `len` stages (1..=N, N ≤ 128).
     pub fn new(len: usize) -> Self {
-        assert!((1..=MAX_STAGES).contains(&len), "pipe length {len}");
+        assert!(N <= 128 && (1..=N).contains(&len), "pipe length {len}");
         Pipe {
-            regs: [S::default(); MAX_STAGES],
+            regs: [S::default(); N],
             valid: 0,
             len,
             base: 0,
@@ -77,12 +78,12 @@ impl<S: Copy + Default> Pipe<S> {
                 base + k
             }
         };
-        let out = if self.valid & (1 << last) != 0 {
+        let out = if self.valid & (1u128 << last) != 0 {
             Some(self.regs[phys(self.base, last)])
         } else {
             None
         };
-        let mut moving = self.valid & !(1u64 << last);
+        let mut moving = self.valid & !(1u128 << last);
         while moving != 0 {
             let k = moving.trailing_zeros() as usize;
             stage(k, &mut self.regs[phys(self.base, k)]);
@@ -90,12 +91,7 @@ impl<S: Copy + Default> Pipe<S> {
         }
         // register k's content is register k+1's now; the last register's slot is register 0
         self.base = if self.base == 0 { last } else { self.base - 1 };
-        let mask = if len == 64 {
-            u64::MAX
-        } else {
-            (1u64 << len) - 1
-        };
-        self.valid = (self.valid << 1) & mask;
+        self.valid = (self.valid << 1) & (u128::MAX >> (128 - len));
         if let Some(s) = input {
             self.regs[self.base] = s;
             self.valid |= 1;
@@ -104,7 +100,7 @@ impl<S: Copy + Default> Pipe<S> {
     }
 }
 
-impl<S: Copy + Default> Pipe<S> {
+impl<S: Copy + Default, const N: usize> Pipe<S, N> {
     /// One clock of a pipe whose stage logic the owner applies at the output (see
     /// [`Pipe::tick`] for the eager form): every register moves on unchanged, `input` enters
     /// register 0, and what leaves the last register is returned, for the owner to put through
@@ -119,14 +115,14 @@ impl<S: Copy + Default> Pipe<S> {
     pub fn shift(&mut self, input: Option<S>) -> Option<S> {
         let len = self.len;
         let last = len - 1;
-        let out = if self.valid & (1 << last) != 0 {
+        let out = if self.valid & (1u128 << last) != 0 {
             let k = self.base + last;
             Some(self.regs[if k >= len { k - len } else { k }])
         } else {
             None
         };
         self.base = if self.base == 0 { last } else { self.base - 1 };
-        self.valid = (self.valid << 1) & (u64::MAX >> (64 - len));
+        self.valid = (self.valid << 1) & (u128::MAX >> (128 - len));
         if let Some(s) = input {
             self.regs[self.base] = s;
             self.valid |= 1;

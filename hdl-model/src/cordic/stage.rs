@@ -254,7 +254,21 @@ impl<P: Copy + Default> CordicPipe<P> {
         .map(|s| self.quadrant.eval(s));
         // register k feeds micro-rotation k (k < n), register n the gain stage: applied in that
         // order as the value leaves (see `Pipe::shift`)
-        self.pipe.shift(input).map(|mut s| {
+        self.pipe.shift(input).map(|s| self.after_quadrant(s))
+    }
+
+    /// Every stage of the pipe in order, as one combinational chain: what a value entering the
+    /// pipe leaves it as, for a unit that keeps the registers itself (the rotator chains three
+    /// pipes in one ring of registers).
+    #[inline]
+    pub fn eval(&self, s: CordicSlot<P>) -> CordicSlot<P> {
+        self.after_quadrant(self.quadrant.eval(s))
+    }
+
+    /// The micro-rotations and the gain stage.
+    #[inline]
+    fn after_quadrant(&self, mut s: CordicSlot<P>) -> CordicSlot<P> {
+        {
             let micro = &self.micro[..self.cfg.iterations as usize];
             let (mut x, mut y, mut z) = (s.x.to_bits(), s.y.to_bits(), s.z.to_bits());
             // `MicroRotation::apply` stage after stage, with the mode decided once
@@ -273,6 +287,6 @@ impl<P: Copy + Default> CordicPipe<P> {
             (s.x, s.y, s.z) = (Unit::from_bits(x), Unit::from_bits(y), Angle::from_bits(z));
             self.gain.apply(&mut s);
             s
-        })
+        }
     }
 }
