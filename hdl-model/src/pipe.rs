@@ -19,6 +19,8 @@ pub const MAX_STAGES: usize = 34;
 pub struct Pipe<S: Copy + Default, const N: usize = MAX_STAGES> {
     regs: [S; N],
     valid: u128,
+    /// the valid bits of `len` registers
+    mask: u128,
     len: usize,
     base: usize,
 }
@@ -30,6 +32,7 @@ impl<S: Copy + Default, const N: usize> Pipe<S, N> {
         Pipe {
             regs: [S::default(); N],
             valid: 0,
+            mask: u128::MAX >> (128 - len),
             len,
             base: 0,
         }
@@ -91,7 +94,7 @@ impl<S: Copy + Default, const N: usize> Pipe<S, N> {
         }
         // register k's content is register k+1's now; the last register's slot is register 0
         self.base = if self.base == 0 { last } else { self.base - 1 };
-        self.valid = (self.valid << 1) & (u128::MAX >> (128 - len));
+        self.valid = (self.valid << 1) & self.mask;
         if let Some(s) = input {
             self.regs[self.base] = s;
             self.valid |= 1;
@@ -122,7 +125,7 @@ impl<S: Copy + Default, const N: usize> Pipe<S, N> {
             None
         };
         self.base = if self.base == 0 { last } else { self.base - 1 };
-        self.valid = (self.valid << 1) & (u128::MAX >> (128 - len));
+        self.valid = (self.valid << 1) & self.mask;
         if let Some(s) = input {
             self.regs[self.base] = s;
             self.valid |= 1;

@@ -455,7 +455,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         if let Some(mut reg) = self.uv.shift(None) {
             if reg.hit && reg.direct.is_none() {
                 for _ in 0..depth {
-                    reg.cell = UvStage.eval(reg.cell);
+                    UvStage.apply(&mut reg.cell);
                 }
             }
             let ray = self.rays[reg.slot as usize];

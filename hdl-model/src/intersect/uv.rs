@@ -63,7 +63,14 @@ pub struct UvStage;
 impl UvStage {
     /// The stage's logic: halve the cell in u and in v, keep the sub-cell holding the point.
     #[inline]
-    pub fn eval(&self, c: Cell) -> Cell {
+    pub fn eval(&self, mut c: Cell) -> Cell {
+        self.apply(&mut c);
+        c
+    }
+
+    /// The stage's logic on the register in place.
+    #[inline]
+    pub fn apply(&self, c: &mut Cell) {
         let [q0, q1, q2, q3] = c.q;
         let bottom = mid(q0, q1);
         let top = mid(q3, q2);
@@ -73,17 +80,17 @@ impl UvStage {
         // left of bottom→top means u < u_m; left of left→right means v > v_m
         let upper_u = side(bottom, top, c.p, c.n) < 0;
         let upper_v = side(left, right, c.p, c.n) > 0;
-        // the sub-cell's corners: the 3 × 3 grid of corners, midpoints and centre, indexed by
-        // the two select bits (a multiplexer, with no data-dependent branch in the simulation)
-        let grid = [q0, bottom, q1, left, centre, right, q3, top, q2];
-        let base = 3 * upper_v as usize + upper_u as usize;
-        let q = [grid[base], grid[base + 1], grid[base + 4], grid[base + 3]];
-        Cell {
-            q,
-            iu: (c.iu << 1) | upper_u as u32,
-            iv: (c.iv << 1) | upper_v as u32,
-            ..c
+        // The sub-cell keeps corner k of the cell ((u, v) = (0,0), (1,0), (1,1), (0,1) for
+        // k = 0..3), has the centre at the opposite corner, and between them the midpoints of
+        // the two edges through corner k, mid(q_j, q_k) (mid is symmetric, and mid(q_k, q_k) =
+        // q_k): one multiplexer per corner, no data-dependent branch in the simulation.
+        let k = (upper_v as usize) << 1 | (upper_u ^ upper_v) as usize;
+        let qk = c.q[k];
+        for (j, q) in c.q.iter_mut().enumerate() {
+            *q = if j == k ^ 2 { centre } else { mid(*q, qk) };
         }
+        c.iu = (c.iu << 1) | upper_u as u32;
+        c.iv = (c.iv << 1) | upper_v as u32;
     }
 }
 
