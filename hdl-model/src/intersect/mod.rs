@@ -260,11 +260,15 @@ pub struct IntersectUnit<T: Copy + Default> {
     current: Option<u8>,
     next_patch: u32,
     setup_next: Option<u32>,
-    /// the edge stage's output register, held as what the divider makes of it (the divider's
-    /// arithmetic depends on this register alone, so it is applied as the register is loaded;
-    /// the value enters the divider's delay line on the next clock, as before)
-    edge_reg: Option<Quotient>,
-    divide: Delay<Quotient, DIV_LATENCY>,
+    /// The edge stage's output register, held as what the divider and the select stage make
+    /// of it: the divider's arithmetic depends on this register alone, and the select stage
+    /// sees the tokens in the same order whether it runs as they enter the divider's delay line
+    /// or as they leave it (the line never stalls, and nothing else reads the select stage), so
+    /// both are applied as the register is loaded. Only a ray's last token carries anything on:
+    /// the ray's slot and nearest hit, which reach the (u,v) pipe after the divider's latency,
+    /// on the clock they always did.
+    edge_reg: Option<(u8, Best)>,
+    divide: Delay<(u8, Best), DIV_LATENCY>,
     select: SelectStage,
     uv: Pipe<UvReg>,
     depth: u32,
@@ -486,9 +490,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
         now: u64,
         out: Option<RayOut<T>>,
     ) -> Option<RayOut<T>> {
-        // divider output → select → (u,v) pipe entry
-        if let Some(tok) = self.divide.tick(self.edge_reg.take()) {
-            if let Some((slot, best)) = self.select.eval(tok) {
+        // divider (and select) output → (u,v) pipe entry
+        if let Some((slot, best)) = self.divide.tick(self.edge_reg.take()) {
+            {
                 let entry = match best {
                     Some((patch, t, front, Some(direct))) => {
                         self.hits[slot as usize] = HitOut {
@@ -585,7 +589,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
                     tok.inside = false;
                 }
             }
-            self.edge_reg = Some(DivideStage.eval(tok));
+            self.edge_reg = self.select.eval(DivideStage.eval(tok));
             self.next_patch += 1;
             if last {
                 self.current = None;
