@@ -1,10 +1,12 @@
 //! Pipeline registers with a valid bit per stage.
 //!
 //! A pipeline of L stages is L registers; on each clock every valid register moves through the
-//! next stage's combinational logic into the following register. The valid bits are kept as one
-//! mask so that a clock costs work only for the occupied stages: the CORDIC pipes are mostly
-//! bubbles while the intersection unit scans patch memory, and simulation speed is a requirement
-//! (≥ 20 M cycles/s).
+//! next stage's combinational logic into the following register. [`Pipe::tick`] does exactly
+//! that; [`Pipe::shift`] moves the registers and leaves the stage logic to be applied, in stage
+//! order, as a value leaves the pipe, which gives the same values at the same clocks for pipes
+//! whose stages depend only on their own register and never stall (the CORDIC pipes, the
+//! rotator, the (u,v) pipe), at a cost per clock that does not grow with the valid stages:
+//! simulation speed is a requirement (≥ 20 M cycles/s, `docs/PERFORMANCE.md`).
 
 /// The default register count of a [`Pipe`]: the longest single pipe (CORDIC: 30 iterations +
 /// quadrant + gain). The rotator's chain of three pipes names its own.
