@@ -280,6 +280,10 @@ enum BenchCommand {
         /// Also draw the chart (SVG).
         #[arg(long)]
         svg: Option<PathBuf>,
+        /// Keep the reference's grids in this file between runs (recomputed when the scene, K
+        /// or R differ).
+        #[arg(long)]
+        reference_cache: Option<PathBuf>,
         #[command(flatten)]
         common: Common,
     },
@@ -1226,6 +1230,7 @@ fn main() -> Result<()> {
                     depths,
                     tests,
                     svg,
+                    reference_cache,
                     common,
                 },
         } => {
@@ -1254,6 +1259,7 @@ fn main() -> Result<()> {
                         t => bail!("--tests: unknown test `{t}` (surplus, spread)"),
                     })
                     .collect::<Result<_>>()?,
+                reference_cache,
             };
             anyhow::ensure!(
                 (1..=256).contains(&reference) && (1..=256).contains(&initial),

@@ -43,6 +43,40 @@ pub struct BenchSettings {
     pub depths: Vec<u32>,
     /// The gradient tests of the adaptive runs.
     pub tests: Vec<Test>,
+    /// Where to keep the reference's grids between runs (read if it holds this scene, K and R;
+    /// written otherwise).
+    pub reference_cache: Option<std::path::PathBuf>,
+}
+
+/// The reference as cached by [`BenchSettings::reference_cache`], with what identifies it.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct CachedReference {
+    key: String,
+    rows: usize,
+    seconds: f64,
+    grids: Vec<Grid>,
+}
+
+/// What a cached reference must match: the scene's geometry and materials, K and R.
+fn reference_key(scene: &Scene, settings: &Pass1Settings, k: u32) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |x: f64| {
+        for byte in x.to_bits().to_le_bytes() {
+            h = (h ^ byte as u64).wrapping_mul(0x100_0000_01b3);
+        }
+    };
+    for (i, p) in scene.patches.iter().enumerate() {
+        eat(p.area as f64);
+        let m = scene.material_of(i);
+        m.diffuse.iter().chain(&m.emission).for_each(|&x| eat(x));
+    }
+    format!(
+        "K {k} R {} rule {:?} method {:?} patches {} scene {h:016x}",
+        settings.circles,
+        settings.rule,
+        settings.method,
+        scene.patches.len()
+    )
 }
 
 /// Relative L1 error of the luminance of `got` against `reference` over the diffuse,
@@ -91,6 +125,44 @@ pub fn field_errors(scene: &Scene, got: &[Grid], reference: &[Grid], m: u32) -> 
     }
 }
 
+/// The uniform K×K reference's grids, its rows and the seconds it took: from `cache` if that
+/// holds this scene, K and R, else computed (and written to `cache`).
+pub fn reference(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    k: u32,
+    cache: Option<&Path>,
+) -> Result<(Vec<Grid>, usize, f64)> {
+    let key = reference_key(scene, settings, k);
+    let cached: Option<CachedReference> = cache
+        .and_then(|p| std::fs::read(p).ok())
+        .and_then(|b| serde_json::from_slice::<CachedReference>(&b).ok())
+        .filter(|c| c.key == key);
+    if let Some(c) = cached {
+        return Ok((c.grids, c.rows, c.seconds));
+    }
+    let t0 = Instant::now();
+    let (grids, rows) = uniform_grids(
+        scene,
+        &Pass1Settings {
+            samples: k,
+            ..*settings
+        },
+    )?;
+    let seconds = t0.elapsed().as_secs_f64();
+    if let Some(path) = cache {
+        let c = CachedReference {
+            key,
+            rows,
+            seconds,
+            grids,
+        };
+        std::fs::write(path, serde_json::to_vec(&c)?)?;
+        return Ok((c.grids, rows, seconds));
+    }
+    Ok((grids, rows, seconds))
+}
+
 fn uniform_grids(scene: &Scene, settings: &Pass1Settings) -> Result<(Vec<Grid>, usize)> {
     let ff = form_factors(scene, settings, &|_| {})?;
     let n = scene.patches.len();
@@ -127,15 +199,12 @@ pub fn adaptive_vs_uniform(
     svg: Option<&Path>,
     command: &str,
 ) -> Result<Vec<Measured>> {
-    let t0 = Instant::now();
-    let (reference, ref_rows) = uniform_grids(
+    let (reference, ref_rows, ref_seconds) = reference(
         scene,
-        &Pass1Settings {
-            samples: bench.reference,
-            ..*settings
-        },
+        settings,
+        bench.reference,
+        bench.reference_cache.as_deref(),
     )?;
-    let ref_seconds = t0.elapsed().as_secs_f64();
     let m = 4 * bench.reference;
     writeln!(
         out,

@@ -49,6 +49,10 @@ pub struct AdaptiveSettings {
     /// The gradient test's margin: a window fails when its luminance differences ([`Test`])
     /// exceed this fraction of its mean luminance ([`gradient`]).
     pub margin: f64,
+    /// The least intensity the margin is relative to, as a fraction of the patch's mean
+    /// luminance: a window darker than that is judged against it ([`gradient`]). 0 makes the
+    /// test purely local.
+    pub floor: f64,
     /// The most levels a patch is subdivided beyond its initial guess (the paper's picture 4
     /// uses 4).
     pub max_depth: u32,
@@ -80,6 +84,7 @@ impl Default for AdaptiveSettings {
     fn default() -> Self {
         AdaptiveSettings {
             margin: 0.1,
+            floor: 1.0,
             max_depth: 4,
             solve: SolveSettings::default(),
             test: Test::Surplus,
@@ -322,6 +327,7 @@ pub fn refine_with<A: Accelerator>(
                 continue;
             }
             let k = level.k as usize;
+            let margin = adaptive.margin;
             let values: Vec<[f64; 3]> = level
                 .rows
                 .iter()
@@ -344,9 +350,15 @@ pub fn refine_with<A: Accelerator>(
                             b
                         })
                         .collect();
-                    gradient::failing_windows_surplus(k, &values, &predicted, adaptive.margin)
+                    gradient::failing_windows_surplus(
+                        k,
+                        &values,
+                        &predicted,
+                        margin,
+                        adaptive.floor,
+                    )
                 }
-                _ => gradient::failing_windows(k, &values, adaptive.margin),
+                _ => gradient::failing_windows(k, &values, margin, adaptive.floor),
             };
             if !failing.iter().any(|f| *f) {
                 continue;
