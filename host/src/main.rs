@@ -83,7 +83,8 @@ struct Common {
     #[arg(long, default_value = "hemisphere")]
     method: hemi::method::Method,
     /// Preset R and K from a target error and the scene's size: draft | default | high
-    /// (overrides --circles and --samples; see docs/PERFORMANCE.md for what each costs).
+    /// (overrides --circles and --samples, or with --adaptive --circles, --margin and
+    /// --max-depth; see docs/PERFORMANCE.md for what each costs).
     #[arg(long)]
     quality: Option<hemi::quality::Quality>,
     /// Largest N×N form-factor matrix pass 1 may form, in MiB (three f64 channels); above it,
@@ -148,9 +149,13 @@ impl Common {
         if self.max_depth > 8 {
             bail!("--max-depth must be at most 8 (a 2×2 guess becomes 512×512)");
         }
+        // a --quality preset sets the margin and depth, as it sets R and K
+        let (margin, max_depth) = self
+            .quality
+            .map_or((self.margin, self.max_depth), |q| q.adaptive());
         Ok(Some(AdaptiveSettings {
-            margin: self.margin,
-            max_depth: self.max_depth,
+            margin,
+            max_depth,
             test: if self.test == "spread" {
                 hemi::adaptive::Test::Spread
             } else {
@@ -164,7 +169,11 @@ impl Common {
     fn settings_for(&self, scene: &Scene) -> Result<Pass1Settings> {
         let mut settings = self.pass1()?;
         if let Some(q) = self.quality {
-            let p = hemi::quality::apply(q, scene, &mut settings);
+            let p = if self.adaptive {
+                hemi::quality::apply_adaptive(q, scene, &mut settings)
+            } else {
+                hemi::quality::apply(q, scene, &mut settings)
+            };
             eprintln!("{}", p.why);
         }
         Ok(settings)
@@ -269,7 +278,7 @@ enum BenchCommand {
         #[arg(long, default_value_t = 2)]
         initial: u32,
         /// Comma-separated margins of the adaptive runs (the points of each chart line).
-        #[arg(long, default_value = "0.4,0.3,0.2,0.15,0.1,0.05")]
+        #[arg(long, default_value = "0.4,0.3,0.25,0.2,0.17,0.15,0.12,0.1,0.07,0.05")]
         margins: String,
         /// Comma-separated depth limits of the adaptive runs (one chart line each, per test).
         #[arg(long, default_value = "4,5")]
