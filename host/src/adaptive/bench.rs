@@ -313,7 +313,7 @@ pub fn adaptive_vs_uniform(
                     .map_or(("none reaches it".to_string(), "–".to_string()), |a| {
                         (
                             format!("{} ({})", a.rows, a.setting),
-                            format!("{:.1}×", u.rows as f64 / a.rows as f64),
+                            format!("{:.2}×", u.rows as f64 / a.rows as f64),
                         )
                     })
             };
@@ -343,7 +343,7 @@ pub fn adaptive_vs_uniform(
                     }
                 }
                 if best.is_finite() {
-                    format!(" ({:.1}× interpolated)", u.rows as f64 / best)
+                    format!(" ({:.2}× interpolated)", u.rows as f64 / best)
                 } else {
                     String::new()
                 }

@@ -27,7 +27,7 @@
 //! purely local test.
 //!
 //! [`failing_windows_surplus`] is the same window and margin over other differences: each
-//! sample's difference from the bilinear interpolation of the level before (its hierarchical
+//! sample's difference from the linear interpolation of the level before (its hierarchical
 //! surplus), which measures the interpolation error directly instead of the slope (see
 //! [`super::Test`] for why and when).
 
@@ -86,7 +86,7 @@ pub fn failing_windows(k: usize, values: &[[f64; 3]], margin: f64, floor: f64) -
 }
 
 /// The surplus variant: window (a, b) fails when one of its four samples differs from what the
-/// level before predicted for it (`predicted`, the bilinear interpolation of [`super::lattice`])
+/// level before predicted for it (`predicted`, the linear interpolation of [`super::lattice`])
 /// by more than `margin` times the window's mean luminance (floored as in [`failing_windows`]).
 /// Interpolated samples have no surplus; a computed sample's surplus is the interpolation error
 /// the coarser level made there.
