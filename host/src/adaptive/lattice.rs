@@ -39,7 +39,7 @@
 pub fn axis_slope_stencil(k: usize, c: usize) -> Vec<(usize, f64)> {
     assert!(k >= 1 && c < 2 * k, "child {c} of a level of {k}");
     let a = c / 2;
-    let sign = if c % 2 == 0 { -0.25 } else { 0.25 };
+    let sign = if c.is_multiple_of(2) { -0.25 } else { 0.25 };
     if k == 1 {
         return vec![(0, 1.0)];
     }
