@@ -6,6 +6,7 @@ pub mod paper;
 pub mod plot;
 pub mod quality;
 pub mod solvers;
+pub mod trace;
 
 use crate::analytic::bezier_newton;
 use crate::engine::SoftEngine;

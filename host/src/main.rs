@@ -299,6 +299,18 @@ enum BenchCommand {
         #[arg(long)]
         svg: Option<PathBuf>,
     },
+    /// Single rays through the soft engine with and without its BVH: rays/s and the ratio, on
+    /// SCENE (optionally tessellated: Bezier patches become 2n² triangles each).
+    Trace {
+        #[arg(default_value = "scenes/teapot.toml")]
+        scene: PathBuf,
+        /// Rays to cast (random origins in the scene's box, random directions; fixed seed).
+        #[arg(long, default_value_t = 100_000)]
+        rays: usize,
+        /// Tessellate Bezier patches into an n×n grid of triangle pairs first (0: keep them).
+        #[arg(long, default_value_t = 16)]
+        tessellate: usize,
+    },
     /// The teapot as Bezier patches (16 samples each) against the same teapot tessellated into
     /// 2n² triangles per patch (1 sample each): time, matrix size, memory, radiosities.
     Tessellation {
@@ -1267,6 +1279,21 @@ fn main() -> Result<()> {
                 svg.as_deref(),
                 &command,
             )?;
+        }
+        Command::Bench {
+            command:
+                BenchCommand::Trace {
+                    scene,
+                    rays,
+                    tessellate,
+                },
+        } => {
+            let mut sc = scene::load(&scene)?;
+            if tessellate > 0 {
+                anyhow::ensure!(tessellate <= 64, "--tessellate must be at most 64");
+                sc = hemi::bench::tessellate(&sc, tessellate);
+            }
+            hemi::bench::trace::single_rays(&sc, rays, &mut out)?;
         }
         Command::Bench {
             command: BenchCommand::Cordic { svg },
