@@ -28,13 +28,13 @@ pub struct SoftEngine<'p> {
 }
 
 /// Patches from which single rays (`nearest_hit`: `trace`, frustum rays) go through the BVH:
-/// `hemi bench trace` finds it 1.1× the linear scan on the Cornell box's 19 patches, 3× on the
-/// teapot's 34 and 30× on 242 triangles.
+/// `hemi bench trace` finds it 1.1–2.2× the linear scan on the Cornell box's 19 patches, 3–8×
+/// on the teapot's 34 and 30–49× on 242 triangles (docs/PERFORMANCE.md).
 pub const TREE_MIN_SINGLE: usize = 16;
 /// Patches from which bundles from a shared origin (`cast_from`: eye rays) go through the BVH.
 /// The linear path sets every patch up once per bundle and culls by cone, which beats per-ray
-/// traversal on small scenes: 0.6× on the Cornell box, 1.2× on the teapot, 7.6× on 994
-/// triangles (`hemi bench trace`).
+/// traversal on small scenes: 0.5–0.6× on the Cornell box, 1.2–1.6× on the teapot, 8–14× on
+/// 994 triangles (`hemi bench trace`).
 pub const TREE_MIN_BUNDLE: usize = 32;
 
 impl<'p> SoftEngine<'p> {

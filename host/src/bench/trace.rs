@@ -28,13 +28,8 @@ pub fn single_rays(scene: &Scene, rays: usize, out: &mut impl Write) -> Result<(
             max: a.max.max(b.max),
         },
     );
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-    let mut next = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 40) as f32 / (1u64 << 24) as f32
-    };
+    let mut rng = super::rng::XorShift::new(0x9e37_79b9_7f4a_7c15);
+    let mut next = move || rng.f32();
     let size = bounds.max - bounds.min;
     let ray_set: Vec<Ray> = std::iter::repeat_with(|| {
         let origin = Vec3::new(
