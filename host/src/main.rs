@@ -312,6 +312,18 @@ enum BenchCommand {
         #[arg(long)]
         svg: Option<PathBuf>,
     },
+    /// Single rays through the soft engine with and without its BVH: rays/s and the ratio, on
+    /// SCENE (optionally tessellated: Bezier patches become 2n² triangles each).
+    Trace {
+        #[arg(default_value = "scenes/teapot.toml")]
+        scene: PathBuf,
+        /// Rays to cast (random origins in the scene's box, random directions; fixed seed).
+        #[arg(long, default_value_t = 100_000)]
+        rays: usize,
+        /// Tessellate Bezier patches into an n×n grid of triangle pairs first (0: keep them).
+        #[arg(long, default_value_t = 16)]
+        tessellate: usize,
+    },
     /// The teapot as Bezier patches (16 samples each) against the same teapot tessellated into
     /// 2n² triangles per patch (1 sample each): time, matrix size, memory, radiosities.
     Tessellation {
@@ -605,6 +617,7 @@ fn irradiance_lines<A: Accelerator>(
             view,
             &optics.view(),
             &mut scratch.view(),
+            scene,
             grids,
             p,
             d,
@@ -630,13 +643,8 @@ fn trace_lines<A: Accelerator>(engine: &mut A, scene: &Scene, out: &mut impl Wri
 }
 
 fn solve_scene(scene: &Scene, ff: &FormFactors, solver: solve::Solver) -> Result<solve::Solution> {
-    let rho: Vec<[f64; 3]> = (0..scene.patches.len())
-        .map(|i| scene.material_of(i).diffuse)
-        .collect();
-    let e: Vec<[f64; 3]> = (0..scene.patches.len())
-        .map(|i| scene.material_of(i).emission)
-        .collect();
-    let system = solve::System::new(ff.channels(), &rho, &e)?;
+    let parts = solve::SceneParts::new(scene, ff);
+    let system = parts.system(ff)?;
     if solver != solve::Solver::Auto {
         let d = solve::diagnose::row_sums(&system);
         if d.rows_above_one > 0 {
@@ -1286,6 +1294,21 @@ fn main() -> Result<()> {
                 svg.as_deref(),
                 &command,
             )?;
+        }
+        Command::Bench {
+            command:
+                BenchCommand::Trace {
+                    scene,
+                    rays,
+                    tessellate,
+                },
+        } => {
+            let mut sc = scene::load(&scene)?;
+            if tessellate > 0 {
+                anyhow::ensure!(tessellate <= 64, "--tessellate must be at most 64");
+                sc = hemi::bench::tessellate(&sc, tessellate);
+            }
+            hemi::bench::trace::single_rays(&sc, rays, &mut out)?;
         }
         Command::Bench {
             command: BenchCommand::Cordic { svg },

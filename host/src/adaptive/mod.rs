@@ -257,6 +257,7 @@ pub fn refine_with<A: Accelerator>(
     progress: &(dyn Fn(Progress) + Sync),
 ) -> anyhow::Result<Refined> {
     anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
+    crate::translucent::refuse(scene, "--adaptive")?;
     anyhow::ensure!(
         adaptive.margin >= 0.0 && adaptive.margin.is_finite(),
         "--margin must be a finite number ≥ 0"
