@@ -5,7 +5,9 @@ pub mod methods;
 pub mod paper;
 pub mod plot;
 pub mod quality;
+pub mod rng;
 pub mod solvers;
+pub mod trace;
 
 use crate::analytic::bezier_newton;
 use crate::engine::SoftEngine;
@@ -32,13 +34,8 @@ fn beziers(scene: &Scene) -> Vec<Bezier> {
 /// Rays aimed at random points of random patches from 0.5 to 3 units away, within about 40° of
 /// the normal, with the f64 Newton reference of each: (patch, origin, direction, t, u, v).
 fn aimed_rays(patches: &[Bezier], n: usize) -> Vec<(usize, Vec3, Vec3, f64, f64, f64)> {
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-    let mut rnd = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f32 / (1u64 << 53) as f32
-    };
+    let mut rng = rng::XorShift::new(0x9e37_79b9_7f4a_7c15);
+    let mut rnd = move || rng.f32();
     let mut out = Vec::new();
     while out.len() < n {
         let i = (rnd() * patches.len() as f32) as usize % patches.len();
@@ -153,9 +150,14 @@ pub fn bezier_accuracy(
 pub fn tessellate(scene: &Scene, n: usize) -> Scene {
     let mut out = scene.clone();
     out.patches.clear();
-    for p in &scene.patches {
+    // back sides of translucent sheets are made again for the new patches at the end
+    let fronts = &scene.patches[..scene.fronts()];
+    for p in fronts {
         match p.shape {
-            Shape::Polygon(_) => out.patches.push(p.clone()),
+            Shape::Polygon(_) => out.patches.push(ScenePatch {
+                sides: crate::scene::Sides::Opaque,
+                ..p.clone()
+            }),
             Shape::Bezier(b) => {
                 let at = |i: usize, j: usize| b.point(i as f32 / n as f32, j as f32 / n as f32);
                 for j in 0..n {
@@ -168,6 +170,7 @@ pub fn tessellate(scene: &Scene, n: usize) -> Scene {
                                     material: p.material,
                                     area: poly.area,
                                     shape: Shape::Polygon(poly),
+                                    sides: crate::scene::Sides::Opaque,
                                 });
                             }
                         }
@@ -176,6 +179,7 @@ pub fn tessellate(scene: &Scene, n: usize) -> Scene {
             }
         }
     }
+    crate::translucent::add_back_sides(&mut out.materials, &mut out.patches);
     out
 }
 

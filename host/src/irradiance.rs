@@ -4,6 +4,7 @@
 //! diffuse surfaces, ∫L cos dω = Σ δD B; w is what mirrors on the way pass on).
 
 use crate::radiosity::Grid;
+use crate::scene::Scene;
 use hemi_kernel::accel::Accelerator;
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::Hemisphere;
@@ -11,11 +12,17 @@ use hemi_kernel::optics::Optics;
 use hemi_kernel::tracer::{shoot, Shot, TraceScratch};
 
 /// Irradiance (W/m² per channel) at `point` for a surface facing `normal`; emitters included.
+/// `grids` are per scene patch (the back sides of translucent sheets included).
+#[allow(
+    clippy::too_many_arguments,
+    reason = "the inputs of one irradiance query"
+)]
 pub fn irradiance<A: Accelerator>(
     accel: &mut A,
     hemi: &Hemisphere<'_>,
     optics: &Optics<'_>,
     scratch: &mut TraceScratch<'_>,
+    scene: &Scene,
     grids: &[Grid],
     point: Vec3,
     normal: Vec3,
@@ -29,7 +36,7 @@ pub fn irradiance<A: Accelerator>(
         want_uv: true,
     };
     shoot(accel, hemi, optics, scratch, &shot, |h, w| {
-        let b = grids[h.patch as usize].at(h.u, h.v);
+        let b = grids[scene.side_seen(h.patch, h.front)].at(h.u, h.v);
         for c in 0..3 {
             e[c] += w[c] as f64 * b[c];
         }

@@ -17,3 +17,4 @@ pub mod radiosity;
 pub mod render;
 pub mod scene;
 pub mod solve;
+pub mod translucent;

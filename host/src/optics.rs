@@ -53,8 +53,8 @@ pub struct SceneOptics {
 }
 
 impl SceneOptics {
-    /// Builds the table: columns for the diffuse patches in scene order, one lobe per specular
-    /// material (its frustum size from `frustum` degrees if given, else from `phong`).
+    /// Builds the table: columns for the diffuse patches in scene order (the back sides of
+    /// translucent sheets last, as in the scene), one lobe per specular material (its frustum size from `frustum` degrees if given, else from `phong`).
     pub fn new(scene: &Scene, hemi: &Hemisphere<'_>) -> Result<SceneOptics> {
         let circles = hemi.circles();
         let mut weights = Vec::new();
@@ -80,7 +80,7 @@ impl SceneOptics {
             }));
         }
         let mut columns = Vec::new();
-        let surfaces = (0..scene.patches.len())
+        let mut surfaces: Vec<Surface> = (0..scene.fronts())
             .map(|i| {
                 let m = scene.material_of(i);
                 let lobe = lobes[scene.patches[i].material];
@@ -97,11 +97,19 @@ impl SceneOptics {
                 });
                 Surface {
                     column,
+                    back_column: None,
                     reflect: spec(m.specular),
                     transmit: spec(m.transmission),
                 }
             })
             .collect();
+        // the back sides of translucent sheets: columns after the fronts', as in scene order
+        for i in scene.fronts()..scene.patches.len() {
+            if let crate::scene::Sides::Back { front } = scene.patches[i].sides {
+                columns.push(i);
+                surfaces[front].back_column = Some(columns.len() as u32 - 1);
+            }
+        }
         Ok(SceneOptics {
             patches: scene.kernel_patches(),
             surfaces,

@@ -100,11 +100,19 @@ pub fn sample_count(scene: &Scene, i: usize, k: u32) -> usize {
 }
 
 /// The sample points of patch `i`: K×K for a polygon, the 16 points of paper §7 for a Bezier
-/// patch (4×4 whatever K); none for a pure specular patch.
+/// patch (4×4 whatever K); none for a pure specular patch. The back side of a translucent sheet
+/// has its front's points, facing the other way.
 pub fn sample_points(scene: &Scene, i: usize, k: u32) -> Vec<SamplePoint> {
     let patch = &scene.patches[i];
     if !scene.material_of(i).is_diffuse() {
         return Vec::new();
+    }
+    if let crate::scene::Sides::Back { front } = patch.sides {
+        let mut points = sample_points(scene, front, k);
+        for p in &mut points {
+            p.normal = -p.normal;
+        }
+        return points;
     }
     match &patch.shape {
         Shape::Polygon(poly) => (0..k)
@@ -199,7 +207,7 @@ pub fn shoot_rows<A: Accelerator>(
                     &mut scratch.view(),
                     &point,
                     q,
-                    i,
+                    scene.kernel_id(i),
                     row,
                 )?;
                 let sparse = row

@@ -10,7 +10,7 @@ use crate::solve::Solution;
 /// around them, extended linearly to the patch boundary; inside a cell B is bilinear between its
 /// four vertices. Shading is then continuous across the patch (no faceting) and a uniform
 /// patch stays exactly uniform.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Grid {
     k: usize,
     vertices: Vec<[f64; 3]>,
@@ -105,10 +105,28 @@ pub fn element_radiosity(scene: &Scene, e: &ElementRow, radiosity: &[[f64; 3]]) 
 }
 
 /// Element radiosities (4.2) `B_iq = E_i + ρ_i Σ_j F_iq,j B_j`, gathered into one grid per patch.
+/// A side of a translucent sheet adds what comes through it, `τ_i Σ_j F_tq,j B_j` over its
+/// twin's element at the same point ([`crate::translucent`]).
 pub fn grids(scene: &Scene, ff: &FormFactors, sol: &Solution) -> Vec<Grid> {
     let mut samples: Vec<Vec<[f64; 3]>> = vec![Vec::new(); scene.patches.len()];
-    for e in &ff.elements {
-        samples[e.patch].push(element_radiosity(scene, e, &sol.radiosity));
+    // where each patch's elements start in ff.elements (they are grouped by patch)
+    let mut first = vec![usize::MAX; scene.patches.len()];
+    for (k, e) in ff.elements.iter().enumerate().rev() {
+        first[e.patch] = k;
+    }
+    for (k, e) in ff.elements.iter().enumerate() {
+        let mut b = element_radiosity(scene, e, &sol.radiosity);
+        if let Some(t) = scene.twin(e.patch) {
+            let q = k - first[e.patch];
+            let twin = ff.elements.get(first[t].wrapping_add(q));
+            if let Some(twin) = twin.filter(|w| w.patch == t) {
+                let through = crate::translucent::transmitted(scene, e, twin, &sol.radiosity);
+                for c in 0..3 {
+                    b[c] += through[c];
+                }
+            }
+        }
+        samples[e.patch].push(b);
     }
     // K per patch: K×K for polygons, 4×4 for Bezier patches, or the last level of adaptive
     // sampling (K·2^depth, per patch); a pure specular patch has no samples and no diffuse

@@ -121,7 +121,7 @@ pub fn render_with<A: Accelerator>(
                     spp,
                     dirs,
                     |p, _s, hit, weight| {
-                        let b = grids[hit.patch as usize].at(hit.u, hit.v);
+                        let b = grids[scene.side_seen(hit.patch, hit.front)].at(hit.u, hit.v);
                         let px = &mut row[(p - y * w) as usize];
                         for c in 0..3 {
                             px[c] += (weight[c] as f64 * b[c] / std::f64::consts::PI / spp as f64)

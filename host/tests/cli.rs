@@ -127,6 +127,44 @@ fn solve_json_has_the_spec_shape_and_the_lamp_keeps_its_emission() {
 }
 
 #[test]
+fn a_translucent_sheet_lists_its_back_side_last_in_the_json() {
+    // p1 made translucent: its back side faces away from the lamp and sees nothing; its front
+    // gathers the lamp and passes τ of it to the back
+    let text = TWO_SQUARES.replace(
+        "diffuse = [0.5, 0.5, 0.5]",
+        "diffuse = [0.3, 0.3, 0.3]\ntranslucency = [0.5, 0.5, 0.5]",
+    );
+    let p = scene("two-translucent.toml", &text);
+    let args = ["--circles", "32", "--samples", "4", "--json"];
+    let (ok, out, err) = run(&[&["solve", p.to_str().unwrap()], &args[..]].concat(), "");
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let names: Vec<&str> = v["patches"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["p1", "p2", "p1:back"]);
+    let b = |i: usize| v["patches"][i]["radiosity"][2].as_f64().unwrap();
+    // B_front = ρ F E, B_back = τ F E
+    assert!((b(0) - 0.3 * 0.1998 * 4.0).abs() < 0.01, "{}", b(0));
+    assert!((b(2) - 0.5 * 0.1998 * 4.0).abs() < 0.01, "{}", b(2));
+    let (ok, out, err) = run(
+        &[&["form-factors", p.to_str().unwrap()], &args[..]].concat(),
+        "",
+    );
+    assert!(ok, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    let m = v["matrix"].as_array().unwrap();
+    assert_eq!(m.len(), 3);
+    assert!(
+        m[2].as_array().unwrap().iter().all(|f| f == 0.0),
+        "the back side sees nothing"
+    );
+}
+
+#[test]
 fn trace_prints_t_patch_u_v_or_miss() {
     let p = scene("two-trace.toml", TWO_SQUARES);
     let rays = "0.25 0.75 0.5 0 0 1\n# a comment line is skipped\n0.5 0.5 0.5 -1 0 0\n0.5 0.5 0.5 0 0 -2\n";

@@ -1,6 +1,7 @@
 //! What the tracer must know about each patch beyond its shape (paper §2, (2.2)): whether it is
-//! diffuse, and so has a column in the form-factor rows, and whether it reflects (k_r) or
-//! transmits (k_t) specularly, with which frustum.
+//! diffuse, and so has a column in the form-factor rows, whether its back side is seen too
+//! (diffuse transmission k_y), and whether it reflects (k_r) or transmits (k_t) specularly, with
+//! which frustum.
 //!
 //! The form-factor rows run over diffuse patches only: a pure mirror has no column, is never a
 //! shooter, and its size does not grow the matrix (§3.3); light that reaches it is passed on by
@@ -42,6 +43,9 @@ pub struct Lobe {
 pub struct Surface {
     /// Its column in form-factor rows, if the patch is diffuse (reflects or emits diffusely).
     pub column: Option<u32>,
+    /// The column of its back side, if the patch transmits diffusely (k_y of (2.2)): such a
+    /// sheet has a radiosity on each side, so a ray reaching its back is seen, not blocked.
+    pub back_column: Option<u32>,
     /// Specular reflection k_r, about the mirror direction of the front side.
     pub reflect: Option<Specular>,
     /// Specular transmission k_t: a thin sheet, the frustum centred on the incoming direction.
@@ -54,8 +58,18 @@ impl Surface {
     pub const fn diffuse(column: u32) -> Surface {
         Surface {
             column: Some(column),
+            back_column: None,
             reflect: None,
             transmit: None,
+        }
+    }
+    /// The column a ray reaching the front (`front`) or the back of this patch adds to: the
+    /// back of an opaque patch has none (it blocks).
+    pub fn column_for(&self, front: bool) -> Option<u32> {
+        if front {
+            self.column
+        } else {
+            self.back_column
         }
     }
     /// Whether light reaching this surface goes on in frustums.
@@ -104,7 +118,7 @@ impl<'a> Optics<'a> {
             if s.is_specular() && p.as_polygon().is_none() {
                 curved_specular = true;
             }
-            if let Some(c) = s.column {
+            for c in [s.column, s.back_column].into_iter().flatten() {
                 columns = columns.max(c + 1);
             }
             for spec in [s.reflect, s.transmit].into_iter().flatten() {
@@ -136,7 +150,8 @@ impl<'a> Optics<'a> {
     pub fn surface(&self, id: u32) -> Surface {
         self.surfaces.get(id as usize).copied().unwrap_or_default()
     }
-    /// Number of form-factor columns (diffuse patches).
+    /// Number of form-factor columns (diffuse patches, and the back sides of diffusely
+    /// transmitting ones).
     pub fn columns(&self) -> u32 {
         self.columns
     }
@@ -155,5 +170,42 @@ impl<'a> Optics<'a> {
             .get(lobe.first as usize + j)
             .copied()
             .unwrap_or(0.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::{Polygon, Vec3};
+    use crate::patch::Shape;
+
+    #[test]
+    fn a_translucent_patch_has_a_column_on_each_side() {
+        let quad = Polygon::quad([
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(0.0, 1.0, 0.0),
+        ])
+        .unwrap();
+        let patches = [Patch {
+            shape: Shape::Polygon(quad),
+        }; 2];
+        let surfaces = [
+            Surface::diffuse(0),
+            Surface {
+                back_column: Some(2),
+                ..Surface::diffuse(1)
+            },
+        ];
+        let optics = Optics::new(&patches, &surfaces, &[], 8).unwrap();
+        assert_eq!(optics.columns(), 3);
+        assert_eq!(
+            optics.surface(0).column_for(false),
+            None,
+            "an opaque back blocks"
+        );
+        assert_eq!(optics.surface(1).column_for(true), Some(1));
+        assert_eq!(optics.surface(1).column_for(false), Some(2));
     }
 }

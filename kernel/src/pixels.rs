@@ -58,7 +58,7 @@ pub fn trace_pixels<A: Accelerator, F: FnMut(u32, u32, &Hit, [f32; 3])>(
         accel.cast_from(camera.eye, &dirs[..n], true, |i, hit| {
             let Some(h) = hit else { return };
             let (p, s) = (start + i as u32 / spp, i as u32 % spp);
-            if h.front && optics.surface(h.patch).column.is_some() {
+            if optics.surface(h.patch).column_for(h.front).is_some() {
                 sink(p, s, &h, [1.0; 3]);
             }
             if spawns(optics, &h) {

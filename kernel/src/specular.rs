@@ -179,7 +179,7 @@ impl Walker<'_, '_> {
                     stats.escaped_weight += (max3(weight) * scale) as f64;
                     return;
                 };
-                if hit.front && optics.surface(hit.patch).column.is_some() {
+                if optics.surface(hit.patch).column_for(hit.front).is_some() {
                     sink(&hit, weight);
                 }
                 if spawns(optics, &hit) {

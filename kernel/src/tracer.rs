@@ -5,9 +5,10 @@
 //! A ray that reaches the front of a diffuse patch j adds δD of its ring to F_iq,j (the direct
 //! form factor D_ij). A ray that reaches a reflecting (or transmitting) patch spawns frustums
 //! whose rays add their weighted share of δD to the diffuse patches they reach (the indirect
-//! form factor S_ij, per channel because k_r is). A ray that reaches a back side is blocked, and
+//! form factor S_ij, per channel because k_r is). A ray that reaches a back side is blocked
+//! (unless the patch transmits diffusely, k_y: then its back side has a column of its own), and
 //! a ray that leaves the scene adds nothing, so a row sums to the fraction of the hemisphere
-//! that sees diffuse front sides, directly or in mirrors.
+//! that sees diffuse sides, directly or in mirrors.
 
 use crate::accel::{Accelerator, Hit, Ray};
 use crate::geometry::Vec3;
@@ -107,7 +108,7 @@ pub fn shoot_hemisphere<A: Accelerator>(
     shoot(accel, hemi, optics, scratch, &shot, |hit, w| {
         if let Some(slot) = optics
             .surface(hit.patch)
-            .column
+            .column_for(hit.front)
             .and_then(|c| row.get_mut(c as usize))
         {
             for c in 0..3 {
@@ -154,7 +155,7 @@ pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
     let rot = Rotation::onto_spun(normal, spin);
     let rings = hemi.rings();
     let mut stats = ShotStats::default();
-    let diffuse = |hit: &Hit| hit.front && optics.surface(hit.patch).column.is_some();
+    let diffuse = |hit: &Hit| optics.surface(hit.patch).column_for(hit.front).is_some();
     let count = |stats: &mut ShotStats, hit: &Option<Hit>| {
         stats.rays += 1;
         match hit {

@@ -129,6 +129,7 @@ fn run() {
         &view,
         &optics.view(),
         &mut scratch.view(),
+        &scene,
         &grids,
         p,
         n,

@@ -112,6 +112,7 @@ fn mirror_floor_box(phong: &str) -> Scene {
         emission: [0.0; 3],
         specular: [1.0; 3],
         transmission: [0.0; 3],
+        translucency: [0.0; 3],
         phong: phong.parse().unwrap(),
         frustum_deg: None,
     });

@@ -46,6 +46,7 @@ pub fn set_up(
     camera: Option<Camera>,
     spp: u32,
 ) -> Result<()> {
+    crate::translucent::refuse(scene, "a board")?;
     let hemi = hemi_kernel::hemisphere::OwnedHemisphere::new(settings.circles, settings.rule)
         .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
     let optics = crate::optics::SceneOptics::new(scene, &hemi.view())?;

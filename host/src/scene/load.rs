@@ -1,6 +1,6 @@
 //! The TOML scene format of spec §6. Every error names the file, the line and the key.
 
-use super::{Camera, Material, Scene, ScenePatch};
+use super::{Camera, Material, Scene, ScenePatch, Sides};
 use anyhow::{anyhow, bail, Context, Result};
 use hemi_kernel::geometry::{Bezier, Polygon, PolygonError, Vec3};
 use hemi_kernel::patch::Shape;
@@ -42,6 +42,8 @@ struct RawMaterial {
     phong: Option<Spanned<f64>>,
     #[serde(default)]
     transmission: Option<Spanned<Vec<f64>>>,
+    #[serde(default)]
+    translucency: Option<Spanned<Vec<f64>>>,
     #[serde(default)]
     frustum: Option<Spanned<f64>>,
 }
@@ -220,6 +222,7 @@ fn bezier_patch(
         material,
         shape: Shape::Bezier(bez),
         area,
+        sides: Sides::Opaque,
     })
 }
 
@@ -378,6 +381,7 @@ fn load_obj(
                     emission: ke,
                     specular: [0.0; 3],
                     transmission: [0.0; 3],
+                    translucency: [0.0; 3],
                     phong: 0.0,
                     frustum_deg: None,
                 });
@@ -398,6 +402,7 @@ fn load_obj(
                     emission: [0.0; 3],
                     specular: [0.0; 3],
                     transmission: [0.0; 3],
+                    translucency: [0.0; 3],
                     phong: 0.0,
                     frustum_deg: None,
                 });
@@ -434,6 +439,7 @@ fn load_obj(
                         material,
                         area: polygon.area,
                         shape: Shape::Polygon(polygon),
+                        sides: Sides::Opaque,
                     });
                 }
                 Err(_) => skipped += 1,
@@ -516,17 +522,24 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
                 Some(s) => cx.rgb(s, "material.transmission", Some(1.0 + 1e-12))?,
                 None => [0.0; 3],
             },
+            translucency: match &m.translucency {
+                Some(s) => cx.rgb(s, "material.translucency", Some(1.0))?,
+                None => [0.0; 3],
+            },
             phong,
             frustum_deg,
         };
         for c in 0..3 {
-            let sum = material.diffuse[c] + material.specular[c] + material.transmission[c];
+            let sum = material.diffuse[c]
+                + material.translucency[c]
+                + material.specular[c]
+                + material.transmission[c];
             if sum > 1.0 + 1e-12 {
                 return Err(cx.err(
                     span.clone(),
                     "material",
                     format!(
-                        "diffuse + specular + transmission must not exceed 1 per channel (channel {c} sums to {sum})"
+                        "diffuse + translucency + specular + transmission must not exceed 1 per channel, (2.2) (channel {c} sums to {sum})"
                     ),
                 ));
             }
@@ -685,6 +698,7 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
             material,
             area: polygon.area,
             shape: Shape::Polygon(polygon),
+            sides: Sides::Opaque,
         });
     }
     if patches.is_empty() {
@@ -735,6 +749,7 @@ pub fn parse(src: &str, file: &str) -> Result<Scene> {
             })
         }
     };
+    crate::translucent::add_back_sides(&mut materials, &mut patches);
     Ok(Scene {
         materials,
         patches,

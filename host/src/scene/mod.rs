@@ -24,6 +24,9 @@ pub struct Material {
     pub specular: Rgb,
     /// k_t per channel: specular transmission through the patch (a thin sheet, no refraction).
     pub transmission: Rgb,
+    /// k_y ρ_y per channel: diffuse transmission (paper (2.2)). A patch of such a material is a
+    /// two-sided sheet: see [`crate::translucent`].
+    pub translucency: Rgb,
     /// Phong power n of both specular lobes (∞ for a perfect mirror).
     pub phong: f64,
     /// The frustum's half-angle in degrees, when the scene gives it instead of deriving it from
@@ -46,7 +49,14 @@ impl Material {
     /// still has an (all-zero) radiosity to report.
     pub fn is_diffuse(&self) -> bool {
         let any = |v: &Rgb| v.iter().any(|x| *x > 0.0);
-        any(&self.diffuse) || any(&self.emission) || !(self.reflects() || self.transmits())
+        any(&self.diffuse)
+            || any(&self.emission)
+            || self.is_translucent()
+            || !(self.reflects() || self.transmits())
+    }
+    /// Whether the material transmits diffusely (k_y > 0), so its patches have a back side.
+    pub fn is_translucent(&self) -> bool {
+        self.translucency.iter().any(|k| *k > 0.0)
     }
 }
 
@@ -61,6 +71,28 @@ pub struct ScenePatch {
     pub shape: Shape,
     /// Its area.
     pub area: f32,
+    /// Which side of a two-sided (diffusely transmitting) sheet this is.
+    pub sides: Sides,
+}
+
+/// The sides of a patch. A diffusely transmitting patch (k_y > 0) has a radiosity on each side,
+/// so the scene holds its back side as a patch of its own, after every front patch (the kernel's
+/// patch memory is the fronts; a ray reaching a front's back is credited to the back side).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Sides {
+    /// An ordinary patch: its back blocks light.
+    #[default]
+    Opaque,
+    /// The front of a translucent sheet, whose back side is patch `back`.
+    Front {
+        /// Scene index of the back side.
+        back: usize,
+    },
+    /// The back side of the translucent sheet `front`.
+    Back {
+        /// Scene index (and kernel id) of the front.
+        front: usize,
+    },
 }
 
 impl ScenePatch {
@@ -102,12 +134,51 @@ pub struct Scene {
 }
 
 impl Scene {
-    /// The patches as the kernel's patch memory (same order, so ids are indices).
+    /// The patches as the kernel's patch memory: the fronts, in the same order, so kernel ids
+    /// are scene indices (back sides of translucent sheets are not patches of their own to the
+    /// kernel, only columns).
     pub fn kernel_patches(&self) -> Vec<Patch> {
-        self.patches
+        self.patches[..self.fronts()]
             .iter()
             .map(|p| Patch { shape: p.shape })
             .collect()
+    }
+    /// Number of front patches (all but the back sides, which come last).
+    pub fn fronts(&self) -> usize {
+        self.patches
+            .iter()
+            .position(|p| matches!(p.sides, Sides::Back { .. }))
+            .unwrap_or(self.patches.len())
+    }
+    /// The kernel patch that scene patch `i` is a side of.
+    pub fn kernel_id(&self, i: usize) -> usize {
+        match self.patches[i].sides {
+            Sides::Back { front } => front,
+            _ => i,
+        }
+    }
+    /// The other side of patch `i`, if it is a translucent sheet.
+    pub fn twin(&self, i: usize) -> Option<usize> {
+        match self.patches[i].sides {
+            Sides::Opaque => None,
+            Sides::Front { back } => Some(back),
+            Sides::Back { front } => Some(front),
+        }
+    }
+    /// The scene patch a ray sees when it reaches kernel patch `patch` from the front (`front`)
+    /// or from behind.
+    pub fn side_seen(&self, patch: u32, front: bool) -> usize {
+        let i = patch as usize;
+        match (front, self.patches.get(i).map(|p| p.sides)) {
+            (false, Some(Sides::Front { back })) => back,
+            _ => i,
+        }
+    }
+    /// Whether any patch transmits diffusely.
+    pub fn has_translucency(&self) -> bool {
+        self.patches
+            .iter()
+            .any(|p| matches!(p.sides, Sides::Back { .. }))
     }
     /// The material of patch `i`.
     pub fn material_of(&self, i: usize) -> &Material {

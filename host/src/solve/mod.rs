@@ -72,6 +72,41 @@ pub fn grey(f: &[Vec<f64>]) -> Channels<'_> {
     [f, f, f]
 }
 
+/// The parts of (2.6) for a scene, owned, that a [`System`] borrows: ρ (k_d ρ_d) and E per
+/// patch and, when the scene has translucent sheets, the coupled matrices of
+/// [`crate::translucent::coupled`], which carry ρ and τ themselves (so ρ is then 1).
+#[derive(Clone, Debug)]
+pub struct SceneParts {
+    rho: Vec<[f64; 3]>,
+    e: Vec<[f64; 3]>,
+    coupled: Option<[Vec<Vec<f64>>; 3]>,
+}
+
+impl SceneParts {
+    /// ρ, E and (for translucent sheets) the coupled matrices of `scene` with form factors `ff`.
+    pub fn new(scene: &crate::scene::Scene, ff: &crate::pass1::FormFactors) -> SceneParts {
+        let n = scene.patches.len();
+        let coupled = crate::translucent::coupled(scene, ff.channels());
+        let rho = (0..n)
+            .map(|i| match coupled {
+                Some(_) => [1.0; 3],
+                None => scene.material_of(i).diffuse,
+            })
+            .collect();
+        let e = (0..n).map(|i| scene.material_of(i).emission).collect();
+        SceneParts { rho, e, coupled }
+    }
+
+    /// The system `B = E + ρFB` (or `B = E + KB` with translucent sheets) over `ff`.
+    pub fn system<'a>(&'a self, ff: &'a crate::pass1::FormFactors) -> Result<System<'a>> {
+        let f = match &self.coupled {
+            Some([r, g, b]) => [r.as_slice(), g.as_slice(), b.as_slice()],
+            None => ff.channels(),
+        };
+        System::new(f, &self.rho, &self.e)
+    }
+}
+
 /// One radiosity system (2.6): per-channel F, ρ (k_d ρ_d) and E per patch.
 #[derive(Clone, Copy, Debug)]
 pub struct System<'a> {

@@ -43,6 +43,7 @@ impl<'a, A: Accelerator> RowShooter<'a, A> {
         make: &'a (dyn Fn() -> A + Sync),
         max_cached: usize,
     ) -> Result<Self> {
+        crate::translucent::refuse(scene, "progressive refinement with rows shot on demand")?;
         let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
             .map_err(|e| anyhow::anyhow!("--circles {}: {e:?}", settings.circles))?;
         crate::optics::check(&settings.specular)?;

@@ -49,7 +49,8 @@ pub struct Placement {
 
 /// Casts `total` weighted directions from `at.origin` in batches of `batch.len()`: `dir(k)` is
 /// direction k in scene space (unit), `weight(k)` its share of the form factor. Every ray that
-/// reaches the front of a diffuse patch adds its weight to that patch's column of `row`.
+/// reaches a diffuse side (see [`crate::optics::Surface::column_for`]) adds its weight to that
+/// side's column of `row`.
 #[allow(clippy::too_many_arguments, reason = "one batched shot")]
 pub(crate) fn cast_weighted<A: Accelerator>(
     accel: &mut A,
@@ -80,22 +81,22 @@ pub(crate) fn cast_weighted<A: Accelerator>(
             stats.rays += 1;
             // an engine that cannot skip the origin patch reports it: it is not "seen"
             let hit = hit.filter(|h| Some(h.patch) != origin_patch);
-            match hit {
-                Some(h) if h.front => {
+            if let Some(h) = hit {
+                if h.front {
                     stats.front_hits += 1;
-                    if let Some(slot) = optics
-                        .surface(h.patch)
-                        .column
-                        .and_then(|c| row.get_mut(c as usize))
-                    {
-                        let w = weight(base + i as u32);
-                        for s in slot.iter_mut() {
-                            *s += w;
-                        }
+                } else {
+                    stats.back_hits += 1;
+                }
+                if let Some(slot) = optics
+                    .surface(h.patch)
+                    .column_for(h.front)
+                    .and_then(|c| row.get_mut(c as usize))
+                {
+                    let w = weight(base + i as u32);
+                    for s in slot.iter_mut() {
+                        *s += w;
                     }
                 }
-                Some(_) => stats.back_hits += 1,
-                None => {}
             }
         });
         base += m as u32;
