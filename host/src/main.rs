@@ -64,6 +64,14 @@ struct Common {
     /// CORDIC word width in bits of the modelled accelerator (`--backend model`).
     #[arg(long, default_value_t = 32)]
     cordic_width: u32,
+    /// Bezier subdivision depth of the modelled accelerator (`--backend model`; 1..=13 with its
+    /// 40-entry stack).
+    #[arg(long, default_value_t = ModelConfig::default().subdivision_depth)]
+    bezier_depth: u32,
+    /// Bezier control-point datapath width in bits of the modelled accelerator
+    /// (`--backend model`; 12..=26).
+    #[arg(long, default_value_t = ModelConfig::default().coord_width)]
+    bezier_width: u32,
     /// Δ of paper §6.5: specular frustums carrying less than this fraction of their primary ray
     /// are not shot.
     #[arg(long, default_value_t = hemi_kernel::specular::DEFAULT_THRESHOLD)]
@@ -99,9 +107,18 @@ impl Common {
             "soft" => Ok(Backend::Soft),
             "model" => {
                 anyhow::ensure!(self.clock_mhz > 0.0 && self.clock_mhz.is_finite(), "--clock-mhz must be positive");
+                let subdiv = hemi_hdl_model::intersect::bezier::SubdivConfig { depth: self.bezier_depth, coord_width: self.bezier_width };
+                anyhow::ensure!(
+                    subdiv.is_valid_for(hemi_hdl_model::intersect::bezier::STACK_ENTRIES),
+                    "--bezier-depth {} --bezier-width {}: the model takes depths 1..=13 and widths 12..=26",
+                    self.bezier_depth,
+                    self.bezier_width
+                );
                 Ok(Backend::Model(ModelConfig {
                     iterations: self.cordic_iterations,
                     width: self.cordic_width,
+                    subdivision_depth: self.bezier_depth,
+                    coord_width: self.bezier_width,
                     ..ModelConfig::default()
                 }))
             }
