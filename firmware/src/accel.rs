@@ -4,10 +4,11 @@
 //!
 //! Which one answers jobs: the build's own ([`FwAccel::native`]) unless the host asks for the
 //! soft engine in its `Configure`. On a board (feature `board`) the accelerator's registers
-//! ([`crate::accel_mmio`]) are probed at boot by their ID register (`probe_mmio`, feature `board`); running jobs
-//! on them needs the kernel's `Accelerator` over any `RegisterAccess` (today
-//! `hemi_hdl_model::ModelAccelerator` is tied to the model's bus), so a board build answers jobs
-//! with the soft engine until that lands.
+//! ([`crate::accel_mmio`]) are probed at boot by their ID register (`probe_mmio`, feature `board`).
+//! The kernel's `Accelerator` over them exists (`hemi_hdl_model::RegisterAccelerator<AccelMmio>`,
+//! the model's code over volatile MMIO), but a board build that also runs jobs on it overflows
+//! the 128 KiB flash by about 3.3 KB (the tracer and walker are instantiated a second time, for
+//! the second accelerator type), so a board build answers jobs with the soft engine for now.
 
 use hemi_kernel::link::engine::{AccelJob, AccelProvider, SoftProvider};
 use hemi_kernel::link::{AccelKind, ErrorCode};

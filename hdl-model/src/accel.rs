@@ -1,4 +1,6 @@
-//! `ModelAccelerator`: the kernel's [`Accelerator`] on the model, through the driver.
+//! The kernel's [`Accelerator`] on the accelerator's registers, through the driver:
+//! [`RegisterAccelerator`] over any [`RegisterAccess`] (volatile MMIO on a board), and
+//! [`ModelAccelerator`], the same code over the model's bus.
 //!
 //! This is the only place with floating point: the kernel's f32 values become register words on
 //! the way in and come back on the way out.
@@ -17,7 +19,7 @@
 //! - `set_origin_patch` becomes the SKIP_PATCH register, latched with every ray, as the soft
 //!   engine applies it to every cast.
 
-use crate::driver::{Driver, DriverError, ModelBus};
+use crate::driver::{Driver, DriverError, ModelBus, RegisterAccess};
 use crate::format::{Coord, Unit};
 use crate::intersect::bezier::{BEZIER_ROWS, CP_WORDS};
 use crate::intersect::patch_mem::{BezierSlot, PatchWords, KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
@@ -95,9 +97,11 @@ impl From<DriverError> for ModelError {
     }
 }
 
-/// The model accelerator behind the kernel's trait.
-pub struct ModelAccelerator {
-    driver: Driver<ModelBus>,
+/// The accelerator behind the kernel's trait, driven through its registers by the driver, over
+/// any register access `B`: the model's bus on the host and under QEMU ([`ModelAccelerator`]),
+/// volatile MMIO on a board. Everything it does goes through the driver.
+pub struct RegisterAccelerator<B: RegisterAccess> {
+    driver: Driver<B>,
     centre: [f64; 3],
     /// fixed-point units per scene unit (a power of two)
     scale: f64,
@@ -119,13 +123,18 @@ fn unit_f32(w: u32) -> f32 {
     Unit::from_bits(w as i32).to_num()
 }
 
+/// The accelerator model behind the kernel's trait: [`RegisterAccelerator`] over the model's bus.
+pub type ModelAccelerator = RegisterAccelerator<ModelBus>;
+
 impl ModelAccelerator {
     /// Configures the model and loads `patches` into its patch memory through the driver.
     pub fn new(patches: &[Patch], config: ModelConfig) -> Result<Self, ModelError> {
         // Built in place and then configured through `&mut self`: the model is about 100 KB,
         // and every by-value move of it is a copy on the stack in unoptimised builds (rayon's
         // worker threads, with 2 MiB stacks, nest several of these).
-        let mut acc = ModelAccelerator {
+        // (So the fields are spelled out here rather than built by a helper taking the driver
+        // by value.)
+        let mut acc = RegisterAccelerator {
             driver: Driver::unattached(ModelBus::new()),
             centre: [0.0; 3],
             scale: 1.0,
@@ -139,6 +148,42 @@ impl ModelAccelerator {
         };
         acc.load(patches, config)?;
         Ok(acc)
+    }
+
+    /// Clocks the model has run (the CYCLE counter, read without spending bus cycles on it).
+    pub fn cycles(&self) -> u64 {
+        self.driver.bus().device().cycles()
+    }
+
+    /// The Bezier unit's work counters: patch tests, subdivision steps, leaves, clocks.
+    pub fn bezier_stats(&self) -> crate::intersect::bezier::BezierStats {
+        self.driver.bus().device().bezier_stats()
+    }
+}
+
+impl<B: RegisterAccess> RegisterAccelerator<B> {
+    /// Attaches to the accelerator behind `bus` (ID and version check), configures it and loads
+    /// `patches` into its patch memory.
+    pub fn with_bus(bus: B, patches: &[Patch], config: ModelConfig) -> Result<Self, ModelError> {
+        let mut acc = RegisterAccelerator {
+            driver: Driver::unattached(bus),
+            centre: [0.0; 3],
+            scale: 1.0,
+            frame: None,
+            origin: None,
+            mode: None,
+            origin_patch: None,
+            skip: None,
+            rays: 0,
+            out_of_range: 0,
+        };
+        acc.load(patches, config)?;
+        Ok(acc)
+    }
+
+    /// Clocks the accelerator has run, read from its CYCLE registers (two bus accesses).
+    pub fn device_cycles(&mut self) -> u64 {
+        self.driver.cycles()
     }
 
     fn load(&mut self, patches: &[Patch], config: ModelConfig) -> Result<(), ModelError> {
@@ -240,16 +285,6 @@ impl ModelAccelerator {
         }
     }
 
-    /// Clocks the model has run (the CYCLE counter, read without spending bus cycles on it).
-    pub fn cycles(&self) -> u64 {
-        self.driver.bus().device().cycles()
-    }
-
-    /// The Bezier unit's work counters: patch tests, subdivision steps, leaves, clocks.
-    pub fn bezier_stats(&self) -> crate::intersect::bezier::BezierStats {
-        self.driver.bus().device().bezier_stats()
-    }
-
     /// Rays traced (rotations alone not counted).
     pub fn rays(&self) -> u64 {
         self.rays
@@ -261,7 +296,7 @@ impl ModelAccelerator {
     }
 
     /// The driver (for measurements).
-    pub fn driver_mut(&mut self) -> &mut Driver<ModelBus> {
+    pub fn driver_mut(&mut self) -> &mut Driver<B> {
         &mut self.driver
     }
 
@@ -311,7 +346,7 @@ impl ModelAccelerator {
     }
 }
 
-impl Accelerator for ModelAccelerator {
+impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
     fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
         self.set_frame(rot);
         self.set_mode(mode::ROTATE);

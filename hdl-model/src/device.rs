@@ -486,7 +486,7 @@ impl Device {
         // ray FIFO → angle unit or rotator
         let mut rot_in = None;
         if self.enable {
-            if let Some(e) = self.ray_fifo.front().copied() {
+            if let Some(e) = self.ray_fifo.front() {
                 match e.frame {
                     Some(req) => {
                         if !self.frame.busy() {
@@ -499,6 +499,7 @@ impl Device {
                         let room =
                             (self.rotator.occupancy() as usize + self.queue.len()) < QUEUE_DEPTH;
                         if room && !(rotates && self.frame.busy()) {
+                            let e = *e;
                             self.ray_fifo.pop();
                             let no_frame = rotates && !self.frame_valid;
                             if no_frame {

@@ -113,13 +113,18 @@ impl FrameUnit {
     }
 
     /// One clock; true on the clock the frame completes.
+    #[inline]
     pub fn tick(&mut self) -> bool {
-        let was_busy = self.busy();
-        if !was_busy {
+        if !self.busy() {
             // nothing queued or in the pipe (all of it counts in `outstanding`): a clock of an
             // idle unit changes no register
             return false;
         }
+        self.tick_busy()
+    }
+
+    fn tick_busy(&mut self) -> bool {
+        let was_busy = true;
         let mut input = None;
         if let Some(s) = self.pipe.tick(None) {
             match s.payload {

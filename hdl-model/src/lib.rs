@@ -9,7 +9,8 @@
 //! - [`regs`]: the register map (`docs/register-map.md`);
 //! - [`driver`]: the driver, generic over [`driver::RegisterAccess`] (the model here, volatile
 //!   MMIO in the firmware);
-//! - [`accel`]: [`accel::ModelAccelerator`], the kernel's `Accelerator` on top of the driver.
+//! - [`accel`]: [`accel::RegisterAccelerator`], the kernel's `Accelerator` on top of the driver
+//!   over any register access, and [`accel::ModelAccelerator`], that over the model's bus.
 //!
 //! The datapath is integer/fixed point only; f32 appears only in [`accel`], where the kernel's
 //! values are converted to register words and back.
@@ -28,5 +29,5 @@ pub mod pipe;
 pub mod regs;
 pub mod rotator;
 
-pub use accel::{ModelAccelerator, ModelConfig, ModelError};
+pub use accel::{ModelAccelerator, ModelConfig, ModelError, RegisterAccelerator};
 pub use driver::{Driver, DriverError, ModelBus, RegisterAccess};

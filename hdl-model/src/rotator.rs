@@ -12,6 +12,7 @@
 
 use crate::cordic::{CordicConfig, CordicPipe, CordicSlot, Mode};
 use crate::format::{Angle, Unit};
+use crate::pipe::Pipe;
 
 /// What rides along a direction through the pipes: the component the current pipe does not
 /// turn, and the direction's slot in the side table (a 7-bit tag, as hardware would carry
@@ -51,16 +52,25 @@ pub struct RotIn<T: Copy + Default> {
     pub info: T,
 }
 
+/// The rotator's registers: three pipes of n + 2 and the register between consecutive pipes.
+const CHAIN: usize = 3 * (crate::cordic::MAX_ITERATIONS as usize + 2) + 2;
+
 /// The three CORDIC pipes.
+///
+/// Their registers are kept as one ring of 3(n + 2) + 2 ([`Pipe`]), and each pipe's stages are
+/// applied as a direction leaves the ring (`Pipe::shift`): the pipes never stall and nothing
+/// reads their registers, so the direction and its clock are those of three pipes ticked one
+/// after the other, at the cost of one register shift a clock instead of three.
 #[derive(Clone, Debug)]
 pub struct Rotator<T: Copy + Default> {
     psi: CordicPipe<Carry>,
     theta: CordicPipe<Carry>,
     phi: CordicPipe<Carry>,
+    regs: Pipe<CordicSlot<Carry>, CHAIN>,
     side: [Side<T>; SLOTS],
     next_slot: u8,
-    /// directions in flight (entered and not yet out), the sum of the pipes' occupancies kept
-    /// as a counter: the device asks every clock
+    /// directions in flight (entered and not yet out), kept as a counter: the device asks
+    /// every clock
     in_flight: u32,
 }
 
@@ -71,6 +81,7 @@ impl<T: Copy + Default> Rotator<T> {
             psi: CordicPipe::new(Mode::Rotate, cfg),
             theta: CordicPipe::new(Mode::Rotate, cfg),
             phi: CordicPipe::new(Mode::Rotate, cfg),
+            regs: Pipe::new(3 * cfg.latency() as usize + 2),
             side: [Side::default(); SLOTS],
             next_slot: 0,
             in_flight: 0,
@@ -84,27 +95,22 @@ impl<T: Copy + Default> Rotator<T> {
 
     /// Directions in flight.
     pub fn occupancy(&self) -> u32 {
-        debug_assert_eq!(
-            self.in_flight,
-            self.psi.occupancy() + self.theta.occupancy() + self.phi.occupancy()
-        );
+        debug_assert_eq!(self.in_flight, self.regs.occupancy());
         self.in_flight
     }
 
     /// Drops everything in flight.
     pub fn flush(&mut self) {
-        self.psi.flush();
-        self.theta.flush();
-        self.phi.flush();
+        self.regs.flush();
         self.in_flight = 0;
     }
 
     /// One clock; returns the rotated direction leaving the φ pipe with its info.
     #[inline]
     pub fn tick(&mut self, input: Option<RotIn<T>>) -> Option<([Unit; 3], T)> {
-        // the pipes are ticked last-first, as registers all update on the same edge
-        let out = self.phi.tick(None);
-        let from_theta = self.theta.tick(None);
+        if input.is_none() && self.in_flight == 0 {
+            return None;
+        }
         let input = input.map(|r| {
             self.in_flight += 1;
             let slot = self.next_slot;
@@ -127,42 +133,37 @@ impl<T: Copy + Default> Rotator<T> {
                 },
             }
         });
-        let from_psi = self.psi.tick(input);
-        if let Some(s) = from_psi {
-            // (z, x) turned by θ; y carried
-            self.theta.feed(CordicSlot {
-                x: s.payload.third,
-                y: s.x,
-                z: self.side[s.payload.slot as usize].theta,
-                zero: false,
-                payload: Carry {
-                    third: s.y,
-                    slot: s.payload.slot,
-                },
-            });
-        }
-        if let Some(s) = from_theta {
-            // (x₁, y) turned by φ; z₁ carried
-            self.phi.feed(CordicSlot {
-                x: s.y,
-                y: s.payload.third,
-                z: self.side[s.payload.slot as usize].phi,
-                zero: false,
-                payload: Carry {
-                    third: s.x,
-                    slot: s.payload.slot,
-                },
-            });
-        }
-        self.in_flight -= out.is_some() as u32;
-        out.map(|s| {
-            let side = &self.side[s.payload.slot as usize];
-            let v = if side.bypass {
-                side.original
-            } else {
-                [s.x, s.y, s.payload.third]
-            };
-            (v, side.info)
-        })
+        let out = self.regs.shift(input)?;
+        self.in_flight -= 1;
+        let side = &self.side[out.payload.slot as usize];
+        let s = self.psi.eval(out);
+        // (z, x) turned by θ; y carried
+        let s = self.theta.eval(CordicSlot {
+            x: s.payload.third,
+            y: s.x,
+            z: side.theta,
+            zero: false,
+            payload: Carry {
+                third: s.y,
+                slot: s.payload.slot,
+            },
+        });
+        // (x₁, y) turned by φ; z₁ carried
+        let s = self.phi.eval(CordicSlot {
+            x: s.y,
+            y: s.payload.third,
+            z: side.phi,
+            zero: false,
+            payload: Carry {
+                third: s.x,
+                slot: s.payload.slot,
+            },
+        });
+        let v = if side.bypass {
+            side.original
+        } else {
+            [s.x, s.y, s.payload.third]
+        };
+        Some((v, side.info))
     }
 }

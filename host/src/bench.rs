@@ -5,7 +5,9 @@ pub mod methods;
 pub mod paper;
 pub mod plot;
 pub mod quality;
+pub mod rng;
 pub mod solvers;
+pub mod trace;
 
 use crate::analytic::bezier_newton;
 use crate::engine::SoftEngine;
@@ -32,13 +34,8 @@ fn beziers(scene: &Scene) -> Vec<Bezier> {
 /// Rays aimed at random points of random patches from 0.5 to 3 units away, within about 40° of
 /// the normal, with the f64 Newton reference of each: (patch, origin, direction, t, u, v).
 fn aimed_rays(patches: &[Bezier], n: usize) -> Vec<(usize, Vec3, Vec3, f64, f64, f64)> {
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-    let mut rnd = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f32 / (1u64 << 53) as f32
-    };
+    let mut rng = rng::XorShift::new(0x9e37_79b9_7f4a_7c15);
+    let mut rnd = move || rng.f32();
     let mut out = Vec::new();
     while out.len() < n {
         let i = (rnd() * patches.len() as f32) as usize % patches.len();

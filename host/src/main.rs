@@ -64,6 +64,14 @@ struct Common {
     /// CORDIC word width in bits of the modelled accelerator (`--backend model`).
     #[arg(long, default_value_t = 32)]
     cordic_width: u32,
+    /// Bezier subdivision depth of the modelled accelerator (`--backend model`; 1..=13 with its
+    /// 40-entry stack).
+    #[arg(long, default_value_t = ModelConfig::default().subdivision_depth)]
+    bezier_depth: u32,
+    /// Bezier control-point datapath width in bits of the modelled accelerator
+    /// (`--backend model`; 12..=26).
+    #[arg(long, default_value_t = ModelConfig::default().coord_width)]
+    bezier_width: u32,
     /// Δ of paper §6.5: specular frustums carrying less than this fraction of their primary ray
     /// are not shot.
     #[arg(long, default_value_t = hemi_kernel::specular::DEFAULT_THRESHOLD)]
@@ -83,7 +91,8 @@ struct Common {
     #[arg(long, default_value = "hemisphere")]
     method: hemi::method::Method,
     /// Preset R and K from a target error and the scene's size: draft | default | high
-    /// (overrides --circles and --samples; see docs/PERFORMANCE.md for what each costs).
+    /// (overrides --circles and --samples, or with --adaptive --circles, --margin and
+    /// --max-depth; see docs/PERFORMANCE.md for what each costs).
     #[arg(long)]
     quality: Option<hemi::quality::Quality>,
     /// Largest N×N form-factor matrix pass 1 may form, in MiB (three f64 channels); above it,
@@ -98,9 +107,18 @@ impl Common {
             "soft" => Ok(Backend::Soft),
             "model" => {
                 anyhow::ensure!(self.clock_mhz > 0.0 && self.clock_mhz.is_finite(), "--clock-mhz must be positive");
+                let subdiv = hemi_hdl_model::intersect::bezier::SubdivConfig { depth: self.bezier_depth, coord_width: self.bezier_width };
+                anyhow::ensure!(
+                    subdiv.is_valid_for(hemi_hdl_model::intersect::bezier::STACK_ENTRIES),
+                    "--bezier-depth {} --bezier-width {}: the model takes depths 1..=13 and widths 12..=26",
+                    self.bezier_depth,
+                    self.bezier_width
+                );
                 Ok(Backend::Model(ModelConfig {
                     iterations: self.cordic_iterations,
                     width: self.cordic_width,
+                    subdivision_depth: self.bezier_depth,
+                    coord_width: self.bezier_width,
                     ..ModelConfig::default()
                 }))
             }
@@ -148,9 +166,13 @@ impl Common {
         if self.max_depth > 8 {
             bail!("--max-depth must be at most 8 (a 2×2 guess becomes 512×512)");
         }
+        // a --quality preset sets the margin and depth, as it sets R and K
+        let (margin, max_depth) = self
+            .quality
+            .map_or((self.margin, self.max_depth), |q| q.adaptive());
         Ok(Some(AdaptiveSettings {
-            margin: self.margin,
-            max_depth: self.max_depth,
+            margin,
+            max_depth,
             test: if self.test == "spread" {
                 hemi::adaptive::Test::Spread
             } else {
@@ -164,7 +186,11 @@ impl Common {
     fn settings_for(&self, scene: &Scene) -> Result<Pass1Settings> {
         let mut settings = self.pass1()?;
         if let Some(q) = self.quality {
-            let p = hemi::quality::apply(q, scene, &mut settings);
+            let p = if self.adaptive {
+                hemi::quality::apply_adaptive(q, scene, &mut settings)
+            } else {
+                hemi::quality::apply(q, scene, &mut settings)
+            };
             eprintln!("{}", p.why);
         }
         Ok(settings)
@@ -269,7 +295,7 @@ enum BenchCommand {
         #[arg(long, default_value_t = 2)]
         initial: u32,
         /// Comma-separated margins of the adaptive runs (the points of each chart line).
-        #[arg(long, default_value = "0.4,0.3,0.2,0.15,0.1,0.05")]
+        #[arg(long, default_value = "0.4,0.3,0.25,0.2,0.17,0.15,0.12,0.1,0.07,0.05")]
         margins: String,
         /// Comma-separated depth limits of the adaptive runs (one chart line each, per test).
         #[arg(long, default_value = "4,5")]
@@ -280,6 +306,10 @@ enum BenchCommand {
         /// Also draw the chart (SVG).
         #[arg(long)]
         svg: Option<PathBuf>,
+        /// Keep the reference's grids in this file between runs (recomputed when the scene, K
+        /// or R differ).
+        #[arg(long)]
+        reference_cache: Option<PathBuf>,
         #[command(flatten)]
         common: Common,
     },
@@ -298,6 +328,18 @@ enum BenchCommand {
         /// Also draw the chart (SVG): error against latency, one line per word width.
         #[arg(long)]
         svg: Option<PathBuf>,
+    },
+    /// Single rays through the soft engine with and without its BVH: rays/s and the ratio, on
+    /// SCENE (optionally tessellated: Bezier patches become 2n² triangles each).
+    Trace {
+        #[arg(default_value = "scenes/teapot.toml")]
+        scene: PathBuf,
+        /// Rays to cast (random origins in the scene's box, random directions; fixed seed).
+        #[arg(long, default_value_t = 100_000)]
+        rays: usize,
+        /// Tessellate Bezier patches into an n×n grid of triangle pairs first (0: keep them).
+        #[arg(long, default_value_t = 16)]
+        tessellate: usize,
     },
     /// The teapot as Bezier patches (16 samples each) against the same teapot tessellated into
     /// 2n² triangles per patch (1 sample each): time, matrix size, memory, radiosities.
@@ -1226,6 +1268,7 @@ fn main() -> Result<()> {
                     depths,
                     tests,
                     svg,
+                    reference_cache,
                     common,
                 },
         } => {
@@ -1254,6 +1297,7 @@ fn main() -> Result<()> {
                         t => bail!("--tests: unknown test `{t}` (surplus, spread)"),
                     })
                     .collect::<Result<_>>()?,
+                reference_cache,
             };
             anyhow::ensure!(
                 (1..=256).contains(&reference) && (1..=256).contains(&initial),
@@ -1271,6 +1315,21 @@ fn main() -> Result<()> {
                 svg.as_deref(),
                 &command,
             )?;
+        }
+        Command::Bench {
+            command:
+                BenchCommand::Trace {
+                    scene,
+                    rays,
+                    tessellate,
+                },
+        } => {
+            let mut sc = scene::load(&scene)?;
+            if tessellate > 0 {
+                anyhow::ensure!(tessellate <= 64, "--tessellate must be at most 64");
+                sc = hemi::bench::tessellate(&sc, tessellate);
+            }
+            hemi::bench::trace::single_rays(&sc, rays, &mut out)?;
         }
         Command::Bench {
             command: BenchCommand::Cordic { svg },

@@ -17,6 +17,11 @@
 //! The scene's size enters through a ray budget per preset: a scene with many patches gets a
 //! smaller K (then R) until P·K²·rays(R) fits, and the command says so. The preset's cost on
 //! the Cornell box is measured in docs/PERFORMANCE.md.
+//!
+//! Under `--adaptive` a preset sets R as above and, instead of K, the gradient test's margin and
+//! the depth limit ([`Quality::adaptive`]); the initial guess stays `--samples` (2 by default).
+//! Each pair is the adaptive run that reaches about the field error of the uniform K the preset
+//! picks, measured on the Cornell box (docs/ACCURACY.md, "Adaptive patch sampling").
 
 use crate::pass1::{sample_count, Pass1Settings};
 use crate::scene::Scene;
@@ -44,6 +49,18 @@ impl Quality {
             Quality::Draft => 0.03,
             Quality::Default => 0.005,
             Quality::High => 0.001,
+        }
+    }
+
+    /// Under `--adaptive`: the gradient test's margin and the most levels beyond the initial
+    /// guess. Draft 0.3 and 3 (at most 16×16 from 2×2; the field error of uniform K ≈ 8), default
+    /// 0.15 and 4 (32×32; about uniform K = 16's), high 0.05 and 5 (64×64; below uniform
+    /// K = 32's).
+    pub fn adaptive(self) -> (f64, u32) {
+        match self {
+            Quality::Draft => (0.3, 3),
+            Quality::Default => (0.15, 4),
+            Quality::High => (0.05, 5),
         }
     }
 
@@ -146,6 +163,20 @@ pub fn apply(quality: Quality, scene: &Scene, settings: &mut Pass1Settings) -> P
     p
 }
 
+/// Applies `quality` under `--adaptive`: R as [`apply`] would choose it (its ray budget counted
+/// at the preset's K, so an upper bound on what a uniform run would cost); K, the initial guess,
+/// is left alone. The margin and depth come from [`Quality::adaptive`].
+pub fn apply_adaptive(quality: Quality, scene: &Scene, settings: &mut Pass1Settings) -> Preset {
+    let mut p = choose(quality, scene);
+    settings.circles = p.circles;
+    let (margin, depth) = quality.adaptive();
+    p.why += &format!(
+        "; --adaptive: R = {}, initial guess K = {} kept, margin {margin}, max depth {depth}",
+        p.circles, settings.samples
+    );
+    p
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -164,5 +195,13 @@ mod tests {
             assert!(p.rays > last, "{q:?}: {p:?}");
             last = p.rays;
         }
+    }
+
+    #[test]
+    fn adaptive_presets_tighten_in_order() {
+        let (d, h) = (Quality::Draft.adaptive(), Quality::High.adaptive());
+        let m = Quality::Default.adaptive();
+        assert!(d.0 > m.0 && m.0 > h.0, "margins {d:?} {m:?} {h:?}");
+        assert!(d.1 < m.1 && m.1 < h.1, "depths {d:?} {m:?} {h:?}");
     }
 }

@@ -10,7 +10,7 @@ use crate::solve::Solution;
 /// around them, extended linearly to the patch boundary; inside a cell B is bilinear between its
 /// four vertices. Shading is then continuous across the patch (no faceting) and a uniform
 /// patch stays exactly uniform.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Grid {
     k: usize,
     vertices: Vec<[f64; 3]>,

@@ -216,6 +216,29 @@ fn bad_input_gets_a_clear_error_and_a_failing_status() {
 }
 
 #[test]
+fn the_model_backend_takes_the_bezier_units_depth_and_width() {
+    let p = scene("bezier-flags.toml", TWO_SQUARES);
+    let p = p.to_str().unwrap();
+    let base = [
+        "solve",
+        p,
+        "--backend",
+        "model",
+        "--circles",
+        "4",
+        "--samples",
+        "1",
+    ];
+    let (ok, _, err) = run(&[&base[..], &["--bezier-depth", "14"]].concat(), "");
+    assert!(!ok && err.contains("--bezier-depth 14"), "{err}");
+    let (ok, _, err) = run(&[&base[..], &["--bezier-width", "11"]].concat(), "");
+    assert!(!ok && err.contains("--bezier-width 11"), "{err}");
+    let narrow = ["--bezier-depth", "6", "--bezier-width", "14"];
+    let (ok, _, err) = run(&[&base[..], &narrow[..]].concat(), "");
+    assert!(ok, "{err}");
+}
+
+#[test]
 fn irradiance_under_a_lambertian_emitter_matches_the_closed_form() {
     // An emitting rectangle [0.2,1.2]×[0.3,1.3] at height 1, facing down, exitance M: the
     // irradiance at the origin facing up is M·F (Howell B-3 by superposition).

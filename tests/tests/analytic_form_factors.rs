@@ -187,13 +187,8 @@ fn band_rule_is_more_accurate_than_the_paper_rule_on_average() {
     // Element-to-rectangle configurations from a fixed-seed generator: rectangles of varied size,
     // height and offset; both rules at the same R. Rounding N_j to a multiple of four distorts
     // the paper's equal-area weights ring by ring; the band rule does not depend on it.
-    let mut seed = 0x2545_f491_4f6c_dd1du64;
-    let mut rnd = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = hemi::bench::rng::XorShift::new(0x2545_f491_4f6c_dd1d);
+    let mut rnd = || rng.f64();
     let (mut band_sum, mut paper_sum, mut n) = (0.0, 0.0, 0);
     for _ in 0..200 {
         let (a, b, c) = (0.1 + 2.0 * rnd(), 0.1 + 2.0 * rnd(), 0.2 + 1.5 * rnd());

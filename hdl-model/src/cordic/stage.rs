@@ -113,25 +113,33 @@ impl MicroRotation {
     /// The stage's logic on the register in place (the payload is not touched).
     #[inline]
     pub fn apply<P: Copy + Default>(&self, out: &mut CordicSlot<P>) {
-        let (x, y, z) = (out.x, out.y, out.z);
-        let m = |v: Unit| Unit::from_bits(v.to_bits() & self.mask);
-        let dx = m(x >> self.shift);
-        let dy = m(y >> self.shift);
+        let (x, y, z) = (out.x.to_bits(), out.y.to_bits(), out.z.to_bits());
         // rotate counter-clockwise (d = +1) while angle is left (rotation mode) or while the
         // vector is below the axis (vectoring mode)
         let ccw = match self.mode {
-            Mode::Rotate => z >= Angle::ZERO,
-            Mode::Vector => y < Unit::ZERO,
+            Mode::Rotate => z >= 0,
+            Mode::Vector => y < 0,
         };
-        if ccw {
-            out.x = x.wrapping_sub(dy);
-            out.y = y.wrapping_add(dx);
-            out.z = z.wrapping_sub(self.atan);
-        } else {
-            out.x = x.wrapping_add(dy);
-            out.y = y.wrapping_sub(dx);
-            out.z = z.wrapping_add(self.atan);
-        }
+        let (x, y, z) = self.step(ccw, x, y, z);
+        out.x = Unit::from_bits(x);
+        out.y = Unit::from_bits(y);
+        out.z = Angle::from_bits(z);
+    }
+
+    /// The adders of the stage on the raw words, given the direction bit: the operands are
+    /// taken as ±v by (v ^ s) − s with s = 0 or −1, as an add/sub control line does (and
+    /// without a data-dependent branch in the simulation).
+    #[inline(always)]
+    fn step(&self, ccw: bool, x: i32, y: i32, z: i32) -> (i32, i32, i32) {
+        let dx = (x >> self.shift) & self.mask;
+        let dy = (y >> self.shift) & self.mask;
+        let s = -(!ccw as i32);
+        let neg = |v: i32| (v ^ s).wrapping_sub(s);
+        (
+            x.wrapping_sub(neg(dy)),
+            y.wrapping_add(neg(dx)),
+            z.wrapping_sub(neg(self.atan.to_bits())),
+        )
     }
 }
 
@@ -235,17 +243,50 @@ impl<P: Copy + Default> CordicPipe<P> {
     /// leaving the gain stage.
     #[inline]
     pub fn tick(&mut self, input: Option<CordicSlot<P>>) -> Option<CordicSlot<P>> {
-        let n = self.cfg.iterations as usize;
-        let input = input.or(self.pending.take()).map(|s| self.quadrant.eval(s));
-        let micro = &self.micro;
-        let gain = &self.gain;
-        // register k feeds micro-rotation k (k < n) or the gain stage (k == n)
-        self.pipe.tick(input, |k, s| {
-            if k < n {
-                micro[k].apply(s)
-            } else {
-                gain.apply(s)
+        if input.is_none() && self.pending.is_none() && self.pipe.is_empty() {
+            // an empty pipe's clock changes no register
+            return None;
+        }
+        let input = match input {
+            Some(s) => Some(s),
+            None => self.pending.take(),
+        }
+        .map(|s| self.quadrant.eval(s));
+        // register k feeds micro-rotation k (k < n), register n the gain stage: applied in that
+        // order as the value leaves (see `Pipe::shift`)
+        self.pipe.shift(input).map(|s| self.after_quadrant(s))
+    }
+
+    /// Every stage of the pipe in order, as one combinational chain: what a value entering the
+    /// pipe leaves it as, for a unit that keeps the registers itself (the rotator chains three
+    /// pipes in one ring of registers).
+    #[inline]
+    pub fn eval(&self, s: CordicSlot<P>) -> CordicSlot<P> {
+        self.after_quadrant(self.quadrant.eval(s))
+    }
+
+    /// The micro-rotations and the gain stage.
+    #[inline]
+    fn after_quadrant(&self, mut s: CordicSlot<P>) -> CordicSlot<P> {
+        {
+            let micro = &self.micro[..self.cfg.iterations as usize];
+            let (mut x, mut y, mut z) = (s.x.to_bits(), s.y.to_bits(), s.z.to_bits());
+            // `MicroRotation::apply` stage after stage, with the mode decided once
+            match self.gain.mode {
+                Mode::Rotate => {
+                    for m in micro {
+                        (x, y, z) = m.step(z >= 0, x, y, z);
+                    }
+                }
+                Mode::Vector => {
+                    for m in micro {
+                        (x, y, z) = m.step(y < 0, x, y, z);
+                    }
+                }
             }
-        })
+            (s.x, s.y, s.z) = (Unit::from_bits(x), Unit::from_bits(y), Angle::from_bits(z));
+            self.gain.apply(&mut s);
+            s
+        }
     }
 }

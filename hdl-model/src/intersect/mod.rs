@@ -179,7 +179,10 @@ impl EdgeStage {
         }
         tok.inside = inside;
         tok.h = lp.h;
-        tok.den = d[0] * lp.n[0] as i128 + d[1] * lp.n[1] as i128 + d[2] * lp.n[2] as i128;
+        // n · d matters only inside the pyramid (the divider ignores it otherwise)
+        if inside {
+            tok.den = d[0] * lp.n[0] as i128 + d[1] * lp.n[1] as i128 + d[2] * lp.n[2] as i128;
+        }
         tok.front = lp.h < 0;
         tok
     }
@@ -257,8 +260,15 @@ pub struct IntersectUnit<T: Copy + Default> {
     current: Option<u8>,
     next_patch: u32,
     setup_next: Option<u32>,
-    edge_reg: Option<Token>,
-    divide: Delay<Quotient, DIV_LATENCY>,
+    /// The edge stage's output register, held as what the divider and the select stage make
+    /// of it: the divider's arithmetic depends on this register alone, and the select stage
+    /// sees the tokens in the same order whether it runs as they enter the divider's delay line
+    /// or as they leave it (the line never stalls, and nothing else reads the select stage), so
+    /// both are applied as the register is loaded. Only a ray's last token carries anything on:
+    /// the ray's slot and nearest hit, which reach the (u,v) pipe after the divider's latency,
+    /// on the clock they always did.
+    edge_reg: Option<(u8, Best)>,
+    divide: Delay<(u8, Best), DIV_LATENCY>,
     select: SelectStage,
     uv: Pipe<UvReg>,
     depth: u32,
@@ -445,12 +455,13 @@ impl<T: Copy + Default> IntersectUnit<T> {
     pub fn tick(&mut self, mem: &PatchMem, count: u32, now: u64) -> Option<RayOut<T>> {
         // (u,v) pipe, fed by the select stage
         let depth = self.depth;
-        let out = self.uv.tick(None, |_, s| {
-            if s.hit && s.direct.is_none() {
-                s.cell = UvStage.eval(s.cell);
+        // its `depth` bisection levels are applied as the register leaves (`Pipe::shift`)
+        if let Some(mut reg) = self.uv.shift(None) {
+            if reg.hit && reg.direct.is_none() {
+                for _ in 0..depth {
+                    UvStage.apply(&mut reg.cell);
+                }
             }
-        });
-        if let Some(reg) = out {
             let ray = self.rays[reg.slot as usize];
             let hit = reg.hit.then(|| {
                 let mut h = self.hits[reg.slot as usize];
@@ -479,12 +490,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
         now: u64,
         out: Option<RayOut<T>>,
     ) -> Option<RayOut<T>> {
-        // divider output → select → (u,v) pipe entry
-        if let Some(tok) = self
-            .divide
-            .tick(self.edge_reg.take().map(|t| DivideStage.eval(t)))
-        {
-            if let Some((slot, best)) = self.select.eval(tok) {
+        // divider (and select) output → (u,v) pipe entry
+        if let Some((slot, best)) = self.divide.tick(self.edge_reg.take()) {
+            {
                 let entry = match best {
                     Some((patch, t, front, Some(direct))) => {
                         self.hits[slot as usize] = HitOut {
@@ -581,7 +589,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
                     tok.inside = false;
                 }
             }
-            self.edge_reg = Some(tok);
+            self.edge_reg = self.select.eval(DivideStage.eval(tok));
             self.next_patch += 1;
             if last {
                 self.current = None;

@@ -49,8 +49,11 @@ fn side(a: [i64; 3], b: [i64; 3], p: [i64; 3], n: [i64; 3]) -> i128 {
         e[2] * w[0] - e[0] * w[2],
         e[0] * w[1] - e[1] * w[0],
     ];
-    // the cross product is Q.48; drop 24 bits so the dot with the Q2.30 normal stays in 128
-    (c[0] >> 24) * n[0] as i128 + (c[1] >> 24) * n[1] as i128 + (c[2] >> 24) * n[2] as i128
+    // the cross product is Q.48; drop 24 bits so the dot with the Q2.30 normal stays in 128.
+    // (|e| < 2^32, |w| < 2^34, so |c| < 2^67 and c >> 24 fits 64 bits: the products below are
+    // 64 × 64 → 128, which is what the narrowing tells the host compiler.)
+    let c = c.map(|c| (c >> 24) as i64 as i128);
+    c[0] * n[0] as i128 + c[1] * n[1] as i128 + c[2] * n[2] as i128
 }
 
 /// One bisection level.
@@ -60,7 +63,14 @@ pub struct UvStage;
 impl UvStage {
     /// The stage's logic: halve the cell in u and in v, keep the sub-cell holding the point.
     #[inline]
-    pub fn eval(&self, c: Cell) -> Cell {
+    pub fn eval(&self, mut c: Cell) -> Cell {
+        self.apply(&mut c);
+        c
+    }
+
+    /// The stage's logic on the register in place.
+    #[inline]
+    pub fn apply(&self, c: &mut Cell) {
         let [q0, q1, q2, q3] = c.q;
         let bottom = mid(q0, q1);
         let top = mid(q3, q2);
@@ -70,18 +80,17 @@ impl UvStage {
         // left of bottom→top means u < u_m; left of left→right means v > v_m
         let upper_u = side(bottom, top, c.p, c.n) < 0;
         let upper_v = side(left, right, c.p, c.n) > 0;
-        let q = match (upper_u, upper_v) {
-            (false, false) => [q0, bottom, centre, left],
-            (true, false) => [bottom, q1, right, centre],
-            (true, true) => [centre, right, q2, top],
-            (false, true) => [left, centre, top, q3],
-        };
-        Cell {
-            q,
-            iu: (c.iu << 1) | upper_u as u32,
-            iv: (c.iv << 1) | upper_v as u32,
-            ..c
+        // The sub-cell keeps corner k of the cell ((u, v) = (0,0), (1,0), (1,1), (0,1) for
+        // k = 0..3), has the centre at the opposite corner, and between them the midpoints of
+        // the two edges through corner k, mid(q_j, q_k) (mid is symmetric, and mid(q_k, q_k) =
+        // q_k): one multiplexer per corner, no data-dependent branch in the simulation.
+        let k = (upper_v as usize) << 1 | (upper_u ^ upper_v) as usize;
+        let qk = c.q[k];
+        for (j, q) in c.q.iter_mut().enumerate() {
+            *q = if j == k ^ 2 { centre } else { mid(*q, qk) };
         }
+        c.iu = (c.iu << 1) | upper_u as u32;
+        c.iv = (c.iv << 1) | upper_v as u32;
     }
 }
 

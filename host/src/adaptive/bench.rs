@@ -43,6 +43,40 @@ pub struct BenchSettings {
     pub depths: Vec<u32>,
     /// The gradient tests of the adaptive runs.
     pub tests: Vec<Test>,
+    /// Where to keep the reference's grids between runs (read if it holds this scene, K and R;
+    /// written otherwise).
+    pub reference_cache: Option<std::path::PathBuf>,
+}
+
+/// The reference as cached by [`BenchSettings::reference_cache`], with what identifies it.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct CachedReference {
+    key: String,
+    rows: usize,
+    seconds: f64,
+    grids: Vec<Grid>,
+}
+
+/// What a cached reference must match: the scene's geometry and materials, K and R.
+fn reference_key(scene: &Scene, settings: &Pass1Settings, k: u32) -> String {
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut eat = |x: f64| {
+        for byte in x.to_bits().to_le_bytes() {
+            h = (h ^ byte as u64).wrapping_mul(0x100_0000_01b3);
+        }
+    };
+    for (i, p) in scene.patches.iter().enumerate() {
+        eat(p.area as f64);
+        let m = scene.material_of(i);
+        m.diffuse.iter().chain(&m.emission).for_each(|&x| eat(x));
+    }
+    format!(
+        "K {k} R {} rule {:?} method {:?} patches {} scene {h:016x}",
+        settings.circles,
+        settings.rule,
+        settings.method,
+        scene.patches.len()
+    )
 }
 
 /// Relative L1 error of the luminance of `got` against `reference` over the diffuse,
@@ -91,6 +125,44 @@ pub fn field_errors(scene: &Scene, got: &[Grid], reference: &[Grid], m: u32) -> 
     }
 }
 
+/// The uniform K×K reference's grids, its rows and the seconds it took: from `cache` if that
+/// holds this scene, K and R, else computed (and written to `cache`).
+pub fn reference(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    k: u32,
+    cache: Option<&Path>,
+) -> Result<(Vec<Grid>, usize, f64)> {
+    let key = reference_key(scene, settings, k);
+    let cached: Option<CachedReference> = cache
+        .and_then(|p| std::fs::read(p).ok())
+        .and_then(|b| serde_json::from_slice::<CachedReference>(&b).ok())
+        .filter(|c| c.key == key);
+    if let Some(c) = cached {
+        return Ok((c.grids, c.rows, c.seconds));
+    }
+    let t0 = Instant::now();
+    let (grids, rows) = uniform_grids(
+        scene,
+        &Pass1Settings {
+            samples: k,
+            ..*settings
+        },
+    )?;
+    let seconds = t0.elapsed().as_secs_f64();
+    if let Some(path) = cache {
+        let c = CachedReference {
+            key,
+            rows,
+            seconds,
+            grids,
+        };
+        std::fs::write(path, serde_json::to_vec(&c)?)?;
+        return Ok((c.grids, rows, seconds));
+    }
+    Ok((grids, rows, seconds))
+}
+
 fn uniform_grids(scene: &Scene, settings: &Pass1Settings) -> Result<(Vec<Grid>, usize)> {
     let ff = form_factors(scene, settings, &|_| {})?;
     let n = scene.patches.len();
@@ -127,15 +199,12 @@ pub fn adaptive_vs_uniform(
     svg: Option<&Path>,
     command: &str,
 ) -> Result<Vec<Measured>> {
-    let t0 = Instant::now();
-    let (reference, ref_rows) = uniform_grids(
+    let (reference, ref_rows, ref_seconds) = reference(
         scene,
-        &Pass1Settings {
-            samples: bench.reference,
-            ..*settings
-        },
+        settings,
+        bench.reference,
+        bench.reference_cache.as_deref(),
     )?;
-    let ref_seconds = t0.elapsed().as_secs_f64();
     let m = 4 * bench.reference;
     writeln!(
         out,
@@ -223,7 +292,7 @@ pub fn adaptive_vs_uniform(
         }
     }
     // At the error of each uniform run, the fewest rows an adaptive run of each test needed to
-    // match it, in L1 and in RMS.
+    // match it, in L1 and in RMS (measured runs; in brackets where the curves cross it).
     writeln!(
         out,
         "\n| uniform | its rows | its L1 / RMS error | test | fewest adaptive rows at ≤ its L1 error | ratio | fewest at ≤ its RMS error | ratio |"
@@ -244,12 +313,47 @@ pub fn adaptive_vs_uniform(
                     .map_or(("none reaches it".to_string(), "–".to_string()), |a| {
                         (
                             format!("{} ({})", a.rows, a.setting),
-                            format!("{:.1}×", u.rows as f64 / a.rows as f64),
+                            format!("{:.2}×", u.rows as f64 / a.rows as f64),
                         )
                     })
             };
+            // where the test's curves (one per depth, by rows) cross the uniform error, log-log
+            // interpolated between the two measured margins around it
+            let crossing = |err: &dyn Fn(&Measured) -> f64| {
+                let mut best = f64::INFINITY;
+                for &depth in &bench.depths {
+                    let tag = format!("max depth {depth},");
+                    let mut line: Vec<&Measured> = all
+                        .iter()
+                        .filter(|r| {
+                            r.sampling == "adaptive"
+                                && r.setting.starts_with(name)
+                                && r.setting.contains(&tag)
+                        })
+                        .collect();
+                    line.sort_by_key(|r| r.rows);
+                    for w in line.windows(2) {
+                        let (e1, e2, t) = (err(w[0]), err(w[1]), err(u));
+                        if e1 > t && e2 <= t && e2 > 0.0 {
+                            let f = (t.ln() - e1.ln()) / (e2.ln() - e1.ln());
+                            let (r1, r2) = ((w[0].rows as f64).ln(), (w[1].rows as f64).ln());
+                            best = best.min((r1 + f * (r2 - r1)).exp());
+                            break;
+                        }
+                    }
+                }
+                if best.is_finite() {
+                    format!(" ({:.2}× interpolated)", u.rows as f64 / best)
+                } else {
+                    String::new()
+                }
+            };
             let (l1, l1_ratio) = fewest(&|r| r.error);
             let (rms, rms_ratio) = fewest(&|r| r.rms);
+            let (l1_ratio, rms_ratio) = (
+                l1_ratio + &crossing(&|r| r.error),
+                rms_ratio + &crossing(&|r| r.rms),
+            );
             writeln!(
                 out,
                 "| {} | {} | {:.3} % / {:.3} % | {name} | {l1} | {l1_ratio} | {rms} | {rms_ratio} |",

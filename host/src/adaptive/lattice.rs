@@ -9,45 +9,65 @@
 //! parent's — on a polygon the weight carried into (4.3) is the true area share (see
 //! `hemi_kernel::sampling`), which is the same thing on parallelograms.
 //!
-//! Where the gradient test passes, the new centre points are not shot but interpolated
-//! bilinearly from the previous level (§4.3). Along one axis, child c of the 2k children lies at
-//! x = c/2 − ¼ in units of the parent spacing (parent sample a sits at x = a), so its value is
-//! ¾·(nearer parent) + ¼·(the other), and at the border, beyond the outermost parent sample, the
-//! outermost value is held (constant extension). Held, not extrapolated: with these weights every
-//! parent hands out exactly the share it had (each parent's weights over its children sum to 2
-//! per axis, 4 in all, and a child carries a quarter of its parent's area), so interpolating a
-//! level changes no patch form factor (4.3), and every interpolated row is a convex combination
-//! of computed rows — never negative, never summing to more than the rows it came from.
+//! Where the gradient test passes, the new centre points are not shot but interpolated from
+//! the previous level (§4.3: "bi-linear interpolation of the intensities of the previous step").
+//! Along one axis, child c of the 2k children lies a quarter of the parent spacing left or
+//! right of its parent a = c/2, so it gets p_a ∓ s/4, s the slope of the level at a: centred,
+//! (p_{a+1} − p_{a−1})/2, inside, and one-sided at the two outermost parents; in 2D the
+//! product of the two axes. This is linear interpolation along the slope through each parent,
+//! and it is what we use instead of the plain bilinear stencil between neighbouring parents
+//! (¾, ¼), for three reasons measured on the Cornell box (docs/ACCURACY.md):
+//!
+//! - it reproduces any bilinear field on the whole patch, border strips included; the plain
+//!   stencil had to hold the outermost value beyond the border (a first-order error of a
+//!   quarter spacing times the slope in every border strip, compounded level by level, which
+//!   also made the surplus test shoot those strips on smooth slopes) or extrapolate it;
+//! - the two children of a parent average to the parent exactly, so interpolating a level
+//!   changes no patch form factor (4.3) whatever the rows (extrapolating the plain stencil moved
+//!   F by 2–3 % on a curved falloff);
+//! - on a curved field its error at a child is f''h²/32 against 3f''h²/32 for the plain one.
+//!
+//! The price: weights of ±1/8 (±1/4 at the border), so an interpolated row is an affine, not a
+//! convex, combination of shot rows. It sums to what they sum to, but may hold small negative
+//! entries where a parent sees a patch its neighbour does not; radiosity grids clamp at 0
+//! (`crate::radiosity::Grid`).
 
-/// The two parents of child `c` (of 2k) along one axis of a `k`-wide level, with their bilinear
-/// weights (≥ 0, summing to 1; the second weight is 0 where the child lies beyond the outermost
-/// parent and the outermost value is held).
-pub fn axis_stencil(k: usize, c: usize) -> [(usize, f64); 2] {
+/// The conservative stencil along one axis: child `c` (of 2k) of parent a = c/2 is
+/// p_a ∓ s/4 (− for the left child), s the slope at a — centred, (p_{a+1} − p_{a−1})/2,
+/// inside, one-sided at the border, 0 on a level of one sample. Up to three (parent, weight)
+/// pairs, summing to 1; the two children of a parent average to it.
+pub fn axis_slope_stencil(k: usize, c: usize) -> Vec<(usize, f64)> {
     assert!(k >= 1 && c < 2 * k, "child {c} of a level of {k}");
-    // x = c/2 − 1/4, exact in binary floating point
-    let x = c as f64 * 0.5 - 0.25;
-    if x <= 0.0 {
-        [(0, 1.0), (0, 0.0)]
-    } else if x >= (k - 1) as f64 {
-        [(k - 1, 1.0), (k - 1, 0.0)]
-    } else {
-        let lo = x.floor() as usize;
-        let t = x - lo as f64;
-        [(lo, 1.0 - t), (lo + 1, t)]
+    let a = c / 2;
+    let sign = if c.is_multiple_of(2) { -0.25 } else { 0.25 };
+    if k == 1 {
+        return vec![(0, 1.0)];
     }
+    // slope s as weights on parents
+    let s: [(usize, f64); 2] = if a == 0 {
+        [(1, 1.0), (0, -1.0)]
+    } else if a == k - 1 {
+        [(k - 1, 1.0), (k - 2, -1.0)]
+    } else {
+        [(a + 1, 0.5), (a - 1, -0.5)]
+    };
+    let mut out = vec![(a, 1.0)];
+    for (p, w) in s {
+        match out.iter_mut().find(|(q, _)| *q == p) {
+            Some(e) => e.1 += sign * w,
+            None => out.push((p, sign * w)),
+        }
+    }
+    out
 }
 
-/// The bilinear stencil of element (`a`, `b`) of the 2k×2k level from the k×k level: four
-/// (v-major parent index, weight) pairs, the weights ≥ 0 and summing to 1.
-pub fn stencil(k: usize, a: usize, b: usize) -> [(usize, f64); 4] {
-    let [(u0, wu0), (u1, wu1)] = axis_stencil(k, a);
-    let [(v0, wv0), (v1, wv1)] = axis_stencil(k, b);
-    [
-        (v0 * k + u0, wu0 * wv0),
-        (v0 * k + u1, wu1 * wv0),
-        (v1 * k + u0, wu0 * wv1),
-        (v1 * k + u1, wu1 * wv1),
-    ]
+/// The stencil of element (`a`, `b`) of the 2k×2k level from the k×k level: (v-major parent
+/// index, weight) pairs, summing to 1 (see [`axis_slope_stencil`]).
+pub fn stencil(k: usize, a: usize, b: usize) -> Vec<(usize, f64)> {
+    let (su, sv) = (axis_slope_stencil(k, a), axis_slope_stencil(k, b));
+    sv.iter()
+        .flat_map(|&(v, wv)| su.iter().map(move |&(u, wu)| (v * k + u, wu * wv)))
+        .collect()
 }
 
 /// The 4-sample window of a `k`-wide level whose part of the patch holds child `c` (of 2k) along
@@ -106,43 +126,57 @@ mod tests {
     use super::*;
 
     #[test]
-    fn children_sit_a_quarter_spacing_from_their_parents() {
-        // k = 4: child 3 lies at x = 1.25, between parents 1 and 2, nearer 1
-        assert_eq!(axis_stencil(4, 3), [(1, 0.75), (2, 0.25)]);
-        assert_eq!(axis_stencil(4, 4), [(1, 0.25), (2, 0.75)]);
-        // border children hold the outermost value
-        assert_eq!(axis_stencil(4, 0), [(0, 1.0), (0, 0.0)]);
-        assert_eq!(axis_stencil(4, 7), [(3, 1.0), (3, 0.0)]);
+    fn children_sit_a_quarter_spacing_along_the_slope() {
+        // k = 4, parent 1: its children get p1 ∓ (p2 − p0)/8
+        assert_eq!(
+            axis_slope_stencil(4, 2),
+            [(1, 1.0), (2, -0.125), (0, 0.125)]
+        );
+        assert_eq!(
+            axis_slope_stencil(4, 3),
+            [(1, 1.0), (2, 0.125), (0, -0.125)]
+        );
+        // border parents use the one-sided slope: the outer child continues the line
+        assert_eq!(axis_slope_stencil(4, 0), [(0, 1.25), (1, -0.25)]);
+        assert_eq!(axis_slope_stencil(4, 1), [(0, 0.75), (1, 0.25)]);
+        assert_eq!(axis_slope_stencil(4, 7), [(3, 1.25), (2, -0.25)]);
         // a single sample: everything is that sample
-        assert_eq!(axis_stencil(1, 1), [(0, 1.0), (0, 0.0)]);
+        assert_eq!(axis_slope_stencil(1, 1), [(0, 1.0)]);
     }
 
     #[test]
-    fn every_parent_hands_out_exactly_its_share() {
-        // Σ over children of a parent's weight = 2 per axis: interpolating a level keeps
-        // Σ_q W_q F_q,j (4.3) on parallelograms.
+    fn children_average_to_their_parent() {
+        // per axis the two children of parent a hold 2 on a and 0 on every other parent, so
+        // interpolating a level keeps Σ_q W_q F_q,j (4.3) whatever the rows; every child's
+        // weights sum to 1, so rows keep their sums
         for k in 1..=9 {
-            let mut got = vec![0.0; k];
-            for c in 0..2 * k {
-                for (p, w) in axis_stencil(k, c) {
-                    got[p] += w;
+            for a in 0..k {
+                let mut got = vec![0.0; k];
+                for c in [2 * a, 2 * a + 1] {
+                    let st = axis_slope_stencil(k, c);
+                    let sum: f64 = st.iter().map(|&(_, w)| w).sum();
+                    assert!((sum - 1.0).abs() < 1e-15, "k {k} child {c}");
+                    for (p, w) in st {
+                        got[p] += w;
+                    }
                 }
-            }
-            for (p, g) in got.iter().enumerate() {
-                assert!((g - 2.0).abs() < 1e-12, "k {k} parent {p}: {g}");
+                for (p, g) in got.iter().enumerate() {
+                    let want = if p == a { 2.0 } else { 0.0 };
+                    assert!((g - want).abs() < 1e-12, "k {k} parent {a}: {p} gets {g}");
+                }
             }
         }
     }
 
     #[test]
-    fn interpolation_reproduces_a_bilinear_field_inside_the_windows() {
+    fn interpolation_reproduces_a_bilinear_field_on_the_whole_patch() {
         let k = 4;
         let f = |x: f64, y: f64| 1.0 + 2.0 * x - 0.5 * y + 0.25 * x * y;
         let parents: Vec<f64> = (0..k * k)
             .map(|i| f((i % k) as f64, (i / k) as f64))
             .collect();
-        for b in 1..2 * k - 1 {
-            for a in 1..2 * k - 1 {
+        for b in 0..2 * k {
+            for a in 0..2 * k {
                 let got: f64 = stencil(k, a, b).iter().map(|&(p, w)| w * parents[p]).sum();
                 let want = f(a as f64 * 0.5 - 0.25, b as f64 * 0.5 - 0.25);
                 assert!((got - want).abs() < 1e-12, "({a},{b}): {got} vs {want}");

@@ -11,7 +11,7 @@
 //!    not yet at the depth limit. A patch with a failing window is subdivided one level *as a whole*
 //!    (k×k → 2k×2k, [`lattice`]): the new centre points on the part of the patch a failing
 //!    window covers are shot (their rows replace the parent's, "removing the old row and
-//!    inserting the four new rows", §4.2); everywhere else they are interpolated bilinearly
+//!    inserting the four new rows", §4.2); everywhere else they are interpolated linearly
 //!    from the previous level — rows, not just intensities, so that (4.3) and (4.2) stay one
 //!    linear system and the next solve sees the interpolated elements too;
 //! 4. back to 2 until no window fails or every failing patch is at `max_depth`.
@@ -49,6 +49,10 @@ pub struct AdaptiveSettings {
     /// The gradient test's margin: a window fails when its luminance differences ([`Test`])
     /// exceed this fraction of its mean luminance ([`gradient`]).
     pub margin: f64,
+    /// The least intensity the margin is relative to, as a fraction of the patch's mean
+    /// luminance: a window darker than that is judged against it ([`gradient`]). 0 makes the
+    /// test purely local.
+    pub floor: f64,
     /// The most levels a patch is subdivided beyond its initial guess (the paper's picture 4
     /// uses 4).
     pub max_depth: u32,
@@ -64,11 +68,11 @@ pub struct AdaptiveSettings {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Test {
     /// The paper's (§4.3): the differences among the four intensities themselves, max − min.
-    /// It asks "is the light changing here?", so it also refines smooth slopes that bilinear
+    /// It asks "is the light changing here?", so it also refines smooth slopes that linear
     /// interpolation reproduces exactly, and stops on curved ones whose steps are small.
     Spread,
     /// From level 1 on, each sample's difference from what the level before predicted for it
-    /// by the bilinear interpolation of [`lattice`] (its hierarchical surplus, zero for an
+    /// by the linear interpolation of [`lattice`] (its hierarchical surplus, zero for an
     /// interpolated sample); level 0 has no level before and uses [`Test::Spread`]. It asks
     /// "did interpolating miss something here?", which is what decides the error of the grid
     /// pass 2 interpolates: on the Cornell box it reaches uniform K = 16's error with about
@@ -80,6 +84,7 @@ impl Default for AdaptiveSettings {
     fn default() -> Self {
         AdaptiveSettings {
             margin: 0.1,
+            floor: 1.0,
             max_depth: 4,
             solve: SolveSettings::default(),
             test: Test::Surplus,
@@ -323,6 +328,7 @@ pub fn refine_with<A: Accelerator>(
                 continue;
             }
             let k = level.k as usize;
+            let margin = adaptive.margin;
             let values: Vec<[f64; 3]> = level
                 .rows
                 .iter()
@@ -345,9 +351,15 @@ pub fn refine_with<A: Accelerator>(
                             b
                         })
                         .collect();
-                    gradient::failing_windows_surplus(k, &values, &predicted, adaptive.margin)
+                    gradient::failing_windows_surplus(
+                        k,
+                        &values,
+                        &predicted,
+                        margin,
+                        adaptive.floor,
+                    )
                 }
-                _ => gradient::failing_windows(k, &values, adaptive.margin),
+                _ => gradient::failing_windows(k, &values, margin, adaptive.floor),
             };
             if !failing.iter().any(|f| *f) {
                 continue;
@@ -429,8 +441,8 @@ vertices = [[0.2, 0.6, 0.2], [0.5, 0.6, 0.2], [0.5, 0.6, 0.5], [0.2, 0.6, 0.5]]
 
     #[test]
     fn interpolating_a_whole_level_changes_no_patch_form_factor() {
-        // (4.3) over the interpolated 2k×2k level equals (4.3) over the k×k level: each parent
-        // hands its children exactly its own weight (a parallelogram's cells are equal).
+        // (4.3) over the interpolated 2k×2k level equals (4.3) over the k×k level: each
+        // parent's children average to it (a parallelogram's cells are equal).
         let scene = crate::scene::parse(SCENE, "t.toml").unwrap();
         let settings = Pass1Settings {
             circles: 16,

@@ -22,13 +22,8 @@ use std::time::Instant;
 
 /// Fixed-seed configurations: (x0, y0, a, b, c) of a rectangle over an element at the origin.
 fn configurations(n: usize) -> Vec<(f64, f64, f64, f64, f64)> {
-    let mut seed = 0x2545_f491_4f6c_dd1du64;
-    let mut rnd = move || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = super::rng::XorShift::new(0x2545_f491_4f6c_dd1d);
+    let mut rnd = move || rng.f64();
     (0..n)
         .map(|_| {
             let (a, b, c) = (0.2 + 2.0 * rnd(), 0.2 + 2.0 * rnd(), 0.3 + 1.5 * rnd());

@@ -6,6 +6,7 @@
 //! of the board (`hemi-firmware`). The tracer is generic over this trait and never knows which
 //! one it drives.
 
+pub mod bvh;
 pub mod soft;
 
 use crate::geometry::Vec3;

@@ -20,6 +20,7 @@
 //! the subdivision of paper §6.1 ([`Bezier::intersect`]). A patch is never intersected with the
 //! hemispheres placed on it (F_ii = 0, see [`Accelerator::set_origin_patch`]).
 
+use super::bvh::Bvh;
 use super::{Accelerator, Hit, Ray};
 use crate::geometry::{Bezier, Polygon, Subdivision, Vec3};
 use crate::hemisphere::{Hemisphere, Ring};
@@ -341,6 +342,8 @@ pub struct SoftAccelerator<'p, 's> {
     scratch: SoftScratch<'s>,
     subdivision: Subdivision,
     origin_patch: u32,
+    /// A tree over the patches for rays that share nothing (see [`super::bvh`]).
+    bvh: Option<Bvh<'s>>,
 }
 
 const NO_HIT: u32 = u32::MAX;
@@ -374,6 +377,60 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
             scratch,
             subdivision: Subdivision::default(),
             origin_patch: NO_HIT,
+            bvh: None,
+        })
+    }
+
+    /// Answers single rays and `cast_from` bundles through `bvh`, a tree over these patches,
+    /// instead of testing every patch: the same hits, in time that grows with log N.
+    pub fn with_bvh(mut self, bvh: Bvh<'s>) -> Self {
+        self.bvh = Some(bvh);
+        self
+    }
+
+    /// The nearest hit of `origin + t dir` below `t_max` through the tree: per patch the same
+    /// tests as the linear scan of `nearest_hit`, and ties to the lowest id as there.
+    fn nearest_in_tree(
+        &self,
+        bvh: &Bvh<'_>,
+        origin: Vec3,
+        dir: Vec3,
+        t_max: f32,
+        want_uv: bool,
+    ) -> Option<Hit> {
+        let found = bvh.nearest(origin, dir, t_max, |id, best_t| {
+            if id == self.origin_patch {
+                return None;
+            }
+            match &self.patches[id as usize].shape {
+                Shape::Polygon(poly) => {
+                    let lp = LocalPatch::setup_single(poly, origin);
+                    if !lp.active {
+                        return None;
+                    }
+                    let t = lp.hit(dir)?;
+                    (t < t_max && t <= best_t).then_some((t, (lp.front(), None)))
+                }
+                Shape::Bezier(b) => {
+                    let (t, u, v, front) = self.curved_hit(b, origin, dir, best_t)?;
+                    Some((t, (front, Some((u, v)))))
+                }
+            }
+        });
+        let (t, id, (front, uv)) = found?;
+        let (u, v) = match uv {
+            Some(uv) => uv,
+            None if want_uv => self.patches[id as usize]
+                .as_polygon()
+                .map_or((0.0, 0.0), |poly| poly.uv_of(origin + dir * t)),
+            None => (0.0, 0.0),
+        };
+        Some(Hit {
+            patch: id,
+            t,
+            u,
+            v,
+            front,
         })
     }
 
@@ -449,6 +506,9 @@ impl Accelerator for SoftAccelerator<'_, '_> {
     }
 
     fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        if let Some(bvh) = self.bvh {
+            return self.nearest_in_tree(&bvh, ray.origin, ray.dir, t_max, true);
+        }
         let mut best: Option<Hit> = None;
         let mut best_t = t_max;
         for (i, p) in self.patches.iter().enumerate() {
@@ -500,6 +560,15 @@ impl Accelerator for SoftAccelerator<'_, '_> {
         want_uv: bool,
         mut sink: F,
     ) {
+        if let Some(bvh) = self.bvh {
+            for (i, &d) in dirs.iter().enumerate() {
+                sink(
+                    i,
+                    self.nearest_in_tree(&bvh, origin, d, f32::INFINITY, want_uv),
+                );
+            }
+            return;
+        }
         // One set-up per patch for the shared origin, in the scene's own frame; each ray is
         // first checked against the patch's bounding cone (3 multiply-adds) before the edges.
         // The rays go in any direction, so nothing is culled by a horizon.
