@@ -89,13 +89,17 @@ fn main() -> ! {
         clock: true,
     };
     defmt::println!(
-        "{=str} up: UART0 at {=usize:#x}, accelerator {}",
+        "{=str} up: UART0 at {=usize:#x}, accelerator {=str}",
         board::BUILD,
         uart::UART0_BASE,
-        defmt::Debug2Format(&hemi_firmware::accel::FwAccel::native())
+        match hemi_firmware::accel::FwAccel::native() {
+            hemi_kernel::link::AccelKind::Model => "model",
+            hemi_kernel::link::AccelKind::Mmio => "registers (if they answer)",
+            _ => "soft",
+        }
     );
-    #[cfg(feature = "board")]
-    if let Some(slots) = hemi_firmware::accel::probe_mmio() {
+    #[cfg(all(feature = "board", not(feature = "model")))]
+    if let Some(slots) = engine.provider.attach_mmio() {
         defmt::println!(
             "accelerator found by its ID register: {=u32} patch slots",
             slots

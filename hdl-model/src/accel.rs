@@ -181,6 +181,17 @@ impl<B: RegisterAccess> RegisterAccelerator<B> {
         Ok(acc)
     }
 
+    /// Loads a new scene into the accelerator it is attached to (configuring it again with
+    /// `config`): what a board does for every scene, since its registers are taken only once.
+    pub fn load_scene(&mut self, patches: &[Patch], config: ModelConfig) -> Result<(), ModelError> {
+        self.frame = None;
+        self.origin = None;
+        self.mode = None;
+        self.origin_patch = None;
+        self.skip = None;
+        self.load(patches, config)
+    }
+
     /// Clocks the accelerator has run, read from its CYCLE registers (two bus accesses).
     pub fn device_cycles(&mut self) -> u64 {
         self.driver.cycles()

@@ -394,3 +394,40 @@ fn the_accelerator_runs_over_any_register_access_with_the_models_answers() {
     assert_eq!(clocks, model.cycles());
     assert_eq!(foreign.driver_mut().bus().accesses, clocks + 2);
 }
+
+#[test]
+fn a_board_loads_one_scene_after_another_into_the_accelerator_it_attached_to() {
+    // A board takes its registers once, at boot, with no scene (`FwAccel::attach_mmio`), and
+    // loads every uploaded scene into that one accelerator: its answers must be a fresh
+    // accelerator's.
+    use hemi_hdl_model::{ModelAccelerator, ModelConfig, RegisterAccelerator};
+    use hemi_kernel::accel::Accelerator;
+    use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
+    use hemi_kernel::rotation::Rotation;
+    let cornell = hemi_tests::cornell_scene().kernel_patches();
+    let other: Vec<_> = cornell.iter().rev().take(7).copied().collect();
+    let cfg = ModelConfig::default();
+    let bus = ForeignBus {
+        inner: Box::new(ModelBus::new()),
+        accesses: 0,
+    };
+    let mut board = RegisterAccelerator::with_bus(bus, &[], cfg).unwrap();
+    let hemi = OwnedHemisphere::new(6, DeltaRule::Band).unwrap();
+    let view = hemi.view();
+    for patches in [&other, &cornell, &other] {
+        board.load_scene(patches, cfg).unwrap();
+        let mut fresh = Box::new(ModelAccelerator::new(patches, cfg).unwrap());
+        let origin = hemi_kernel::geometry::Vec3::new(278.0, 300.0, 280.0);
+        let rot = Rotation::onto(hemi_kernel::geometry::Vec3::new(0.0, -1.0, 0.0));
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        let rings = 0..view.rings().len();
+        fresh.cast_rings(origin, &rot, &view, rings.clone(), true, |j, k, h| {
+            a.push((j, k, h))
+        });
+        board.cast_rings(origin, &rot, &view, rings, true, |j, k, h| {
+            b.push((j, k, h))
+        });
+        assert_eq!(a, b);
+        assert!(a.iter().any(|(_, _, h)| h.is_some()));
+    }
+}

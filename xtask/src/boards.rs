@@ -11,7 +11,8 @@ fn elf_in(target_dir: PathBuf) -> PathBuf {
     target_dir.join(TARGET).join("release").join(FIRMWARE)
 }
 
-fn target_dir() -> PathBuf {
+/// The cargo target directory (`CARGO_TARGET_DIR`, else the workspace's `target/`).
+pub(crate) fn target_dir() -> PathBuf {
     std::env::var_os("CARGO_TARGET_DIR")
         .filter(|d| !d.is_empty())
         .map(PathBuf::from)
@@ -137,8 +138,10 @@ pub fn qemu(args: &[String]) -> Result<(), Failure> {
 
 /// `cargo xtask flash --chip CHIP [--features F] [ELF]`: `probe-rs run --chip CHIP ELF`.
 ///
-/// Without an ELF, builds the firmware for a board (`--no-default-features`: no QEMU semihosting
-/// exits) into `target/board/`, so the QEMU build the HIL tests use is left alone.
+/// Without an ELF, builds the firmware for a board (`--no-default-features --features board`, or
+/// the features given; no QEMU semihosting exits) into `target/board/`, so the QEMU build the HIL
+/// tests use is left alone. It is the same build `cargo xtask test` checks against the flash and
+/// RAM of memory.x.
 pub fn flash(args: &[String]) -> Result<(), Failure> {
     const USAGE: &str = "usage: cargo xtask flash --chip CHIP [--features F] [ELF] \
                          (`probe-rs chip list` names the chips; env PROBE_RS_CHIP works too)";
@@ -173,9 +176,8 @@ pub fn flash(args: &[String]) -> Result<(), Failure> {
                 .arg("--no-default-features")
                 .arg("--target-dir")
                 .arg(&board_dir);
-            if let Some(f) = &features {
-                build.args(["--features", f]);
-            }
+            // a board build has the MMIO accelerator (with the soft engine as its fallback)
+            build.args(["--features", features.as_deref().unwrap_or("board")]);
             run(build).map_err(Failure::Failed)?;
             elf_in(board_dir)
         }

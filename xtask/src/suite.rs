@@ -49,16 +49,18 @@ fn steps() -> Vec<Step> {
         },
         Step {
             name: "firmware-build",
-            what: "release build of the firmware ELF (the HIL tests boot it)",
+            what: "release build of the firmware ELF (the HIL tests boot it), and of the board \
+                   build, which must fit 128 KiB of flash and 64 KiB of RAM (memory.x)",
             kind: Kind::Commands(|| {
-                vec![cargo([
-                    "build",
-                    "--release",
-                    "-p",
-                    FIRMWARE,
-                    "--target",
-                    TARGET,
-                ])]
+                let qemu = cargo(["build", "--release", "-p", FIRMWARE, "--target", TARGET]);
+                // the board build (MMIO accelerator, soft fallback) in a directory of its own, so
+                // the QEMU build the HIL tests boot is left alone
+                let mut board = cargo(["build", "--release", "-p", FIRMWARE, "--target", TARGET]);
+                board
+                    .args(["--no-default-features", "--features", "board"])
+                    .arg("--target-dir")
+                    .arg(crate::boards::target_dir().join("board"));
+                vec![qemu, board]
             }),
         },
         Step {

@@ -7,6 +7,7 @@
 //! one it drives.
 
 pub mod bvh;
+pub mod either;
 pub mod soft;
 
 use crate::geometry::Vec3;

@@ -20,6 +20,7 @@
 //! the subdivision of paper §6.1 ([`Bezier::intersect`]). A patch is never intersected with the
 //! hemispheres placed on it (F_ii = 0, see [`Accelerator::set_origin_patch`]).
 
+#[cfg(not(target_os = "none"))]
 use super::bvh::Bvh;
 use super::{Accelerator, Hit, Ray};
 use crate::geometry::{Bezier, Polygon, Subdivision, Vec3};
@@ -342,7 +343,10 @@ pub struct SoftAccelerator<'p, 's> {
     scratch: SoftScratch<'s>,
     subdivision: Subdivision,
     origin_patch: u32,
-    /// A tree over the patches for rays that share nothing (see [`super::bvh`]).
+    /// A tree over the patches for rays that share nothing (see [`super::bvh`]). Hosts only: a
+    /// board's rays are hemisphere rays and its scenes small, and its flash has no room for
+    /// code it would never run.
+    #[cfg(not(target_os = "none"))]
     bvh: Option<Bvh<'s>>,
 }
 
@@ -377,12 +381,14 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
             scratch,
             subdivision: Subdivision::default(),
             origin_patch: NO_HIT,
+            #[cfg(not(target_os = "none"))]
             bvh: None,
         })
     }
 
     /// Answers single rays and `cast_from` bundles through `bvh`, a tree over these patches,
     /// instead of testing every patch: the same hits, in time that grows with log N.
+    #[cfg(not(target_os = "none"))]
     pub fn with_bvh(mut self, bvh: Bvh<'s>) -> Self {
         self.bvh = Some(bvh);
         self
@@ -390,6 +396,7 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
 
     /// The nearest hit of `origin + t dir` below `t_max` through the tree: per patch the same
     /// tests as the linear scan of `nearest_hit`, and ties to the lowest id as there.
+    #[cfg(not(target_os = "none"))]
     fn nearest_in_tree(
         &self,
         bvh: &Bvh<'_>,
@@ -506,6 +513,7 @@ impl Accelerator for SoftAccelerator<'_, '_> {
     }
 
     fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        #[cfg(not(target_os = "none"))]
         if let Some(bvh) = self.bvh {
             return self.nearest_in_tree(&bvh, ray.origin, ray.dir, t_max, true);
         }
@@ -560,6 +568,7 @@ impl Accelerator for SoftAccelerator<'_, '_> {
         want_uv: bool,
         mut sink: F,
     ) {
+        #[cfg(not(target_os = "none"))]
         if let Some(bvh) = self.bvh {
             for (i, &d) in dirs.iter().enumerate() {
                 sink(
