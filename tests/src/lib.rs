@@ -15,6 +15,20 @@ pub fn quad(name: &str, material: &str, v: [[f64; 3]; 4]) -> String {
     )
 }
 
+/// Pass 1 on the soft backend at R = `circles` and K = `samples`, the other settings default.
+pub fn form_factors_at(
+    scene: &hemi::scene::Scene,
+    circles: u32,
+    samples: u32,
+) -> hemi::pass1::FormFactors {
+    let settings = hemi::pass1::Pass1Settings {
+        circles,
+        samples,
+        ..Default::default()
+    };
+    hemi::pass1::form_factors(scene, &settings, &|_| {}).unwrap()
+}
+
 /// TOML for one material.
 pub fn material(name: &str, diffuse: f64, emission: f64) -> String {
     format!(
@@ -138,4 +152,20 @@ pub fn qemu_or_skip(test: &str) -> bool {
 pub fn cornell_scene() -> hemi::scene::Scene {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     hemi::scene::load(&root.join("scenes/cornell.toml")).expect("cornell scene")
+}
+
+/// Runs `f` where the in-process model fits the stack: a debug build keeps the model (~140 KiB)
+/// on the stack several times over, more than rayon's default 2 MiB worker stacks.
+pub fn big_stack(f: impl FnOnce() + Send + 'static) {
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(2)
+        .stack_size(256 << 20)
+        .build()
+        .unwrap();
+    std::thread::Builder::new()
+        .stack_size(256 << 20)
+        .spawn(move || pool.install(f))
+        .unwrap()
+        .join()
+        .unwrap();
 }

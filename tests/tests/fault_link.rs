@@ -6,7 +6,7 @@
 //! its slave end as it would to a board; a relay thread carries bytes between its master end and
 //! QEMU's pty, damaging them at a set rate.
 
-use hemi_tests::{cornell_scene, qemu_or_skip};
+use hemi_tests::{big_stack, cornell_scene, qemu_or_skip};
 use std::io::{Read, Write};
 
 use serialport::SerialPort;
@@ -41,22 +41,6 @@ fn check_against_model(scene: &Scene, settings: &Pass1Settings, got: &pass1::For
         assert_eq!((g.patch, g.point, &g.row), (w.patch, w.point, &w.row));
     }
     assert_eq!(bits(&got.matrix), bits(&want.matrix));
-}
-
-/// Runs `f` where the in-process model fits the stack: a debug build keeps the model (~140 KiB)
-/// on the stack several times over, more than rayon's default 2 MiB worker stacks.
-fn big_stack(f: impl FnOnce() + Send + 'static) {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .stack_size(256 << 20)
-        .build()
-        .unwrap();
-    std::thread::Builder::new()
-        .stack_size(256 << 20)
-        .spawn(move || pool.install(f))
-        .unwrap()
-        .join()
-        .unwrap();
 }
 
 /// xorshift64*: a reproducible fault pattern.

@@ -16,7 +16,7 @@ use hemi_hdl_model::{ModelAccelerator, ModelConfig};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
 use hemi_kernel::link::{AccelKind, ENGINE_CAPACITIES, PROTOCOL_VERSION};
-use hemi_tests::{cornell_scene, qemu_or_skip};
+use hemi_tests::{big_stack, cornell_scene, qemu_or_skip};
 
 fn settings() -> Pass1Settings {
     Pass1Settings {
@@ -55,18 +55,7 @@ fn form_factors_render_and_irradiance_through_two_qemu_boards_equal_the_model_ba
     if !qemu_or_skip("hil_jobs") {
         return;
     }
-    // The model is large and debug builds keep it on the stack, in rayon's workers too.
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .stack_size(256 << 20)
-        .build()
-        .unwrap();
-    std::thread::Builder::new()
-        .stack_size(256 << 20)
-        .spawn(move || pool.install(run))
-        .unwrap()
-        .join()
-        .unwrap();
+    big_stack(run);
 }
 
 fn run() {
@@ -175,17 +164,7 @@ fn form_factors_and_a_render_through_a_mirror_on_a_qemu_board_equal_the_model_ba
     if !qemu_or_skip("hil_jobs mirror") {
         return;
     }
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(2)
-        .stack_size(256 << 20)
-        .build()
-        .unwrap();
-    std::thread::Builder::new()
-        .stack_size(256 << 20)
-        .spawn(move || pool.install(run_mirror))
-        .unwrap()
-        .join()
-        .unwrap();
+    big_stack(run_mirror);
 }
 
 fn run_mirror() {

@@ -2,7 +2,7 @@
 //! energy conservation, the glossy → mirror limit, and the bounded skeleton stack.
 //! `cargo test -p hemi-tests --release --test specular -- --nocapture` prints the measured errors.
 
-use hemi::pass1::{form_factors, FormFactors, Pass1Settings};
+use hemi::pass1::{form_factors, Pass1Settings};
 use hemi::scene::{parse, Material, Scene};
 use hemi_tests::*;
 
@@ -10,15 +10,6 @@ fn mirror(name: &str, k_r: f64, phong: &str) -> String {
     format!(
         "[[material]]\nname = \"{name}\"\ndiffuse = [0, 0, 0]\nspecular = [{k_r}, {k_r}, {k_r}]\nphong = {phong}\n\n"
     )
-}
-
-fn run(scene: &Scene, circles: u32, samples: u32) -> FormFactors {
-    let settings = Pass1Settings {
-        circles,
-        samples,
-        ..Pass1Settings::default()
-    };
-    form_factors(scene, &settings, &|_| {}).unwrap()
 }
 
 /// Patch p at z = 0 facing +z under a large mirror at z = c/2 facing down: p sees its own image,
@@ -58,7 +49,7 @@ fn a_perfect_mirror_shows_the_image_form_factor() {
     ] {
         let k_r = 0.8;
         let scene = self_image_scene(a, b, c, k_r, "inf");
-        let ff = run(&scene, r, k);
+        let ff = form_factors_at(&scene, r, k);
         let want = k_r * opposed_rectangles(a, b, c);
         let got = ff.matrix[0][0];
         let e = (got - want).abs() / want;
@@ -85,7 +76,7 @@ fn coloured_mirrors_give_per_channel_form_factors() {
         .position(|m| m.name == "mirror")
         .unwrap();
     scene.materials[m].specular = [0.9, 0.5, 0.1];
-    let ff = run(&scene, 16, 2);
+    let ff = form_factors_at(&scene, 16, 2);
     let t = ff.tinted.as_ref().expect("coloured mirror: per-channel F");
     let f = [t[0][0][0], t[1][0][0], t[2][0][0]];
     // each channel is k_r of that channel times the same geometric factor
@@ -130,7 +121,7 @@ fn mirror_floor_box(phong: &str) -> Scene {
 #[test]
 fn energy_is_conserved_in_a_closed_box_with_a_lossless_mirror() {
     let scene = mirror_floor_box("inf");
-    let ff = run(&scene, 32, 4);
+    let ff = form_factors_at(&scene, 32, 4);
     let mut worst = 0.0f64;
     for (i, p) in scene.patches.iter().enumerate() {
         let sum: f64 = ff.matrix[i].iter().sum();
@@ -152,7 +143,7 @@ fn energy_is_conserved_in_a_closed_box_with_a_lossless_mirror() {
 #[test]
 fn a_glossy_lobe_loses_only_what_goes_through_the_surface() {
     let scene = mirror_floor_box("30");
-    let ff = run(&scene, 24, 3);
+    let ff = form_factors_at(&scene, 24, 3);
     let s = ff.stats.specular;
     let hemispheres = ff.elements.len() as f64;
     for (i, p) in scene.patches.iter().enumerate() {
@@ -191,10 +182,10 @@ fn a_glossy_lobe_loses_only_what_goes_through_the_surface() {
 #[test]
 fn glossy_reflection_converges_to_the_mirror_as_the_power_grows() {
     let (a, b, c) = (1.0, 1.0, 1.0);
-    let mirror = run(&self_image_scene(a, b, c, 0.8, "inf"), 24, 4).matrix[0][0];
+    let mirror = form_factors_at(&self_image_scene(a, b, c, 0.8, "inf"), 24, 4).matrix[0][0];
     let mut last = f64::INFINITY;
     for n in ["20", "200", "2000", "20000"] {
-        let glossy = run(&self_image_scene(a, b, c, 0.8, n), 24, 4).matrix[0][0];
+        let glossy = form_factors_at(&self_image_scene(a, b, c, 0.8, n), 24, 4).matrix[0][0];
         let d = (glossy - mirror).abs() / mirror;
         println!(
             "phong {n}: S = {glossy:.6}, mirror {mirror:.6}, difference {:.3} %",
@@ -337,7 +328,7 @@ fn a_window_passes_k_t_of_the_form_factor_behind_it() {
             [[-9.0, -9.0, 0.5], [9.0, -9.0, 0.5], [9.0, 9.0, 0.5], [-9.0, 9.0, 0.5]],
         );
     let scene = parse(&src, "window.toml").unwrap();
-    let ff = run(&scene, 32, 16);
+    let ff = form_factors_at(&scene, 32, 16);
     let want = k_t * opposed_rectangles(1.0, 1.0, 1.0);
     let got = ff.matrix[0][1];
     let e = (got - want).abs() / want;

@@ -14,15 +14,6 @@ fn sheet_material(name: &str, rho: f64, tau: f64) -> String {
     )
 }
 
-fn run(scene: &Scene, circles: u32, samples: u32) -> FormFactors {
-    let settings = Pass1Settings {
-        circles,
-        samples,
-        ..Pass1Settings::default()
-    };
-    form_factors(scene, &settings, &|_| {}).unwrap()
-}
-
 fn solved(scene: &Scene, ff: &FormFactors) -> Solution {
     let parts = SceneParts::new(scene, ff);
     solve::solve(
@@ -88,7 +79,7 @@ fn the_back_side_is_a_patch_of_its_own() {
 fn each_side_sees_its_own_half_space() {
     let (a, c) = (1.0, 1.0);
     let scene = sandwich(a, c);
-    let ff = run(&scene, 48, 12);
+    let ff = form_factors_at(&scene, 48, 12);
     let m = &ff.matrix;
     let (light, sheet, receiver, back) = (0, 1, 2, 3);
     let howell = opposed_rectangles(a, a, c);
@@ -242,7 +233,7 @@ fn a_divided_box_balances_emitted_and_absorbed_power() {
     let mut scene = parse(&src, "divided.toml").unwrap();
     let lamp = scene.patch_index("f3_0_0").unwrap();
     scene.patches[lamp].material = 1;
-    let ff = run(&scene, 48, 8);
+    let ff = form_factors_at(&scene, 48, 8);
     let sol = solved(&scene, &ff);
     let b = &sol.radiosity;
     let m = &ff.matrix;

@@ -251,9 +251,7 @@ pub struct Engine<P: AccelProvider, T: Platform> {
     /// `.bss`) until then, meaning [`ENGINE_DEFAULT_TRACING`].
     tracing: TraceSettings,
     /// The tracer's scratch: parked specular hits and the skeleton stack's frames.
-    pending: Vec<Pending, ENGINE_PENDING>,
-    parked: Vec<Pending, ENGINE_PARKED>,
-    frames: Vec<Frame, ENGINE_STACK_DEPTH>,
+    store: TraceStore,
     /// What the frustums of distinct jobs did.
     specular: SpecularStats,
     dirs: [Vec3; MAX_HITS],
@@ -328,9 +326,11 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             surfaces: Vec::new(),
             weights: Vec::new(),
             tracing: NO_TRACING,
-            pending: Vec::new(),
-            parked: Vec::new(),
-            frames: Vec::new(),
+            store: TraceStore {
+                pending: Vec::new(),
+                parked: Vec::new(),
+                frames: Vec::new(),
+            },
             specular: NO_SPECULAR,
             dirs: [Vec3::ZERO; MAX_HITS],
             recent: Deque::new(),
@@ -741,17 +741,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         let hemi = Hemisphere::new(&self.rings, &self.quarter, rule);
         let optics = Optics::new(&self.patches, &self.surfaces, &self.weights, hemi.circles())
             .map_err(|_| ErrorCode::BadScene)?;
-        fill(&mut self.pending, Pending::EMPTY);
-        fill(&mut self.parked, Pending::EMPTY);
-        fill(&mut self.frames, Frame::EMPTY);
-        let stack = usize::from(tracing.stack).min(self.frames.len());
-        let scratch = TraceScratch {
-            pending: &mut self.pending,
-            parked: &mut self.parked,
-            skeleton: Skeleton::new(&mut self.frames[..stack]),
-            threshold: tracing.threshold,
-            max_depth: tracing.max_bounces,
-        };
+        let scratch = self.store.scratch(tracing);
         Ok(self.provider.run(
             &self.patches,
             ShootJob {
@@ -789,16 +779,12 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             // cannot carry: not on boards yet.
             return Err(ErrorCode::Unsupported);
         }
-        fill(&mut self.pending, Pending::EMPTY);
-        fill(&mut self.parked, Pending::EMPTY);
-        fill(&mut self.frames, Frame::EMPTY);
-        let scratch = TraceScratch {
-            pending: &mut self.pending,
-            parked: &mut self.parked,
-            skeleton: Skeleton::new(&mut self.frames),
+        // diffuse hits only: no frustum is ever pushed
+        let scratch = self.store.scratch(TraceSettings {
             threshold: 0.01,
-            max_depth: 0,
-        };
+            max_bounces: 0,
+            stack: ENGINE_STACK_DEPTH as u16,
+        });
         self.provider.run(
             &self.patches,
             TraceJob {
@@ -835,17 +821,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         let optics = Optics::new(&self.patches, &self.surfaces, &self.weights, hemi.circles())
             .map_err(|_| ErrorCode::BadScene)?;
         let tracing = self.tracing();
-        fill(&mut self.pending, Pending::EMPTY);
-        fill(&mut self.parked, Pending::EMPTY);
-        fill(&mut self.frames, Frame::EMPTY);
-        let stack = usize::from(tracing.stack).min(self.frames.len());
-        let scratch = TraceScratch {
-            pending: &mut self.pending,
-            parked: &mut self.parked,
-            skeleton: Skeleton::new(&mut self.frames[..stack]),
-            threshold: tracing.threshold,
-            max_depth: tracing.max_bounces,
-        };
+        let scratch = self.store.scratch(tracing);
         let first = u32::from(row) * cam.width;
         let mut out = WeightedHits::default();
         let specular = self.provider.run(
@@ -932,6 +908,30 @@ fn ray_hit(hit: Option<Hit>) -> Option<RayHit> {
 /// Fills a scratch Vec to its capacity (it starts empty so a static engine stays in `.bss`).
 fn fill<T: Copy, const N: usize>(v: &mut Vec<T, N>, value: T) {
     while v.push(value).is_ok() {}
+}
+
+/// The storage of the tracer's scratch, in the engine's static SRAM.
+struct TraceStore {
+    pending: Vec<Pending, ENGINE_PENDING>,
+    parked: Vec<Pending, ENGINE_PARKED>,
+    frames: Vec<Frame, ENGINE_STACK_DEPTH>,
+}
+
+impl TraceStore {
+    /// The scratch of one job, bounded by `tracing` (its stack at most the frames there are).
+    fn scratch(&mut self, tracing: TraceSettings) -> TraceScratch<'_> {
+        fill(&mut self.pending, Pending::EMPTY);
+        fill(&mut self.parked, Pending::EMPTY);
+        fill(&mut self.frames, Frame::EMPTY);
+        let stack = usize::from(tracing.stack).min(self.frames.len());
+        TraceScratch {
+            pending: &mut self.pending,
+            parked: &mut self.parked,
+            skeleton: Skeleton::new(&mut self.frames[..stack]),
+            threshold: tracing.threshold,
+            max_depth: tracing.max_bounces,
+        }
+    }
 }
 
 struct ShootJob<'a, 'h> {
