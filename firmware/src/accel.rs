@@ -3,13 +3,12 @@
 //! the cycle-level HDL model driven through its register driver, exactly as the host's
 //! `--backend model` drives it; on a board (feature `board`) the same driver code over the
 //! accelerator's volatile registers ([`crate::accel_mmio`]), attached at boot if its ID register
-//! answers ([`FwAccel::attach_mmio`]).
+//! answers (`FwAccel::attach_mmio`, board builds).
 //!
 //! Which one answers jobs: the hardware engine if there is one, unless the host asks for the
-//! soft engine in its `Configure`. Jobs reach either engine through one
-//! [`Either`](hemi_kernel::accel::either::Either), so the tracer, the walker and the pixel loop
-//! are compiled once for both: a second copy per engine type is what overflowed a board's
-//! 128 KiB flash.
+//! soft engine in its `Configure`. Jobs reach either engine through one [`Either`], so the
+//! tracer, the walker and the pixel loop are compiled once for both: a second copy per engine
+//! type is what overflowed a board's 128 KiB flash.
 
 use hemi_kernel::accel::either::Either;
 use hemi_kernel::accel::Accelerator;
@@ -84,7 +83,7 @@ impl FwAccel {
     }
 
     /// The hardware engine this build has, if any (whether a board's answers is known only
-    /// after [`FwAccel::attach_mmio`]).
+    /// after `FwAccel::attach_mmio`).
     pub const fn native() -> AccelKind {
         if cfg!(feature = "model") {
             AccelKind::Model
