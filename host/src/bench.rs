@@ -247,7 +247,7 @@ pub fn bezier_vs_tessellated(
 
 /// Worst rotation error of a CORDIC pipe of configuration `cfg` over `n` angles of the full
 /// circle (a unit vector (0.8, 0.6) turned by each), against f64.
-fn cordic_rotation_error(cfg: hemi_hdl_model::cordic::CordicConfig, n: usize) -> f64 {
+pub fn cordic_rotation_error(cfg: hemi_hdl_model::cordic::CordicConfig, n: usize) -> f64 {
     use hemi_hdl_model::cordic::{CordicPipe, CordicSlot, Mode};
     use hemi_hdl_model::format::{Angle, Unit};
     let mut pipe: CordicPipe<u32> = CordicPipe::new(Mode::Rotate, cfg);

@@ -7,8 +7,7 @@
 //! - the CORDIC error against iterations and word width, with latency and an area proxy, and
 //!   which configurations are on the Pareto front.
 
-use hemi_hdl_model::cordic::{CordicConfig, CordicPipe, CordicSlot, Mode};
-use hemi_hdl_model::format::{Angle, Unit};
+use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::{ModelAccelerator, ModelConfig};
 use hemi_kernel::accel::Accelerator;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
@@ -205,33 +204,6 @@ fn clocks_per_bezier_patch_test_against_depth_and_width() {
     }
 }
 
-fn worst_error(cfg: CordicConfig, n: usize) -> f64 {
-    let mut rot: CordicPipe<u32> = CordicPipe::new(Mode::Rotate, cfg);
-    let mut worst = 0.0f64;
-    let angle = |i: usize| (i as f64 / n as f64 * 2.0 - 1.0) * std::f64::consts::PI;
-    let mut got = 0;
-    let mut i = 0;
-    while got < n {
-        let input = (i < n).then(|| CordicSlot {
-            x: Unit::from_num(0.8),
-            y: Unit::from_num(0.6),
-            z: Angle::from_num(angle(i)),
-            zero: false,
-            payload: i as u32,
-        });
-        i += 1;
-        if let Some(s) = rot.tick(input) {
-            let a = angle(s.payload as usize);
-            let (xr, yr) = (0.8 * a.cos() - 0.6 * a.sin(), 0.8 * a.sin() + 0.6 * a.cos());
-            let e =
-                ((s.x.to_num::<f64>() - xr).powi(2) + (s.y.to_num::<f64>() - yr).powi(2)).sqrt();
-            worst = worst.max(e);
-            got += 1;
-        }
-    }
-    worst
-}
-
 #[test]
 #[ignore = "measurement: run in release with --ignored --nocapture"]
 fn cordic_pareto_front() {
@@ -242,7 +214,7 @@ fn cordic_pareto_front() {
             if cfg.is_valid() {
                 // area proxy: the rotator's 3 pipes × n stages × 3 W-bit adders (x, y, z)
                 let area = 3 * iterations * 3 * width;
-                rows.push((cfg, worst_error(cfg, 20_000), area));
+                rows.push((cfg, hemi::bench::cordic_rotation_error(cfg, 20_000), area));
             }
         }
     }
