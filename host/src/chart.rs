@@ -22,6 +22,20 @@ const COLOURS: [&str; 8] = [
     "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf",
 ];
 
+/// One series as an SVG polyline through `path` ("x,y" in pixels) with a dot at each point, in
+/// colour `c`: how both chart kinds draw their lines.
+pub(crate) fn polyline(s: &mut String, path: &[String], c: &str) {
+    let _ = writeln!(
+        s,
+        r#"<polyline points="{}" fill="none" stroke="{c}" stroke-width="2"/>"#,
+        path.join(" ")
+    );
+    for p in path {
+        let (x, y) = p.split_once(',').unwrap_or(("0", "0"));
+        let _ = writeln!(s, r#"<circle cx="{x}" cy="{y}" r="3" fill="{c}"/>"#);
+    }
+}
+
 fn decade_range(v: impl Iterator<Item = f64>) -> (f64, f64) {
     let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
         (a.min(x), b.max(x))
@@ -83,15 +97,7 @@ pub fn log_log(title: &str, x_label: &str, y_label: &str, note: &str, series: &[
             .filter(|p| p.0 > 0.0 && p.1 > 0.0)
             .map(|p| format!("{:.1},{:.1}", px(p.0), py(p.1)))
             .collect();
-        let _ = writeln!(
-            s,
-            r#"<polyline points="{}" fill="none" stroke="{c}" stroke-width="2"/>"#,
-            path.join(" ")
-        );
-        for p in &path {
-            let (x, y) = p.split_once(',').unwrap_or(("0", "0"));
-            let _ = writeln!(s, r#"<circle cx="{x}" cy="{y}" r="3" fill="{c}"/>"#);
-        }
+        polyline(&mut s, &path, c);
         let ly = T + 14.0 + 18.0 * i as f64;
         let _ = writeln!(
             s,

@@ -116,15 +116,7 @@ pub fn linear(
             .iter()
             .map(|p| format!("{:.1},{:.1}", px(p.0), py(p.1)))
             .collect();
-        let _ = writeln!(
-            s,
-            r#"<polyline points="{}" fill="none" stroke="{c}" stroke-width="2"/>"#,
-            path.join(" ")
-        );
-        for p in &path {
-            let (x, y) = p.split_once(',').unwrap_or(("0", "0"));
-            let _ = writeln!(s, r#"<circle cx="{x}" cy="{y}" r="3" fill="{c}"/>"#);
-        }
+        crate::chart::polyline(&mut s, &path, c);
         let ly = T + 14.0 + 18.0 * legend as f64;
         legend += 1;
         let _ = writeln!(
