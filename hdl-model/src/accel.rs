@@ -390,7 +390,6 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
         want_uv: bool,
         mut sink: F,
     ) {
-        let _ = want_uv; // (u,v) come for free from the pipelined (u,v) unit
         if !self.set_origin(origin) {
             self.out_of_range += dirs.len() as u64;
             for i in 0..dirs.len() {
@@ -398,7 +397,7 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
             }
             return;
         }
-        self.set_mode(mode::TRACE);
+        self.set_mode(mode::TRACE | uv_flag(want_uv));
         self.set_skip(self.origin_patch);
         self.rays += dirs.len() as u64;
         let mut hits = HitSink {
@@ -418,7 +417,6 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
         want_uv: bool,
         mut sink: F,
     ) {
-        let _ = want_uv;
         let all = hemi.rings();
         let n: usize = rings.clone().map(|j| all[j].count as usize).sum();
         if !self.set_origin(origin) {
@@ -431,7 +429,7 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
             return;
         }
         self.set_frame(rot);
-        self.set_mode(mode::ROTATE_TRACE);
+        self.set_mode(mode::ROTATE_TRACE | uv_flag(want_uv));
         self.set_skip(self.origin_patch);
         self.rays += n as u64;
         let mut push = RingCursor::new(hemi, rings.clone());
@@ -517,6 +515,16 @@ impl Normalise {
         }
         w.n = [n.x, n.y, n.z].map(|x| Unit::from_bits(unit_word(x) as i32));
         Some(w.encode())
+    }
+}
+
+/// MODE.NO_UV unless the caller wants (u,v): short results cost two bus reads fewer per ray, and
+/// the model skips the (u,v) unit's arithmetic for them.
+fn uv_flag(want_uv: bool) -> u32 {
+    if want_uv {
+        0
+    } else {
+        mode::NO_UV
     }
 }
 

@@ -302,8 +302,9 @@ impl Device {
             regs::RESULT_OUT => match self.result_fifo.front() {
                 Some(r) => {
                     let w = r[self.result_word];
+                    let len = if r[0] & result::SHORT != 0 { 2 } else { 4 };
                     self.result_word += 1;
-                    if self.result_word == 4 {
+                    if self.result_word == len {
                         self.result_word = 0;
                         self.result_fifo.pop();
                     }
@@ -378,7 +379,8 @@ impl Device {
             regs::BZ_CONFIG => self.bz_config_reg = value,
             regs::SKIP_PATCH => self.skip_reg = value & (skip::ENABLE | result::PATCH_MASK),
             regs::MODE => {
-                if value <= mode::ROTATE_TRACE {
+                let known = mode::KIND_MASK | mode::NO_UV;
+                if value & !known == 0 && value & mode::KIND_MASK <= mode::ROTATE_TRACE {
                     self.mode = value;
                 } else {
                     self.raise(error::BAD_CONFIG);
@@ -441,18 +443,19 @@ impl Device {
         if r.ray.info.error {
             return [result::ERROR, 0, 0, 0];
         }
-        if r.ray.info.mode == mode::ROTATE {
+        if r.ray.info.mode & mode::KIND_MASK == mode::ROTATE {
             let d = r.ray.dir.map(|c| c.to_bits() as u32);
             return [result::ROTATED, d[0], d[1], d[2]];
         }
+        let short = if r.ray.uv { 0 } else { result::SHORT };
         match r.hit {
             Some(h) => [
-                result::HIT | if h.front { result::FRONT } else { 0 } | h.patch,
+                result::HIT | if h.front { result::FRONT } else { 0 } | short | h.patch,
                 h.t.to_bits() as u32,
                 h.u.to_bits() as u32,
                 h.v.to_bits() as u32,
             ],
-            None => [0; 4],
+            None => [short, 0, 0, 0],
         }
     }
 
@@ -495,7 +498,7 @@ impl Device {
                         }
                     }
                     None => {
-                        let rotates = e.mode != mode::TRACE;
+                        let rotates = e.mode & mode::KIND_MASK != mode::TRACE;
                         let room =
                             (self.rotator.occupancy() as usize + self.queue.len()) < QUEUE_DEPTH;
                         if room && !(rotates && self.frame.busy()) {
@@ -528,7 +531,8 @@ impl Device {
             let pushed = self.queue.push(RayIn {
                 origin: info.origin,
                 dir,
-                bypass: info.mode == mode::ROTATE || info.error,
+                bypass: info.mode & mode::KIND_MASK == mode::ROTATE || info.error,
+                uv: info.mode & mode::NO_UV == 0,
                 skip: info.skip,
                 recip_at: self.cycles + RECIP_LATENCY,
                 info,

@@ -309,9 +309,20 @@ impl<B: RegisterAccess> Driver<B> {
         self.bus.write(regs::RAY_IN, dir[2]);
     }
 
-    /// Reads one result (four words) from the result FIFO.
+    /// Reads one result from the result FIFO: four words, or two for a SHORT one (its u and v
+    /// are returned as 0).
     pub fn pop_result(&mut self) -> [u32; 4] {
-        core::array::from_fn(|_| self.bus.read(regs::RESULT_OUT))
+        let w0 = self.bus.read(regs::RESULT_OUT);
+        let w1 = self.bus.read(regs::RESULT_OUT);
+        if w0 & result::SHORT != 0 {
+            return [w0, w1, 0, 0];
+        }
+        [
+            w0,
+            w1,
+            self.bus.read(regs::RESULT_OUT),
+            self.bus.read(regs::RESULT_OUT),
+        ]
     }
 
     /// Streams `n` rays: pushes `dir(i)` as the ray FIFO has room and hands each result to

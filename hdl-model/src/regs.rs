@@ -65,7 +65,7 @@ pub const FRAME_THETA: u32 = 0x078;
 pub const FRAME_PHI: u32 = 0x07C;
 /// Ray FIFO input: three writes (x, y, z of the direction, Q2.30) make one entry.
 pub const RAY_IN: u32 = 0x080;
-/// Result FIFO output: four reads make one result.
+/// Result FIFO output: four reads make one result (two for a result flagged SHORT).
 pub const RESULT_OUT: u32 = 0x084;
 /// Patch memory word address (auto-increments on PATCH_DATA access).
 pub const PATCH_ADDR: u32 = 0x090;
@@ -87,9 +87,10 @@ pub const STACK_HIGH: u32 = 0x0AC;
 
 /// ID register value.
 pub const ID_VALUE: u32 = 0x4845_4D49;
-/// VERSION register value: 1.1 (1.1 added the Bezier unit: BZ_CONFIG, SKIP_PATCH, the
-/// control-point memory; a 1.0 driver still works against it).
-pub const VERSION_VALUE: u32 = 0x0001_0001;
+/// VERSION register value: 1.2 (1.1 added the Bezier unit: BZ_CONFIG, SKIP_PATCH, the
+/// control-point memory; 1.2 added MODE.NO_UV and SHORT results. A 1.0 driver still works
+/// against it: it never sets the new bit, so it never sees a short result).
+pub const VERSION_VALUE: u32 = 0x0001_0002;
 
 /// CTRL bits.
 pub mod ctrl {
@@ -185,8 +186,15 @@ pub mod skip {
     pub const ENABLE: u32 = 1 << 31;
 }
 
-/// MODE values.
+/// MODE values: the kind of entry in 1:0, and the NO_UV flag.
 pub mod mode {
+    /// The kind of entry (TRACE, ROTATE or ROTATE_TRACE).
+    pub const KIND_MASK: u32 = 0x3;
+    /// Trace entries only: the caller does not want (u,v). The result is SHORT (two words, so
+    /// two bus reads fewer per ray) and the (u,v) unit's stages are not enabled for the entry
+    /// (clock-gated: the entry still takes its place in the pipe, so no clock count changes).
+    /// Pass 1 asks for patch and distance only, which is most of the rays.
+    pub const NO_UV: u32 = 1 << 8;
     /// Trace the direction as given (scene space).
     pub const TRACE: u32 = 0;
     /// Rotate the direction by the frame; the result is the direction.
@@ -205,6 +213,8 @@ pub mod result {
     pub const ERROR: u32 = 1 << 29;
     /// Words 1–3 are a rotated direction.
     pub const ROTATED: u32 = 1 << 28;
+    /// The result is two words (flags and t; no u, v): a trace entry with MODE.NO_UV.
+    pub const SHORT: u32 = 1 << 27;
     /// Patch index mask.
     pub const PATCH_MASK: u32 = 0x00FF_FFFF;
 }

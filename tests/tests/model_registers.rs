@@ -431,3 +431,94 @@ fn a_board_loads_one_scene_after_another_into_the_accelerator_it_attached_to() {
         assert!(a.iter().any(|(_, _, h)| h.is_some()));
     }
 }
+
+/// The unit square at z = 0 with its front towards +z.
+fn square_slot() -> [u32; 16] {
+    use hemi_hdl_model::format::Coord;
+    use hemi_hdl_model::intersect::patch_mem::{PatchWords, KIND_QUAD};
+    let c = |x: f32| Coord::from_num(x);
+    PatchWords {
+        kind: KIND_QUAD,
+        v: [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]].map(|[x, y]| [c(x), c(y), c(0.0)]),
+        n: [Unit::ZERO, Unit::ZERO, Unit::from_num(1.0 - 1e-9)],
+    }
+    .encode()
+}
+
+/// Pushes one trace entry in `m` and returns the clocks until its result is ready.
+fn clocks_to_result(d: &mut Driver<ModelBus>, m: u32, dir: [f32; 3]) -> u32 {
+    d.set_mode(m);
+    d.push_ray(dir.map(w));
+    let mut clocks = 0;
+    while d.bus_mut().read(regs::STATUS) & status::RESULT_READY == 0 {
+        clocks += 1;
+        assert!(clocks < 1000);
+    }
+    clocks
+}
+
+#[test]
+fn no_uv_entries_give_two_word_results_with_the_same_hit_on_the_same_clock() {
+    let mut d = Driver::new(ModelBus::new()).unwrap();
+    d.bus_mut().write(regs::CTRL, ctrl::ENABLE);
+    d.load_patches([square_slot()]).unwrap();
+    let c = |x: f32| hemi_hdl_model::format::Coord::from_num(x).to_bits() as u32;
+    d.set_origin([c(0.25), c(0.75), c(1.0)]);
+    let down = [0.0, 0.0, -1.0];
+    // the set-up pass for the new origin is paid by the first ray: warm it up
+    clocks_to_result(&mut d, mode::TRACE, down);
+    let full_r: [u32; 4] = core::array::from_fn(|_| d.bus_mut().read(regs::RESULT_OUT));
+    let full = clocks_to_result(&mut d, mode::TRACE, down);
+    let long: [u32; 4] = core::array::from_fn(|_| d.bus_mut().read(regs::RESULT_OUT));
+    assert_eq!(long, full_r);
+    assert_eq!(long[0], result::HIT | result::FRONT);
+    let u = Unit::from_bits(long[2] as i32).to_num::<f64>();
+    let v = Unit::from_bits(long[3] as i32).to_num::<f64>();
+    // 16 levels: within 2^-16 (the point is on a cell boundary at every level from the 2nd)
+    assert!(
+        (u - 0.25).abs() < 2e-5 && (v - 0.75).abs() < 2e-5,
+        "({u}, {v})"
+    );
+
+    // MODE.NO_UV: the same hit and t in two words, on the same clock
+    let short = clocks_to_result(&mut d, mode::TRACE | mode::NO_UV, down);
+    assert_eq!(
+        short, full,
+        "gating the (u,v) stages must not move the result"
+    );
+    let b = d.bus_mut();
+    assert_eq!(b.read(regs::MODE), mode::TRACE | mode::NO_UV);
+    let r = [b.read(regs::RESULT_OUT), b.read(regs::RESULT_OUT)];
+    assert_eq!(r, [long[0] | result::SHORT, long[1]]);
+    // the two reads popped it: nothing is left, and a third read underflows
+    assert_eq!(b.read(regs::STATUS) & status::RESULT_READY, 0);
+    assert_eq!(b.read(regs::ERROR), 0);
+    assert_eq!(b.read(regs::RESULT_OUT), 0);
+    assert_eq!(b.read(regs::ERROR), error::RESULT_UNDERFLOW);
+    b.write(regs::ERROR, u32::MAX);
+
+    // a miss is short too, and the driver reads either length
+    d.set_mode(mode::TRACE | mode::NO_UV);
+    let mut got = Vec::new();
+    d.stream(
+        3,
+        |i| [[0.0, 0.0, 1.0], down, [0.0, 0.0, 1.0]][i].map(w),
+        |_, r| got.push(r),
+    )
+    .unwrap();
+    assert_eq!(
+        got,
+        vec![
+            [result::SHORT, 0, 0, 0],
+            [long[0] | result::SHORT, long[1], 0, 0],
+            [result::SHORT, 0, 0, 0]
+        ]
+    );
+    // rotations ignore the flag: their results are always four words
+    assert_eq!(d.take_errors(), 0);
+    // unknown MODE bits are refused and leave MODE as it was
+    let b = d.bus_mut();
+    b.write(regs::MODE, mode::TRACE | 1 << 4);
+    assert_ne!(b.read(regs::ERROR) & error::BAD_CONFIG, 0);
+    assert_eq!(b.read(regs::MODE), mode::TRACE | mode::NO_UV);
+}

@@ -70,6 +70,9 @@ pub struct RayIn<T: Copy + Default> {
     pub dir: [Unit; 3],
     /// Skip the scan (rotate-only entries): one clock, no hit.
     pub bypass: bool,
+    /// The caller wants the hit's (u,v). When clear the (u,v) stages are not enabled for the
+    /// ray (it still takes its place in the pipe) and the hit's u and v are 0.
+    pub uv: bool,
     /// A patch this ray never hits (the one its hemisphere stands on).
     pub skip: Option<u32>,
     /// The clock from which its reciprocals 1/d are ready (the reciprocal unit at the ray
@@ -159,6 +162,8 @@ struct UvReg {
     slot: u8,
     /// (u,v) known on entry: the stages pass it through
     direct: Option<(i32, i32)>,
+    /// the stages are enabled (the ray wants (u,v) and its hit is planar)
+    bisect: bool,
 }
 
 /// Stage 1: edge tests and the denominator.
@@ -457,7 +462,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let depth = self.depth;
         // its `depth` bisection levels are applied as the register leaves (`Pipe::shift`)
         if let Some(mut reg) = self.uv.shift(None) {
-            if reg.hit && reg.direct.is_none() {
+            if reg.hit && reg.direct.is_none() && reg.bisect {
                 for _ in 0..depth {
                     UvStage.apply(&mut reg.cell);
                 }
@@ -470,10 +475,11 @@ impl<T: Copy + Default> IntersectUnit<T> {
                         h.u = Unit::from_bits(u);
                         h.v = Unit::from_bits(v);
                     }
-                    None => {
+                    None if reg.bisect => {
                         h.u = uv::centre(reg.cell.iu, depth);
                         h.v = uv::centre(reg.cell.iv, depth);
                     }
+                    None => {}
                 }
                 h
             });
@@ -507,6 +513,23 @@ impl<T: Copy + Default> IntersectUnit<T> {
                             hit: true,
                             slot,
                             direct: Some(direct),
+                            bisect: false,
+                        }
+                    }
+                    Some((patch, t, front, None)) if !self.rays[slot as usize].uv => {
+                        self.hits[slot as usize] = HitOut {
+                            patch,
+                            t: Coord::from_bits(t as i32),
+                            u: Unit::ZERO,
+                            v: Unit::ZERO,
+                            front,
+                        };
+                        UvReg {
+                            cell: Cell::default(),
+                            hit: true,
+                            slot,
+                            direct: None,
+                            bisect: false,
                         }
                     }
                     Some((patch, t, front, None)) => {
@@ -516,13 +539,11 @@ impl<T: Copy + Default> IntersectUnit<T> {
                         let d = ray.dir.map(|c| c.to_bits() as i64);
                         // P = O + t d: Q8.24 + (Q8.24 × Q2.30 >> 30)
                         let hp: [i64; 3] = core::array::from_fn(|c| o[c] + ((t * d[c]) >> 30));
-                        let cell = Cell {
-                            q: p.v.map(|v| v.map(|c| c.to_bits() as i64)),
-                            p: hp,
-                            n: p.n.map(|c| c.to_bits() as i64),
-                            iu: 0,
-                            iv: 0,
-                        };
+                        let cell = Cell::project(
+                            p.v.map(|v| v.map(|c| c.to_bits() as i64)),
+                            hp,
+                            p.n.map(|c| c.to_bits() as i64),
+                        );
                         self.hits[slot as usize] = HitOut {
                             patch,
                             t: Coord::from_bits(t as i32),
@@ -535,6 +556,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
                             hit: true,
                             slot,
                             direct: None,
+                            bisect: true,
                         }
                     }
                     None => UvReg {
@@ -542,6 +564,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
                         hit: false,
                         slot,
                         direct: None,
+                        bisect: false,
                     },
                 };
                 // the first (u,v) stage is this register; the pipe's other stages bisect

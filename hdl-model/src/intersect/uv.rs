@@ -3,57 +3,72 @@
 //! This is the subdivision of paper §6.1 specialised to a flat patch, where the point is already
 //! known (P = O + t d): a bilinear quad's iso-parameter lines are straight, so at each level the
 //! cell is halved in u by the segment between its edge midpoints P(u_m, v₀)–P(u_m, v₁) and in v
-//! by P(u₀, v_m)–P(u₁, v_m), and the side of each segment P lies on (one cross product dotted
-//! with the normal each) picks the sub-cell. Midpoints of a bilinear map are averages of corners:
-//! adds and a constant shift by 1. After D levels (u, v) is the centre of a 2^-D cell, within
-//! 2^-(D+1) of the exact inverse. A triangle is the quad collapsed at v = 1, so it runs the same
-//! stages. Bicubic patches will reuse the cell bookkeeping with bounding boxes instead of sides.
+//! by P(u₀, v_m)–P(u₁, v_m), and the side of each segment P lies on picks the sub-cell. The side
+//! is the sign of a 2D cross product in the plane of the two axes the patch normal is least
+//! along (its dominant axis is chosen once per hit, from the normal's magnitudes): the patch
+//! projects onto that plane without folding, and the product of two ≤ 34-bit differences is
+//! exact in 68 bits, so the test is right however small the cell gets. (A 3D cross product
+//! dotted with the normal would need 98 bits; truncating it instead loses the side once the
+//! cell is below ~2^-12 of the coordinate range, which an earlier version of this unit did.)
+//! Midpoints of a bilinear map are averages of corners: adds and a constant shift by 1. After D
+//! levels (u, v) is the centre of a 2^-D cell, within 2^-(D+1) of the exact inverse up to the
+//! midpoints' rounding (up to ½ LSB of Q8.24 a level). A triangle is the quad collapsed at v = 1, so
+//! it runs the same stages.
 
 use crate::format::Unit;
 
-/// One cell in flight: its four corners (v-major: P(u₀,v₀), P(u₁,v₀), P(u₁,v₁), P(u₀,v₁)),
-/// raw Q8.24 in 64-bit registers, the point, the normal and the cell index so far.
+/// One cell in flight, projected onto the plane of the two axes the patch normal is least along
+/// (the third coordinate never enters a side test, so the unit has no registers for it): its
+/// four corners (v-major: P(u₀,v₀), P(u₁,v₀), P(u₁,v₁), P(u₀,v₁)), raw Q8.24 in 64-bit
+/// registers, the point and the cell index so far.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Cell {
-    /// Corners.
-    pub q: [[i64; 3]; 4],
-    /// The hit point.
-    pub p: [i64; 3],
-    /// The patch normal (raw Q2.30).
-    pub n: [i64; 3],
+    /// Corners (projected).
+    pub q: [[i64; 2]; 4],
+    /// The hit point (projected).
+    pub p: [i64; 2],
     /// u cell index (level bits so far).
     pub iu: u32,
     /// v cell index.
     pub iv: u32,
 }
 
-fn mid(a: [i64; 3], b: [i64; 3]) -> [i64; 3] {
-    [(a[0] + b[0]) >> 1, (a[1] + b[1]) >> 1, (a[2] + b[2]) >> 1]
+fn mid(a: [i64; 2], b: [i64; 2]) -> [i64; 2] {
+    [(a[0] + b[0]) >> 1, (a[1] + b[1]) >> 1]
 }
 
-/// (b − a) × (p − a) · n, the side of p relative to the segment a→b (positive: left, seen from
-/// the front). 66-bit cross product, 98-bit dot product.
-fn side(a: [i64; 3], b: [i64; 3], p: [i64; 3], n: [i64; 3]) -> i128 {
-    let e = [
-        (b[0] - a[0]) as i128,
-        (b[1] - a[1]) as i128,
-        (b[2] - a[2]) as i128,
-    ];
-    let w = [
-        (p[0] - a[0]) as i128,
-        (p[1] - a[1]) as i128,
-        (p[2] - a[2]) as i128,
-    ];
-    let c = [
-        e[1] * w[2] - e[2] * w[1],
-        e[2] * w[0] - e[0] * w[2],
-        e[0] * w[1] - e[1] * w[0],
-    ];
-    // the cross product is Q.48; drop 24 bits so the dot with the Q2.30 normal stays in 128.
-    // (|e| < 2^32, |w| < 2^34, so |c| < 2^67 and c >> 24 fits 64 bits: the products below are
-    // 64 × 64 → 128, which is what the narrowing tells the host compiler.)
-    let c = c.map(|c| (c >> 24) as i64 as i128);
-    c[0] * n[0] as i128 + c[1] * n[1] as i128 + c[2] * n[2] as i128
+impl Cell {
+    /// The first cell, the whole patch with corners `q`, for the point `p` on it; `n` is the
+    /// patch normal. The projection drops the normal's largest component (ties to the lower
+    /// axis) and keeps the other two in cyclic order when that component is positive, swapped
+    /// when it is negative, so a counter-clockwise turn seen from the front stays
+    /// counter-clockwise in the plane.
+    pub fn project(q: [[i64; 3]; 4], p: [i64; 3], n: [i64; 3]) -> Cell {
+        let m = n.map(i64::unsigned_abs);
+        let axis = if m[0] >= m[1] && m[0] >= m[2] {
+            0
+        } else if m[1] >= m[2] {
+            1
+        } else {
+            2
+        };
+        let (i, j) = [(1, 2), (2, 0), (0, 1)][axis];
+        let (i, j) = if n[axis] < 0 { (j, i) } else { (i, j) };
+        let to2 = |v: [i64; 3]| [v[i], v[j]];
+        Cell {
+            q: q.map(to2),
+            p: to2(p),
+            iu: 0,
+            iv: 0,
+        }
+    }
+}
+
+/// The side of p relative to the segment a→b (positive: left, seen from the front): the 2D
+/// cross product (b − a) × (p − a). The differences are < 2^34, so each product is exact in a
+/// 68-bit (here 128-bit) container.
+fn side(a: [i64; 2], b: [i64; 2], p: [i64; 2]) -> i128 {
+    (b[0] - a[0]) as i128 * (p[1] - a[1]) as i128 - (b[1] - a[1]) as i128 * (p[0] - a[0]) as i128
 }
 
 /// One bisection level.
@@ -78,17 +93,23 @@ impl UvStage {
         let right = mid(q1, q2);
         let centre = mid(bottom, top);
         // left of bottom→top means u < u_m; left of left→right means v > v_m
-        let upper_u = side(bottom, top, c.p, c.n) < 0;
-        let upper_v = side(left, right, c.p, c.n) > 0;
-        // The sub-cell keeps corner k of the cell ((u, v) = (0,0), (1,0), (1,1), (0,1) for
-        // k = 0..3), has the centre at the opposite corner, and between them the midpoints of
-        // the two edges through corner k, mid(q_j, q_k) (mid is symmetric, and mid(q_k, q_k) =
-        // q_k): one multiplexer per corner, no data-dependent branch in the simulation.
-        let k = (upper_v as usize) << 1 | (upper_u ^ upper_v) as usize;
-        let qk = c.q[k];
-        for (j, q) in c.q.iter_mut().enumerate() {
-            *q = if j == k ^ 2 { centre } else { mid(*q, qk) };
-        }
+        let upper_u = side(bottom, top, c.p) < 0;
+        let upper_v = side(left, right, c.p) > 0;
+        // The sub-cell is one quarter of the 3 × 3 grid of corners, edge midpoints and centre:
+        // each of its corners is a two-level multiplexer on the select bits (no data-dependent
+        // branch or index in the simulation).
+        // (AND-OR multiplexers on all-ones/all-zeros masks, as the gates would be)
+        let (mu, mv) = (-(upper_u as i64), -(upper_v as i64));
+        let sel = |m: i64, one: [i64; 2], zero: [i64; 2]| {
+            [(one[0] & m) | (zero[0] & !m), (one[1] & m) | (zero[1] & !m)]
+        };
+        let pick = |[a, b, c, d]: [[i64; 2]; 4]| sel(mv, sel(mu, d, c), sel(mu, b, a));
+        c.q = [
+            pick([q0, bottom, left, centre]),
+            pick([bottom, q1, centre, right]),
+            pick([centre, right, top, q2]),
+            pick([left, centre, q3, top]),
+        ];
         c.iu = (c.iu << 1) | upper_u as u32;
         c.iv = (c.iv << 1) | upper_v as u32;
     }
