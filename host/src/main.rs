@@ -542,9 +542,14 @@ fn run_sampling(
     };
     let patches = scene.kernel_patches();
     let refined = match backend {
-        Backend::Boards(_) => bail!(
-            "--adaptive runs on the soft and model backends: boards take uniform sample jobs so far"
-        ),
+        Backend::Boards(_) => {
+            let farm = farm.context("boards not connected")?;
+            let refined = hemi::board::remote::refine(farm, scene, settings, &adaptive, &on)?;
+            if std::env::var_os("HEMI_BOARD_STATS").is_some() {
+                hemi::board::remote::report(farm, "after adaptive pass 1");
+            }
+            refined
+        }
         Backend::Soft => hemi::adaptive::refine_with(
             scene,
             settings,

@@ -8,6 +8,7 @@
 //! (the Jacobian is affine, so the midpoint rule is exact).
 
 use crate::geometry::{Bezier, Polygon, Vec3};
+use crate::patch::Shape;
 
 /// One sample point: where a hemisphere is placed.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -115,5 +116,19 @@ pub fn bezier_cell_sample(
         } else {
             du * dv
         },
+    }
+}
+
+/// Sample point (a, b) of the k×k lattice of level cells on a patch of shape `shape` (adaptive sampling, §4.3 and
+/// §7 last paragraph): a polygon's [`grid_sample`], a Bezier patch's [`bezier_cell_sample`] of
+/// the cell with side 1/k. `area` is the whole patch's. The host's adaptive sampling and a
+/// board's level jobs both place their points with this, so their rows agree bit for bit.
+pub fn lattice_sample(shape: &Shape, area: f32, k: u32, a: u32, b: u32) -> SamplePoint {
+    match shape {
+        Shape::Polygon(poly) => grid_sample(poly, k, a, b),
+        Shape::Bezier(bez) => {
+            let d = 1.0 / k as f32;
+            bezier_cell_sample(bez, a as f32 * d, b as f32 * d, d, d, area)
+        }
     }
 }

@@ -1,7 +1,8 @@
 //! Hardware-in-the-loop over QEMU: the firmware as the ray engine. Form factors, a small render
 //! and an irradiance query through two QEMU boards (jobs spread over both, through ptys and the
 //! `serialport` crate) equal the in-process `model` backend's bit for bit: same kernel, same
-//! accelerator model. Small R and K keep it quick. The same through the mirror of
+//! accelerator model. Adaptive sampling through the two boards (`ShootLevel` jobs) equals it
+//! in-process too. Small R and K keep it quick. The same through the mirror of
 //! `scenes/mirror-wall.toml` on one board (protocol 3: the optics table uploaded), at two
 //! CORDIC settings sent to the board.
 //!
@@ -128,6 +129,32 @@ fn run() {
     let got_e = remote::irradiance(&farm, settings.circles, settings.rule, &grids, p, n).unwrap();
     assert_eq!(got_e.map(f64::to_bits), want_e.map(f64::to_bits));
     assert!(got_e[0] > 0.0);
+
+    // Adaptive sampling (protocol 4, ShootLevel jobs at each level's k), against the same
+    // refinement in-process: the same rows computed, the same rows, the same solution.
+    let adaptive = hemi::adaptive::AdaptiveSettings {
+        margin: 0.1,
+        max_depth: 2,
+        ..Default::default()
+    };
+    let want_a = hemi::adaptive::refine_with(&scene, &settings, &adaptive, &make, &|_| {}).unwrap();
+    let got_a = remote::refine(&farm, &scene, &settings, &adaptive, &|_| {}).unwrap();
+    assert!(
+        want_a.patches.iter().any(|p| p.depth > 0),
+        "the test should refine some patch"
+    );
+    assert_eq!(got_a.rows_computed(), want_a.rows_computed());
+    assert_eq!(got_a.rounds, want_a.rounds);
+    let (ge, we) = (&got_a.form_factors.elements, &want_a.form_factors.elements);
+    assert_eq!(ge.len(), we.len());
+    for (g, w) in ge.iter().zip(we) {
+        assert_eq!((g.patch, g.point), (w.patch, w.point));
+        assert_eq!(g.row, w.row, "adaptive row of patch {} differs", g.patch);
+    }
+    assert_eq!(
+        bits(&got_a.form_factors.matrix),
+        bits(&want_a.form_factors.matrix)
+    );
 
     // The boards' counters: every job counted once, nothing refused, the stack measured.
     let stats: Vec<_> = farm

@@ -139,9 +139,9 @@ pub fn qemu(args: &[String]) -> Result<(), Failure> {
 /// `cargo xtask flash --chip CHIP [--features F] [ELF]`: `probe-rs run --chip CHIP ELF`.
 ///
 /// Without an ELF, builds the firmware for a board (`--no-default-features --features board`, or
-/// the features given; no QEMU semihosting exits) into `target/board/`, so the QEMU build the HIL
-/// tests use is left alone. It is the same build `cargo xtask test` checks against the flash and
-/// RAM of memory.x.
+/// the features given; no QEMU semihosting exits; the `board` profile, optimised for size) into
+/// `target/board/`, so the QEMU build the HIL tests use is left alone. It is the same build
+/// `cargo xtask test` checks against the flash and RAM of memory.x.
 pub fn flash(args: &[String]) -> Result<(), Failure> {
     const USAGE: &str = "usage: cargo xtask flash --chip CHIP [--features F] [ELF] \
                          (`probe-rs chip list` names the chips; env PROBE_RS_CHIP works too)";
@@ -171,7 +171,16 @@ pub fn flash(args: &[String]) -> Result<(), Failure> {
         Some(elf) => elf,
         None => {
             let board_dir = target_dir().join("board");
-            let mut build = cargo(["build", "--release", "-p", FIRMWARE, "--target", TARGET]);
+            // the `board` profile: every crate optimised for size, so it fits 128 KiB of flash
+            let mut build = cargo([
+                "build",
+                "--profile",
+                "board",
+                "-p",
+                FIRMWARE,
+                "--target",
+                TARGET,
+            ]);
             build
                 .arg("--no-default-features")
                 .arg("--target-dir")
@@ -179,7 +188,7 @@ pub fn flash(args: &[String]) -> Result<(), Failure> {
             // a board build has the MMIO accelerator (with the soft engine as its fallback)
             build.args(["--features", features.as_deref().unwrap_or("board")]);
             run(build).map_err(Failure::Failed)?;
-            elf_in(board_dir)
+            board_dir.join(TARGET).join("board").join(FIRMWARE)
         }
     };
     let mut probe = Command::new(probe_rs);

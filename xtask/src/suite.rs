@@ -53,9 +53,18 @@ fn steps() -> Vec<Step> {
                    build, which must fit 128 KiB of flash and 64 KiB of RAM (memory.x)",
             kind: Kind::Commands(|| {
                 let qemu = cargo(["build", "--release", "-p", FIRMWARE, "--target", TARGET]);
-                // the board build (MMIO accelerator, soft fallback) in a directory of its own, so
-                // the QEMU build the HIL tests boot is left alone
-                let mut board = cargo(["build", "--release", "-p", FIRMWARE, "--target", TARGET]);
+                // the board build (MMIO accelerator, soft fallback; the `board` profile, sized
+                // for flash) in a directory of its own, so the QEMU build the HIL tests boot is
+                // left alone
+                let mut board = cargo([
+                    "build",
+                    "--profile",
+                    "board",
+                    "-p",
+                    FIRMWARE,
+                    "--target",
+                    TARGET,
+                ]);
                 board
                     .args(["--no-default-features", "--features", "board"])
                     .arg("--target-dir")

@@ -40,7 +40,7 @@ use crate::scene::Scene;
 use crate::solve::{gauss_seidel, Solution, SolveSettings};
 use hemi_kernel::accel::Accelerator;
 use hemi_kernel::patch::Shape;
-use hemi_kernel::sampling::{bezier_cell_sample, grid_sample, SamplePoint};
+use hemi_kernel::sampling::{lattice_sample, SamplePoint};
 use hemi_kernel::tracer::ShotStats;
 
 /// Settings of adaptive patch sampling (the initial guess K is [`Pass1Settings::samples`]).
@@ -152,17 +152,32 @@ pub enum Progress {
     Done(u64),
 }
 
-/// Sample point (a, b) of the k×k lattice on patch `i` (the cell's centre, its area share).
+/// Sample point (a, b) of the k×k lattice on patch `i` (the cell's centre, its area share):
+/// the kernel's `lattice_sample`, which a board's `ShootLevel` job uses too.
 pub fn cell_point(scene: &Scene, i: usize, k: u32, a: u32, b: u32) -> SamplePoint {
     let patch = &scene.patches[i];
-    match &patch.shape {
-        Shape::Polygon(poly) => grid_sample(poly, k, a, b),
-        Shape::Bezier(bez) => {
-            let d = 1.0 / k as f32;
-            bezier_cell_sample(bez, a as f32 * d, b as f32 * d, d, d, patch.area)
-        }
-    }
+    lattice_sample(&patch.shape, patch.area, k, a, b)
 }
+
+/// One hemisphere adaptive sampling asks for: patch `patch`, cell q = b·k + a of its k×k
+/// lattice (q also picks the spin), and the point there ([`cell_point`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Shot {
+    /// Scene patch.
+    pub patch: usize,
+    /// Cells per side of the lattice.
+    pub k: u32,
+    /// Cell index, v-major.
+    pub q: u32,
+    /// The sample point.
+    pub point: SamplePoint,
+}
+
+/// Where adaptive sampling gets its rows: shoots the hemispheres of `shots` and returns their
+/// rows in the same order, with the tracer's counters; `progress` gets rows as they are done.
+/// In-process engines ([`refine_with`]) and boards (`board::remote::refine`) are two of these.
+pub type RowSource<'a> =
+    dyn Fn(&[Shot], &(dyn Fn(u64) + Sync)) -> anyhow::Result<(Vec<ElementRow>, ShotStats)> + 'a;
 
 /// The initial guess on patch `i`: K×K on a polygon, the 4×4 of §7 on a Bezier patch, none on a
 /// pure specular patch (it has no column and shoots no hemisphere).
@@ -256,6 +271,23 @@ pub fn refine_with<A: Accelerator>(
     make: &(dyn Fn() -> A + Sync),
     progress: &(dyn Fn(Progress) + Sync),
 ) -> anyhow::Result<Refined> {
+    let source = |shots: &[Shot], done: &(dyn Fn(u64) + Sync)| {
+        let points: Vec<(usize, u32, SamplePoint)> =
+            shots.iter().map(|s| (s.patch, s.q, s.point)).collect();
+        shoot_rows(scene, settings, make, &points, done)
+    };
+    refine_from(scene, settings, adaptive, &source, progress)
+}
+
+/// Adaptive sampling with rows from `source` (see the module documentation for the
+/// procedure).
+pub fn refine_from(
+    scene: &Scene,
+    settings: &Pass1Settings,
+    adaptive: &AdaptiveSettings,
+    source: &RowSource<'_>,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> anyhow::Result<Refined> {
     anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
     crate::translucent::refuse(scene, "--adaptive")?;
     anyhow::ensure!(
@@ -270,20 +302,25 @@ pub fn refine_with<A: Accelerator>(
     let mut stats = ShotStats::default();
 
     // Level 0: the initial guess, every point shot.
-    let mut shots: Vec<(usize, u32, SamplePoint)> = Vec::new();
+    let mut shots: Vec<Shot> = Vec::new();
     let mut cells: Vec<(u32, u32)> = Vec::new();
     for (i, report) in reports.iter_mut().enumerate() {
         let k = initial_k(scene, i, settings.samples);
         for b in 0..k {
             for a in 0..k {
-                shots.push((i, b * k + a, cell_point(scene, i, k, a, b)));
+                shots.push(Shot {
+                    patch: i,
+                    k,
+                    q: b * k + a,
+                    point: cell_point(scene, i, k, a, b),
+                });
                 cells.push((a, b));
             }
         }
         report.k = k;
     }
     progress(Progress::Planned(shots.len() as u64));
-    let (rows, s) = shoot_rows(scene, settings, make, &shots, &done)?;
+    let (rows, s) = source(&shots, &done)?;
     stats += s;
     let mut levels: Vec<Option<Level>> = (0..n)
         .map(|i| {
@@ -320,7 +357,7 @@ pub fn refine_with<A: Accelerator>(
 
         // (4.2) and the gradient test; the next level of every patch with a failing window
         let mut next: Vec<(usize, Vec<Option<ElementRow>>)> = Vec::new();
-        let mut shots: Vec<(usize, u32, SamplePoint)> = Vec::new();
+        let mut shots: Vec<Shot> = Vec::new();
         let mut targets: Vec<(usize, usize, (u32, u32))> = Vec::new();
         for (i, level) in levels.iter().enumerate() {
             let Some(level) = level else { continue };
@@ -367,7 +404,13 @@ pub fn refine_with<A: Accelerator>(
             let (rows, shoot) = subdivide(scene, i, level.k, &level.rows, &failing);
             for (q, cell, point) in shoot {
                 targets.push((next.len(), q, cell));
-                shots.push((i, cell.1 * 2 * level.k + cell.0, point));
+                let k = 2 * level.k;
+                shots.push(Shot {
+                    patch: i,
+                    k,
+                    q: cell.1 * k + cell.0,
+                    point,
+                });
             }
             next.push((i, rows));
         }
@@ -388,7 +431,7 @@ pub fn refine_with<A: Accelerator>(
             });
         }
         progress(Progress::Planned(shots.len() as u64));
-        let (rows, s) = shoot_rows(scene, settings, make, &shots, &done)?;
+        let (rows, s) = source(&shots, &done)?;
         stats += s;
         for (row, (slot, q, cell)) in rows.into_iter().zip(targets) {
             let depth = reports[row.patch].depth + 1;

@@ -195,27 +195,13 @@ pub fn form_factors(
         };
         let i = usize::from(*patch);
         let points = points_of[i].get_or_insert_with(|| sample_points(scene, i, settings.samples));
-        anyhow::ensure!(
-            rows.lens.len() == usize::from(*count),
-            "a board answered {} rows for {count} sample points",
-            rows.lens.len()
-        );
-        let mut entries = rows.entries.iter();
-        for (r, len) in rows.lens.iter().enumerate() {
-            let q = usize::from(*first) + r;
-            // columns → scene patches, as pass1::shoot_rows maps them
-            let row: Vec<(u32, [f32; 3])> = entries
-                .by_ref()
-                .take(usize::from(*len))
-                .filter_map(|&(c, f)| Some((*columns.get(usize::from(c))? as u32, f)))
-                .collect();
-            anyhow::ensure!(
-                row.len() == usize::from(*len) && row.iter().all(|&(j, _)| (j as usize) < n),
-                "a board answered a malformed row"
-            );
+        for (r, row) in scene_rows(&rows, *count, &columns, n)?
+            .into_iter()
+            .enumerate()
+        {
             elements.push(ElementRow {
                 patch: i,
-                point: points[q],
+                point: points[usize::from(*first) + r],
                 row,
             });
             stats.rays += rays;
@@ -254,6 +240,121 @@ pub fn form_factors(
         samples: settings.samples,
         stats,
     })
+}
+
+/// A form-factor row over scene patches: (j, F per channel) where non-zero.
+type SparseRow = Vec<(u32, [f32; 3])>;
+
+/// The `count` sparse rows of a `Rows` answer over scene patches: the board's columns mapped
+/// through `columns`, as `pass1::shoot_rows` maps them.
+fn scene_rows(
+    rows: &hemi_kernel::link::Rows,
+    count: u16,
+    columns: &[usize],
+    n: usize,
+) -> Result<Vec<SparseRow>> {
+    anyhow::ensure!(
+        rows.lens.len() == usize::from(count),
+        "a board answered {} rows for {count} sample points",
+        rows.lens.len()
+    );
+    let mut entries = rows.entries.iter();
+    rows.lens
+        .iter()
+        .map(|len| {
+            let row: Vec<(u32, [f32; 3])> = entries
+                .by_ref()
+                .take(usize::from(*len))
+                .filter_map(|&(c, f)| Some((*columns.get(usize::from(c))? as u32, f)))
+                .collect();
+            anyhow::ensure!(
+                row.len() == usize::from(*len) && row.iter().all(|&(j, _)| (j as usize) < n),
+                "a board answered a malformed row"
+            );
+            Ok(row)
+        })
+        .collect()
+}
+
+/// Adaptive sampling (paper §4) on the boards: the host runs the refinement (the solves, the
+/// gradient tests, the interpolated rows) and the boards shoot every row it computes, as
+/// `ShootLevel` jobs (protocol 4) over runs of consecutive cells of one patch's lattice. The
+/// boards place the points with the kernel's `lattice_sample`, as the host does, so the result
+/// is the in-process `refine_with`'s on the same engine.
+pub fn refine(
+    farm: &Farm,
+    scene: &Scene,
+    settings: &Pass1Settings,
+    adaptive: &crate::adaptive::AdaptiveSettings,
+    progress: &(dyn Fn(crate::adaptive::Progress) + Sync),
+) -> Result<crate::adaptive::Refined> {
+    use crate::adaptive::Shot;
+    anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
+    crate::translucent::refuse(scene, "--adaptive")?;
+    let columns = set_up(farm, scene, settings, None, 1)?;
+    if let Some(old) = farm.hellos().into_iter().flatten().find(|h| h.protocol < 4) {
+        bail!(
+            "--adaptive on boards needs protocol 4 (ShootLevel jobs); a board speaks protocol {} \
+             ({}): flash a newer firmware",
+            old.protocol,
+            old.build
+        );
+    }
+    let n = scene.patches.len();
+    let per_job = u32::from(rows_per_job(n));
+    let rays = ray_count(settings.circles);
+    let source = |shots: &[Shot], done: &(dyn Fn(u64) + Sync)| {
+        // one job per run of consecutive cells of one lattice, at most `per_job` long
+        let mut jobs = Vec::new();
+        let mut spans: Vec<(usize, u16)> = Vec::new();
+        let mut s = 0;
+        while s < shots.len() {
+            let first = shots[s];
+            let mut c = 1;
+            while s + c < shots.len()
+                && (c as u32) < per_job
+                && shots[s + c].patch == first.patch
+                && shots[s + c].k == first.k
+                && shots[s + c].q == first.q + c as u32
+            {
+                c += 1;
+            }
+            jobs.push(Request::ShootLevel {
+                patch: u16::try_from(first.patch).context("too many patches")?,
+                k: u16::try_from(first.k).context("lattice too fine for a board")?,
+                first: u16::try_from(first.q).context("lattice too fine for a board")?,
+                count: c as u16,
+            });
+            spans.push((s, c as u16));
+            s += c;
+        }
+        let answers = farm.run(&jobs, &|j| {
+            if let Some((_, c)) = spans.get(j) {
+                done(u64::from(*c));
+            }
+        })?;
+        let mut elements = Vec::with_capacity(shots.len());
+        let mut stats = ShotStats::default();
+        for (&(s, count), answer) in spans.iter().zip(answers) {
+            let Response::Rows(rows) = answer else {
+                bail!("a board answered a ShootLevel job with something else");
+            };
+            for (r, row) in scene_rows(&rows, count, &columns, n)?
+                .into_iter()
+                .enumerate()
+            {
+                let shot = &shots[s + r];
+                elements.push(ElementRow {
+                    patch: shot.patch,
+                    point: shot.point,
+                    row,
+                });
+                stats.rays += rays;
+            }
+        }
+        Ok((elements, stats))
+    };
+    crate::adaptive::refine_from(scene, settings, adaptive, &source, progress)
 }
 
 /// Pass 2 on the boards: `Trace` jobs over pixel ranges; the hits are shaded here as

@@ -27,7 +27,7 @@ use crate::optics::{Optics, Surface};
 use crate::patch::{Patch, Shape};
 use crate::pixels::trace_pixels;
 use crate::rotation::{spin_for_sample, Rotation};
-use crate::sampling::{bezier_sample, grid_sample, SamplePoint};
+use crate::sampling::{lattice_sample, SamplePoint};
 use crate::skeleton::{Frame, Skeleton};
 use crate::specular::{Pending, SpecularStats, DEFAULT_THRESHOLD};
 use crate::tracer::{shoot_hemisphere, ShotStats, TraceScratch};
@@ -75,8 +75,8 @@ pub const ENGINE_CAPACITIES: Capacities = Capacities {
     max_in_flight: ENGINE_MAX_IN_FLIGHT as u16,
 };
 
-/// Sample points per Bezier patch (paper §7).
-const BEZIER_SAMPLES: u32 = 16;
+/// Sample points per side of a Bezier patch (paper §7: 4×4).
+const BEZIER_SIDE: u32 = 4;
 
 /// How many sample points of a scene with `patches` patches fit one [`Request::Shoot`] job
 /// (every row can hold one entry per patch): what hosts ask for and boards accept.
@@ -85,23 +85,27 @@ pub fn rows_per_job(patches: usize) -> u16 {
     per.clamp(1, MAX_ROWS) as u16
 }
 
-/// Samples on patch `patch` for K×K sampling: K² for polygons, 16 for Bezier patches.
-pub fn sample_count(patch: &Patch, k: u32) -> u32 {
+/// The side of the sample lattice of patch `patch` for K×K sampling: K for polygons, 4 for
+/// Bezier patches (§7).
+fn grid_side(patch: &Patch, k: u32) -> u32 {
     match patch.shape {
-        Shape::Polygon(_) => k.saturating_mul(k),
-        Shape::Bezier(_) => BEZIER_SAMPLES,
+        Shape::Polygon(_) => k,
+        Shape::Bezier(_) => BEZIER_SIDE,
     }
 }
 
-/// Sample point `q` of a patch (the host's `pass1::sample_points` order: v-major).
+/// Samples on patch `patch` for K×K sampling: K² for polygons, 16 for Bezier patches.
+pub fn sample_count(patch: &Patch, k: u32) -> u32 {
+    let side = grid_side(patch, k);
+    side.saturating_mul(side)
+}
+
+/// Sample point `q` of a patch (the host's `pass1::sample_points` order: v-major): cell q of
+/// its lattice (`grid_sample` on a polygon, `bezier_sample` on a Bezier patch, both
+/// [`lattice_sample`]).
 pub fn sample_point(patch: &Patch, area: f32, k: u32, q: u32) -> SamplePoint {
-    match &patch.shape {
-        Shape::Polygon(poly) => {
-            let k = k.max(1);
-            grid_sample(poly, k, q % k, q / k)
-        }
-        Shape::Bezier(b) => bezier_sample(b, q % 4, q / 4, area),
-    }
+    let side = grid_side(patch, k).max(1);
+    lattice_sample(&patch.shape, area, side, q % side, q / side)
 }
 
 /// A piece of work that needs an accelerator, whichever one the board has.
@@ -417,30 +421,47 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
 
     /// Serves an engine request (`None` for requests that are not the engine's).
     pub fn handle(&mut self, id: u32, req: &Request) -> Option<Response> {
-        let result = match req {
-            Request::Configure(c) => self.configure(c).map(|()| Response::Configured),
-            Request::SceneBegin { patches } => self.scene_begin(*patches),
-            Request::ScenePatch { index, area, patch } => self.scene_patch(*index, *area, patch),
+        // Both pass-1 jobs go through one `job` call: the job runner is generic over its
+        // closure, and a second copy of it with `shoot` inlined does not fit a board's flash.
+        let shoot = match *req {
             Request::Shoot {
                 patch,
                 first,
                 count,
-            } => self.job(id, |e| e.shoot(*patch, *first, *count)),
-            Request::Trace { first, count } => self.job(id, |e| e.trace(*first, *count)),
-            Request::Gather {
-                point,
-                normal,
-                ring,
+            } => Some((patch, None, first, count)),
+            Request::ShootLevel {
+                patch,
+                k,
                 first,
                 count,
-            } => self.job(id, |e| e.gather(*point, *normal, *ring, *first, *count)),
-            Request::Tracing(t) => self.set_tracing(t).map(|()| Response::Configured),
-            Request::SceneSurface { index, surface } => self.scene_surface(*index, surface),
-            Request::SceneLobes { first, weights } => self.scene_lobes(*first, weights),
-            Request::Cordic { iterations, width } => self.set_cordic(*iterations, *width),
-            Request::TraceStats => Ok(Response::TraceStats(self.trace_stats())),
-            Request::TraceRow { row, skip } => self.job(id, |e| e.trace_row(*row, *skip)),
-            _ => return None,
+            } => Some((patch, Some(k), first, count)),
+            _ => None,
+        };
+        let result = if let Some((patch, level, first, count)) = shoot {
+            self.job(id, |e| e.shoot(patch, level, first, count))
+        } else {
+            match req {
+                Request::Configure(c) => self.configure(c).map(|()| Response::Configured),
+                Request::SceneBegin { patches } => self.scene_begin(*patches),
+                Request::ScenePatch { index, area, patch } => {
+                    self.scene_patch(*index, *area, patch)
+                }
+                Request::Trace { first, count } => self.job(id, |e| e.trace(*first, *count)),
+                Request::Gather {
+                    point,
+                    normal,
+                    ring,
+                    first,
+                    count,
+                } => self.job(id, |e| e.gather(*point, *normal, *ring, *first, *count)),
+                Request::Tracing(t) => self.set_tracing(t).map(|()| Response::Configured),
+                Request::SceneSurface { index, surface } => self.scene_surface(*index, surface),
+                Request::SceneLobes { first, weights } => self.scene_lobes(*first, weights),
+                Request::Cordic { iterations, width } => self.set_cordic(*iterations, *width),
+                Request::TraceStats => Ok(Response::TraceStats(self.trace_stats())),
+                Request::TraceRow { row, skip } => self.job(id, |e| e.trace_row(*row, *skip)),
+                _ => return None,
+            }
         };
         Some(result.unwrap_or_else(|code| {
             self.counts.refused = self.counts.refused.wrapping_add(1);
@@ -687,7 +708,15 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         }
     }
 
-    fn shoot(&mut self, patch: u16, first: u16, count: u16) -> Result<(Response, Work), ErrorCode> {
+    /// Rows of sample points `first .. first + count` of `patch`: of the configured K×K grid
+    /// (Bezier: the 4×4 of §7), or of the `level`×`level` lattice when given.
+    fn shoot(
+        &mut self,
+        patch: u16,
+        level: Option<u16>,
+        first: u16,
+        count: u16,
+    ) -> Result<(Response, Work), ErrorCode> {
         let cfg = self.ready()?;
         let n = self.patches.len();
         let i = usize::from(patch);
@@ -695,9 +724,13 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             (Some(p), Some(a)) => (*p, *a),
             _ => return Err(ErrorCode::OutOfRange),
         };
-        let k = u32::from(cfg.samples);
+        // the lattice: the level's k, or the configured K×K grid (4×4 on a Bezier patch)
+        let side = match level {
+            Some(k) => u32::from(k),
+            None => grid_side(&p, u32::from(cfg.samples)),
+        };
         let end = u32::from(first) + u32::from(count);
-        if count == 0 || end > sample_count(&p, k) {
+        if count == 0 || end > side * side {
             return Err(ErrorCode::OutOfRange);
         }
         if count > rows_per_job(n) {
@@ -706,7 +739,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         let mut rows = Rows::default();
         let mut work = Work::default();
         for q in u32::from(first)..end {
-            let point = sample_point(&p, area, k, q);
+            let point = lattice_sample(&p.shape, area, side, q % side, q / side);
             let shot = self.shoot_one(point.position, point.normal, spin_for_sample(q), patch)?;
             work.rays += u64::from(shot.rays) + shot.specular.rays;
             work.specular += shot.specular;

@@ -23,7 +23,9 @@ use crate::patch::Patch;
 /// - 3: the optics table (`SceneSurface`, `SceneLobes`), the specular settings (`Tracing`), the
 ///   model's CORDIC settings (`Cordic`) and the specular counters (`TraceStats`); every message
 ///   of version 2 is unchanged.
-pub const PROTOCOL_VERSION: u16 = 3;
+/// - 4: `ShootLevel` (pass-1 jobs on a lattice of any k, for adaptive sampling); every message
+///   of version 3 is unchanged.
+pub const PROTOCOL_VERSION: u16 = 4;
 /// The oldest protocol this build still speaks: the handshake settles on the older of the two
 /// sides' versions if it is at least this, and the host sends only that version's messages.
 pub const MIN_PROTOCOL_VERSION: u16 = 2;
@@ -184,11 +186,25 @@ pub enum Request {
         /// Reports of the row already received.
         skip: u16,
     },
+    /// Pass-1 job of adaptive sampling (protocol 4): as [`Request::Shoot`], but the sample
+    /// points are cells `first .. first + count` (v-major: q = b·k + a) of the k×k lattice of
+    /// the patch (`hemi_kernel::sampling::lattice_sample`, also on Bezier patches), whatever
+    /// [`JobConfig::samples`] says. Answered [`Response::Rows`]. At most 12 bytes on the wire.
+    ShootLevel {
+        /// The patch the sample points lie on.
+        patch: u16,
+        /// The lattice's cells per side (≥ 1, k² ≤ 65 536).
+        k: u16,
+        /// First cell index.
+        first: u16,
+        /// Number of sample points; `count × patches ≤ MAX_ROW_ENTRIES`.
+        count: u16,
+    },
 }
 
 impl Request {
     /// Number of variants: variant indices at or above it are unknown to this build.
-    pub const VARIANTS: u32 = 19;
+    pub const VARIANTS: u32 = 20;
 }
 
 /// Board → host. Every response carries the id of the request it answers (see `codec`).

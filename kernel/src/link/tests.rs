@@ -195,7 +195,13 @@ fn messages_round_trip() {
 fn variant_counts_match_the_enums() {
     // The last variant's index must be VARIANTS - 1, else "unsupported" detection is wrong.
     let mut buf = [0u8; 128];
-    let tag = postcard::to_slice(&Request::TraceRow { row: 0, skip: 0 }, &mut buf).unwrap()[0];
+    let last = Request::ShootLevel {
+        patch: 0,
+        k: 1,
+        first: 0,
+        count: 1,
+    };
+    let tag = postcard::to_slice(&last, &mut buf).unwrap()[0];
     assert_eq!(u32::from(tag), Request::VARIANTS - 1);
     let tag = postcard::to_slice(&Response::Weighted(Default::default()), &mut buf).unwrap()[0];
     assert_eq!(u32::from(tag), Response::VARIANTS - 1);
@@ -415,6 +421,17 @@ fn job_requests_fit_16_bytes_on_the_wire() {
         let n = encode_request(1 << 21, &req, &mut out).unwrap();
         assert!(n <= 16, "{req:?}: {n} bytes");
     }
+    // Adaptive sampling's level jobs carry the lattice's k as well (k ≤ 127, so cell < 16 384):
+    // 16 bytes with every 3-byte job id (below 2^21), 17 with the one 4-byte id, 2^21 itself.
+    let level = |k: u16| Request::ShootLevel {
+        patch: 47,
+        k,
+        first: k * k - 1,
+        count: 64,
+    };
+    assert!(encode_request((1 << 21) - 1, &level(127), &mut out).unwrap() <= 16);
+    assert!(encode_request(1 << 21, &level(11), &mut out).unwrap() <= 16);
+    assert!(encode_request(1 << 21, &level(127), &mut out).unwrap() <= 17);
 }
 
 #[test]
@@ -472,7 +489,31 @@ fn engine_answers_jobs_and_counts_repeats_once() {
         assert!(f[0] > 0.1 && f[0] < 0.4, "{f:?}");
     }
     // The same job id again: same bits, counted once.
-    assert_eq!(engine.handle(10, &shoot), Some(Response::Rows(rows)));
+    assert_eq!(
+        engine.handle(10, &shoot),
+        Some(Response::Rows(rows.clone()))
+    );
+    // A level job on the lattice of the configured K is the same job; a finer one has k² cells.
+    let level = |k, first, count| Request::ShootLevel {
+        patch: 0,
+        k,
+        first,
+        count,
+    };
+    assert_eq!(
+        engine.handle(11, &level(2, 0, 4)),
+        Some(Response::Rows(rows))
+    );
+    let Some(Response::Rows(fine)) = engine.handle(12, &level(4, 12, 4)) else {
+        panic!("no rows at k = 4");
+    };
+    assert_eq!(fine.lens.len(), 4);
+    for (req, what) in [(level(4, 14, 3), "past k²"), (level(0, 0, 1), "k = 0")] {
+        assert!(
+            matches!(engine.handle(13, &req), Some(Response::Error { .. })),
+            "{what}"
+        );
+    }
     // Out of range and over capacity are refused, not indexed.
     let bad = [
         Request::Shoot {
@@ -501,7 +542,8 @@ fn engine_answers_jobs_and_counts_repeats_once() {
         ));
     }
     let s = engine.stats(LinkStats::default());
-    assert_eq!((s.jobs, s.repeats, s.refused), (1, 1, 5), "{s:?}");
+    // the Shoot, the two level jobs; the repeated Shoot; the two bad level jobs and `bad`
+    assert_eq!((s.jobs, s.repeats, s.refused), (3, 1, 7), "{s:?}");
     assert!(s.rays > 0);
 }
 
