@@ -1232,6 +1232,9 @@ fn main() -> Result<()> {
                         )?;
                         writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
                     }
+                    if std::env::var_os("HEMI_BOARD_STATS").is_some() {
+                        hemi::board::remote::report(farm, "after the queries");
+                    }
                 }
             }
             report_model(

@@ -2,7 +2,7 @@
 //! and an irradiance query through two QEMU boards (jobs spread over both, through ptys and the
 //! `serialport` crate) equal the in-process `model` backend's bit for bit: same kernel, same
 //! accelerator model. Adaptive sampling through the two boards (`ShootLevel` jobs) equals it
-//! in-process too. Small R and K keep it quick. The same through the mirror of
+//! in-process too. Small R and K keep it quick. The same, and an irradiance query, through the mirror of
 //! `scenes/mirror-wall.toml` on one board (protocol 3: the optics table uploaded), at two
 //! CORDIC settings sent to the board.
 //!
@@ -266,4 +266,34 @@ fn run_mirror() {
     assert_eq!(px(&got), px(&want.image));
     let t = farm.trace_stats().remove(0).unwrap();
     eprintln!("after pass 2: board trace stats {t:?}");
+
+    // Irradiance facing the mirror (protocol 4, Query jobs: the whole hemisphere in one shoot
+    // call, weighted reports back a window at a time), against the model in-process.
+    let hemi = OwnedHemisphere::new(settings.circles, settings.rule).unwrap();
+    let view = hemi.view();
+    let optics = hemi::optics::SceneOptics::new(&scene, &view).unwrap();
+    let mut scratch =
+        hemi::optics::Scratch::new(hemi::optics::pending_for(&view), &settings.specular);
+    let (p, n) = (Vec3::new(2.5, 1.5, 2.0), Vec3::new(-1.0, 0.0, 0.0));
+    let want_e = hemi::irradiance::irradiance(
+        &mut make(),
+        &view,
+        &optics.view(),
+        &mut scratch.view(),
+        &scene,
+        &grids,
+        p,
+        n,
+    );
+    let before = farm.trace_stats().remove(0).unwrap();
+    let got_e = remote::irradiance(&farm, settings.circles, settings.rule, &grids, p, n).unwrap();
+    assert_eq!(got_e.map(f64::to_bits), want_e.map(f64::to_bits));
+    let after = farm.trace_stats().remove(0).unwrap();
+    assert!(
+        after.frustums > before.frustums,
+        "the query sees the mirror: {after:?}"
+    );
+    // facing away from the mirror the answer differs: the mirror's light is in it
+    let away = remote::irradiance(&farm, settings.circles, settings.rule, &grids, p, -n).unwrap();
+    assert_ne!(away, got_e);
 }

@@ -41,7 +41,7 @@ fn config(settings: &Pass1Settings, camera: Option<Camera>, spp: u32) -> Result<
 /// the optics table of a specular scene (protocol 3). Returns the scene patch of each
 /// form-factor column (boards answer rows over diffuse columns, as the in-process tracer).
 ///
-/// Irradiance through specular surfaces is not on boards yet: refused by [`irradiance`].
+/// Irradiance through specular surfaces goes as `Query` jobs (protocol 4; [`irradiance`]).
 pub fn set_up(
     farm: &Farm,
     scene: &Scene,
@@ -538,7 +538,70 @@ fn render_rows(
     })
 }
 
-/// Irradiance at `point` facing `normal` (as `irradiance::irradiance`), from `Gather` jobs.
+/// Irradiance through specular surfaces (protocol 4): the board shoots the whole hemisphere as
+/// `irradiance::irradiance` does (one `tracer::shoot` call, so frustums are spun and parked
+/// alike) and answers the weighted reports a window at a time; they are summed here in the
+/// order the tracer made them, with the in-process arithmetic.
+fn irradiance_through_mirrors(
+    farm: &Farm,
+    grids: &[Grid],
+    point: Vec3,
+    normal: Vec3,
+) -> Result<[f64; 3]> {
+    use hemi_kernel::link::MAX_WEIGHTED;
+    if let Some(old) = farm.hellos().into_iter().flatten().find(|h| h.protocol < 4) {
+        bail!(
+            "irradiance through specular surfaces on boards needs protocol 4 (Query jobs); a \
+             board speaks protocol {} ({}): flash a newer firmware",
+            old.protocol,
+            old.build
+        );
+    }
+    let query = |skip: u32| -> Result<Request> {
+        Ok(Request::Query {
+            point,
+            normal,
+            skip: u16::try_from(skip).context("too many reports for one query")?,
+        })
+    };
+    let mut hits = Vec::new();
+    let first = farm.run(&[query(0)?], &|_| {})?;
+    let Some(Response::Weighted(got)) = first.into_iter().next() else {
+        bail!("a board answered a Query job with something else");
+    };
+    let total = got.total;
+    hits.extend(got.hits.iter().copied());
+    // the rest, a window per job (each shoots the hemisphere again)
+    let rest = (1..total.div_ceil(MAX_WEIGHTED as u32))
+        .map(|w| query(w * MAX_WEIGHTED as u32))
+        .collect::<Result<Vec<_>>>()?;
+    for answer in farm.run(&rest, &|_| {})? {
+        let Response::Weighted(got) = answer else {
+            bail!("a board answered a Query job with something else");
+        };
+        anyhow::ensure!(got.total == total, "a query's reports changed between jobs");
+        hits.extend(got.hits.iter().copied());
+    }
+    anyhow::ensure!(
+        hits.len() == total as usize,
+        "{} of {total} reports",
+        hits.len()
+    );
+    let mut e = [0.0f64; 3];
+    for hit in &hits {
+        let grid = grids
+            .get(usize::from(hit.patch))
+            .context("a board answered a hit on an unknown patch")?;
+        let b = grid.at(hit.u, hit.v);
+        for c in 0..3 {
+            e[c] += hit.weight[c] as f64 * b[c];
+        }
+    }
+    Ok(e)
+}
+
+/// Irradiance at `point` facing `normal` (as `irradiance::irradiance`), from `Gather` jobs, or
+/// `Query` jobs when the scene has specular surfaces.
 pub fn irradiance(
     farm: &Farm,
     circles: u32,
@@ -547,11 +610,9 @@ pub fn irradiance(
     point: Vec3,
     normal: Vec3,
 ) -> Result<[f64; 3]> {
-    anyhow::ensure!(
-        !farm.specular(),
-        "the scene has specular surfaces: irradiance through them is not on boards yet \
-         (use --backend soft or model)"
-    );
+    if farm.specular() {
+        return irradiance_through_mirrors(farm, grids, point, normal);
+    }
     let hemi = hemi_kernel::hemisphere::OwnedHemisphere::new(circles, rule)
         .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
     let view = hemi.view();

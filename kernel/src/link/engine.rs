@@ -30,7 +30,7 @@ use crate::rotation::{spin_for_sample, Rotation};
 use crate::sampling::{lattice_sample, SamplePoint};
 use crate::skeleton::{Frame, Skeleton};
 use crate::specular::{Pending, SpecularStats, DEFAULT_THRESHOLD};
-use crate::tracer::{shoot_hemisphere, ShotStats, TraceScratch};
+use crate::tracer::{shoot, shoot_hemisphere, Shot, ShotStats, TraceScratch};
 
 /// Patches a board's engine stores (the Cornell box has 19, the teapot scene 34).
 pub const ENGINE_MAX_PATCHES: usize = 48;
@@ -460,6 +460,11 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
                 Request::Cordic { iterations, width } => self.set_cordic(*iterations, *width),
                 Request::TraceStats => Ok(Response::TraceStats(self.trace_stats())),
                 Request::TraceRow { row, skip } => self.job(id, |e| e.trace_row(*row, *skip)),
+                Request::Query {
+                    point,
+                    normal,
+                    skip,
+                } => self.job(id, |e| e.query(*point, *normal, *skip)),
                 _ => return None,
             }
         };
@@ -880,6 +885,52 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         ))
     }
 
+    /// The weighted reports of an irradiance hemisphere at `point` around `normal`, from `skip`
+    /// on. Not inlined into the request dispatch: its walker and scratch then only take stack
+    /// while a query runs, not under every other job (a board's stack is tight with the teapot).
+    #[inline(never)]
+    fn query(
+        &mut self,
+        point: Vec3,
+        normal: Vec3,
+        skip: u16,
+    ) -> Result<(Response, Work), ErrorCode> {
+        let cfg = self.ready()?;
+        if !point.is_finite() || normal.try_normalize().is_none() {
+            return Err(ErrorCode::OutOfRange);
+        }
+        let hemi = Hemisphere::new(&self.rings, &self.quarter, cfg.rule);
+        let optics = Optics::new(&self.patches, &self.surfaces, &self.weights, hemi.circles())
+            .map_err(|_| ErrorCode::BadScene)?;
+        let tracing = self.tracing();
+        let scratch = self.store.scratch(tracing);
+        let mut out = WeightedHits::default();
+        let shot = self.provider.run(
+            &self.patches,
+            QueryJob {
+                optics: &optics,
+                hemi: &hemi,
+                scratch,
+                shot: Shot {
+                    origin: point,
+                    normal,
+                    spin: 0.0,
+                    origin_patch: None,
+                    want_uv: true,
+                },
+                skip: u32::from(skip),
+                out: &mut out,
+            },
+        );
+        Ok((
+            Response::Weighted(out),
+            Work {
+                rays: u64::from(shot.rays) + shot.specular.rays,
+                specular: shot.specular,
+            },
+        ))
+    }
+
     fn gather(
         &mut self,
         point: Vec3,
@@ -1064,6 +1115,44 @@ impl AccelJob for TraceRowJob<'_> {
                 if out.total >= skip {
                     let _ = out.hits.push(WeightedHit {
                         ray: ((p - first) * spp + s) as u16,
+                        patch: h.patch as u16,
+                        u: h.u,
+                        v: h.v,
+                        weight,
+                    });
+                }
+                out.total = out.total.saturating_add(1);
+            },
+        )
+    }
+}
+
+struct QueryJob<'a> {
+    optics: &'a Optics<'a>,
+    hemi: &'a Hemisphere<'a>,
+    scratch: TraceScratch<'a>,
+    shot: Shot,
+    skip: u32,
+    out: &'a mut WeightedHits,
+}
+
+impl AccelJob for QueryJob<'_> {
+    type Out = ShotStats;
+    fn run<A: Accelerator>(mut self, accel: &mut A) -> ShotStats {
+        let (skip, out) = (self.skip, self.out);
+        out.total = 0;
+        out.hits.clear();
+        // Every report is counted; those from `skip` on are kept while they fit.
+        shoot(
+            accel,
+            self.hemi,
+            self.optics,
+            &mut self.scratch,
+            &self.shot,
+            |h, weight| {
+                if out.total >= skip {
+                    let _ = out.hits.push(WeightedHit {
+                        ray: 0,
                         patch: h.patch as u16,
                         u: h.u,
                         v: h.v,

@@ -23,8 +23,8 @@ use crate::patch::Patch;
 /// - 3: the optics table (`SceneSurface`, `SceneLobes`), the specular settings (`Tracing`), the
 ///   model's CORDIC settings (`Cordic`) and the specular counters (`TraceStats`); every message
 ///   of version 2 is unchanged.
-/// - 4: `ShootLevel` (pass-1 jobs on a lattice of any k, for adaptive sampling); every message
-///   of version 3 is unchanged.
+/// - 4: `ShootLevel` (pass-1 jobs on a lattice of any k, for adaptive sampling) and `Query`
+///   (irradiance through specular surfaces); every message of version 3 is unchanged.
 pub const PROTOCOL_VERSION: u16 = 4;
 /// The oldest protocol this build still speaks: the handshake settles on the older of the two
 /// sides' versions if it is at least this, and the host sends only that version's messages.
@@ -200,11 +200,25 @@ pub enum Request {
         /// Number of sample points; `count × patches ≤ MAX_ROW_ENTRIES`.
         count: u16,
     },
+    /// Irradiance job through specular surfaces (protocol 4): the whole hemisphere placed at
+    /// `point` around `normal` (no spin) in one `tracer::shoot` call, as the host's irradiance
+    /// query makes it, every ray or frustum ray that reaches a diffuse front side reported with
+    /// its weight (δD times what the mirrors passed on). Answered [`Response::Weighted`] with
+    /// reports `skip ..` (at most [`MAX_WEIGHTED`]; `ray` is 0) and the total, so the host asks
+    /// again with a larger `skip` for the rest (the hemisphere is shot again).
+    Query {
+        /// Where the hemisphere is placed.
+        point: Vec3,
+        /// The surface normal there.
+        normal: Vec3,
+        /// Reports already received.
+        skip: u16,
+    },
 }
 
 impl Request {
     /// Number of variants: variant indices at or above it are unknown to this build.
-    pub const VARIANTS: u32 = 20;
+    pub const VARIANTS: u32 = 21;
 }
 
 /// Board → host. Every response carries the id of the request it answers (see `codec`).

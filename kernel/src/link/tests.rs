@@ -195,11 +195,10 @@ fn messages_round_trip() {
 fn variant_counts_match_the_enums() {
     // The last variant's index must be VARIANTS - 1, else "unsupported" detection is wrong.
     let mut buf = [0u8; 128];
-    let last = Request::ShootLevel {
-        patch: 0,
-        k: 1,
-        first: 0,
-        count: 1,
+    let last = Request::Query {
+        point: crate::geometry::Vec3::ZERO,
+        normal: crate::geometry::Vec3::Z,
+        skip: 0,
     };
     let tag = postcard::to_slice(&last, &mut buf).unwrap()[0];
     assert_eq!(u32::from(tag), Request::VARIANTS - 1);
@@ -432,6 +431,25 @@ fn job_requests_fit_16_bytes_on_the_wire() {
     assert!(encode_request((1 << 21) - 1, &level(127), &mut out).unwrap() <= 16);
     assert!(encode_request(1 << 21, &level(11), &mut out).unwrap() <= 16);
     assert!(encode_request(1 << 21, &level(127), &mut out).unwrap() <= 17);
+    // The two query requests carry a point and a normal: few, and larger.
+    let point = crate::geometry::Vec3::new(1.0, 2.0, 3.0);
+    let query = Request::Query {
+        point,
+        normal: point,
+        skip: 16383,
+    };
+    let gather = Request::Gather {
+        point,
+        normal: point,
+        ring: 63,
+        first: 255,
+        count: 80,
+    };
+    let (q, g) = (
+        encode_request(1 << 21, &query, &mut out).unwrap(),
+        encode_request(1 << 21, &gather, &mut out).unwrap(),
+    );
+    assert!(q <= 40 && g <= 40, "Query {q} bytes, Gather {g}");
 }
 
 #[test]
