@@ -439,6 +439,15 @@ impl Farm {
                     other => bail!("unexpected answer to SceneLobes: {other:?}"),
                 }
             }
+            // `Surface` gained `back_column` (translucent sheets) after protocol 3 was first
+            // built, which changed SceneSurface's encoding: protocol 4 is the first whose boards
+            // all read it.
+            anyhow::ensure!(
+                setup.surfaces.is_empty() || conn.hello.protocol >= 4,
+                "the board speaks protocol {}: its optics table lacks the back sides' columns \
+                 (protocol 4); flash a newer firmware for specular scenes",
+                conn.hello.protocol
+            );
             for &(index, surface) in &setup.surfaces {
                 match call(link, &Request::SceneSurface { index, surface })
                     .with_context(|| format!("optics of patch {index}"))?
