@@ -1224,6 +1224,7 @@ fn main() -> Result<()> {
                         let (p, d) = parse_ray_line(&line?, n)?;
                         let e = hemi::board::remote::irradiance(
                             farm,
+                            &scene,
                             settings.circles,
                             settings.rule,
                             &grids,

@@ -26,8 +26,9 @@
 //!
 //! ## Where it is not supported (yet)
 //!
-//! Adaptive sampling, matrix-free progressive refinement and the boards refuse translucent
-//! scenes with [`refuse`]: each would need the twin's rows at the same points.
+//! Adaptive sampling and matrix-free progressive refinement refuse translucent scenes with
+//! [`refuse`]: each would need the twin's rows at the same points. Boards take them since
+//! protocol 4 (back sides are named past the patches: `board::remote`).
 
 use crate::pass1::ElementRow;
 use crate::scene::{Material, Scene, ScenePatch, Sides};

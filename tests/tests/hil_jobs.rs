@@ -126,7 +126,8 @@ fn run() {
         p,
         n,
     );
-    let got_e = remote::irradiance(&farm, settings.circles, settings.rule, &grids, p, n).unwrap();
+    let got_e =
+        remote::irradiance(&farm, &scene, settings.circles, settings.rule, &grids, p, n).unwrap();
     assert_eq!(got_e.map(f64::to_bits), want_e.map(f64::to_bits));
     assert!(got_e[0] > 0.0);
 
@@ -286,7 +287,8 @@ fn run_mirror() {
         n,
     );
     let before = farm.trace_stats().remove(0).unwrap();
-    let got_e = remote::irradiance(&farm, settings.circles, settings.rule, &grids, p, n).unwrap();
+    let got_e =
+        remote::irradiance(&farm, &scene, settings.circles, settings.rule, &grids, p, n).unwrap();
     assert_eq!(got_e.map(f64::to_bits), want_e.map(f64::to_bits));
     let after = farm.trace_stats().remove(0).unwrap();
     assert!(
@@ -294,6 +296,95 @@ fn run_mirror() {
         "the query sees the mirror: {after:?}"
     );
     // facing away from the mirror the answer differs: the mirror's light is in it
-    let away = remote::irradiance(&farm, settings.circles, settings.rule, &grids, p, -n).unwrap();
+    let away = remote::irradiance(
+        &farm,
+        &scene,
+        settings.circles,
+        settings.rule,
+        &grids,
+        p,
+        -n,
+    )
+    .unwrap();
     assert_ne!(away, got_e);
+}
+
+/// `scenes/paper-screen.toml` (a translucent paper screen, k_y) through one QEMU board
+/// (protocol 4): the back side of the sheet is shot as patch `n + i` from the front's points
+/// facing the other way, rows carry the back side's column, and a query behind the screen sees
+/// the back side's radiosity; form factors, a small render and the query equal the in-process
+/// model's bit for bit.
+#[test]
+fn a_translucent_sheet_through_a_qemu_board_equals_the_model_backend() {
+    if !qemu_or_skip("hil_jobs") {
+        return;
+    }
+    big_stack(run_translucent);
+}
+
+fn run_translucent() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let scene = hemi::scene::load(&root.join("scenes/paper-screen.toml")).unwrap();
+    assert!(scene.has_translucency());
+    let fronts = scene.fronts();
+    let settings = settings();
+    let farm = Farm::connect(&[BoardSpec::Qemu], None).expect("boot a board");
+
+    let make = model(&scene);
+    let want = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
+    let got = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap();
+    assert_eq!(got.elements.len(), want.elements.len(), "every row, once");
+    for (g, w) in got.elements.iter().zip(&want.elements) {
+        assert_eq!((g.patch, g.point), (w.patch, w.point));
+        assert_eq!(g.row, w.row, "row of patch {}", scene.patches[g.patch].name);
+    }
+    assert_eq!(bits(&got.matrix), bits(&want.matrix));
+    // the back side was shot, and is seen through its own column
+    assert!(got.elements.iter().any(|e| e.patch >= fronts));
+    assert!(got
+        .elements
+        .iter()
+        .any(|e| e.row.iter().any(|&(j, _)| j as usize >= fronts)));
+
+    let grids = solve(&scene, &want);
+    let mut small = scene.clone();
+    if let Some(c) = small.camera.as_mut() {
+        c.width = 16;
+        c.height = 12;
+    }
+    let camera = hemi::render::camera_of(&small).unwrap();
+    let want_img = hemi::render::render_with(&small, &grids, &camera, 2, &settings, &make, &|_| {})
+        .unwrap()
+        .image;
+    let got_img = remote::render(&farm, &scene, &settings, &grids, &camera, 2, &|_| {})
+        .unwrap()
+        .image;
+    let px = |img: &hemi::render::Image| -> Vec<[u32; 3]> {
+        img.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
+    };
+    assert_eq!(px(&got_img), px(&want_img));
+
+    // behind the screen, facing it: the rays that reach it see its back side
+    let hemi = OwnedHemisphere::new(settings.circles, settings.rule).unwrap();
+    let view = hemi.view();
+    let optics = hemi::optics::SceneOptics::new(&scene, &view).unwrap();
+    let mut scratch =
+        hemi::optics::Scratch::new(hemi::optics::pending_for(&view), &settings.specular);
+    let (p, n) = (Vec3::new(2.0, 1.0, 2.5), Vec3::new(0.0, 0.0, -1.0));
+    let want_e = hemi::irradiance::irradiance(
+        &mut make(),
+        &view,
+        &optics.view(),
+        &mut scratch.view(),
+        &scene,
+        &grids,
+        p,
+        n,
+    );
+    let got_e =
+        remote::irradiance(&farm, &scene, settings.circles, settings.rule, &grids, p, n).unwrap();
+    assert_eq!(got_e.map(f64::to_bits), want_e.map(f64::to_bits));
+    assert!(got_e[0] > 0.0);
+    let s = farm.engine_stats().remove(0).unwrap();
+    assert_eq!(s.refused, 0, "{s:?}");
 }

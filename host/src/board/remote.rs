@@ -49,7 +49,23 @@ pub fn set_up(
     camera: Option<Camera>,
     spp: u32,
 ) -> Result<Vec<usize>> {
-    crate::translucent::refuse(scene, "a board")?;
+    if scene.has_translucency() {
+        // back sides are named past the patches and have columns of their own (protocol 4)
+        if let Some(old) = farm.hellos().into_iter().flatten().find(|h| h.protocol < 4) {
+            bail!(
+                "translucent sheets on boards need protocol 4; a board speaks protocol {} ({}): \
+                 flash a newer firmware",
+                old.protocol,
+                old.build
+            );
+        }
+        let cap = farm.capacities().map_or(u16::MAX, |c| c.max_patches);
+        anyhow::ensure!(
+            scene.patches.len() <= usize::from(cap),
+            "{} patches and back sides: the boards hold {cap} form-factor columns",
+            scene.patches.len()
+        );
+    }
     crate::optics::check(&settings.specular)?;
     anyhow::ensure!(
         settings.method == crate::method::Method::Hemisphere,
@@ -93,6 +109,36 @@ pub fn set_up(
         },
     })?;
     Ok(optics.columns)
+}
+
+/// The board's name for scene patch `i`: its index among the uploaded (front) patches, or, for
+/// the back side of a translucent sheet, the patch count plus its front's index (protocol 4).
+fn board_patch(scene: &Scene, i: usize) -> Result<u16> {
+    let index = match scene.patches[i].sides {
+        crate::scene::Sides::Back { front } => scene.fronts() + front,
+        _ => i,
+    };
+    u16::try_from(index).context("too many patches")
+}
+
+/// The scene patch a board's weighted report names (the inverse of [`board_patch`]).
+fn reported_patch(scene: &Scene, patch: u16) -> Result<usize> {
+    let p = usize::from(patch);
+    match p.checked_sub(scene.fronts()) {
+        None => Ok(p),
+        Some(front) if front < scene.fronts() => scene
+            .twin(front)
+            .context("a board reported the back of an opaque patch"),
+        Some(_) => bail!("a board answered a hit on an unknown patch"),
+    }
+}
+
+/// The scene patch whose radiosity a board's ray hit shows: the front it hit, or the back side
+/// of a translucent sheet hit from behind; `None` for the back of an opaque patch (as the
+/// tracer's diffuse sink sees it).
+fn seen_patch(scene: &Scene, hit: &RayHit) -> Option<usize> {
+    let i = usize::from(hit.patch);
+    (hit.front || scene.twin(i).is_some()).then(|| scene.side_seen(u32::from(hit.patch), hit.front))
 }
 
 /// Prints each board's engine counters to stderr (jobs, rays, CPU ticks per ray, stack, link
@@ -164,7 +210,7 @@ pub fn form_factors(
         while first < count {
             let c = per_job.min(count - first);
             jobs.push(Request::Shoot {
-                patch: i as u16,
+                patch: board_patch(scene, i)?,
                 first: u16::try_from(first).context("too many samples per patch")?,
                 count: c as u16,
             });
@@ -193,7 +239,7 @@ pub fn form_factors(
         else {
             bail!("a board answered a Shoot job with something else");
         };
-        let i = usize::from(*patch);
+        let i = reported_patch(scene, *patch)?;
         let points = points_of[i].get_or_insert_with(|| sample_points(scene, i, settings.samples));
         for (r, row) in scene_rows(&rows, *count, &columns, n)?
             .into_iter()
@@ -375,7 +421,7 @@ pub fn render(
     );
     set_up(farm, scene, settings, Some(*camera), spp)?;
     if farm.specular() {
-        let out = render_rows(farm, grids, camera, spp, progress)?;
+        let out = render_rows(farm, scene, grids, camera, spp, progress)?;
         if std::env::var_os("HEMI_BOARD_STATS").is_some() {
             report(farm, "after pass 2");
         }
@@ -417,9 +463,9 @@ pub fn render(
         );
         for (k, hit) in hits.iter().enumerate() {
             let p = *first as usize + k / spp as usize;
-            if let Some(hit) = hit.filter(|h| h.front) {
+            if let Some((hit, seen)) = hit.and_then(|h| Some((h, seen_patch(scene, &h)?))) {
                 let grid = grids
-                    .get(usize::from(hit.patch))
+                    .get(seen)
                     .context("a board answered a hit on an unknown patch")?;
                 let b = grid.at(hit.u, hit.v);
                 let px = &mut pixels[p];
@@ -447,6 +493,7 @@ pub fn render(
 /// the order the tracer made them, with render_with's arithmetic.
 fn render_rows(
     farm: &Farm,
+    scene: &Scene,
     grids: &[Grid],
     camera: &Camera,
     spp: u32,
@@ -519,7 +566,7 @@ fn render_rows(
             let x = u32::from(hit.ray) / spp;
             anyhow::ensure!(x < w, "a board answered a ray outside the row");
             let grid = grids
-                .get(usize::from(hit.patch))
+                .get(reported_patch(scene, hit.patch)?)
                 .context("a board answered a hit on an unknown patch")?;
             let b = grid.at(hit.u, hit.v);
             let px = &mut pixels[y * w as usize + x as usize];
@@ -544,6 +591,7 @@ fn render_rows(
 /// order the tracer made them, with the in-process arithmetic.
 fn irradiance_through_mirrors(
     farm: &Farm,
+    scene: &Scene,
     grids: &[Grid],
     point: Vec3,
     normal: Vec3,
@@ -590,7 +638,7 @@ fn irradiance_through_mirrors(
     let mut e = [0.0f64; 3];
     for hit in &hits {
         let grid = grids
-            .get(usize::from(hit.patch))
+            .get(reported_patch(scene, hit.patch)?)
             .context("a board answered a hit on an unknown patch")?;
         let b = grid.at(hit.u, hit.v);
         for c in 0..3 {
@@ -604,6 +652,7 @@ fn irradiance_through_mirrors(
 /// `Query` jobs when the scene has specular surfaces.
 pub fn irradiance(
     farm: &Farm,
+    scene: &Scene,
     circles: u32,
     rule: DeltaRule,
     grids: &[Grid],
@@ -611,7 +660,7 @@ pub fn irradiance(
     normal: Vec3,
 ) -> Result<[f64; 3]> {
     if farm.specular() {
-        return irradiance_through_mirrors(farm, grids, point, normal);
+        return irradiance_through_mirrors(farm, scene, grids, point, normal);
     }
     let hemi = hemi_kernel::hemisphere::OwnedHemisphere::new(circles, rule)
         .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
@@ -640,9 +689,13 @@ pub fn irradiance(
         };
         anyhow::ensure!(hits.len() == usize::from(*count), "short Gather answer");
         let w = view.rings()[usize::from(*ring)].delta_ff as f64;
-        for hit in hits.iter().flatten().filter(|h: &&RayHit| h.front) {
+        for (hit, seen) in hits
+            .iter()
+            .flatten()
+            .filter_map(|h| Some((h, seen_patch(scene, h)?)))
+        {
             let grid = grids
-                .get(usize::from(hit.patch))
+                .get(seen)
                 .context("a board answered a hit on an unknown patch")?;
             let b = grid.at(hit.u, hit.v);
             for c in 0..3 {

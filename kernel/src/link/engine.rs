@@ -564,10 +564,13 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         if index >= total || surface.column.is_some_and(|c| c >= u32::from(total)) {
             return Err(ErrorCode::OutOfRange);
         }
-        if surface.back_column.is_some() {
-            // Diffuse transmission: a back side's column lies past the patches, beyond the
-            // board's row; not on boards (the host refuses such scenes first).
-            return Err(ErrorCode::Unsupported);
+        // Diffuse transmission: a back side's column lies past the patches' (protocol 4); it
+        // must still fit the row.
+        if surface
+            .back_column
+            .is_some_and(|c| c as usize >= ENGINE_MAX_PATCHES)
+        {
+            return Err(ErrorCode::TooLong);
         }
         let bad_k = [surface.reflect, surface.transmit]
             .into_iter()
@@ -723,12 +726,20 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         count: u16,
     ) -> Result<(Response, Work), ErrorCode> {
         let cfg = self.ready()?;
-        let n = self.patches.len();
-        let i = usize::from(patch);
+        // Indices past the scene's patches name the back sides of translucent sheets (protocol
+        // 4): patch n + i is the back of patch i, shot from i's points facing the other way.
+        let (i, back) = match usize::from(patch).checked_sub(self.patches.len()) {
+            Some(front) => (front, true),
+            None => (usize::from(patch), false),
+        };
         let (p, area) = match (self.patches.get(i), self.areas.get(i)) {
             (Some(p), Some(a)) => (*p, *a),
             _ => return Err(ErrorCode::OutOfRange),
         };
+        if back && self.surfaces.get(i).and_then(|s| s.back_column).is_none() {
+            return Err(ErrorCode::OutOfRange);
+        }
+        let cols = self.columns();
         // the lattice: the level's k, or the configured K×K grid (4×4 on a Bezier patch)
         let side = match level {
             Some(k) => u32::from(k),
@@ -738,18 +749,19 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         if count == 0 || end > side * side {
             return Err(ErrorCode::OutOfRange);
         }
-        if count > rows_per_job(n) {
+        if count > rows_per_job(cols) {
             return Err(ErrorCode::TooLong);
         }
         let mut rows = Rows::default();
         let mut work = Work::default();
         for q in u32::from(first)..end {
             let point = lattice_sample(&p.shape, area, side, q % side, q / side);
-            let shot = self.shoot_one(point.position, point.normal, spin_for_sample(q), patch)?;
+            let normal = if back { -point.normal } else { point.normal };
+            let shot = self.shoot_one(point.position, normal, spin_for_sample(q), i as u16)?;
             work.rays += u64::from(shot.rays) + shot.specular.rays;
             work.specular += shot.specular;
             let mut len = 0u16;
-            for (j, f) in self.row.iter().take(n).enumerate() {
+            for (j, f) in self.row.iter().take(cols).enumerate() {
                 if *f != [0.0; 3] {
                     rows.entries
                         .push((j as u16, *f))
@@ -762,6 +774,19 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         Ok((Response::Rows(rows), work))
     }
 
+    /// Form-factor columns of the loaded scene: one per diffuse patch and one per back side of a
+    /// translucent sheet (as many as the patches with the default all-diffuse optics).
+    fn columns(&self) -> usize {
+        self.surfaces
+            .iter()
+            .flat_map(|s| [s.column, s.back_column])
+            .flatten()
+            .map(|c| c as usize + 1)
+            .max()
+            .unwrap_or(0)
+            .min(ENGINE_MAX_PATCHES)
+    }
+
     /// One hemisphere into `self.row` (over diffuse columns): the one place the tracer is
     /// called for pass 1. `BadScene` if the optics table does not fit the scene and hemisphere.
     fn shoot_one(
@@ -771,9 +796,9 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         spin: f32,
         patch: u16,
     ) -> Result<ShotStats, ErrorCode> {
-        let n = self.patches.len();
+        let cols = self.columns();
         let tracing = self.tracing();
-        let row = &mut self.row[..n.min(ENGINE_MAX_PATCHES)];
+        let row = &mut self.row[..cols];
         row.fill([0.0; 3]);
         let rule = self.config.rule;
         let hemi = Hemisphere::new(&self.rings, &self.quarter, rule);
@@ -1094,10 +1119,21 @@ struct TraceRowJob<'a> {
     out: &'a mut WeightedHits,
 }
 
+/// The patch index a weighted report names: the patch for its front, `patches` + the patch for
+/// the back side of a translucent sheet (the only backs the tracer reports; protocol 4).
+fn reported_side(h: &Hit, patches: usize) -> u16 {
+    if h.front {
+        h.patch as u16
+    } else {
+        (patches + h.patch as usize) as u16
+    }
+}
+
 impl AccelJob for TraceRowJob<'_> {
     type Out = SpecularStats;
     fn run<A: Accelerator>(mut self, accel: &mut A) -> SpecularStats {
         let (first, spp, skip) = (self.pixels.start, self.spp.max(1), self.skip);
+        let patches = self.optics.patches().len();
         let out = self.out;
         out.total = 0;
         out.hits.clear();
@@ -1115,7 +1151,7 @@ impl AccelJob for TraceRowJob<'_> {
                 if out.total >= skip {
                     let _ = out.hits.push(WeightedHit {
                         ray: ((p - first) * spp + s) as u16,
-                        patch: h.patch as u16,
+                        patch: reported_side(h, patches),
                         u: h.u,
                         v: h.v,
                         weight,
@@ -1140,6 +1176,7 @@ impl AccelJob for QueryJob<'_> {
     type Out = ShotStats;
     fn run<A: Accelerator>(mut self, accel: &mut A) -> ShotStats {
         let (skip, out) = (self.skip, self.out);
+        let patches = self.optics.patches().len();
         out.total = 0;
         out.hits.clear();
         // Every report is counted; those from `skip` on are kept while they fit.
@@ -1153,7 +1190,7 @@ impl AccelJob for QueryJob<'_> {
                 if out.total >= skip {
                     let _ = out.hits.push(WeightedHit {
                         ray: 0,
-                        patch: h.patch as u16,
+                        patch: reported_side(h, patches),
                         u: h.u,
                         v: h.v,
                         weight,

@@ -105,7 +105,9 @@ pub enum Request {
     },
     /// Pass-1 job: shoot the hemisphere from sample points `first .. first + count` of patch
     /// `patch` (the board derives the points with `hemi_kernel::sampling`, K from
-    /// [`JobConfig::samples`], spin from `spin_for_sample`). Answered [`Response::Rows`]. The
+    /// [`JobConfig::samples`], spin from `spin_for_sample`). Since protocol 4, `patch` = n + i
+    /// (n the scene's patches) names the back side of translucent patch i: i's points, facing
+    /// the other way. Answered [`Response::Rows`]. The
     /// request id is the job id: a job sent again with the same id is answered again but counted
     /// once.
     Shoot {
@@ -303,7 +305,8 @@ pub struct WeightedHits {
 pub struct WeightedHit {
     /// Eye ray of the row: pixel × spp + sample.
     pub ray: u16,
-    /// Patch index.
+    /// Patch index; the board's patch count plus the index for the back side of a translucent
+    /// sheet (protocol 4).
     pub patch: u16,
     /// Parametric u.
     pub u: f32,
