@@ -16,7 +16,7 @@ use hemi::scene::Scene;
 use hemi_hdl_model::{ModelAccelerator, ModelConfig};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
-use hemi_kernel::link::{AccelKind, ENGINE_CAPACITIES, PROTOCOL_VERSION};
+use hemi_kernel::link::{AccelKind, Capacities, ENGINE_CAPACITIES, PROTOCOL_VERSION};
 use hemi_tests::{big_stack, cornell_scene, qemu_or_skip};
 
 fn settings() -> Pass1Settings {
@@ -71,7 +71,14 @@ fn run() {
             AccelKind::Model,
             "QEMU builds run the HDL model"
         );
-        assert_eq!(hello.caps, ENGINE_CAPACITIES);
+        // the QEMU model build has RAM for hemispheres up to R = 128 (kernel `large-engine`)
+        assert_eq!(
+            hello.caps,
+            Capacities {
+                max_circles: 128,
+                ..ENGINE_CAPACITIES
+            }
+        );
     }
 
     // Pass 1.
@@ -84,6 +91,16 @@ fn run() {
         assert_eq!(g.row, w.row, "row of patch {} differs", g.patch);
     }
     assert_eq!(bits(&got.matrix), bits(&want.matrix));
+    // and at the host's default R = 64, which the QEMU build's engine holds (K = 1 keeps it
+    // quick)
+    let r64 = Pass1Settings {
+        circles: 64,
+        samples: 1,
+        ..settings
+    };
+    let want64 = pass1::form_factors_with(&scene, &r64, &make, &|_| {}).unwrap();
+    let got64 = remote::form_factors(&farm, &scene, &r64, &|_| {}).unwrap();
+    assert_eq!(bits(&got64.matrix), bits(&want64.matrix));
 
     // Pass 2 on a small image.
     let grids = solve(&scene, &want);
