@@ -147,17 +147,20 @@ pub struct Box3 {
 impl Box3 {
     /// The box of 16 control points (three 16-input min/max trees).
     pub fn of(cp: &[Point; 16]) -> Box3 {
-        let mut b = Box3 {
-            lo: [i64::MAX; 3],
-            hi: [i64::MIN; 3],
-        };
+        // on the datapath words themselves (i32), so the host can run the trees as vector
+        // min/max; the box registers are the 64-bit slab inputs
+        let mut lo = [i32::MAX; 3];
+        let mut hi = [i32::MIN; 3];
         for p in cp {
-            for (k, &c) in p.iter().enumerate() {
-                b.lo[k] = b.lo[k].min(c as i64);
-                b.hi[k] = b.hi[k].max(c as i64);
+            for k in 0..3 {
+                lo[k] = lo[k].min(p[k]);
+                hi[k] = hi[k].max(p[k]);
             }
         }
-        b
+        Box3 {
+            lo: lo.map(i64::from),
+            hi: hi.map(i64::from),
+        }
     }
 
     /// The slab test of §6.1: the entry distance (raw Q8.24, at least `t_min`) if the ray meets
@@ -192,9 +195,11 @@ fn mul_q32(delta: i64, inv: i64) -> i64 {
 }
 
 /// Midpoint of two datapath words: a 1-bit-wider add and the constant shift 1, truncated to Wc.
+/// Datapath words are within ±2^25 ([`to_datapath`]), so the 27-bit sum fits the i32 the host
+/// computes it in.
 #[inline]
 fn mid(a: Point, b: Point, mask: i32) -> Point {
-    core::array::from_fn(|k| (((a[k] as i64 + b[k] as i64) >> 1) as i32) & mask)
+    core::array::from_fn(|k| ((a[k] + b[k]) >> 1) & mask)
 }
 
 /// A cubic split at ½ by de Casteljau's midpoints: the left and right halves.
