@@ -27,7 +27,7 @@ impl Rng {
 
 fn random_request(rng: &mut Rng) -> Request {
     let v = |rng: &mut Rng| Vec3::new(rng.f32(), rng.f32(), rng.f32());
-    match rng.next() % 7 {
+    match rng.next() % 9 {
         0 => Request::Shoot {
             patch: rng.next() as u16,
             first: rng.next() as u16,
@@ -52,6 +52,17 @@ fn random_request(rng: &mut Rng) -> Request {
         },
         5 => Request::Ping {
             nonce: rng.next() as u32,
+        },
+        6 => Request::ShootLevel {
+            patch: rng.next() as u16,
+            k: rng.next() as u16,
+            first: rng.next() as u16,
+            count: rng.next() as u16,
+        },
+        7 => Request::Query {
+            point: v(rng),
+            normal: v(rng),
+            skip: rng.next() as u16,
         },
         _ => Request::EngineStats,
     }

@@ -514,11 +514,29 @@ fn no_uv_entries_give_two_word_results_with_the_same_hit_on_the_same_clock() {
             [result::SHORT, 0, 0, 0]
         ]
     );
-    // rotations ignore the flag: their results are always four words
     assert_eq!(d.take_errors(), 0);
+    // rotations ignore the flag: their results are four words, ROTATED, never SHORT
+    d.frame_from_normal([0, 0, w(1.0 - 1e-9)], [w(1.0 - 1e-9), 0]);
+    d.wait_idle().unwrap();
+    d.set_mode(mode::ROTATE | mode::NO_UV);
+    d.push_ray([w(1.0 - 1e-9), 0, 0]);
+    let b = d.bus_mut();
+    let mut polls = 0;
+    while b.read(regs::STATUS) & status::RESULT_READY == 0 {
+        polls += 1;
+        assert!(polls < 1000);
+    }
+    let r: [u32; 4] = core::array::from_fn(|_| b.read(regs::RESULT_OUT));
+    assert_eq!(r[0], result::ROTATED, "{r:x?}");
+    assert!(
+        Unit::from_bits(r[1] as i32).to_num::<f64>() > 0.99,
+        "{r:x?}"
+    );
+    assert_eq!(b.read(regs::STATUS) & status::RESULT_READY, 0);
+    assert_eq!(b.read(regs::ERROR), 0, "four reads, no underflow");
     // unknown MODE bits are refused and leave MODE as it was
     let b = d.bus_mut();
     b.write(regs::MODE, mode::TRACE | 1 << 4);
     assert_ne!(b.read(regs::ERROR) & error::BAD_CONFIG, 0);
-    assert_eq!(b.read(regs::MODE), mode::TRACE | mode::NO_UV);
+    assert_eq!(b.read(regs::MODE), mode::ROTATE | mode::NO_UV);
 }

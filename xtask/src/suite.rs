@@ -96,11 +96,22 @@ fn steps() -> Vec<Step> {
         },
         Step {
             name: "host-tests",
-            what: "host tests, including the HIL tests over QEMU (HEMI_REQUIRE_QEMU=1)",
+            what: "host tests, including the HIL tests over QEMU (HEMI_REQUIRE_QEMU=1), and the \
+                   kernel's board-engine tests with the large tables QEMU's model build uses",
             kind: Kind::Commands(|| {
                 let mut c = cargo(["test"]);
                 c.args(HOST).env("HEMI_REQUIRE_QEMU", "1");
-                vec![c]
+                // the firmware turns `large-engine` on; the host never does
+                let large = cargo([
+                    "test",
+                    "-p",
+                    "hemi-kernel",
+                    "--features",
+                    "large-engine",
+                    "--lib",
+                    "link::",
+                ]);
+                vec![c, large]
             }),
         },
         Step {

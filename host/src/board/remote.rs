@@ -49,23 +49,6 @@ pub fn set_up(
     camera: Option<Camera>,
     spp: u32,
 ) -> Result<Vec<usize>> {
-    if scene.has_translucency() {
-        // back sides are named past the patches and have columns of their own (protocol 4)
-        if let Some(old) = farm.hellos().into_iter().flatten().find(|h| h.protocol < 4) {
-            bail!(
-                "translucent sheets on boards need protocol 4; a board speaks protocol {} ({}): \
-                 flash a newer firmware",
-                old.protocol,
-                old.build
-            );
-        }
-        let cap = farm.capacities().map_or(u16::MAX, |c| c.max_patches);
-        anyhow::ensure!(
-            scene.patches.len() <= usize::from(cap),
-            "{} patches and back sides: the boards hold {cap} form-factor columns",
-            scene.patches.len()
-        );
-    }
     crate::optics::check(&settings.specular)?;
     anyhow::ensure!(
         settings.method == crate::method::Method::Hemisphere,
@@ -75,6 +58,25 @@ pub fn set_up(
         .map_err(|e| anyhow::anyhow!("--circles: {e:?}"))?;
     let optics = crate::optics::SceneOptics::new(scene, &hemi.view())?;
     let specular = optics.view().has_specular();
+    // The optics table (specular surfaces, and the back sides of translucent sheets, which are
+    // named past the patches and have columns of their own) goes to protocol-4 boards only: say
+    // so here, before any upload, rather than as a failed upload.
+    if specular || scene.has_translucency() {
+        if let Some(old) = farm.hellos().into_iter().flatten().find(|h| h.protocol < 4) {
+            bail!(
+                "specular and translucent scenes on boards need protocol 4; a board speaks \
+                 protocol {} ({}): flash a newer firmware",
+                old.protocol,
+                old.build
+            );
+        }
+    }
+    let cap = farm.capacities().map_or(u16::MAX, |c| c.max_patches);
+    anyhow::ensure!(
+        optics.columns.len() <= usize::from(cap),
+        "{} form-factor columns (diffuse patches and back sides): the boards hold {cap}",
+        optics.columns.len()
+    );
     let patches = scene
         .kernel_patches()
         .into_iter()
@@ -138,7 +140,9 @@ fn reported_patch(scene: &Scene, patch: u16) -> Result<usize> {
 /// tracer's diffuse sink sees it).
 fn seen_patch(scene: &Scene, hit: &RayHit) -> Option<usize> {
     let i = usize::from(hit.patch);
-    (hit.front || scene.twin(i).is_some()).then(|| scene.side_seen(u32::from(hit.patch), hit.front))
+    // (an index past the patches is left to the caller's "unknown patch" error)
+    let translucent = i < scene.patches.len() && scene.twin(i).is_some();
+    (hit.front || translucent).then(|| scene.side_seen(u32::from(hit.patch), hit.front))
 }
 
 /// Prints each board's engine counters to stderr (jobs, rays, CPU ticks per ray, stack, link

@@ -64,8 +64,9 @@ pub const ENGINE_PENDING: usize = 32;
 /// Specular hits one frustum may park (frustum rays reaching another specular patch); beyond,
 /// they are cut and counted as overflows.
 pub const ENGINE_PARKED: usize = 16;
-/// Entries of the lobe-weight table: k + 1 per specular material, k < R ≤ 48.
-pub const ENGINE_MAX_LOBES: usize = 128;
+/// Entries of the lobe-weight table: k + 1 per specular material, k < R (a few materials with
+/// the widest lobes of the largest hemisphere).
+pub const ENGINE_MAX_LOBES: usize = 2 * ENGINE_MAX_CIRCLES + 32;
 /// The specular settings until the host sends its own: the host's defaults, with the board's
 /// stack.
 pub const ENGINE_DEFAULT_TRACING: TraceSettings = TraceSettings {

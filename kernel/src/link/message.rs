@@ -178,10 +178,11 @@ pub enum Request {
     TraceStats,
     /// Pass-2 job through specular surfaces: the eye rays of image row `row` (`spp` per pixel),
     /// the whole row in one `trace_pixels` call as the host's pass 2 makes it (so the frustums
-    /// are spun alike), every ray or frustum ray that reaches a diffuse front side reported with
-    /// its weight. Answered [`Response::Weighted`] with reports `skip ..` (at most
-    /// [`MAX_WEIGHTED`]) and the row's total, so the host asks again with a larger `skip` for
-    /// the rest (the row is traced again). Row and skip < 16384 keep it ≤ 16 bytes.
+    /// are spun alike), every ray or frustum ray that reaches a diffuse side (a front, or the
+    /// back of a translucent sheet) reported with its weight. Answered [`Response::Weighted`]
+    /// with reports `skip ..` (at most [`MAX_WEIGHTED`]) and the row's total, so the host asks
+    /// again with a larger `skip` for the rest (the row is traced again). Row and skip < 16384
+    /// keep it ≤ 16 bytes.
     TraceRow {
         /// Image row.
         row: u16,
@@ -191,11 +192,12 @@ pub enum Request {
     /// Pass-1 job of adaptive sampling (protocol 4): as [`Request::Shoot`], but the sample
     /// points are cells `first .. first + count` (v-major: q = b·k + a) of the k×k lattice of
     /// the patch (`hemi_kernel::sampling::lattice_sample`, also on Bezier patches), whatever
-    /// [`JobConfig::samples`] says. Answered [`Response::Rows`]. At most 12 bytes on the wire.
+    /// [`JobConfig::samples`] says. Answered [`Response::Rows`]. A frame of 16 bytes with a
+    /// 3-byte job id and k ≤ 127.
     ShootLevel {
         /// The patch the sample points lie on.
         patch: u16,
-        /// The lattice's cells per side (≥ 1, k² ≤ 65 536).
+        /// The lattice's cells per side (≥ 1; cells past index 65 535 cannot be named).
         k: u16,
         /// First cell index.
         first: u16,
@@ -204,10 +206,12 @@ pub enum Request {
     },
     /// Irradiance job through specular surfaces (protocol 4): the whole hemisphere placed at
     /// `point` around `normal` (no spin) in one `tracer::shoot` call, as the host's irradiance
-    /// query makes it, every ray or frustum ray that reaches a diffuse front side reported with
-    /// its weight (δD times what the mirrors passed on). Answered [`Response::Weighted`] with
-    /// reports `skip ..` (at most [`MAX_WEIGHTED`]; `ray` is 0) and the total, so the host asks
-    /// again with a larger `skip` for the rest (the hemisphere is shot again).
+    /// query makes it, every ray or frustum ray that reaches a diffuse side (a front, or the
+    /// back of a translucent sheet) reported with its weight (δD times what the mirrors passed
+    /// on). Answered [`Response::Weighted`] with reports `skip ..` (at most [`MAX_WEIGHTED`];
+    /// `ray` is 0) and the total, so the host asks again with a larger `skip` for the rest (the
+    /// hemisphere is shot again). A query with more than 65 535 reports cannot be read whole:
+    /// the host says so.
     Query {
         /// Where the hemisphere is placed.
         point: Vec3,

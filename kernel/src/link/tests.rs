@@ -837,3 +837,140 @@ fn the_handshake_settles_on_the_older_version() {
     // a host too old: still answered, with the board's version, for the host to explain
     assert_eq!(version(&r[2].1), Some(PROTOCOL_VERSION));
 }
+
+#[test]
+fn random_job_requests_on_a_loaded_scene_are_answered_never_panicking() {
+    // The firmware never panics on what arrives on the wire: with a scene loaded (a mirror, a
+    // translucent sheet with its back column, a plain quad), jobs with random fields, NaN and
+    // infinite vectors, k = 0 and k² past u16, back sides past the patches, and skips past
+    // the reports, all get an answer.
+    use crate::geometry::{Polygon, Vec3};
+    use crate::link::engine::{NoPlatform, SoftProvider};
+    use crate::optics::{Lobe, Specular, Surface};
+    use crate::patch::Patch;
+    let quad = |z: f32| {
+        Patch::polygon(
+            Polygon::quad(
+                [[0., 0.], [1., 0.], [1., 1.], [0., 1.]].map(|[x, y]| Vec3::new(x, y, z)),
+            )
+            .unwrap(),
+        )
+    };
+    let mut engine = Engine::new(SoftProvider::new(), NoPlatform);
+    let cfg = JobConfig {
+        circles: 4,
+        rule: crate::hemisphere::DeltaRule::Band,
+        samples: 2,
+        spp: 1,
+        camera: None,
+        accel: AccelKind::Soft,
+    };
+    assert_eq!(
+        engine.handle(1, &Request::Configure(cfg)),
+        Some(Response::Configured)
+    );
+    engine.handle(2, &Request::SceneBegin { patches: 3 });
+    let lobes = [1.0f32, 0.5, 0.25];
+    engine.handle(
+        3,
+        &Request::SceneLobes {
+            first: 0,
+            weights: heapless::Vec::from_slice(&lobes).unwrap(),
+        },
+    );
+    let mirror = Surface {
+        column: None,
+        back_column: None,
+        reflect: Some(Specular {
+            k: [0.9; 3],
+            lobe: Lobe { first: 0, size: 1 },
+        }),
+        transmit: None,
+    };
+    let sheet = Surface {
+        back_column: Some(3),
+        ..Surface::diffuse(1)
+    };
+    for (i, s) in [mirror, sheet].into_iter().enumerate() {
+        let r = engine.handle(
+            4,
+            &Request::SceneSurface {
+                index: i as u16,
+                surface: s,
+            },
+        );
+        assert!(matches!(r, Some(Response::SceneAck { .. })), "{r:?}");
+    }
+    for (i, z) in [0.0f32, 1.0, 2.0].into_iter().enumerate() {
+        engine.handle(
+            5,
+            &Request::ScenePatch {
+                index: i as u16,
+                area: 1.0,
+                patch: quad(z),
+            },
+        );
+    }
+    let mut x = 0x1234_5678_9abc_def1u64;
+    let mut next = move || {
+        x ^= x << 13;
+        x ^= x >> 7;
+        x ^= x << 17;
+        x
+    };
+    let (mut answered_rows, mut answered_queries) = (0, 0);
+    for id in 10..2010u32 {
+        let small = |v: u64| (v % 8) as u16;
+        let any = |v: u64| v as u16;
+        let pick = |v: u64, w: u64| {
+            if v.is_multiple_of(2) {
+                small(w)
+            } else {
+                any(w)
+            }
+        };
+        let f = |v: u64| match v % 5 {
+            0 => f32::NAN,
+            1 => f32::INFINITY,
+            2 => 0.0,
+            _ => (v % 1000) as f32 / 250.0 - 2.0,
+        };
+        let vec = |a: u64, b: u64, c: u64| Vec3::new(f(a), f(b), f(c));
+        let req = match next() % 4 {
+            0 => Request::ShootLevel {
+                patch: pick(next(), next()),
+                k: pick(next(), next()),
+                first: pick(next(), next()),
+                count: pick(next(), next()),
+            },
+            1 => Request::Shoot {
+                patch: pick(next(), next()),
+                first: pick(next(), next()),
+                count: pick(next(), next()),
+            },
+            2 => Request::Query {
+                point: vec(next(), next(), next()),
+                normal: vec(next(), next(), next()),
+                skip: pick(next(), next()),
+            },
+            _ => Request::Gather {
+                point: vec(next(), next(), next()),
+                normal: vec(next(), next(), next()),
+                ring: pick(next(), next()),
+                first: pick(next(), next()),
+                count: pick(next(), next()),
+            },
+        };
+        match engine.handle(id, &req) {
+            Some(Response::Rows(_)) => answered_rows += 1,
+            Some(Response::Weighted(_)) => answered_queries += 1,
+            Some(_) => {}
+            None => panic!("{req:?} unanswered"),
+        }
+    }
+    // the test reached the shooting paths, not only the refusals
+    assert!(
+        answered_rows > 20 && answered_queries > 20,
+        "{answered_rows} {answered_queries}"
+    );
+}
