@@ -26,9 +26,10 @@
 //!
 //! ## Where it is not supported (yet)
 //!
-//! Adaptive sampling and matrix-free progressive refinement refuse translucent scenes with
-//! [`refuse`]: each would need the twin's rows at the same points. Boards take them since
-//! protocol 4 (back sides are named past the patches: `board::remote`).
+//! Matrix-free progressive refinement refuses translucent scenes with [`refuse`]: it would need
+//! the twin's rows at the same points. Adaptive sampling refines a sheet's two sides in
+//! lockstep, so their lattices stay the same (`adaptive`), and boards take translucent scenes
+//! since protocol 4 (back sides are named past the patches: `board::remote`).
 
 use crate::pass1::ElementRow;
 use crate::scene::{Material, Scene, ScenePatch, Sides};

@@ -402,6 +402,39 @@ fn run_translucent() {
         remote::irradiance(&farm, &scene, settings.circles, settings.rule, &grids, p, n).unwrap();
     assert_eq!(got_e.map(f64::to_bits), want_e.map(f64::to_bits));
     assert!(got_e[0] > 0.0);
+
+    // adaptive sampling, the screen's sides refined together (ShootLevel on n + i for the back)
+    let adaptive = hemi::adaptive::AdaptiveSettings {
+        margin: 0.1,
+        max_depth: 1,
+        ..Default::default()
+    };
+    let want_a = hemi::adaptive::refine_with(&scene, &settings, &adaptive, &make, &|_| {}).unwrap();
+    let got_a = remote::refine(&farm, &scene, &settings, &adaptive, &|_| {}).unwrap();
+    let back = scene.twin(
+        scene
+            .patches
+            .iter()
+            .position(|p| p.name == "screen")
+            .unwrap(),
+    );
+    assert!(
+        want_a.patches[back.unwrap()].depth > 0,
+        "the screen's back side is refined"
+    );
+    assert_eq!(got_a.rows_computed(), want_a.rows_computed());
+    for (g, w) in got_a
+        .form_factors
+        .elements
+        .iter()
+        .zip(&want_a.form_factors.elements)
+    {
+        assert_eq!((g.patch, g.point, &g.row), (w.patch, w.point, &w.row));
+    }
+    assert_eq!(
+        bits(&got_a.form_factors.matrix),
+        bits(&want_a.form_factors.matrix)
+    );
     let s = farm.engine_stats().remove(0).unwrap();
     assert_eq!(s.refused, 0, "{s:?}");
 }

@@ -28,6 +28,11 @@
 //! The hemisphere spin of a computed point is chosen by its index in its level's lattice, as in
 //! uniform sampling, so a level whose windows all failed holds exactly the rows uniform K·2^n
 //! sampling would compute (margin 0 reproduces uniform sampling bit for bit).
+//!
+//! A translucent sheet's two sides are one system ([`crate::translucent`]): the solve couples
+//! them (K = ρF + τF_twin), an element's value adds what comes through from its twin's element
+//! at the same point, and the sides are refined in lockstep (a window fails on both if it fails
+//! on either), so their lattices stay the same and pass 2 pairs their grids point by point.
 
 pub mod bench;
 pub mod gradient;
@@ -154,8 +159,15 @@ pub enum Progress {
 
 /// Sample point (a, b) of the k×k lattice on patch `i` (the cell's centre, its area share):
 /// the kernel's `lattice_sample`, which a board's `ShootLevel` job uses too.
+/// The back side of a translucent sheet has its front's points, facing the other way (as in
+/// uniform sampling).
 pub fn cell_point(scene: &Scene, i: usize, k: u32, a: u32, b: u32) -> SamplePoint {
     let patch = &scene.patches[i];
+    if let crate::scene::Sides::Back { front } = patch.sides {
+        let mut p = cell_point(scene, front, k, a, b);
+        p.normal = -p.normal;
+        return p;
+    }
     lattice_sample(&patch.shape, patch.area, k, a, b)
 }
 
@@ -289,7 +301,6 @@ pub fn refine_from(
     progress: &(dyn Fn(Progress) + Sync),
 ) -> anyhow::Result<Refined> {
     anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
-    crate::translucent::refuse(scene, "--adaptive")?;
     anyhow::ensure!(
         adaptive.margin >= 0.0 && adaptive.margin.is_finite(),
         "--margin must be a finite number ≥ 0"
@@ -297,6 +308,7 @@ pub fn refine_from(
     let n = scene.patches.len();
     let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
     let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
+    let ones = vec![[1.0; 3]; n];
     let done = |d: u64| progress(Progress::Done(d));
     let mut reports = vec![PatchReport::default(); n];
     let mut stats = ShotStats::default();
@@ -352,13 +364,33 @@ pub fn refine_from(
             Some(t) => [&t[0][..], &t[1][..], &t[2][..]],
             None => [&matrix[..], &matrix[..], &matrix[..]],
         };
-        let solution = gauss_seidel(channels, &rho, &e, &adaptive.solve)?;
+        // translucent sheets: the sides coupled, K = ρF + τF_twin with a reflectance of 1
+        let solution = match crate::translucent::coupled(scene, channels) {
+            Some([r, g, b]) => gauss_seidel([&r, &g, &b], &ones, &e, &adaptive.solve)?,
+            None => gauss_seidel(channels, &rho, &e, &adaptive.solve)?,
+        };
         rounds += 1;
 
-        // (4.2) and the gradient test; the next level of every patch with a failing window
-        let mut next: Vec<(usize, Vec<Option<ElementRow>>)> = Vec::new();
-        let mut shots: Vec<Shot> = Vec::new();
-        let mut targets: Vec<(usize, usize, (u32, u32))> = Vec::new();
+        // (4.2) and the gradient test. A side of a translucent sheet adds what comes through
+        // it, over its twin's element at the same point: the twins are refined in lockstep
+        // (their windows fail together), so their lattices stay the same.
+        let element_values = |rows: &[ElementRow], twin_rows: Option<&[ElementRow]>| {
+            rows.iter()
+                .enumerate()
+                .map(|(q, r)| {
+                    let mut b = element_radiosity(scene, r, &solution.radiosity);
+                    if let Some(twin) = twin_rows.and_then(|t| t.get(q)) {
+                        let through =
+                            crate::translucent::transmitted(scene, r, twin, &solution.radiosity);
+                        for c in 0..3 {
+                            b[c] += through[c];
+                        }
+                    }
+                    b
+                })
+                .collect::<Vec<[f64; 3]>>()
+        };
+        let mut failing_of: Vec<Option<Vec<bool>>> = vec![None; n];
         for (i, level) in levels.iter().enumerate() {
             let Some(level) = level else { continue };
             if reports[i].depth >= adaptive.max_depth || level.k < 2 {
@@ -366,17 +398,12 @@ pub fn refine_from(
             }
             let k = level.k as usize;
             let margin = adaptive.margin;
-            let values: Vec<[f64; 3]> = level
-                .rows
-                .iter()
-                .map(|r| element_radiosity(scene, r, &solution.radiosity))
-                .collect();
+            let twin = scene.twin(i).and_then(|t| levels[t].as_ref());
+            let values = element_values(&level.rows, twin.map(|t| &t.rows[..]));
             let failing = match (&level.parent, adaptive.test) {
                 (Some(parent), Test::Surplus) => {
-                    let pv: Vec<[f64; 3]> = parent
-                        .iter()
-                        .map(|r| element_radiosity(scene, r, &solution.radiosity))
-                        .collect();
+                    let twin_parent = twin.and_then(|t| t.parent.as_deref());
+                    let pv = element_values(parent, twin_parent);
                     let predicted: Vec<[f64; 3]> = (0..k * k)
                         .map(|q| {
                             let mut b = [0.0; 3];
@@ -398,10 +425,29 @@ pub fn refine_from(
                 }
                 _ => gradient::failing_windows(k, &values, margin, adaptive.floor),
             };
+            failing_of[i] = Some(failing);
+        }
+        // the twins of a translucent sheet fail together
+        for i in 0..n {
+            if let Some(t) = scene.twin(i).filter(|&t| t > i) {
+                if let (Some(a), Some(b)) = (&failing_of[i], &failing_of[t]) {
+                    let both: Vec<bool> = a.iter().zip(b).map(|(x, y)| *x || *y).collect();
+                    failing_of[i] = Some(both.clone());
+                    failing_of[t] = Some(both);
+                }
+            }
+        }
+        let mut next: Vec<(usize, Vec<Option<ElementRow>>)> = Vec::new();
+        let mut shots: Vec<Shot> = Vec::new();
+        let mut targets: Vec<(usize, usize, (u32, u32))> = Vec::new();
+        for (i, level) in levels.iter().enumerate() {
+            let (Some(level), Some(failing)) = (level, &failing_of[i]) else {
+                continue;
+            };
             if !failing.iter().any(|f| *f) {
                 continue;
             }
-            let (rows, shoot) = subdivide(scene, i, level.k, &level.rows, &failing);
+            let (rows, shoot) = subdivide(scene, i, level.k, &level.rows, failing);
             for (q, cell, point) in shoot {
                 targets.push((next.len(), q, cell));
                 let k = 2 * level.k;

@@ -340,7 +340,6 @@ pub fn refine(
 ) -> Result<crate::adaptive::Refined> {
     use crate::adaptive::Shot;
     anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
-    crate::translucent::refuse(scene, "--adaptive")?;
     let columns = set_up(farm, scene, settings, None, 1)?;
     if let Some(old) = farm.hellos().into_iter().flatten().find(|h| h.protocol < 4) {
         bail!(
@@ -370,7 +369,7 @@ pub fn refine(
                 c += 1;
             }
             jobs.push(Request::ShootLevel {
-                patch: u16::try_from(first.patch).context("too many patches")?,
+                patch: board_patch(scene, first.patch)?,
                 k: u16::try_from(first.k).context("lattice too fine for a board")?,
                 first: u16::try_from(first.q).context("lattice too fine for a board")?,
                 count: c as u16,
