@@ -24,17 +24,16 @@
 //! loader enforces k_d + k_y + k_r + k_t ≤ 1), so every solver of [`crate::solve`] applies
 //! unchanged. Emission stays one-sided, on the front, as for opaque emitters.
 //!
-//! ## Where it is not supported (yet)
+//! ## Where it runs
 //!
-//! Matrix-free progressive refinement refuses translucent scenes with [`refuse`]: it would need
-//! the twin's rows at the same points. Adaptive sampling refines a sheet's two sides in
-//! lockstep, so their lattices stay the same (`adaptive`), and boards take translucent scenes
-//! since protocol 4 (back sides are named past the patches: `board::remote`).
+//! Every part takes them: adaptive sampling refines a sheet's two sides in lockstep, so their
+//! lattices stay the same (`adaptive`); progressive refinement with rows on demand shoots the
+//! coupled columns K_·i from the shooter's row alone (`solve::rows`); boards name back sides
+//! past the patches (protocol 4, `board::remote`).
 
 use crate::pass1::ElementRow;
 use crate::scene::{Material, Scene, ScenePatch, Sides};
 use crate::solve::Channels;
-use anyhow::{bail, Result};
 
 /// Appends the back side of every patch whose material transmits diffusely, after all the
 /// fronts, and links the two (see [`Sides`]). The back side's material is the front's without
@@ -124,19 +123,4 @@ pub fn transmitted(scene: &Scene, e: &ElementRow, twin: &ElementRow, b: &[[f64; 
                 .map(|&(j, f)| f[c] as f64 * b[j as usize][c])
                 .sum::<f64>()
     })
-}
-
-/// A clear error for the parts that do not handle translucent sheets yet (`what` names it).
-pub fn refuse(scene: &Scene, what: &str) -> Result<()> {
-    if let Some(p) = scene
-        .patches
-        .iter()
-        .find(|p| matches!(p.sides, Sides::Front { .. }))
-    {
-        bail!(
-            "{what} does not handle diffusely transmitting (translucency) materials yet, and patch `{}` has one (translucent scenes run on the soft and model backends, with uniform sampling and a solver other than progressive)",
-            p.name
-        );
-    }
-    Ok(())
 }

@@ -43,7 +43,6 @@ impl<'a, A: Accelerator> RowShooter<'a, A> {
         make: &'a (dyn Fn() -> A + Sync),
         max_cached: usize,
     ) -> Result<Self> {
-        crate::translucent::refuse(scene, "progressive refinement with rows shot on demand")?;
         let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
             .map_err(|e| anyhow::anyhow!("--circles {}: {e:?}", settings.circles))?;
         crate::optics::check(&settings.specular)?;
@@ -79,6 +78,8 @@ impl<'a, A: Accelerator> RowShooter<'a, A> {
         let columns = &self.optics.columns;
         let pending = self.pending;
         let make = self.make;
+        // a back side shoots from its front's surface, which its rays must not see
+        let scene_kernel_id = self.scene.kernel_id(i);
         let out: Vec<(SampleRow, u32)> = points
             .par_iter()
             .enumerate()
@@ -100,7 +101,7 @@ impl<'a, A: Accelerator> RowShooter<'a, A> {
                         &mut scratch.view(),
                         point,
                         q as u32,
-                        i,
+                        scene_kernel_id,
                         row,
                     )?;
                     let sparse = row
@@ -151,6 +152,20 @@ impl<'a, A: Accelerator> RowShooter<'a, A> {
         }
         Ok(())
     }
+
+    /// The column K_·i of the coupled system of a scene with translucent sheets
+    /// ([`crate::translucent::coupled`]), K_ji = ρ_j F_ji + τ_j F_twin(j),i, from row i alone:
+    /// both F's are in it by reciprocity (a sheet's sides have the same area).
+    pub fn coupled_column(&mut self, i: usize, out: &mut [[f64; 3]]) -> Result<()> {
+        let mut f = vec![[0.0f64; 3]; out.len()];
+        self.column(i, &mut f)?;
+        for (j, o) in out.iter_mut().enumerate() {
+            let m = self.scene.material_of(j);
+            let through = self.scene.twin(j).map_or([0.0; 3], |t| f[t]);
+            *o = [0, 1, 2].map(|c| m.diffuse[c] * f[j][c] + m.translucency[c] * through[c]);
+        }
+        Ok(())
+    }
 }
 
 /// Progressive refinement with rows shot on demand: no N × N matrix is ever formed.
@@ -165,6 +180,18 @@ pub fn solve_streaming<A: Accelerator>(
     let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
     let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
     let areas: Vec<f64> = scene.patches.iter().map(|p| p.area as f64).collect();
+    if scene.has_translucency() {
+        // B = E + KB: the coupled columns carry ρ and τ, so the reflectance is 1
+        let ones = vec![[1.0; 3]; n];
+        return progressive(
+            &ones,
+            &e,
+            &areas,
+            &mut |i, out| shooter.coupled_column(i, out),
+            settings,
+            on_shot,
+        );
+    }
     progressive(
         &rho,
         &e,
@@ -176,26 +203,37 @@ pub fn solve_streaming<A: Accelerator>(
 }
 
 /// The vertex grids of [`crate::radiosity::grids`] without stored element rows: every patch's
-/// sample points are shot again and their element radiosities (4.2) formed at once.
+/// sample points are shot again and their element radiosities (4.2) formed at once. A side of a
+/// translucent sheet adds what comes through it, over its twin's element at the same point
+/// (the twin's points are shot again for that).
 pub fn grids_streaming<A: Accelerator>(
     shooter: &mut RowShooter<'_, A>,
     sol: &Solution,
 ) -> Result<Vec<Grid>> {
     let scene = shooter.scene;
+    let gathered = |row: &[(u32, [f32; 3])], c: usize| -> f64 {
+        row.iter()
+            .map(|&(j, f)| f[c] as f64 * sol.radiosity[j as usize][c])
+            .sum()
+    };
     (0..scene.patches.len())
         .map(|i| {
             let m = scene.material_of(i);
+            let twin_rows = match scene.twin(i) {
+                Some(t) => shooter.element_rows(t)?,
+                None => Vec::new(),
+            };
             let samples: Vec<[f64; 3]> = shooter
                 .element_rows(i)?
                 .into_iter()
-                .map(|(_, row)| {
+                .enumerate()
+                .map(|(q, (_, row))| {
                     let mut b = m.emission;
                     for (c, bc) in b.iter_mut().enumerate() {
-                        let g: f64 = row
-                            .iter()
-                            .map(|&(j, f)| f[c] as f64 * sol.radiosity[j as usize][c])
-                            .sum();
-                        *bc += m.diffuse[c] * g;
+                        *bc += m.diffuse[c] * gathered(&row, c);
+                        if let Some((_, twin)) = twin_rows.get(q) {
+                            *bc += m.translucency[c] * gathered(twin, c);
+                        }
                     }
                     b
                 })
