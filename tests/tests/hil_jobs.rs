@@ -51,6 +51,96 @@ fn bits(m: &[Vec<f64>]) -> Vec<Vec<u64>> {
         .collect()
 }
 
+/// Two pass-1 results are the same: every row, once, at the same point, and the matrix, bit
+/// for bit.
+fn assert_same_pass1(got: &pass1::FormFactors, want: &pass1::FormFactors, what: &str) {
+    assert_eq!(
+        got.elements.len(),
+        want.elements.len(),
+        "{what}: every row, once"
+    );
+    for (g, w) in got.elements.iter().zip(&want.elements) {
+        assert_eq!((g.patch, g.point), (w.patch, w.point), "{what}");
+        assert_eq!(g.row, w.row, "{what}: row of patch {} differs", g.patch);
+    }
+    assert_eq!(bits(&got.matrix), bits(&want.matrix), "{what}");
+}
+
+/// Adaptive sampling through the farm's boards equals it in-process with `make`'s engines: the
+/// same rows computed, in the same rounds, and the same result. Returns the in-process one.
+fn assert_same_adaptive<A: hemi_kernel::accel::Accelerator>(
+    farm: &Farm,
+    scene: &Scene,
+    settings: &Pass1Settings,
+    adaptive: &hemi::adaptive::AdaptiveSettings,
+    make: &(dyn Fn() -> A + Sync),
+) -> hemi::adaptive::Refined {
+    let want = hemi::adaptive::refine_with(scene, settings, adaptive, make, &|_| {}).unwrap();
+    let got = remote::refine(farm, scene, settings, adaptive, &|_| {}).unwrap();
+    assert_eq!(got.rows_computed(), want.rows_computed());
+    assert_eq!(got.rounds, want.rounds);
+    assert_same_pass1(&got.form_factors, &want.form_factors, "adaptive");
+    want
+}
+
+/// A `width` × `height` render (2 samples per pixel) of `scene`'s camera through the boards
+/// equals the in-process model's, bit for bit; returns it.
+fn assert_same_small_render(
+    farm: &Farm,
+    scene: &Scene,
+    settings: &Pass1Settings,
+    grids: &[hemi::radiosity::Grid],
+    make: &(dyn Fn() -> ModelAccelerator + Sync),
+    (width, height): (u32, u32),
+) -> hemi::render::Rendered {
+    let mut small = scene.clone();
+    if let Some(c) = small.camera.as_mut() {
+        c.width = width;
+        c.height = height;
+    }
+    let camera = hemi::render::camera_of(&small).unwrap();
+    let want =
+        hemi::render::render_with(&small, grids, &camera, 2, settings, make, &|_| {}).unwrap();
+    let got = remote::render(farm, scene, settings, grids, &camera, 2, &|_| {}).unwrap();
+    assert_eq!((got.image.width, got.image.height), (width, height));
+    let px = |img: &hemi::render::Image| -> Vec<[u32; 3]> {
+        img.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
+    };
+    assert_eq!(px(&got.image), px(&want.image));
+    want
+}
+
+/// The irradiance at `p` facing `n` through the boards equals the in-process model's, bit for
+/// bit; returns it.
+fn assert_same_irradiance(
+    farm: &Farm,
+    scene: &Scene,
+    settings: &Pass1Settings,
+    grids: &[hemi::radiosity::Grid],
+    make: &(dyn Fn() -> ModelAccelerator + Sync),
+    (p, n): (Vec3, Vec3),
+) -> [f64; 3] {
+    let hemi = OwnedHemisphere::new(settings.circles, settings.rule).unwrap();
+    let view = hemi.view();
+    let optics = hemi::optics::SceneOptics::new(scene, &view).unwrap();
+    let mut scratch =
+        hemi::optics::Scratch::new(hemi::optics::pending_for(&view), &settings.specular);
+    let want = hemi::irradiance::irradiance(
+        &mut make(),
+        &view,
+        &optics.view(),
+        &mut scratch.view(),
+        scene,
+        grids,
+        p,
+        n,
+    );
+    let got =
+        remote::irradiance(farm, scene, settings.circles, settings.rule, grids, p, n).unwrap();
+    assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits));
+    got
+}
+
 #[test]
 fn form_factors_render_and_irradiance_through_two_qemu_boards_equal_the_model_backend() {
     if !qemu_or_skip("hil_jobs") {
@@ -85,12 +175,7 @@ fn run() {
     let make = model(&scene);
     let want = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
     let got = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap();
-    assert_eq!(got.elements.len(), want.elements.len(), "every row, once");
-    for (g, w) in got.elements.iter().zip(&want.elements) {
-        assert_eq!((g.patch, g.point), (w.patch, w.point));
-        assert_eq!(g.row, w.row, "row of patch {} differs", g.patch);
-    }
-    assert_eq!(bits(&got.matrix), bits(&want.matrix));
+    assert_same_pass1(&got, &want, "pass 1");
     // and at the host's default R = 64, which the QEMU build's engine holds (K = 1 keeps it
     // quick)
     let r64 = Pass1Settings {
@@ -104,49 +189,16 @@ fn run() {
 
     // Pass 2 on a small image.
     let grids = solve(&scene, &want);
-    let mut small = scene.clone();
-    if let Some(c) = small.camera.as_mut() {
-        c.width = 24;
-        c.height = 20;
-    }
-    let camera = hemi::render::camera_of(&small).unwrap();
-    let want_img = hemi::render::render_with(&small, &grids, &camera, 2, &settings, &make, &|_| {})
-        .unwrap()
-        .image;
-    let got_img = remote::render(&farm, &scene, &settings, &grids, &camera, 2, &|_| {})
-        .unwrap()
-        .image;
-    assert_eq!((got_img.width, got_img.height), (24, 20));
-    let px = |img: &hemi::render::Image| -> Vec<[u32; 3]> {
-        img.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
-    };
-    assert_eq!(px(&got_img), px(&want_img));
+    let img = assert_same_small_render(&farm, &scene, &settings, &grids, &make, (24, 20)).image;
     assert!(
-        got_img.pixels.iter().any(|p| p[0] > 0.0),
+        img.pixels.iter().any(|p| p[0] > 0.0),
         "the image is not black"
     );
 
     // An irradiance query (the gather job), against the model in-process.
-    let hemi = OwnedHemisphere::new(settings.circles, settings.rule).unwrap();
-    let view = hemi.view();
-    let optics = hemi::optics::SceneOptics::new(&scene, &view).unwrap();
-    let mut scratch =
-        hemi::optics::Scratch::new(hemi::optics::pending_for(&view), &settings.specular);
-    let (p, n) = (Vec3::new(278.0, 1.0, 280.0), Vec3::new(0.0, 1.0, 0.0));
-    let want_e = hemi::irradiance::irradiance(
-        &mut make(),
-        &view,
-        &optics.view(),
-        &mut scratch.view(),
-        &scene,
-        &grids,
-        p,
-        n,
-    );
-    let got_e =
-        remote::irradiance(&farm, &scene, settings.circles, settings.rule, &grids, p, n).unwrap();
-    assert_eq!(got_e.map(f64::to_bits), want_e.map(f64::to_bits));
-    assert!(got_e[0] > 0.0);
+    let at = (Vec3::new(278.0, 1.0, 280.0), Vec3::new(0.0, 1.0, 0.0));
+    let e = assert_same_irradiance(&farm, &scene, &settings, &grids, &make, at);
+    assert!(e[0] > 0.0);
 
     // Adaptive sampling (protocol 4, ShootLevel jobs at each level's k), against the same
     // refinement in-process: the same rows computed, the same rows, the same solution.
@@ -155,23 +207,10 @@ fn run() {
         max_depth: 2,
         ..Default::default()
     };
-    let want_a = hemi::adaptive::refine_with(&scene, &settings, &adaptive, &make, &|_| {}).unwrap();
-    let got_a = remote::refine(&farm, &scene, &settings, &adaptive, &|_| {}).unwrap();
+    let refined = assert_same_adaptive(&farm, &scene, &settings, &adaptive, &make);
     assert!(
-        want_a.patches.iter().any(|p| p.depth > 0),
+        refined.patches.iter().any(|p| p.depth > 0),
         "the test should refine some patch"
-    );
-    assert_eq!(got_a.rows_computed(), want_a.rows_computed());
-    assert_eq!(got_a.rounds, want_a.rounds);
-    let (ge, we) = (&got_a.form_factors.elements, &want_a.form_factors.elements);
-    assert_eq!(ge.len(), we.len());
-    for (g, w) in ge.iter().zip(we) {
-        assert_eq!((g.patch, g.point), (w.patch, w.point));
-        assert_eq!(g.row, w.row, "adaptive row of patch {} differs", g.patch);
-    }
-    assert_eq!(
-        bits(&got_a.form_factors.matrix),
-        bits(&want_a.form_factors.matrix)
     );
 
     // The boards' counters: every job counted once, nothing refused, the stack measured.
@@ -231,16 +270,7 @@ fn run_mirror() {
         farm.set_cordic(iterations, width).unwrap();
         let want = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
         let got = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap();
-        assert_eq!(got.elements.len(), want.elements.len(), "every row, once");
-        for (g, w) in got.elements.iter().zip(&want.elements) {
-            assert_eq!((g.patch, g.point), (w.patch, w.point));
-            assert_eq!(
-                g.row, w.row,
-                "CORDIC {iterations}/{width}: row of patch {}",
-                g.patch
-            );
-        }
-        assert_eq!(bits(&got.matrix), bits(&want.matrix));
+        assert_same_pass1(&got, &want, &format!("CORDIC {iterations}/{width}"));
         let t = farm.trace_stats().remove(0).unwrap();
         eprintln!("CORDIC {iterations}/{width}: board trace stats {t:?}");
         assert!(t.frustums > 0, "the mirror spawned frustums: {t:?}");
@@ -266,47 +296,16 @@ fn run_mirror() {
     let make = move || ModelAccelerator::new(&patches, config).expect("model loads the scene");
     let ff = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
     let grids = solve(&scene, &ff);
-    let mut small = scene.clone();
-    if let Some(c) = small.camera.as_mut() {
-        c.width = 16;
-        c.height = 12;
-    }
-    let camera = hemi::render::camera_of(&small).unwrap();
-    let want =
-        hemi::render::render_with(&small, &grids, &camera, 2, &settings, &make, &|_| {}).unwrap();
+    let want = assert_same_small_render(&farm, &scene, &settings, &grids, &make, (16, 12));
     assert!(want.specular.frustums > 0, "the camera sees the mirror");
-    let got = remote::render(&farm, &scene, &settings, &grids, &camera, 2, &|_| {})
-        .unwrap()
-        .image;
-    let px = |img: &hemi::render::Image| -> Vec<[u32; 3]> {
-        img.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
-    };
-    assert_eq!(px(&got), px(&want.image));
     let t = farm.trace_stats().remove(0).unwrap();
     eprintln!("after pass 2: board trace stats {t:?}");
 
     // Irradiance facing the mirror (protocol 4, Query jobs: the whole hemisphere in one shoot
     // call, weighted reports back a window at a time), against the model in-process.
-    let hemi = OwnedHemisphere::new(settings.circles, settings.rule).unwrap();
-    let view = hemi.view();
-    let optics = hemi::optics::SceneOptics::new(&scene, &view).unwrap();
-    let mut scratch =
-        hemi::optics::Scratch::new(hemi::optics::pending_for(&view), &settings.specular);
     let (p, n) = (Vec3::new(2.5, 1.5, 2.0), Vec3::new(-1.0, 0.0, 0.0));
-    let want_e = hemi::irradiance::irradiance(
-        &mut make(),
-        &view,
-        &optics.view(),
-        &mut scratch.view(),
-        &scene,
-        &grids,
-        p,
-        n,
-    );
     let before = farm.trace_stats().remove(0).unwrap();
-    let got_e =
-        remote::irradiance(&farm, &scene, settings.circles, settings.rule, &grids, p, n).unwrap();
-    assert_eq!(got_e.map(f64::to_bits), want_e.map(f64::to_bits));
+    let got_e = assert_same_irradiance(&farm, &scene, &settings, &grids, &make, (p, n));
     let after = farm.trace_stats().remove(0).unwrap();
     assert!(
         after.frustums > before.frustums,
@@ -350,12 +349,7 @@ fn run_translucent() {
     let make = model(&scene);
     let want = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
     let got = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap();
-    assert_eq!(got.elements.len(), want.elements.len(), "every row, once");
-    for (g, w) in got.elements.iter().zip(&want.elements) {
-        assert_eq!((g.patch, g.point), (w.patch, w.point));
-        assert_eq!(g.row, w.row, "row of patch {}", scene.patches[g.patch].name);
-    }
-    assert_eq!(bits(&got.matrix), bits(&want.matrix));
+    assert_same_pass1(&got, &want, "paper-screen");
     // the back side was shot, and is seen through its own column
     assert!(got.elements.iter().any(|e| e.patch >= fronts));
     assert!(got
@@ -364,44 +358,12 @@ fn run_translucent() {
         .any(|e| e.row.iter().any(|&(j, _)| j as usize >= fronts)));
 
     let grids = solve(&scene, &want);
-    let mut small = scene.clone();
-    if let Some(c) = small.camera.as_mut() {
-        c.width = 16;
-        c.height = 12;
-    }
-    let camera = hemi::render::camera_of(&small).unwrap();
-    let want_img = hemi::render::render_with(&small, &grids, &camera, 2, &settings, &make, &|_| {})
-        .unwrap()
-        .image;
-    let got_img = remote::render(&farm, &scene, &settings, &grids, &camera, 2, &|_| {})
-        .unwrap()
-        .image;
-    let px = |img: &hemi::render::Image| -> Vec<[u32; 3]> {
-        img.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
-    };
-    assert_eq!(px(&got_img), px(&want_img));
+    assert_same_small_render(&farm, &scene, &settings, &grids, &make, (16, 12));
 
     // behind the screen, facing it: the rays that reach it see its back side
-    let hemi = OwnedHemisphere::new(settings.circles, settings.rule).unwrap();
-    let view = hemi.view();
-    let optics = hemi::optics::SceneOptics::new(&scene, &view).unwrap();
-    let mut scratch =
-        hemi::optics::Scratch::new(hemi::optics::pending_for(&view), &settings.specular);
-    let (p, n) = (Vec3::new(2.0, 1.0, 2.5), Vec3::new(0.0, 0.0, -1.0));
-    let want_e = hemi::irradiance::irradiance(
-        &mut make(),
-        &view,
-        &optics.view(),
-        &mut scratch.view(),
-        &scene,
-        &grids,
-        p,
-        n,
-    );
-    let got_e =
-        remote::irradiance(&farm, &scene, settings.circles, settings.rule, &grids, p, n).unwrap();
-    assert_eq!(got_e.map(f64::to_bits), want_e.map(f64::to_bits));
-    assert!(got_e[0] > 0.0);
+    let behind = (Vec3::new(2.0, 1.0, 2.5), Vec3::new(0.0, 0.0, -1.0));
+    let e = assert_same_irradiance(&farm, &scene, &settings, &grids, &make, behind);
+    assert!(e[0] > 0.0);
 
     // adaptive sampling, the screen's sides refined together (ShootLevel on n + i for the back)
     let adaptive = hemi::adaptive::AdaptiveSettings {
@@ -409,8 +371,7 @@ fn run_translucent() {
         max_depth: 1,
         ..Default::default()
     };
-    let want_a = hemi::adaptive::refine_with(&scene, &settings, &adaptive, &make, &|_| {}).unwrap();
-    let got_a = remote::refine(&farm, &scene, &settings, &adaptive, &|_| {}).unwrap();
+    let refined = assert_same_adaptive(&farm, &scene, &settings, &adaptive, &make);
     let back = scene.twin(
         scene
             .patches
@@ -419,21 +380,8 @@ fn run_translucent() {
             .unwrap(),
     );
     assert!(
-        want_a.patches[back.unwrap()].depth > 0,
+        refined.patches[back.unwrap()].depth > 0,
         "the screen's back side is refined"
-    );
-    assert_eq!(got_a.rows_computed(), want_a.rows_computed());
-    for (g, w) in got_a
-        .form_factors
-        .elements
-        .iter()
-        .zip(&want_a.form_factors.elements)
-    {
-        assert_eq!((g.patch, g.point, &g.row), (w.patch, w.point, &w.row));
-    }
-    assert_eq!(
-        bits(&got_a.form_factors.matrix),
-        bits(&want_a.form_factors.matrix)
     );
     let s = farm.engine_stats().remove(0).unwrap();
     assert_eq!(s.refused, 0, "{s:?}");

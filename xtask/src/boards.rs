@@ -11,6 +11,36 @@ fn elf_in(target_dir: PathBuf) -> PathBuf {
     target_dir.join(TARGET).join("release").join(FIRMWARE)
 }
 
+/// The firmware for a board with `features` (no QEMU semihosting exits; `board` is the MMIO
+/// accelerator with the soft engine as its fallback): the `board` profile, every crate
+/// optimised for size so that it fits 128 KiB of flash, in `target/board/`, a directory of its
+/// own, so the QEMU build the HIL tests boot is left alone.
+pub(crate) fn board_build(features: &str) -> Command {
+    let mut build = cargo([
+        "build",
+        "--profile",
+        "board",
+        "-p",
+        FIRMWARE,
+        "--target",
+        TARGET,
+        "--no-default-features",
+        "--features",
+        features,
+    ]);
+    build.arg("--target-dir").arg(target_dir().join("board"));
+    build
+}
+
+/// Where [`board_build`] puts the ELF.
+fn board_elf() -> PathBuf {
+    target_dir()
+        .join("board")
+        .join(TARGET)
+        .join("board")
+        .join(FIRMWARE)
+}
+
 /// The cargo target directory (`CARGO_TARGET_DIR`, else the workspace's `target/`).
 pub(crate) fn target_dir() -> PathBuf {
     std::env::var_os("CARGO_TARGET_DIR")
@@ -170,25 +200,8 @@ pub fn flash(args: &[String]) -> Result<(), Failure> {
     let elf = match elf {
         Some(elf) => elf,
         None => {
-            let board_dir = target_dir().join("board");
-            // the `board` profile: every crate optimised for size, so it fits 128 KiB of flash
-            let mut build = cargo([
-                "build",
-                "--profile",
-                "board",
-                "-p",
-                FIRMWARE,
-                "--target",
-                TARGET,
-            ]);
-            build
-                .arg("--no-default-features")
-                .arg("--target-dir")
-                .arg(&board_dir);
-            // a board build has the MMIO accelerator (with the soft engine as its fallback)
-            build.args(["--features", features.as_deref().unwrap_or("board")]);
-            run(build).map_err(Failure::Failed)?;
-            board_dir.join(TARGET).join("board").join(FIRMWARE)
+            run(board_build(features.as_deref().unwrap_or("board"))).map_err(Failure::Failed)?;
+            board_elf()
         }
     };
     let mut probe = Command::new(probe_rs);

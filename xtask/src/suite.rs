@@ -53,22 +53,8 @@ fn steps() -> Vec<Step> {
                    build, which must fit 128 KiB of flash and 64 KiB of RAM (memory.x)",
             kind: Kind::Commands(|| {
                 let qemu = cargo(["build", "--release", "-p", FIRMWARE, "--target", TARGET]);
-                // the board build (MMIO accelerator, soft fallback; the `board` profile, sized
-                // for flash) in a directory of its own, so the QEMU build the HIL tests boot is
-                // left alone
-                let mut board = cargo([
-                    "build",
-                    "--profile",
-                    "board",
-                    "-p",
-                    FIRMWARE,
-                    "--target",
-                    TARGET,
-                ]);
-                board
-                    .args(["--no-default-features", "--features", "board"])
-                    .arg("--target-dir")
-                    .arg(crate::boards::target_dir().join("board"));
+                // the board build, sized for a 128 KiB / 64 KiB part
+                let board = crate::boards::board_build("board");
                 vec![qemu, board]
             }),
         },

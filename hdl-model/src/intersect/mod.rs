@@ -498,78 +498,41 @@ impl<T: Copy + Default> IntersectUnit<T> {
     ) -> Option<RayOut<T>> {
         // divider (and select) output → (u,v) pipe entry
         if let Some((slot, best)) = self.divide.tick(self.edge_reg.take()) {
-            {
-                let entry = match best {
-                    Some((patch, t, front, Some(direct))) => {
-                        self.hits[slot as usize] = HitOut {
-                            patch,
-                            t: Coord::from_bits(t as i32),
-                            u: Unit::ZERO,
-                            v: Unit::ZERO,
-                            front,
-                        };
-                        UvReg {
-                            cell: Cell::default(),
-                            hit: true,
-                            slot,
-                            direct: Some(direct),
-                            bisect: false,
-                        }
-                    }
-                    Some((patch, t, front, None)) if !self.rays[slot as usize].uv => {
-                        self.hits[slot as usize] = HitOut {
-                            patch,
-                            t: Coord::from_bits(t as i32),
-                            u: Unit::ZERO,
-                            v: Unit::ZERO,
-                            front,
-                        };
-                        UvReg {
-                            cell: Cell::default(),
-                            hit: true,
-                            slot,
-                            direct: None,
-                            bisect: false,
-                        }
-                    }
-                    Some((patch, t, front, None)) => {
-                        let ray = &self.rays[slot as usize];
-                        let p = mem.patch(patch as usize);
-                        let o = ray.origin.map(|c| c.to_bits() as i64);
-                        let d = ray.dir.map(|c| c.to_bits() as i64);
-                        // P = O + t d: Q8.24 + (Q8.24 × Q2.30 >> 30)
-                        let hp: [i64; 3] = core::array::from_fn(|c| o[c] + ((t * d[c]) >> 30));
-                        let cell = Cell::project(
-                            p.v.map(|v| v.map(|c| c.to_bits() as i64)),
-                            hp,
-                            p.n.map(|c| c.to_bits() as i64),
-                        );
-                        self.hits[slot as usize] = HitOut {
-                            patch,
-                            t: Coord::from_bits(t as i32),
-                            u: Unit::ZERO,
-                            v: Unit::ZERO,
-                            front,
-                        };
-                        UvReg {
-                            cell,
-                            hit: true,
-                            slot,
-                            direct: None,
-                            bisect: true,
-                        }
-                    }
-                    None => UvReg {
-                        cell: Cell::default(),
-                        hit: false,
-                        slot,
-                        direct: None,
-                        bisect: false,
-                    },
+            let mut entry = UvReg {
+                cell: Cell::default(),
+                hit: false,
+                slot,
+                direct: None,
+                bisect: false,
+            };
+            if let Some((patch, t, front, direct)) = best {
+                self.hits[slot as usize] = HitOut {
+                    patch,
+                    t: Coord::from_bits(t as i32),
+                    u: Unit::ZERO,
+                    v: Unit::ZERO,
+                    front,
                 };
-                // the first (u,v) stage is this register; the pipe's other stages bisect
-                self.uv.load_first(entry);
+                entry.hit = true;
+                entry.direct = direct;
+                // a planar hit whose ray wants (u,v): the bisection starts from the whole patch
+                let ray = &self.rays[slot as usize];
+                if direct.is_none() && ray.uv {
+                    let p = mem.patch(patch as usize);
+                    let o = ray.origin.map(|c| c.to_bits() as i64);
+                    let d = ray.dir.map(|c| c.to_bits() as i64);
+                    // P = O + t d: Q8.24 + (Q8.24 × Q2.30 >> 30)
+                    let hp: [i64; 3] = core::array::from_fn(|c| o[c] + ((t * d[c]) >> 30));
+                    entry.cell = Cell::project(
+                        p.v.map(|v| v.map(|c| c.to_bits() as i64)),
+                        hp,
+                        p.n.map(|c| c.to_bits() as i64),
+                    );
+                    entry.bisect = true;
+                }
             }
+            // the first (u,v) stage is this register; the pipe's other stages bisect
+            self.uv.load_first(entry);
         }
         // set-up pass (one patch per clock) or issue (one patch per clock) into the edge stage
         if let Some(i) = self.setup_next {

@@ -1129,25 +1129,48 @@ struct TraceRowJob<'a> {
     out: &'a mut WeightedHits,
 }
 
-/// The patch index a weighted report names: the patch for its front, `patches` + the patch for
-/// the back side of a translucent sheet (the only backs the tracer reports; protocol 4).
-fn reported_side(h: &Hit, patches: usize) -> u16 {
-    if h.front {
-        h.patch as u16
-    } else {
-        (patches + h.patch as usize) as u16
+/// The window `skip ..` of a job's weighted reports, and their total.
+struct Reports<'a> {
+    out: &'a mut WeightedHits,
+    skip: u32,
+    /// The scene's patch count: a back side is reported as `patches` + its patch.
+    patches: usize,
+}
+
+impl<'a> Reports<'a> {
+    fn new(out: &'a mut WeightedHits, skip: u32, patches: usize) -> Self {
+        out.total = 0;
+        out.hits.clear();
+        Reports { out, skip, patches }
+    }
+
+    /// Counts a report of ray `ray` reaching `h` with `weight`; kept from `skip` on while the
+    /// answer has room. The patch it names is the patch for its front, `patches` + the patch
+    /// for the back side of a translucent sheet (the only backs the tracer reports; protocol 4).
+    fn report(&mut self, ray: u16, h: &Hit, weight: [f32; 3]) {
+        if self.out.total >= self.skip {
+            let patch = if h.front {
+                h.patch as usize
+            } else {
+                self.patches + h.patch as usize
+            };
+            let _ = self.out.hits.push(WeightedHit {
+                ray,
+                patch: patch as u16,
+                u: h.u,
+                v: h.v,
+                weight,
+            });
+        }
+        self.out.total = self.out.total.saturating_add(1);
     }
 }
 
 impl AccelJob for TraceRowJob<'_> {
     type Out = SpecularStats;
     fn run<A: Accelerator>(mut self, accel: &mut A) -> SpecularStats {
-        let (first, spp, skip) = (self.pixels.start, self.spp.max(1), self.skip);
-        let patches = self.optics.patches().len();
-        let out = self.out;
-        out.total = 0;
-        out.hits.clear();
-        // Every report of the row is counted; those from `skip` on are kept while they fit.
+        let (first, spp) = (self.pixels.start, self.spp.max(1));
+        let mut reports = Reports::new(self.out, self.skip, self.optics.patches().len());
         trace_pixels(
             accel,
             self.camera,
@@ -1157,18 +1180,7 @@ impl AccelJob for TraceRowJob<'_> {
             self.pixels,
             self.spp,
             self.dirs,
-            |p, s, h, weight| {
-                if out.total >= skip {
-                    let _ = out.hits.push(WeightedHit {
-                        ray: ((p - first) * spp + s) as u16,
-                        patch: reported_side(h, patches),
-                        u: h.u,
-                        v: h.v,
-                        weight,
-                    });
-                }
-                out.total = out.total.saturating_add(1);
-            },
+            |p, s, h, weight| reports.report(((p - first) * spp + s) as u16, h, weight),
         )
     }
 }
@@ -1185,29 +1197,14 @@ struct QueryJob<'a> {
 impl AccelJob for QueryJob<'_> {
     type Out = ShotStats;
     fn run<A: Accelerator>(mut self, accel: &mut A) -> ShotStats {
-        let (skip, out) = (self.skip, self.out);
-        let patches = self.optics.patches().len();
-        out.total = 0;
-        out.hits.clear();
-        // Every report is counted; those from `skip` on are kept while they fit.
+        let mut reports = Reports::new(self.out, self.skip, self.optics.patches().len());
         shoot(
             accel,
             self.hemi,
             self.optics,
             &mut self.scratch,
             &self.shot,
-            |h, weight| {
-                if out.total >= skip {
-                    let _ = out.hits.push(WeightedHit {
-                        ray: 0,
-                        patch: reported_side(h, patches),
-                        u: h.u,
-                        v: h.v,
-                        weight,
-                    });
-                }
-                out.total = out.total.saturating_add(1);
-            },
+            |h, weight| reports.report(0, h, weight),
         )
     }
 }
