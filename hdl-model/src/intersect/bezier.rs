@@ -73,6 +73,18 @@ const BARY_EPS_SHIFT: u32 = 20;
 /// A control point: x, y, z raw Q8.24 (holding Q2.(Wc−2)).
 pub type Point = [i32; 3];
 
+/// The 16 control points of a (sub-)patch as the datapath's registers hold them: one bank per
+/// axis, point r·4 + c (row r along v, column c along u) in each. Each bank is its own 16-word
+/// register file in hardware; on the host, a contiguous array the min/max trees and midpoint
+/// adders run over lane by lane.
+pub type Net = [[i32; 16]; 3];
+
+/// Point `i` of a net.
+#[inline]
+fn point(net: &Net, i: usize) -> Point {
+    [net[0][i], net[1][i], net[2][i]]
+}
+
 /// The subdivision parameters (the BZ_CONFIG register).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct SubdivConfig {
@@ -146,17 +158,11 @@ pub struct Box3 {
 
 impl Box3 {
     /// The box of 16 control points (three 16-input min/max trees).
-    pub fn of(cp: &[Point; 16]) -> Box3 {
-        // on the datapath words themselves (i32), so the host can run the trees as vector
-        // min/max; the box registers are the 64-bit slab inputs
-        let mut lo = [i32::MAX; 3];
-        let mut hi = [i32::MIN; 3];
-        for p in cp {
-            for k in 0..3 {
-                lo[k] = lo[k].min(p[k]);
-                hi[k] = hi[k].max(p[k]);
-            }
-        }
+    pub fn of(net: &Net) -> Box3 {
+        // on the datapath words themselves (i32), a bank at a time, so the host can run the
+        // trees as vector min/max; the box registers are the 64-bit slab inputs
+        let lo = net.map(|bank| bank.into_iter().fold(i32::MAX, i32::min));
+        let hi = net.map(|bank| bank.into_iter().fold(i32::MIN, i32::max));
         Box3 {
             lo: lo.map(i64::from),
             hi: hi.map(i64::from),
@@ -194,51 +200,53 @@ fn mul_q32(delta: i64, inv: i64) -> i64 {
     ((delta as i128 * inv as i128) >> 32).clamp(i64::MIN as i128 / 4, i64::MAX as i128 / 4) as i64
 }
 
-/// Midpoint of two datapath words: a 1-bit-wider add and the constant shift 1, truncated to Wc.
-/// Datapath words are within ±2^25 ([`to_datapath`]), so the 27-bit sum fits the i32 the host
-/// computes it in.
+/// Midpoints of four pairs of datapath words (one adder per lane): a 1-bit-wider add and the
+/// constant shift 1, truncated to Wc. Datapath words are within ±2^25 ([`to_datapath`]), so the
+/// 27-bit sum fits the i32 the host computes it in.
 #[inline]
-fn mid(a: Point, b: Point, mask: i32) -> Point {
-    core::array::from_fn(|k| ((a[k] + b[k]) >> 1) & mask)
+fn mid4(a: [i32; 4], b: [i32; 4], mask: i32) -> [i32; 4] {
+    core::array::from_fn(|l| ((a[l] + b[l]) >> 1) & mask)
 }
 
-/// A cubic split at ½ by de Casteljau's midpoints: the left and right halves.
+/// Four cubics split at ½ at once by de Casteljau's midpoints, lane l being cubic l: `p[i]` is
+/// control point i of every lane. Returns the left and right halves, in the same form.
 #[inline]
-fn split(p: [Point; 4], mask: i32) -> ([Point; 4], [Point; 4]) {
-    let p01 = mid(p[0], p[1], mask);
-    let p12 = mid(p[1], p[2], mask);
-    let p23 = mid(p[2], p[3], mask);
-    let a = mid(p01, p12, mask);
-    let b = mid(p12, p23, mask);
-    let c = mid(a, b, mask);
+fn split4(p: [[i32; 4]; 4], mask: i32) -> ([[i32; 4]; 4], [[i32; 4]; 4]) {
+    let p01 = mid4(p[0], p[1], mask);
+    let p12 = mid4(p[1], p[2], mask);
+    let p23 = mid4(p[2], p[3], mask);
+    let a = mid4(p01, p12, mask);
+    let b = mid4(p12, p23, mask);
+    let c = mid4(a, b, mask);
     ([p[0], p01, a, c], [c, b, p23, p[3]])
 }
 
 /// The split stage: the four children at the parametric midpoints (index bit 0 = upper u half,
-/// bit 1 = upper v half, the kernel's order), rows along u first, then columns along v.
+/// bit 1 = upper v half, the kernel's order), rows along u first, then columns along v. Each
+/// axis bank splits on its own: the four rows along u as four lanes, then the four columns of
+/// each half along v as four lanes.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SplitStage;
 
 impl SplitStage {
     /// The stage's logic.
-    pub fn eval(&self, cp: &[Point; 16], mask: i32) -> [[Point; 16]; 4] {
-        let mut left = [[0; 3]; 16];
-        let mut right = [[0; 3]; 16];
-        for r in 0..4 {
-            let (a, b) = split(
-                [cp[4 * r], cp[4 * r + 1], cp[4 * r + 2], cp[4 * r + 3]],
-                mask,
-            );
-            left[4 * r..4 * r + 4].copy_from_slice(&a);
-            right[4 * r..4 * r + 4].copy_from_slice(&b);
-        }
-        let mut out = [[[0; 3]; 16]; 4];
-        for (h, half) in [left, right].iter().enumerate() {
-            for c in 0..4 {
-                let (a, b) = split([half[c], half[4 + c], half[8 + c], half[12 + c]], mask);
+    pub fn eval(&self, net: &Net, mask: i32) -> [Net; 4] {
+        let mut out = [[[0; 16]; 3]; 4];
+        for (k, bank) in net.iter().enumerate() {
+            // along u: lane r is row r, p[c] its column c
+            let cols: [[i32; 4]; 4] =
+                core::array::from_fn(|c| core::array::from_fn(|r| bank[4 * r + c]));
+            let (left, right) = split4(cols, mask);
+            for (h, half) in [left, right].iter().enumerate() {
+                // along v: lane c is column c of the half, p[r] its row r
+                let rows: [[i32; 4]; 4] =
+                    core::array::from_fn(|r| core::array::from_fn(|c| half[c][r]));
+                let (low, high) = split4(rows, mask);
                 for r in 0..4 {
-                    out[h][4 * r + c] = a[r];
-                    out[2 + h][4 * r + c] = b[r];
+                    for c in 0..4 {
+                        out[h][k][4 * r + c] = low[r][c];
+                        out[2 + h][k][4 * r + c] = high[r][c];
+                    }
                 }
             }
         }
@@ -253,12 +261,12 @@ pub struct FlatnessStage;
 
 impl FlatnessStage {
     /// The stage's logic.
-    pub fn eval(&self, cp: &[Point; 16], tol: i64) -> bool {
-        let (p00, p10, p01, p11) = (cp[0], cp[3], cp[12], cp[15]);
+    pub fn eval(&self, cp: &Net, tol: i64) -> bool {
+        let (p00, p10, p01, p11) = (point(cp, 0), point(cp, 3), point(cp, 12), point(cp, 15));
         let lim = 9 * tol;
         for r in 0..4i64 {
             for c in 0..4i64 {
-                let p = cp[4 * r as usize + c as usize];
+                let p = point(cp, 4 * r as usize + c as usize);
                 for k in 0..3 {
                     let bilinear = (3 - r) * (3 - c) * p00[k] as i64
                         + (3 - r) * c * p10[k] as i64
@@ -349,12 +357,12 @@ impl LeafStage {
     /// The stage's logic.
     pub fn eval(
         &self,
-        cp: &[Point; 16],
+        cp: &Net,
         ray: &RaySetup,
         t_min: i64,
         t_max: i64,
     ) -> Option<(i64, i64, i64, bool)> {
-        let (p00, p10, p01, p11) = (cp[0], cp[3], cp[12], cp[15]);
+        let (p00, p10, p01, p11) = (point(cp, 0), point(cp, 3), point(cp, 12), point(cp, 15));
         let mut best: Option<(i64, i64, i64, bool)> = None;
         let mut best_t = t_max;
         for (tri, (a, b, c)) in [(p00, p10, p11), (p00, p11, p01)].into_iter().enumerate() {
@@ -388,7 +396,7 @@ impl LeafStage {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Node {
     /// Control points (Wc-bit datapath words).
-    pub cp: [Point; 16],
+    pub cp: Net,
     /// Cell index along u (`depth` bits).
     pub iu: u32,
     /// Cell index along v.
@@ -558,15 +566,15 @@ impl BezierEngine {
     }
 
     /// The control points as the datapath holds them.
-    pub fn load(&self, words: &[u32]) -> [Point; 16] {
-        core::array::from_fn(|i| {
-            core::array::from_fn(|k| to_datapath(words[3 * i + k] as i32, self.mask))
+    pub fn load(&self, words: &[u32]) -> Net {
+        core::array::from_fn(|k| {
+            core::array::from_fn(|i| to_datapath(words[3 * i + k] as i32, self.mask))
         })
     }
 
     /// Starts a test of the patch `cp` (datapath words, see [`BezierEngine::load`]) whose root
     /// box the ray enters at `enter`: the root goes into the working register.
-    pub fn start(&mut self, cp: [Point; 16], enter: i64, job: Job) {
+    pub fn start(&mut self, cp: Net, enter: i64, job: Job) {
         debug_assert!(!self.busy());
         self.job = job;
         self.best = None;
