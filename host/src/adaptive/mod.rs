@@ -8,7 +8,8 @@
 //! 2. patch form factors by (4.3), F_ij = Σ_q W_iq F_iq,j over all of the patch's current
 //!    elements; the system (2.6) is solved; element radiosities follow from (4.2);
 //! 3. the gradient test ([`gradient`], [`Test`]) runs over every 4-sample window of every patch
-//!    not yet at the depth limit. A patch with a failing window is subdivided one level *as a whole*
+//!    not yet at the depth limit. A patch with a failing window (or whose translucent twin has
+//!    one: the sides of a sheet go in lockstep, see below) is subdivided one level *as a whole*
 //!    (k×k → 2k×2k, [`lattice`]): the new centre points on the part of the patch a failing
 //!    window covers are shot (their rows replace the parent's, "removing the old row and
 //!    inserting the four new rows", §4.2); everywhere else they are interpolated linearly
@@ -21,7 +22,7 @@
 //! intensity grid which is anyhow desired for the rendering process").
 //!
 //! A patch whose initial windows all pass keeps its initial K×K points: a flat, evenly lit
-//! patch costs K² rows and no more. K = 1 would make that one row, but a single sample has no
+//! patch costs K² rows and no more (unless it is a side of a sheet whose other side refines). K = 1 would make that one row, but a single sample has no
 //! window and so could never detect a gradient; the smallest guess that can is 2×2, which is
 //! what the CLI starts from (`--adaptive`; docs/ACCURACY.md, "Adaptive patch sampling").
 //!
@@ -399,6 +400,15 @@ pub fn refine_from(
             let k = level.k as usize;
             let margin = adaptive.margin;
             let twin = scene.twin(i).and_then(|t| levels[t].as_ref());
+            if let Some(t) = twin {
+                // the lockstep invariant the pairing by index rests on
+                assert_eq!(
+                    (t.k, t.rows.len()),
+                    (level.k, level.rows.len()),
+                    "the sides of {} left lockstep",
+                    scene.patches[i].name
+                );
+            }
             let values = element_values(&level.rows, twin.map(|t| &t.rows[..]));
             let failing = match (&level.parent, adaptive.test) {
                 (Some(parent), Test::Surplus) => {
@@ -430,10 +440,17 @@ pub fn refine_from(
         // the twins of a translucent sheet fail together
         for i in 0..n {
             if let Some(t) = scene.twin(i).filter(|&t| t > i) {
-                if let (Some(a), Some(b)) = (&failing_of[i], &failing_of[t]) {
-                    let both: Vec<bool> = a.iter().zip(b).map(|(x, y)| *x || *y).collect();
-                    failing_of[i] = Some(both.clone());
-                    failing_of[t] = Some(both);
+                match (&failing_of[i], &failing_of[t]) {
+                    (Some(a), Some(b)) => {
+                        let both: Vec<bool> = a.iter().zip(b).map(|(x, y)| *x || *y).collect();
+                        failing_of[i] = Some(both.clone());
+                        failing_of[t] = Some(both);
+                    }
+                    (None, None) => {}
+                    _ => panic!(
+                        "the sides of {} left lockstep: one is at its depth limit",
+                        scene.patches[i].name
+                    ),
                 }
             }
         }

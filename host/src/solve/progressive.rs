@@ -15,6 +15,10 @@
 //! matrix ([`solve_matrix`]: the column, exact), or computed on demand by shooting the shooter's
 //! hemispheres ([`super::rows`]: its row F_ij turned into the column by reciprocity,
 //! F_ji = F_ij A_i / A_j, as Cohen et al. do with their hemicube at the shooter).
+//!
+//! With translucent sheets the system is `B = E + KB` with K = ρF + τF_twin
+//! ([`crate::translucent::coupled`]): the columns are then K_ji, which carry ρ and τ, and ρ is
+//! passed as 1 (`rows::solve_streaming`, `rows::RowShooter::coupled_column`).
 
 use super::{Solution, SolveSettings, Solver, System};
 use anyhow::{bail, Result};

@@ -204,8 +204,8 @@ pub fn solve_streaming<A: Accelerator>(
 
 /// The vertex grids of [`crate::radiosity::grids`] without stored element rows: every patch's
 /// sample points are shot again and their element radiosities (4.2) formed at once. A side of a
-/// translucent sheet adds what comes through it, over its twin's element at the same point
-/// (the twin's points are shot again for that).
+/// translucent sheet adds what comes through it, over its twin's element at the same point: the
+/// two sides are shot together and both grids formed from the two sets of rows.
 pub fn grids_streaming<A: Accelerator>(
     shooter: &mut RowShooter<'_, A>,
     sol: &Solution,
@@ -216,33 +216,43 @@ pub fn grids_streaming<A: Accelerator>(
             .map(|&(j, f)| f[c] as f64 * sol.radiosity[j as usize][c])
             .sum()
     };
-    (0..scene.patches.len())
-        .map(|i| {
-            let m = scene.material_of(i);
-            let twin_rows = match scene.twin(i) {
-                Some(t) => shooter.element_rows(t)?,
-                None => Vec::new(),
-            };
-            let samples: Vec<[f64; 3]> = shooter
-                .element_rows(i)?
-                .into_iter()
-                .enumerate()
-                .map(|(q, (_, row))| {
-                    let mut b = m.emission;
-                    for (c, bc) in b.iter_mut().enumerate() {
-                        *bc += m.diffuse[c] * gathered(&row, c);
-                        if let Some((_, twin)) = twin_rows.get(q) {
-                            *bc += m.translucency[c] * gathered(twin, c);
-                        }
+    let grid = |i: usize, rows: &[SampleRow], twin_rows: &[SampleRow]| {
+        let m = scene.material_of(i);
+        let samples: Vec<[f64; 3]> = rows
+            .iter()
+            .enumerate()
+            .map(|(q, (_, row))| {
+                let mut b = m.emission;
+                for (c, bc) in b.iter_mut().enumerate() {
+                    *bc += m.diffuse[c] * gathered(row, c);
+                    if let Some((_, twin)) = twin_rows.get(q) {
+                        *bc += m.translucency[c] * gathered(twin, c);
                     }
-                    b
-                })
-                .collect();
-            Ok(if samples.is_empty() {
-                Grid::from_samples(1, &[m.emission])
-            } else {
-                Grid::from_samples((samples.len() as f64).sqrt().round() as usize, &samples)
+                }
+                b
             })
-        })
-        .collect()
+            .collect();
+        if samples.is_empty() {
+            Grid::from_samples(1, &[m.emission])
+        } else {
+            Grid::from_samples((samples.len() as f64).sqrt().round() as usize, &samples)
+        }
+    };
+    let n = scene.patches.len();
+    let mut grids: Vec<Option<Grid>> = vec![None; n];
+    for i in 0..n {
+        if grids[i].is_some() {
+            continue;
+        }
+        let rows = shooter.element_rows(i)?;
+        match scene.twin(i) {
+            Some(t) => {
+                let twin_rows = shooter.element_rows(t)?;
+                grids[i] = Some(grid(i, &rows, &twin_rows));
+                grids[t] = Some(grid(t, &twin_rows, &rows));
+            }
+            None => grids[i] = Some(grid(i, &rows, &[])),
+        }
+    }
+    Ok(grids.into_iter().flatten().collect())
 }

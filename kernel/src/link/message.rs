@@ -195,7 +195,8 @@ pub enum Request {
     /// [`JobConfig::samples`] says. Answered [`Response::Rows`]. A frame of 16 bytes with a
     /// 3-byte job id and k ≤ 127.
     ShootLevel {
-        /// The patch the sample points lie on.
+        /// The patch the sample points lie on (n + i: the back side of translucent patch i, as
+        /// for [`Request::Shoot`]).
         patch: u16,
         /// The lattice's cells per side (≥ 1; cells past index 65 535 cannot be named).
         k: u16,
