@@ -79,6 +79,15 @@ pub struct Rendered {
     pub specular: SpecularStats,
 }
 
+/// Adds to pixel `px` what one of its `spp` rays shows: radiance B/π of the diffuse surface it
+/// reached, times the weight the specular path passed on. Boards' hits are shaded with this
+/// too, so their images equal the in-process ones bit for bit.
+pub fn shade(px: &mut [f32; 3], weight: [f32; 3], b: [f64; 3], spp: u32) {
+    for c in 0..3 {
+        px[c] += (weight[c] as f64 * b[c] / std::f64::consts::PI / spp as f64) as f32;
+    }
+}
+
 /// [`render`] with engines made by `make` (one per worker thread). Frustums are cut from the
 /// hemisphere of `settings` (R) and bounded by its specular settings, as in pass 1.
 pub fn render_with<A: Accelerator>(
@@ -122,11 +131,7 @@ pub fn render_with<A: Accelerator>(
                     dirs,
                     |p, _s, hit, weight| {
                         let b = grids[scene.side_seen(hit.patch, hit.front)].at(hit.u, hit.v);
-                        let px = &mut row[(p - y * w) as usize];
-                        for c in 0..3 {
-                            px[c] += (weight[c] as f64 * b[c] / std::f64::consts::PI / spp as f64)
-                                as f32;
-                        }
+                        shade(&mut row[(p - y * w) as usize], weight, b, spp);
                     },
                 );
                 progress(1);

@@ -470,13 +470,8 @@ pub fn render(
                 let grid = grids
                     .get(seen)
                     .context("a board answered a hit on an unknown patch")?;
-                let b = grid.at(hit.u, hit.v);
-                let px = &mut pixels[p];
-                // weight 1 per eye ray in a diffuse scene, in render_with's arithmetic
-                let weight = [1.0f32; 3];
-                for c in 0..3 {
-                    px[c] += (weight[c] as f64 * b[c] / std::f64::consts::PI / spp as f64) as f32;
-                }
+                // weight 1 per eye ray in a diffuse scene
+                crate::render::shade(&mut pixels[p], [1.0; 3], grid.at(hit.u, hit.v), spp);
             }
         }
     }
@@ -571,11 +566,8 @@ fn render_rows(
             let grid = grids
                 .get(reported_patch(scene, hit.patch)?)
                 .context("a board answered a hit on an unknown patch")?;
-            let b = grid.at(hit.u, hit.v);
             let px = &mut pixels[y * w as usize + x as usize];
-            for c in 0..3 {
-                px[c] += (hit.weight[c] as f64 * b[c] / std::f64::consts::PI / spp as f64) as f32;
-            }
+            crate::render::shade(px, hit.weight, grid.at(hit.u, hit.v), spp);
         }
     }
     Ok(crate::render::Rendered {
