@@ -475,14 +475,19 @@ pub fn render(
             }
         }
     }
-    Ok(crate::render::Rendered {
+    Ok(rendered(w, h, pixels))
+}
+
+/// A board's image: the boards' specular counters are read with `TraceStats`, not per render.
+fn rendered(width: u32, height: u32, pixels: Vec<[f32; 3]>) -> crate::render::Rendered {
+    crate::render::Rendered {
         image: Image {
-            width: w,
-            height: h,
+            width,
+            height,
             pixels,
         },
         specular: Default::default(),
-    })
+    }
 }
 
 /// Pass 2 through specular surfaces: one `TraceRow` job per image row (the board traces the
@@ -570,14 +575,7 @@ fn render_rows(
             crate::render::shade(px, hit.weight, grid.at(hit.u, hit.v), spp);
         }
     }
-    Ok(crate::render::Rendered {
-        image: Image {
-            width: w,
-            height: h,
-            pixels,
-        },
-        specular: Default::default(),
-    })
+    Ok(rendered(w, h, pixels))
 }
 
 /// Irradiance through specular surfaces (protocol 4): the board shoots the whole hemisphere as
