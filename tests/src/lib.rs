@@ -21,12 +21,12 @@ pub fn form_factors_at(
     circles: u32,
     samples: u32,
 ) -> hemi::pass1::FormFactors {
-    let settings = hemi::pass1::Pass1Settings {
+    let settings = hemi::settings::Pass1Settings {
         circles,
         samples,
         ..Default::default()
     };
-    hemi::pass1::form_factors(scene, &settings, &|_| {}).unwrap()
+    hemi::pass1::form_factors(&hemi::backend::soft(scene, &settings).unwrap(), &|_| {}).unwrap()
 }
 
 /// TOML for one material.
@@ -73,66 +73,13 @@ pub fn closed_box(size: [f64; 3], n: usize, material: &str) -> String {
     out
 }
 
-// --- The accelerator model on the heap, for pass 1 in unoptimised test builds ---
-
-use hemi_hdl_model::{ModelAccelerator, ModelConfig};
-use hemi_kernel::accel::{Accelerator, Ray};
-use hemi_kernel::geometry::Vec3;
-use hemi_kernel::rotation::Rotation;
-
-/// A model engine on the heap. pass 1 makes one engine per rayon worker and keeps it in the
-/// worker's frames; the model is ~100 KB, and unoptimised builds copy such values several times
-/// there, beyond rayon's 2 MiB stacks. Boxed, only its construction touches the stack.
-pub struct BoxedModel(Box<ModelAccelerator>);
-
-impl BoxedModel {
-    /// A boxed model with the default configuration over `patches`.
-    pub fn new(patches: &[hemi_kernel::patch::Patch]) -> Self {
-        BoxedModel(Box::new(
-            ModelAccelerator::new(patches, ModelConfig::default()).unwrap(),
-        ))
-    }
-}
-
-impl Accelerator for BoxedModel {
-    fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
-        self.0.rotate(rot, d)
-    }
-    fn set_origin_patch(&mut self, patch: Option<u32>) {
-        self.0.set_origin_patch(patch)
-    }
-    fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<hemi_kernel::accel::Hit> {
-        self.0.nearest_hit(ray, t_max)
-    }
-    fn cast_from<F: FnMut(usize, Option<hemi_kernel::accel::Hit>)>(
-        &mut self,
-        origin: Vec3,
-        dirs: &[Vec3],
-        want_uv: bool,
-        sink: F,
-    ) {
-        self.0.cast_from(origin, dirs, want_uv, sink)
-    }
-    fn cast_rings<F: FnMut(usize, u32, Option<hemi_kernel::accel::Hit>)>(
-        &mut self,
-        origin: Vec3,
-        rot: &Rotation,
-        hemi: &hemi_kernel::hemisphere::Hemisphere<'_>,
-        rings: std::ops::Range<usize>,
-        want_uv: bool,
-        sink: F,
-    ) {
-        self.0.cast_rings(origin, rot, hemi, rings, want_uv, sink)
-    }
-}
-
 // --- Hardware-in-the-loop helpers ---
 
 /// Whether a HIL test can run: true when qemu-system-arm is runnable. Otherwise the test is
 /// skipped with a message, unless `HEMI_REQUIRE_QEMU` is set (as `cargo xtask test` does), which
 /// turns the skip into a failure so that CI cannot pass by skipping.
 pub fn qemu_or_skip(test: &str) -> bool {
-    if hemi::board::qemu_available() {
+    if hemi_boards::qemu_available() {
         return true;
     }
     let required = std::env::var("HEMI_REQUIRE_QEMU").is_ok_and(|v| !v.is_empty() && v != "0");

@@ -3,9 +3,11 @@
 //! test does not depend on R.
 
 use hemi::adaptive::{refine, AdaptiveSettings, Refined, Test};
-use hemi::pass1::{form_factors, FormFactors, Pass1Settings};
-use hemi::radiosity::element_radiosity;
+use hemi::backend::soft;
+use hemi::pass1::{form_factors, FormFactors};
+use hemi::radiosity::element_value;
 use hemi::scene::{parse, Scene};
+use hemi::settings::Pass1Settings;
 use hemi::solve::{gauss_seidel, Solution};
 use hemi_tests::*;
 use std::path::PathBuf;
@@ -55,14 +57,19 @@ fn a_uniformly_lit_patch_never_refines() {
     let src = material("m", 0.5, 1.0) + &closed_box([1.0, 2.0, 1.5], 2, "m");
     let scene = parse(&src, "furnace.toml").unwrap();
     for test in TESTS {
-        let r = refine(&scene, &settings(16, 2), &adaptive(0.01, 4, test), &|_| {}).unwrap();
+        let r = refine(
+            &soft(&scene, &settings(16, 2)).unwrap(),
+            &adaptive(0.01, 4, test),
+            &|_| {},
+        )
+        .unwrap();
         assert_eq!(r.rounds, 1, "{test:?}: one solve, no refinement");
         for (p, rep) in scene.patches.iter().zip(&r.patches) {
             assert_eq!((rep.depth, rep.k), (0, 2), "{test:?}: {} refined", p.name);
             assert_eq!(rep.rows_computed(), 4, "{test:?}: {}", p.name);
         }
         for e in &r.form_factors.elements {
-            let b = element_radiosity(&scene, e, &r.solution.radiosity);
+            let b = element_value(&scene, e, None, &r.solution.radiosity);
             assert!((b[0] - 2.0).abs() < 1e-4, "{test:?}: element B {}", b[0]);
         }
     }
@@ -114,8 +121,7 @@ fn a_patch_crossed_by_a_hard_shadow_refines_along_it() {
     let depth = 4;
     for test in TESTS {
         let r = refine(
-            &scene,
-            &settings(32, 2),
+            &soft(&scene, &settings(32, 2)).unwrap(),
             // 0.2, not 0.3: the slope stencil of `lattice` predicts a step centred between two
             // samples to within 1/8 of the jump (the plain bilinear one to 1/4), so the
             // surplus of this edge is half what it was
@@ -217,13 +223,17 @@ fn closed_scene() -> Scene {
 fn refinement_keeps_the_energy_totals() {
     let scene = closed_scene();
     let n = scene.patches.len();
-    let fine = form_factors(&scene, &settings(16, 8), &|_| {}).unwrap();
+    let fine = form_factors(&soft(&scene, &settings(16, 8)).unwrap(), &|_| {}).unwrap();
     let p_fine = power(&scene, &solve(&scene, &fine).radiosity);
-    let coarse = form_factors(&scene, &settings(16, 2), &|_| {}).unwrap();
+    let coarse = form_factors(&soft(&scene, &settings(16, 2)).unwrap(), &|_| {}).unwrap();
     let p_coarse = power(&scene, &solve(&scene, &coarse).radiosity);
     for test in TESTS {
-        let r: Refined =
-            refine(&scene, &settings(16, 2), &adaptive(0.1, 2, test), &|_| {}).unwrap();
+        let r: Refined = refine(
+            &soft(&scene, &settings(16, 2)).unwrap(),
+            &adaptive(0.1, 2, test),
+            &|_| {},
+        )
+        .unwrap();
         let ff = &r.form_factors;
         assert!(
             r.patches.iter().any(|p| p.depth == 2),
@@ -291,8 +301,7 @@ fn margin_zero_reproduces_uniform_sampling_exactly() {
     let src = std::fs::read_to_string(root.join("../scenes/cornell.toml")).unwrap();
     let scene = parse(&src, "cornell.toml").unwrap();
     let r = refine(
-        &scene,
-        &settings(16, 2),
+        &soft(&scene, &settings(16, 2)).unwrap(),
         &adaptive(0.0, 2, Test::Spread),
         &|_| {},
     )
@@ -301,7 +310,7 @@ fn margin_zero_reproduces_uniform_sampling_exactly() {
         assert_eq!(rep.k, 8, "{} stopped at {}", p.name, rep.k);
         assert_eq!(rep.rows_computed(), 4 + 16 + 64);
     }
-    let uniform = form_factors(&scene, &settings(16, 8), &|_| {}).unwrap();
+    let uniform = form_factors(&soft(&scene, &settings(16, 8)).unwrap(), &|_| {}).unwrap();
     assert_eq!(r.form_factors.matrix, uniform.matrix);
     for (a, u) in r.form_factors.elements.iter().zip(&uniform.elements) {
         assert_eq!((a.patch, a.point, &a.row), (u.patch, u.point, &u.row));
@@ -338,8 +347,7 @@ fn bezier_patches_refine_in_the_same_hierarchy() {
     );
     let scene = parse(&s, "dome.toml").unwrap();
     let r = refine(
-        &scene,
-        &settings(16, 2),
+        &soft(&scene, &settings(16, 2)).unwrap(),
         &adaptive(0.05, 1, Test::Surplus),
         &|_| {},
     )

@@ -5,8 +5,10 @@
 // Matrix code: F[i][j] and A[r][c] read as the equations do.
 #![allow(clippy::needless_range_loop)]
 
-use hemi::pass1::{form_factors, Pass1Settings};
+use hemi::backend::soft;
+use hemi::pass1::form_factors;
 use hemi::scene::parse;
+use hemi::settings::Pass1Settings;
 use hemi_kernel::accel::soft::{LocalPatch, SoftAccelerator, SoftScratch};
 use hemi_kernel::geometry::{Polygon, Vec3};
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
@@ -18,7 +20,9 @@ use hemi_tests::*;
 
 fn ff(scene_src: &str, settings: &Pass1Settings) -> Vec<Vec<f64>> {
     let scene = parse(scene_src, "test.toml").unwrap();
-    form_factors(&scene, settings, &|_| {}).unwrap().matrix
+    form_factors(&soft(&scene, settings).unwrap(), &|_| {})
+        .unwrap()
+        .matrix
 }
 
 fn rel(got: f64, want: f64) -> f64 {
@@ -187,7 +191,7 @@ fn band_rule_is_more_accurate_than_the_paper_rule_on_average() {
     // Element-to-rectangle configurations from a fixed-seed generator: rectangles of varied size,
     // height and offset; both rules at the same R. Rounding N_j to a multiple of four distorts
     // the paper's equal-area weights ring by ring; the band rule does not depend on it.
-    let mut rng = hemi::bench::rng::XorShift::new(0x2545_f491_4f6c_dd1d);
+    let mut rng = hemi_bench::rng::XorShift::new(0x2545_f491_4f6c_dd1d);
     let mut rnd = || rng.f64();
     let (mut band_sum, mut paper_sum, mut n) = (0.0, 0.0, 0);
     for _ in 0..200 {
@@ -224,7 +228,7 @@ fn band_rule_is_more_accurate_than_the_paper_rule_on_average() {
 fn closed_box_rows_sum_to_one_and_reciprocity_holds() {
     let src = material("m", 0.5, 0.0) + &closed_box([1.0, 0.7, 1.3], 2, "m");
     let scene = parse(&src, "box.toml").unwrap();
-    let ffs = form_factors(&scene, &Pass1Settings::default(), &|_| {}).unwrap();
+    let ffs = form_factors(&soft(&scene, &Pass1Settings::default()).unwrap(), &|_| {}).unwrap();
     let m = &ffs.matrix;
     let mut worst_sum = 0.0f64;
     let mut worst_recip = 0.0f64;
@@ -252,7 +256,7 @@ fn furnace_gives_e_over_one_minus_rho() {
     for rho in [0.5, 0.9] {
         let src = material("m", rho, 1.0) + &closed_box([1.0, 1.0, 1.0], 1, "m");
         let scene = parse(&src, "furnace.toml").unwrap();
-        let ffs = form_factors(&scene, &Pass1Settings::default(), &|_| {}).unwrap();
+        let ffs = form_factors(&soft(&scene, &Pass1Settings::default()).unwrap(), &|_| {}).unwrap();
         let rhos = vec![[rho; 3]; 6];
         let e = vec![[1.0; 3]; 6];
         let sol =
@@ -313,7 +317,7 @@ fn gauss_seidel_agrees_with_a_direct_solve_on_the_cornell_box() {
         samples: 3,
         ..Pass1Settings::default()
     };
-    let ffs = form_factors(&scene, &settings, &|_| {}).unwrap();
+    let ffs = form_factors(&soft(&scene, &settings).unwrap(), &|_| {}).unwrap();
     let n = scene.patches.len();
     let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
     let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();

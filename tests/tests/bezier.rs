@@ -6,7 +6,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use hemi::analytic::{bezier_eval as eval, bezier_newton as newton};
-use hemi::engine::SoftEngine;
+use hemi::backend::SoftEngine;
 use hemi::scene::load;
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::{Bezier, Subdivision, Vec3};

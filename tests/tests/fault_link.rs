@@ -14,12 +14,23 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
-use hemi::board::jobs::{BoardSpec, Farm};
-use hemi::board::{firmware_elf, remote, Qemu};
-use hemi::pass1::{self, Pass1Settings};
+use hemi::pass1;
 use hemi::scene::Scene;
-use hemi_hdl_model::{ModelAccelerator, ModelConfig};
+use hemi::settings::Pass1Settings;
+use hemi_boards::{firmware_elf, BoardSpec, Boards, Farm, FarmOptions, Qemu};
+use hemi_hdl_model::ModelConfig;
 use hemi_kernel::hemisphere::DeltaRule;
+use hemi_kernel::link::AccelKind;
+
+/// Pass 1 on the farm's boards.
+fn board_form_factors(
+    farm: &Farm,
+    scene: &Scene,
+    settings: &Pass1Settings,
+) -> anyhow::Result<pass1::FormFactors> {
+    let boards = Boards::new(farm, scene, settings, AccelKind::None)?;
+    pass1::form_factors(&boards, &|_| {})
+}
 
 fn bits(m: &[Vec<f64>]) -> Vec<Vec<u64>> {
     m.iter()
@@ -29,9 +40,8 @@ fn bits(m: &[Vec<f64>]) -> Vec<Vec<u64>> {
 
 /// Pass 1 through `farm` equals the in-process model backend: every row once, same bits.
 fn check_against_model(scene: &Scene, settings: &Pass1Settings, got: &pass1::FormFactors) {
-    let patches = scene.kernel_patches();
-    let make = || ModelAccelerator::new(&patches, ModelConfig::default()).unwrap();
-    let want = pass1::form_factors_with(scene, settings, &make, &|_| {}).unwrap();
+    let model = hemi::backend::model(scene, settings, ModelConfig::default()).unwrap();
+    let want = pass1::form_factors(&model, &|_| {}).unwrap();
     assert_eq!(
         got.elements.len(),
         want.elements.len(),
@@ -155,8 +165,8 @@ fn pass1_through_a_proxy_that_flips_drops_and_truncates_bytes() {
             rule: DeltaRule::Band,
             ..Pass1Settings::default()
         };
-        let farm = Farm::connect(&[BoardSpec::Serial(slave_path)], None).unwrap();
-        let got = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap();
+        let farm = Farm::connect(&[BoardSpec::Serial(slave_path)], FarmOptions::default()).unwrap();
+        let got = board_form_factors(&farm, &scene, &settings).unwrap();
         let events = farm.events();
         let injected = [&faults.flipped, &faults.dropped, &faults.truncated]
             .map(|c| c.load(Ordering::Relaxed));
@@ -193,11 +203,12 @@ fn pass1_survives_a_qemu_killed_mid_run() {
             rule: DeltaRule::Band,
             ..Pass1Settings::default()
         };
-        let farm = Farm::connect(&[BoardSpec::Qemu, BoardSpec::Qemu], None).unwrap();
+        let farm =
+            Farm::connect(&[BoardSpec::Qemu, BoardSpec::Qemu], FarmOptions::default()).unwrap();
         let victim = farm.qemu_pids()[0].expect("a QEMU pid");
         let killed = AtomicBool::new(false);
         let got = std::thread::scope(|s| {
-            let run = s.spawn(|| remote::form_factors(&farm, &scene, &settings, &|_| {}));
+            let run = s.spawn(|| board_form_factors(&farm, &scene, &settings));
             // Kill the first board once the run is under way.
             let t0 = Instant::now();
             while farm.events().answered < 4 && t0.elapsed() < Duration::from_secs(60) {

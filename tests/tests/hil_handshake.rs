@@ -7,7 +7,7 @@
 use hemi_tests::qemu_or_skip;
 use std::time::Duration;
 
-use hemi::board::QemuBoard;
+use hemi_boards::QemuBoard;
 use hemi_kernel::link::{
     encode_frame, encode_request, AccelKind, ErrorCode, Request, Response, MAX_WIRE_LEN, NO_ID,
     PROTOCOL_VERSION,

@@ -9,13 +9,14 @@
 //! Skips (passes with a printed notice) only when qemu-system-arm is missing and
 //! HEMI_REQUIRE_QEMU is unset.
 
-use hemi::board::jobs::{BoardSpec, Farm};
-use hemi::board::remote;
-use hemi::pass1::{self, Pass1Settings};
+use hemi::backend::{Backend, Query};
+use hemi::pass1::{self, form_factors};
 use hemi::scene::Scene;
-use hemi_hdl_model::{ModelAccelerator, ModelConfig};
+use hemi::settings::Pass1Settings;
+use hemi_boards::{BoardSpec, Boards, Farm, FarmOptions};
+use hemi_hdl_model::ModelConfig;
 use hemi_kernel::geometry::Vec3;
-use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
+use hemi_kernel::hemisphere::DeltaRule;
 use hemi_kernel::link::{AccelKind, Capacities, ENGINE_CAPACITIES, PROTOCOL_VERSION};
 use hemi_tests::{big_stack, cornell_scene, qemu_or_skip};
 
@@ -28,9 +29,19 @@ fn settings() -> Pass1Settings {
     }
 }
 
-fn model(scene: &Scene) -> impl Fn() -> ModelAccelerator + Sync + '_ {
-    let patches = scene.kernel_patches();
-    move || ModelAccelerator::new(&patches, ModelConfig::default()).expect("model loads cornell")
+/// The in-process model backend of `config`.
+fn model<'s>(scene: &'s Scene, settings: &Pass1Settings, config: ModelConfig) -> impl Backend + 's {
+    hemi::backend::model(scene, settings, config).expect("the model loads the scene")
+}
+
+/// The farm's boards as a backend (each board's own engine).
+fn boards<'a>(farm: &'a Farm, scene: &'a Scene, settings: &Pass1Settings) -> Boards<'a> {
+    Boards::new(farm, scene, settings, AccelKind::None).expect("the boards take the scene")
+}
+
+/// Pass 1 on `backend`.
+fn pass1_on(backend: &dyn Backend) -> pass1::FormFactors {
+    form_factors(backend, &|_| {}).unwrap()
 }
 
 fn solve(scene: &Scene, ff: &pass1::FormFactors) -> Vec<hemi::radiosity::Grid> {
@@ -66,17 +77,18 @@ fn assert_same_pass1(got: &pass1::FormFactors, want: &pass1::FormFactors, what: 
     assert_eq!(bits(&got.matrix), bits(&want.matrix), "{what}");
 }
 
-/// Adaptive sampling through the farm's boards equals it in-process with `make`'s engines: the
-/// same rows computed, in the same rounds, and the same result. Returns the in-process one.
-fn assert_same_adaptive<A: hemi_kernel::accel::Accelerator>(
+/// Adaptive sampling through the farm's boards equals it in-process on the model of `config`:
+/// the same rows computed, in the same rounds, and the same result. Returns the in-process one.
+fn assert_same_adaptive(
     farm: &Farm,
     scene: &Scene,
     settings: &Pass1Settings,
     adaptive: &hemi::adaptive::AdaptiveSettings,
-    make: &(dyn Fn() -> A + Sync),
+    config: ModelConfig,
 ) -> hemi::adaptive::Refined {
-    let want = hemi::adaptive::refine_with(scene, settings, adaptive, make, &|_| {}).unwrap();
-    let got = remote::refine(farm, scene, settings, adaptive, &|_| {}).unwrap();
+    let refine = |b: &dyn Backend| hemi::adaptive::refine(b, adaptive, &|_| {}).unwrap();
+    let want = refine(&model(scene, settings, config));
+    let got = refine(&boards(farm, scene, settings));
     assert_eq!(got.rows_computed(), want.rows_computed());
     assert_eq!(got.rounds, want.rounds);
     assert_same_pass1(&got.form_factors, &want.form_factors, "adaptive");
@@ -90,7 +102,7 @@ fn assert_same_small_render(
     scene: &Scene,
     settings: &Pass1Settings,
     grids: &[hemi::radiosity::Grid],
-    make: &(dyn Fn() -> ModelAccelerator + Sync),
+    config: ModelConfig,
     (width, height): (u32, u32),
 ) -> hemi::render::Rendered {
     let mut small = scene.clone();
@@ -99,9 +111,9 @@ fn assert_same_small_render(
         c.height = height;
     }
     let camera = hemi::render::camera_of(&small).unwrap();
-    let want =
-        hemi::render::render_with(&small, grids, &camera, 2, settings, make, &|_| {}).unwrap();
-    let got = remote::render(farm, scene, settings, grids, &camera, 2, &|_| {}).unwrap();
+    let render = |b: &dyn Backend| hemi::render::render(b, grids, &camera, 2, &|_| {}).unwrap();
+    let want = render(&model(&small, settings, config));
+    let got = render(&boards(farm, scene, settings));
     assert_eq!((got.image.width, got.image.height), (width, height));
     let px = |img: &hemi::render::Image| -> Vec<[u32; 3]> {
         img.pixels.iter().map(|p| p.map(f32::to_bits)).collect()
@@ -117,26 +129,13 @@ fn assert_same_irradiance(
     scene: &Scene,
     settings: &Pass1Settings,
     grids: &[hemi::radiosity::Grid],
-    make: &(dyn Fn() -> ModelAccelerator + Sync),
-    (p, n): (Vec3, Vec3),
+    config: ModelConfig,
+    (point, normal): (Vec3, Vec3),
 ) -> [f64; 3] {
-    let hemi = OwnedHemisphere::new(settings.circles, settings.rule).unwrap();
-    let view = hemi.view();
-    let optics = hemi::optics::SceneOptics::new(scene, &view).unwrap();
-    let mut scratch =
-        hemi::optics::Scratch::new(hemi::optics::pending_for(&view), &settings.specular);
-    let want = hemi::irradiance::irradiance(
-        &mut make(),
-        &view,
-        &optics.view(),
-        &mut scratch.view(),
-        scene,
-        grids,
-        p,
-        n,
-    );
-    let got =
-        remote::irradiance(farm, scene, settings.circles, settings.rule, grids, p, n).unwrap();
+    let query = [Query { point, normal }];
+    let gather = |b: &dyn Backend| hemi::irradiance::irradiance(b, grids, &query).unwrap()[0];
+    let want = gather(&model(scene, settings, config));
+    let got = gather(&boards(farm, scene, settings));
     assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits));
     got
 }
@@ -152,7 +151,8 @@ fn form_factors_render_and_irradiance_through_two_qemu_boards_equal_the_model_ba
 fn run() {
     let scene = cornell_scene();
     let settings = settings();
-    let farm = Farm::connect(&[BoardSpec::Qemu, BoardSpec::Qemu], None).expect("boot two boards");
+    let farm = Farm::connect(&[BoardSpec::Qemu, BoardSpec::Qemu], FarmOptions::default())
+        .expect("boot two boards");
     for hello in farm.hellos() {
         let hello = hello.expect("connected");
         assert_eq!(hello.protocol, PROTOCOL_VERSION);
@@ -172,9 +172,9 @@ fn run() {
     }
 
     // Pass 1.
-    let make = model(&scene);
-    let want = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
-    let got = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap();
+    let make = ModelConfig::default();
+    let want = pass1_on(&model(&scene, &settings, make));
+    let got = pass1_on(&boards(&farm, &scene, &settings));
     assert_same_pass1(&got, &want, "pass 1");
     // and at the host's default R = 64, which the QEMU build's engine holds (K = 1 keeps it
     // quick)
@@ -183,13 +183,13 @@ fn run() {
         samples: 1,
         ..settings
     };
-    let want64 = pass1::form_factors_with(&scene, &r64, &make, &|_| {}).unwrap();
-    let got64 = remote::form_factors(&farm, &scene, &r64, &|_| {}).unwrap();
+    let want64 = pass1_on(&model(&scene, &r64, make));
+    let got64 = pass1_on(&boards(&farm, &scene, &r64));
     assert_eq!(bits(&got64.matrix), bits(&want64.matrix));
 
     // Pass 2 on a small image.
     let grids = solve(&scene, &want);
-    let img = assert_same_small_render(&farm, &scene, &settings, &grids, &make, (24, 20)).image;
+    let img = assert_same_small_render(&farm, &scene, &settings, &grids, make, (24, 20)).image;
     assert!(
         img.pixels.iter().any(|p| p[0] > 0.0),
         "the image is not black"
@@ -197,7 +197,7 @@ fn run() {
 
     // An irradiance query (the gather job), against the model in-process.
     let at = (Vec3::new(278.0, 1.0, 280.0), Vec3::new(0.0, 1.0, 0.0));
-    let e = assert_same_irradiance(&farm, &scene, &settings, &grids, &make, at);
+    let e = assert_same_irradiance(&farm, &scene, &settings, &grids, make, at);
     assert!(e[0] > 0.0);
 
     // Adaptive sampling (protocol 4, ShootLevel jobs at each level's k), against the same
@@ -207,7 +207,7 @@ fn run() {
         max_depth: 2,
         ..Default::default()
     };
-    let refined = assert_same_adaptive(&farm, &scene, &settings, &adaptive, &make);
+    let refined = assert_same_adaptive(&farm, &scene, &settings, &adaptive, make);
     assert!(
         refined.patches.iter().any(|p| p.depth > 0),
         "the test should refine some patch"
@@ -255,7 +255,7 @@ fn run_mirror() {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let scene = hemi::scene::load(&root.join("scenes/mirror-wall.toml")).unwrap();
     let settings = settings();
-    let farm = Farm::connect(&[BoardSpec::Qemu], None).expect("boot a board");
+    let farm = Farm::connect(&[BoardSpec::Qemu], FarmOptions::default()).expect("boot a board");
     let hello = farm.hellos()[0].clone().expect("connected");
     assert_eq!(hello.protocol, PROTOCOL_VERSION);
 
@@ -265,11 +265,9 @@ fn run_mirror() {
             width,
             ..ModelConfig::default()
         };
-        let patches = scene.kernel_patches();
-        let make = move || ModelAccelerator::new(&patches, config).expect("model loads the scene");
         farm.set_cordic(iterations, width).unwrap();
-        let want = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
-        let got = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap();
+        let want = pass1_on(&model(&scene, &settings, config));
+        let got = pass1_on(&boards(&farm, &scene, &settings));
         assert_same_pass1(&got, &want, &format!("CORDIC {iterations}/{width}"));
         let t = farm.trace_stats().remove(0).unwrap();
         eprintln!("CORDIC {iterations}/{width}: board trace stats {t:?}");
@@ -286,17 +284,17 @@ fn run_mirror() {
 
     // An engine that cannot apply a CORDIC refuses it with an error frame.
     farm.set_cordic(3, 32).unwrap();
-    let err = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap_err();
+    let err = Boards::new(&farm, &scene, &settings, AccelKind::None)
+        .and_then(|b| form_factors(&b, &|_| {}))
+        .unwrap_err();
     assert!(format!("{err:#}").contains("cordic"), "{err:#}");
 
     // Pass 2 through the mirror on a small image: whole rows per job, weighted hits back.
     farm.set_cordic(24, 32).unwrap();
-    let config = ModelConfig::default();
-    let patches = scene.kernel_patches();
-    let make = move || ModelAccelerator::new(&patches, config).expect("model loads the scene");
-    let ff = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
+    let make = ModelConfig::default();
+    let ff = pass1_on(&model(&scene, &settings, make));
     let grids = solve(&scene, &ff);
-    let want = assert_same_small_render(&farm, &scene, &settings, &grids, &make, (16, 12));
+    let want = assert_same_small_render(&farm, &scene, &settings, &grids, make, (16, 12));
     assert!(want.specular.frustums > 0, "the camera sees the mirror");
     let t = farm.trace_stats().remove(0).unwrap();
     eprintln!("after pass 2: board trace stats {t:?}");
@@ -305,23 +303,19 @@ fn run_mirror() {
     // call, weighted reports back a window at a time), against the model in-process.
     let (p, n) = (Vec3::new(2.5, 1.5, 2.0), Vec3::new(-1.0, 0.0, 0.0));
     let before = farm.trace_stats().remove(0).unwrap();
-    let got_e = assert_same_irradiance(&farm, &scene, &settings, &grids, &make, (p, n));
+    let got_e = assert_same_irradiance(&farm, &scene, &settings, &grids, make, (p, n));
     let after = farm.trace_stats().remove(0).unwrap();
     assert!(
         after.frustums > before.frustums,
         "the query sees the mirror: {after:?}"
     );
     // facing away from the mirror the answer differs: the mirror's light is in it
-    let away = remote::irradiance(
-        &farm,
-        &scene,
-        settings.circles,
-        settings.rule,
-        &grids,
-        p,
-        -n,
-    )
-    .unwrap();
+    let away = Query {
+        point: p,
+        normal: -n,
+    };
+    let away = hemi::irradiance::irradiance(&boards(&farm, &scene, &settings), &grids, &[away])
+        .unwrap()[0];
     assert_ne!(away, got_e);
 }
 
@@ -344,11 +338,11 @@ fn run_translucent() {
     assert!(scene.has_translucency());
     let fronts = scene.fronts();
     let settings = settings();
-    let farm = Farm::connect(&[BoardSpec::Qemu], None).expect("boot a board");
+    let farm = Farm::connect(&[BoardSpec::Qemu], FarmOptions::default()).expect("boot a board");
 
-    let make = model(&scene);
-    let want = pass1::form_factors_with(&scene, &settings, &make, &|_| {}).unwrap();
-    let got = remote::form_factors(&farm, &scene, &settings, &|_| {}).unwrap();
+    let make = ModelConfig::default();
+    let want = pass1_on(&model(&scene, &settings, make));
+    let got = pass1_on(&boards(&farm, &scene, &settings));
     assert_same_pass1(&got, &want, "paper-screen");
     // the back side was shot, and is seen through its own column
     assert!(got.elements.iter().any(|e| e.patch >= fronts));
@@ -358,11 +352,11 @@ fn run_translucent() {
         .any(|e| e.row.iter().any(|&(j, _)| j as usize >= fronts)));
 
     let grids = solve(&scene, &want);
-    assert_same_small_render(&farm, &scene, &settings, &grids, &make, (16, 12));
+    assert_same_small_render(&farm, &scene, &settings, &grids, make, (16, 12));
 
     // behind the screen, facing it: the rays that reach it see its back side
     let behind = (Vec3::new(2.0, 1.0, 2.5), Vec3::new(0.0, 0.0, -1.0));
-    let e = assert_same_irradiance(&farm, &scene, &settings, &grids, &make, behind);
+    let e = assert_same_irradiance(&farm, &scene, &settings, &grids, make, behind);
     assert!(e[0] > 0.0);
 
     // adaptive sampling, the screen's sides refined together (ShootLevel on n + i for the back)
@@ -371,7 +365,7 @@ fn run_translucent() {
         max_depth: 1,
         ..Default::default()
     };
-    let refined = assert_same_adaptive(&farm, &scene, &settings, &adaptive, &make);
+    let refined = assert_same_adaptive(&farm, &scene, &settings, &adaptive, make);
     let back = scene.twin(
         scene
             .patches

@@ -8,7 +8,7 @@
 
 use std::time::{Duration, Instant};
 
-use hemi::board::{qemu_available, QemuBoard};
+use hemi_boards::{qemu_available, QemuBoard};
 use hemi_kernel::link::{crc::crc32, Request, Response, MAX_BULK, PROTOCOL_VERSION};
 
 const T: Duration = Duration::from_secs(5);
@@ -32,7 +32,7 @@ fn link_latency_and_throughput() {
         return;
     }
     // Build (or find) the firmware first so the boot time below is QEMU's and the handshake's.
-    let elf = hemi::board::firmware_elf(None).unwrap();
+    let elf = hemi_boards::firmware_elf(None).unwrap();
     let t0 = Instant::now();
     let mut board = QemuBoard::boot(Some(&elf)).unwrap();
     let boot = t0.elapsed();

@@ -5,7 +5,7 @@
 
 use std::time::Duration;
 
-use hemi::board::{qemu_available, QemuBoard};
+use hemi_boards::{qemu_available, QemuBoard};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::link::{encode_frame, encode_request, Request, Response, MAX_WIRE_LEN};
 

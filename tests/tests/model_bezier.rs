@@ -10,12 +10,11 @@
 //! `cargo test --release -p hemi-tests --test model_bezier -- --nocapture` prints the tables.
 
 use hemi::analytic::bezier_newton;
-use hemi::engine::SoftEngine;
+use hemi::backend::SoftEngine;
 use hemi_hdl_model::{ModelAccelerator, ModelConfig};
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::{Bezier, Vec3};
 use hemi_kernel::patch::{Patch, Shape};
-use hemi_tests::BoxedModel;
 use std::path::Path;
 
 fn scene() -> hemi::scene::Scene {
@@ -215,7 +214,9 @@ fn soft_and_model_nearest_hits_agree_on_the_teapot() {
 
 #[test]
 fn soft_and_model_form_factors_agree_on_the_teapot() {
-    use hemi::pass1::{form_factors_with, Pass1Settings};
+    use hemi::pass1::form_factors;
+    use hemi::settings::Pass1Settings;
+    use hemi_hdl_model::ModelConfig;
     use hemi_kernel::hemisphere::DeltaRule;
     let sc = scene();
     let patches = sc.kernel_patches();
@@ -225,8 +226,12 @@ fn soft_and_model_form_factors_agree_on_the_teapot() {
         rule: DeltaRule::Band,
         ..Pass1Settings::default()
     };
-    let soft = form_factors_with(&sc, &settings, &|| SoftEngine::new(&patches), &|_| {}).unwrap();
-    let model = form_factors_with(&sc, &settings, &|| BoxedModel::new(&patches), &|_| {}).unwrap();
+    let soft = form_factors(&hemi::backend::soft(&sc, &settings).unwrap(), &|_| {}).unwrap();
+    let model = form_factors(
+        &hemi::backend::model(&sc, &settings, ModelConfig::default()).unwrap(),
+        &|_| {},
+    )
+    .unwrap();
     let mut worst = 0.0f32;
     for (a, b) in soft.elements.iter().zip(&model.elements) {
         assert_eq!(a.patch, b.patch);

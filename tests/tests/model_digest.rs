@@ -77,7 +77,7 @@ fn run(
     let mut d = Digest::new();
     let points: Vec<_> = (0..patches.len())
         .flat_map(|i| {
-            hemi::pass1::sample_points(&scene, i, 2)
+            hemi::shots::sample_points(&scene, i, 2)
                 .into_iter()
                 .map(move |p| (i, p))
         })

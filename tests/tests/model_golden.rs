@@ -4,14 +4,13 @@
 //!
 //! `cargo test --release -p hemi-tests --test model_golden -- --nocapture` prints the tables.
 
-use hemi::engine::SoftEngine;
+use hemi::backend::SoftEngine;
 use hemi_hdl_model::cordic::{CordicConfig, CordicPipe, CordicSlot, Mode};
 use hemi_hdl_model::format::{Angle, Unit};
 use hemi_hdl_model::{ModelAccelerator, ModelConfig};
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::rotation::{spin_for_sample, Rotation};
-use hemi_tests::BoxedModel;
 
 /// Tiny deterministic generator (the tests must not depend on a crate's RNG stream).
 struct Lcg(u64);
@@ -247,21 +246,24 @@ fn intersections_match_the_soft_engine_on_the_cornell_box() {
 
 #[test]
 fn soft_and_model_form_factors_agree() {
-    use hemi::pass1::{form_factors_with, Pass1Settings};
+    use hemi::pass1::form_factors;
+    use hemi::settings::Pass1Settings;
+    use hemi_hdl_model::ModelConfig;
     use hemi_kernel::hemisphere::DeltaRule;
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let scene = hemi::scene::load(&root.join("scenes/cornell.toml")).unwrap();
-    let patches = scene.kernel_patches();
     let settings = Pass1Settings {
         circles: 16,
         samples: 2,
         rule: DeltaRule::Band,
         ..Pass1Settings::default()
     };
-    let soft =
-        form_factors_with(&scene, &settings, &|| SoftEngine::new(&patches), &|_| {}).unwrap();
-    let model =
-        form_factors_with(&scene, &settings, &|| BoxedModel::new(&patches), &|_| {}).unwrap();
+    let soft = form_factors(&hemi::backend::soft(&scene, &settings).unwrap(), &|_| {}).unwrap();
+    let model = form_factors(
+        &hemi::backend::model(&scene, &settings, ModelConfig::default()).unwrap(),
+        &|_| {},
+    )
+    .unwrap();
     let mut worst = 0.0f64;
     for (a, b) in soft.matrix.iter().zip(&model.matrix) {
         for (x, y) in a.iter().zip(b) {

@@ -27,7 +27,7 @@ fn cycles_per_ray_and_simulation_speed_on_the_cornell_box() {
         let hemi = OwnedHemisphere::new(circles, DeltaRule::Band).unwrap();
         let view = hemi.view();
         let points: Vec<_> = (0..patches.len())
-            .flat_map(|i| hemi::pass1::sample_points(&scene, i, 2))
+            .flat_map(|i| hemi::shots::sample_points(&scene, i, 2))
             .collect();
         // pass 1 casts without (u,v) (MODE.NO_UV); eye rays and frustums on curved patches ask
         // for them
@@ -100,7 +100,7 @@ fn cycles_per_ray_on_the_teapot_and_per_bezier_patch_test() {
         let mut model = ModelAccelerator::new(&patches, ModelConfig::default()).unwrap();
         let points: Vec<_> = (0..patches.len())
             .flat_map(|i| {
-                hemi::pass1::sample_points(&scene, i, 2)
+                hemi::shots::sample_points(&scene, i, 2)
                     .into_iter()
                     .map(move |p| (i, p))
             })
@@ -231,7 +231,7 @@ fn cordic_pareto_front() {
             if cfg.is_valid() {
                 // area proxy: the rotator's 3 pipes × n stages × 3 W-bit adders (x, y, z)
                 let area = 3 * iterations * 3 * width;
-                rows.push((cfg, hemi::bench::cordic_rotation_error(cfg, 20_000), area));
+                rows.push((cfg, hemi_bench::cordic_rotation_error(cfg, 20_000), area));
             }
         }
     }

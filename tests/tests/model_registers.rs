@@ -376,7 +376,7 @@ fn the_accelerator_runs_over_any_register_access_with_the_models_answers() {
     let mut foreign = RegisterAccelerator::with_bus(bus, &patches, cfg).unwrap();
     let hemi = OwnedHemisphere::new(6, DeltaRule::Band).unwrap();
     let view = hemi.view();
-    let p = hemi::pass1::sample_points(&scene, 0, 2)[0];
+    let p = hemi::shots::sample_points(&scene, 0, 2)[0];
     let rot = Rotation::onto(p.normal);
     let mut a = Vec::new();
     let mut b = Vec::new();

@@ -1,10 +1,12 @@
 //! Pass 2: images against symmetry, uniformity, the trace command's hits, and a golden image.
 
-use hemi::engine::SoftEngine;
-use hemi::pass1::{form_factors, Pass1Settings};
+use hemi::backend::soft;
+use hemi::backend::SoftEngine;
+use hemi::pass1::form_factors;
 use hemi::radiosity::grids;
 use hemi::render::{camera_of, read_png, render, write_png, Image};
 use hemi::scene::{parse, Scene};
+use hemi::settings::Pass1Settings;
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::DeltaRule;
@@ -21,22 +23,16 @@ fn small() -> Pass1Settings {
 }
 
 fn solve_and_render(scene: &Scene, settings: &Pass1Settings, spp: u32) -> Image {
-    let ff = form_factors(scene, settings, &|_| {}).unwrap();
+    let ff = form_factors(&soft(scene, settings).unwrap(), &|_| {}).unwrap();
     let n = scene.patches.len();
     let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
     let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
     let sol = hemi::solve::gauss_seidel(ff.channels(), &rho, &e, &Default::default()).unwrap();
     let g = grids(scene, &ff, &sol);
-    render(
-        scene,
-        &g,
-        &camera_of(scene).unwrap(),
-        spp,
-        settings,
-        &|_| {},
-    )
-    .unwrap()
-    .image
+    let backend = soft(scene, settings).unwrap();
+    render(&backend, &g, &camera_of(scene).unwrap(), spp, &|_| {})
+        .unwrap()
+        .image
 }
 
 fn camera_toml(eye: [f64; 3], look: [f64; 3], w: u32, h: u32) -> String {

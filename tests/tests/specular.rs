@@ -2,8 +2,10 @@
 //! energy conservation, the glossy → mirror limit, and the bounded skeleton stack.
 //! `cargo test -p hemi-tests --release --test specular -- --nocapture` prints the measured errors.
 
-use hemi::pass1::{form_factors, Pass1Settings};
+use hemi::backend::soft;
+use hemi::pass1::form_factors;
 use hemi::scene::{parse, Material, Scene};
+use hemi::settings::Pass1Settings;
 use hemi_tests::*;
 
 fn mirror(name: &str, k_r: f64, phong: &str) -> String {
@@ -240,7 +242,7 @@ fn cut_paths_are_reported_not_fatal() {
         ..Pass1Settings::default()
     };
     settings.specular.max_bounces = 6;
-    let ff = form_factors(&scene, &settings, &|_| {}).unwrap();
+    let ff = form_factors(&soft(&scene, &settings).unwrap(), &|_| {}).unwrap();
     let s = ff.stats.specular;
     println!("{s:?}");
     // rays along the normal would bounce for ever: the depth limit cuts them and says so
@@ -253,7 +255,7 @@ fn cut_paths_are_reported_not_fatal() {
     let scene = parse(&glossy, "glossy-mirrors.toml").unwrap();
     settings.specular.stack = 3;
     settings.specular.threshold = 0.001;
-    let g = form_factors(&scene, &settings, &|_| {}).unwrap();
+    let g = form_factors(&soft(&scene, &settings).unwrap(), &|_| {}).unwrap();
     let s = g.stats.specular;
     println!("{s:?}");
     assert!(s.overflows > 0 && s.overflow_weight > 0.0, "{s:?}");
@@ -286,14 +288,21 @@ fn pass_2_sees_a_light_in_a_mirror_at_k_r_times_its_radiance() {
         samples: 2,
         ..Pass1Settings::default()
     };
-    let ff = form_factors(&scene, &settings, &|_| {}).unwrap();
+    let ff = form_factors(&soft(&scene, &settings).unwrap(), &|_| {}).unwrap();
     let n = scene.patches.len();
     let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
     let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
     let sol = hemi::solve::gauss_seidel(ff.channels(), &rho, &e, &Default::default()).unwrap();
     let grids = hemi::radiosity::grids(&scene, &ff, &sol);
     let camera = hemi::render::camera_of(&scene).unwrap();
-    let out = hemi::render::render(&scene, &grids, &camera, 1, &settings, &|_| {}).unwrap();
+    let out = hemi::render::render(
+        &soft(&scene, &settings).unwrap(),
+        &grids,
+        &camera,
+        1,
+        &|_| {},
+    )
+    .unwrap();
     let centre = out.image.pixels[4 * 9 + 4];
     println!("centre pixel {centre:?}, {:?}", out.specular);
     for c in centre {
@@ -348,20 +357,14 @@ fn the_model_backend_agrees_with_soft_through_a_mirror() {
     // unit) and the f32 soft engine: the same kernel walks the frustums on both.
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let scene = hemi::scene::load(&root.join("scenes/mirror-wall.toml")).unwrap();
-    let patches = scene.kernel_patches();
     let settings = Pass1Settings {
         circles: 12,
         samples: 2,
         ..Pass1Settings::default()
     };
-    let soft = form_factors(&scene, &settings, &|_| {}).unwrap();
-    let model = hemi::pass1::form_factors_with(
-        &scene,
-        &settings,
-        &|| hemi_tests::BoxedModel::new(&patches),
-        &|_| {},
-    )
-    .unwrap();
+    let soft = form_factors(&soft(&scene, &settings).unwrap(), &|_| {}).unwrap();
+    let model = hemi::backend::model(&scene, &settings, Default::default()).unwrap();
+    let model = form_factors(&model, &|_| {}).unwrap();
     assert!(soft.stats.specular.frustums > 0);
     let mut worst = 0.0f64;
     for (a, b) in soft.matrix.iter().zip(&model.matrix) {

@@ -5,9 +5,11 @@
 // Matrix code: F[i][j] reads as the equations do.
 #![allow(clippy::needless_range_loop)]
 
+use hemi::backend::soft;
 use hemi::method::Method;
-use hemi::pass1::{form_factors, FormFactors, Pass1Settings};
+use hemi::pass1::{form_factors, FormFactors};
 use hemi::scene::{parse, Scene};
+use hemi::settings::Pass1Settings;
 use hemi::solve::{self, diagnose, SolveSettings, Solver, System};
 use hemi_kernel::hemisphere::ray_count;
 use hemi_kernel::peers::hemicube::Hemicube;
@@ -26,7 +28,7 @@ fn run(scene: &Scene, method: Method, circles: u32, samples: u32) -> FormFactors
         method,
         ..Pass1Settings::default()
     };
-    form_factors(scene, &settings, &|_| {}).unwrap()
+    form_factors(&soft(scene, &settings).unwrap(), &|_| {}).unwrap()
 }
 
 /// What a full hemisphere of `method` adds up to: 1 for the hemisphere (band rule) and Monte
@@ -421,7 +423,7 @@ fn a_specular_loop_between_parallel_mirrors_keeps_the_stack_bound_and_reports_th
         };
         settings.specular.max_bounces = max_bounces;
         settings.specular.threshold = 1e-6;
-        let ff = form_factors(&scene, &settings, &|_| {}).unwrap();
+        let ff = form_factors(&soft(&scene, &settings).unwrap(), &|_| {}).unwrap();
         let s = ff.stats.specular;
         let per_hemisphere = s.too_deep_weight / ff.elements.len() as f64;
         let bound = 0.9f64.powi(max_bounces as i32);
@@ -446,7 +448,7 @@ fn a_specular_loop_between_parallel_mirrors_keeps_the_stack_bound_and_reports_th
         settings.specular.stack = stack;
         settings.specular.max_bounces = 6;
         settings.specular.threshold = 1e-3;
-        let ff = form_factors(&scene, &settings, &|_| {}).unwrap();
+        let ff = form_factors(&soft(&scene, &settings).unwrap(), &|_| {}).unwrap();
         let s = ff.stats.specular;
         println!(
             "glossy, stack {stack}: high water {}, {} overflows losing {:.4}, S_pp = {:.5}",

@@ -3,8 +3,10 @@
 //! and pass 2 and irradiance seeing the back side.
 //! `cargo test -p hemi-tests --release --test translucent -- --nocapture` prints the errors.
 
-use hemi::pass1::{form_factors, FormFactors, Pass1Settings};
+use hemi::backend::soft;
+use hemi::pass1::{form_factors, FormFactors};
 use hemi::scene::{parse, Scene};
+use hemi::settings::Pass1Settings;
 use hemi::solve::{self, SceneParts, Solution};
 use hemi_tests::*;
 
@@ -15,9 +17,9 @@ fn sheet_material(name: &str, rho: f64, tau: f64) -> String {
 }
 
 fn solved(scene: &Scene, ff: &FormFactors) -> Solution {
-    let parts = SceneParts::new(scene, ff);
+    let parts = SceneParts::new(scene, ff.channels());
     solve::solve(
-        &parts.system(ff).unwrap(),
+        &parts.system(ff.channels()).unwrap(),
         solve::Solver::Auto,
         &Default::default(),
         &mut |_| {},
@@ -118,7 +120,7 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
         samples: 12,
         ..Pass1Settings::default()
     };
-    let ff = form_factors(&scene, &settings, &|_| {}).unwrap();
+    let ff = form_factors(&soft(&scene, &settings).unwrap(), &|_| {}).unwrap();
     let sol = solved(&scene, &ff);
     let b = &sol.radiosity;
     // B_front = ρ F E, B_back = τ F E (the receiver is black, the light does not reflect)
@@ -140,7 +142,14 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
     // pass 2 sees the back side's radiosity from behind the sheet
     let grids = hemi::radiosity::grids(&scene, &ff, &sol);
     let camera = hemi::render::camera_of(&scene).unwrap();
-    let out = hemi::render::render(&scene, &grids, &camera, 1, &settings, &|_| {}).unwrap();
+    let out = hemi::render::render(
+        &soft(&scene, &settings).unwrap(),
+        &grids,
+        &camera,
+        1,
+        &|_| {},
+    )
+    .unwrap();
     let centre = out.image.pixels[2 * 5 + 2];
     let want = grids[3].at(0.5, 0.5)[0] / std::f64::consts::PI;
     println!("centre pixel {centre:?}, B(back)/π at the centre {want:.5}");
@@ -148,24 +157,12 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
     assert!((centre[0] as f64 - want).abs() < 1e-4 * want.max(1.0));
 
     // irradiance at the receiver's centre, facing the sheet, gathers the back side
-    let hemi =
-        hemi_kernel::hemisphere::OwnedHemisphere::new(settings.circles, settings.rule).unwrap();
-    let view = hemi.view();
-    let optics = hemi::optics::SceneOptics::new(&scene, &view).unwrap();
-    let mut scratch =
-        hemi::optics::Scratch::new(hemi::optics::pending_for(&view), &settings.specular);
-    let patches = scene.kernel_patches();
-    let p = hemi_kernel::geometry::Vec3::new(0.5, 0.5, 2.0 * c as f32 - 1e-4);
-    let e = hemi::irradiance::irradiance(
-        &mut hemi::engine::SoftEngine::new(&patches),
-        &view,
-        &optics.view(),
-        &mut scratch.view(),
-        &scene,
-        &grids,
-        p,
-        hemi_kernel::geometry::Vec3::new(0.0, 0.0, -1.0),
-    );
+    let backend = soft(&scene, &settings).unwrap();
+    let query = hemi::backend::Query {
+        point: hemi_kernel::geometry::Vec3::new(0.5, 0.5, 2.0 * c as f32 - 1e-4),
+        normal: hemi_kernel::geometry::Vec3::new(0.0, 0.0, -1.0),
+    };
+    let e = hemi::irradiance::irradiance(&backend, &grids, &[query]).unwrap()[0];
     // E = ∫ B_back(x) cos θ cos θ' / (π r²) dA over the sheet, by a fine midpoint sum over its
     // grid (the configuration is symmetric in x and y, so the grid's (u,v) orientation does
     // not matter)
@@ -188,16 +185,7 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
     // contributes per unit of form factor: E / E(B_back = 1) against ∫B dF / F(Howell).
     let mut flat = grids.clone();
     flat[3] = hemi::radiosity::Grid::from_samples(1, &[[1.0; 3]]);
-    let e1 = hemi::irradiance::irradiance(
-        &mut hemi::engine::SoftEngine::new(&patches),
-        &view,
-        &optics.view(),
-        &mut scratch.view(),
-        &scene,
-        &flat,
-        p,
-        hemi_kernel::geometry::Vec3::new(0.0, 0.0, -1.0),
-    );
+    let e1 = hemi::irradiance::irradiance(&backend, &flat, &[query]).unwrap()[0];
     let f_point = 4.0 * element_to_parallel_rectangle_corner(a / 2.0, a / 2.0, c);
     let (got, expect) = (e[0] / e1[0], want / f_point);
     println!(
@@ -281,18 +269,14 @@ fn adaptive_sampling_refines_the_sides_of_a_sheet_together() {
         max_depth: 1,
         ..Default::default()
     };
-    let got = hemi::adaptive::refine(&scene, &settings, &every, &|_| {}).unwrap();
-    let uniform = form_factors(
-        &scene,
-        &Pass1Settings {
-            samples: 4,
-            ..settings
-        },
-        &|_| {},
-    )
-    .unwrap();
+    let got = hemi::adaptive::refine(&soft(&scene, &settings).unwrap(), &every, &|_| {}).unwrap();
+    let four = Pass1Settings {
+        samples: 4,
+        ..settings
+    };
+    let uniform = form_factors(&soft(&scene, &four).unwrap(), &|_| {}).unwrap();
     let (front, back) = (1, scene.twin(1).unwrap());
-    let sheet = |e: &&hemi::pass1::ElementRow| e.patch == front || e.patch == back;
+    let sheet = |e: &&hemi::shots::ElementRow| e.patch == front || e.patch == back;
     let g: Vec<_> = got.form_factors.elements.iter().filter(sheet).collect();
     let w: Vec<_> = uniform.elements.iter().filter(sheet).collect();
     assert_eq!(g.len(), 32, "both sides at 4×4");
@@ -308,7 +292,8 @@ fn adaptive_sampling_refines_the_sides_of_a_sheet_together() {
         max_depth: 2,
         ..Default::default()
     };
-    let got = hemi::adaptive::refine(&scene, &settings, &adaptive, &|_| {}).unwrap();
+    let got =
+        hemi::adaptive::refine(&soft(&scene, &settings).unwrap(), &adaptive, &|_| {}).unwrap();
     let (pf, pb) = (&got.patches[front], &got.patches[back]);
     assert_eq!(
         (pf.k, pf.depth),
@@ -353,7 +338,6 @@ fn progressive_refinement_with_rows_on_demand_solves_the_coupled_sides() {
     // row of F alone by reciprocity, F_ji = F_ij A_i / A_j (a sheet's sides have one area), as
     // Cohen et al. turn the shooter's row into its column. So it solves the system whose F is
     // the reciprocal of the stored matrix: against that, solved with the coupled matrices.
-    use hemi::engine::SoftEngine;
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let scene = hemi::scene::load(&root.join("scenes/paper-screen.toml")).unwrap();
     let settings = Pass1Settings {
@@ -361,7 +345,7 @@ fn progressive_refinement_with_rows_on_demand_solves_the_coupled_sides() {
         samples: 2,
         ..Pass1Settings::default()
     };
-    let ff = form_factors(&scene, &settings, &|_| {}).unwrap();
+    let ff = form_factors(&soft(&scene, &settings).unwrap(), &|_| {}).unwrap();
     let n = scene.patches.len();
     let area = |i: usize| scene.patches[i].area as f64;
     let reciprocal: Vec<Vec<f64>> = (0..n)
@@ -371,17 +355,16 @@ fn progressive_refinement_with_rows_on_demand_solves_the_coupled_sides() {
                 .collect()
         })
         .collect();
-    let k = hemi::translucent::coupled(&scene, [&reciprocal, &reciprocal, &reciprocal])
+    let k = hemi::solve::coupled(&scene, [&reciprocal, &reciprocal, &reciprocal])
         .expect("the scene is translucent");
     let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
     let ones = vec![[1.0; 3]; n];
     let want = solve::gauss_seidel([&k[0], &k[1], &k[2]], &ones, &e, &Default::default()).unwrap();
 
-    let patches = scene.kernel_patches();
-    let make = || SoftEngine::new(&patches);
-    let mut shooter = solve::rows::RowShooter::new(&scene, &settings, &make, 0).unwrap();
-    let got =
-        solve::rows::solve_streaming(&mut shooter, &Default::default(), &mut |_, _| {}).unwrap();
+    let backend = soft(&scene, &settings).unwrap();
+    let mut shooter = hemi::on_demand::RowShooter::new(&backend, 0).unwrap();
+    let got = hemi::on_demand::solve_streaming(&mut shooter, &Default::default(), &mut |_, _| {})
+        .unwrap();
     let scale = want
         .radiosity
         .iter()
@@ -410,7 +393,7 @@ fn progressive_refinement_with_rows_on_demand_solves_the_coupled_sides() {
 
     // The grids from rows shot again equal the stored rows' grids for the same solution: each
     // side adds what comes through from its twin's element at the same point.
-    let got_grids = solve::rows::grids_streaming(&mut shooter, &got).unwrap();
+    let got_grids = hemi::on_demand::grids_streaming(&mut shooter, &got).unwrap();
     let want_grids = hemi::radiosity::grids(&scene, &ff, &got);
     for (i, (g, w)) in got_grids.iter().zip(&want_grids).enumerate() {
         for (u, v) in [(0.1, 0.1), (0.5, 0.5), (0.9, 0.3)] {

@@ -4,10 +4,13 @@
 //! - `setup`: install what a fresh machine lacks (thumbv7em target, qemu-system-arm, defmt-print,
 //!   rustfmt/clippy), saying what it does; stops with the exact command when it cannot.
 //! - `test`: the whole test suite, as CI runs it (`.ci/run` calls exactly `cargo xtask test`).
+//! - `layout`: the architecture's invariants the compiler does not check (no import cycle in the
+//!   host crates, a library without CLI or serial crates, short functions).
 //! - `qemu [ELF]`: boot the firmware in QEMU, UART on a pty, defmt log decoded on the terminal.
 //! - `flash --chip CHIP [ELF]`: flash and run the firmware on a board with probe-rs (never in CI).
 
 mod boards;
+mod layout;
 mod setup;
 mod suite;
 mod util;
@@ -28,6 +31,9 @@ commands:
   test [options] [STEP...]    the full test suite, as CI runs it (default: every step, in order)
       --keep-going            run the remaining steps after a failure
       --list                  list the steps and exit
+  layout                      check the host crates' architecture: no import cycle between
+                              modules, no CLI/serial crate or environment variable in the
+                              library, no function over 150 lines (main: 60)
   qemu [ELF] [-- QEMU_ARGS]   boot the firmware (default: the release build) in qemu-system-arm;
                               UART0 on a pty, defmt log decoded on stdout; Ctrl-C to stop
   flash --chip CHIP [--features F] [ELF]
@@ -54,6 +60,7 @@ fn main() -> ExitCode {
             }
         }
         "test" => suite::main(rest),
+        "layout" => layout::check().map_err(util::Failure::Failed),
         "qemu" => boards::qemu(rest),
         "flash" => boards::flash(rest),
         "help" | "-h" | "--help" => {

@@ -21,6 +21,8 @@ enum Kind {
     Setup,
     /// These commands, in order; the step fails at the first that fails.
     Commands(fn() -> Vec<Command>),
+    /// A check run in this process.
+    Check(fn() -> Result<(), String>),
 }
 
 /// The host crates: the whole workspace but the firmware (which only builds for its target).
@@ -37,6 +39,12 @@ fn steps() -> Vec<Step> {
             name: "fmt",
             what: "formatting (cargo fmt --check)",
             kind: Kind::Commands(|| vec![cargo(["fmt", "--all", "--", "--check"])]),
+        },
+        Step {
+            name: "layout",
+            what: "the host crates' architecture (cargo xtask layout: no import cycle, a library \
+                   free of CLI and serial crates and of environment variables, short functions)",
+            kind: Kind::Check(crate::layout::check),
         },
         Step {
             name: "clippy-host",
@@ -195,6 +203,7 @@ pub fn main(args: &[String]) -> Result<(), Failure> {
         let result = match &step.kind {
             Kind::Setup => crate::setup::setup(),
             Kind::Commands(make) => make().into_iter().try_for_each(util::run),
+            Kind::Check(check) => check(),
         };
         let took = t0.elapsed();
         match result {

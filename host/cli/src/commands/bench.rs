@@ -1,0 +1,362 @@
+//! `hemi bench`: the benchmarks of crate `hemi-bench` (speed is measured there, never asserted
+//! in tests), one argument struct each.
+
+use crate::options::{list, SamplingArgs, TestArg};
+use anyhow::Result;
+use clap::{Args, Subcommand};
+use hemi::scene::load;
+use hemi::settings::Pass1Settings;
+use hemi_bench::adaptive::BenchSettings;
+use std::io::Write;
+use std::path::PathBuf;
+
+/// The benchmarks.
+#[derive(Subcommand)]
+pub enum BenchCommand {
+    /// Adaptive against uniform sampling: the error of the radiosity field B(u,v) against rows
+    /// computed, measured against a finely sampled uniform reference: a markdown table
+    /// (docs/ACCURACY.md).
+    Adaptive(AdaptiveBench),
+    /// Bezier intersection error (against an f64 Newton reference) over subdivision depth and
+    /// flatness, with the cost per ray: a markdown table (docs/ACCURACY.md).
+    Bezier(BezierBench),
+    /// The accelerator model's CORDIC error against iterations and word width, with latency and
+    /// an area proxy: a markdown table with the Pareto front (docs/ACCURACY.md).
+    Cordic(CordicBench),
+    /// Single rays through the soft engine with and without its BVH: rays/s and the ratio, on
+    /// SCENE (optionally tessellated: Bezier patches become 2n² triangles each).
+    Trace(TraceBench),
+    /// The teapot as Bezier patches (16 samples each) against the same teapot tessellated into
+    /// 2n² triangles per patch (1 sample each): time, matrix size, memory, radiosities.
+    Tessellation(TessellationBench),
+    /// Error against Howell's closed forms and cost, over hemisphere circles R and samples K:
+    /// a markdown table (docs/ACCURACY.md).
+    FormFactors(FormFactorsBench),
+    /// The solvers' convergence (residual against work) on the Cornell box and a ρ = 0.99
+    /// furnace: markdown tables, and with --svg-dir the charts solvers-*.svg.
+    Solvers(SolversBench),
+    /// Hemisphere, hemicube and Monte Carlo at equal rays against Howell B-3: a markdown table,
+    /// and with --svg-dir the chart methods-error.svg.
+    Methods(MethodsBench),
+    /// The paper's figure 9 on the Cornell box: b_R of two patches against R (9a) and rays
+    /// against R (9b); with --svg-dir the charts fig9a.svg and fig9b.svg.
+    PaperFig9(PaperFig9Bench),
+    /// What each --quality preset picks on SCENE, its cost there, and its measured error.
+    Quality(QualityBench),
+    /// Pass-1 hemisphere rays per second of the soft backend on SCENE, on 1 thread and on all,
+    /// printed as one machine-readable line per run.
+    Rays(RaysBench),
+}
+
+/// Runs `hemi bench …`, writing the tables to `out`.
+pub fn run(command: BenchCommand, out: &mut impl Write) -> Result<()> {
+    match command {
+        BenchCommand::Adaptive(b) => b.run(out),
+        BenchCommand::Bezier(b) => {
+            hemi_bench::bezier_accuracy(&load(&b.scene)?, out, b.svg.as_deref())
+        }
+        BenchCommand::Cordic(b) => hemi_bench::cordic_pareto(out, b.svg.as_deref()),
+        BenchCommand::Trace(b) => b.run(out),
+        BenchCommand::Tessellation(b) => b.run(out),
+        BenchCommand::FormFactors(b) => b.run(out),
+        BenchCommand::Solvers(b) => b.run(out),
+        BenchCommand::Methods(b) => {
+            let circles = list("--circles", &b.circles)?;
+            hemi_bench::methods::bench_methods(&circles, b.cases, out, b.svg_dir.as_deref())
+        }
+        BenchCommand::PaperFig9(b) => b.run(out),
+        BenchCommand::Quality(b) => {
+            let label = b.scene.display().to_string();
+            hemi_bench::quality::bench_quality(&load(&b.scene)?, &label, out)
+        }
+        BenchCommand::Rays(b) => b.run(out),
+    }
+}
+
+/// Adaptive against uniform sampling: the error of the radiosity field B(u,v) against rows
+/// computed, measured against a finely sampled uniform reference: a markdown table
+/// (docs/ACCURACY.md).
+#[derive(Args)]
+pub struct AdaptiveBench {
+    /// The scene file.
+    #[arg(default_value = "scenes/cornell.toml")]
+    scene: PathBuf,
+    /// K of the uniform reference (not a power of two times 2, so that no adaptive level
+    /// shares its sample points and hemisphere spins).
+    #[arg(long, default_value_t = 96)]
+    reference: u32,
+    /// Comma-separated K of the uniform runs.
+    #[arg(long, default_value = "2,4,8,16,32")]
+    uniform: String,
+    /// Initial guess K of the adaptive runs.
+    #[arg(long, default_value_t = 2)]
+    initial: u32,
+    /// Comma-separated margins of the adaptive runs (the points of each chart line).
+    #[arg(long, default_value = "0.4,0.3,0.25,0.2,0.17,0.15,0.12,0.1,0.07,0.05")]
+    margins: String,
+    /// Comma-separated depth limits of the adaptive runs (one chart line each, per test).
+    #[arg(long, default_value = "4,5")]
+    depths: String,
+    /// Comma-separated gradient tests of the adaptive runs.
+    #[arg(
+        long,
+        value_enum,
+        value_delimiter = ',',
+        default_value = "surplus,spread"
+    )]
+    tests: Vec<TestArg>,
+    /// Also draw the chart (SVG).
+    #[arg(long)]
+    svg: Option<PathBuf>,
+    /// Keep the reference's grids in this file between runs (recomputed when the scene, K
+    /// or R differ).
+    #[arg(long)]
+    reference_cache: Option<PathBuf>,
+    #[command(flatten)]
+    sampling: SamplingArgs,
+}
+
+/// Bezier intersection error (against an f64 Newton reference) over subdivision depth and
+/// flatness, with the cost per ray: a markdown table (docs/ACCURACY.md).
+#[derive(Args)]
+pub struct BezierBench {
+    /// The scene file.
+    #[arg(default_value = "scenes/teapot.toml")]
+    scene: PathBuf,
+    /// Also draw the chart (SVG).
+    #[arg(long)]
+    svg: Option<PathBuf>,
+}
+
+/// The accelerator model's CORDIC error against iterations and word width, with latency and
+/// an area proxy: a markdown table with the Pareto front (docs/ACCURACY.md).
+#[derive(Args)]
+pub struct CordicBench {
+    /// Also draw the chart (SVG): error against latency, one line per word width.
+    #[arg(long)]
+    svg: Option<PathBuf>,
+}
+
+/// Single rays through the soft engine with and without its BVH: rays/s and the ratio, on
+/// SCENE (optionally tessellated: Bezier patches become 2n² triangles each).
+#[derive(Args)]
+pub struct TraceBench {
+    /// The scene file.
+    #[arg(default_value = "scenes/teapot.toml")]
+    scene: PathBuf,
+    /// Rays to cast (random origins in the scene's box, random directions; fixed seed).
+    #[arg(long, default_value_t = 100_000)]
+    rays: usize,
+    /// Tessellate Bezier patches into an n×n grid of triangle pairs first (0: keep them).
+    #[arg(long, default_value_t = 16)]
+    tessellate: usize,
+}
+
+/// The teapot as Bezier patches (16 samples each) against the same teapot tessellated into
+/// 2n² triangles per patch (1 sample each): time, matrix size, memory, radiosities.
+#[derive(Args)]
+pub struct TessellationBench {
+    /// The scene file.
+    #[arg(default_value = "scenes/teapot.toml")]
+    scene: PathBuf,
+    /// Grid n per patch (2n² triangles; the paper's 50 is n = 5).
+    #[arg(long, default_value_t = 5)]
+    grid: usize,
+    #[command(flatten)]
+    sampling: SamplingArgs,
+}
+
+/// Error against Howell's closed forms and cost, over hemisphere circles R and samples K:
+/// a markdown table (docs/ACCURACY.md).
+#[derive(Args)]
+pub struct FormFactorsBench {
+    /// Comma-separated R values.
+    #[arg(long, default_value = "16,32,64,128")]
+    circles: String,
+    /// Comma-separated K values.
+    #[arg(long, default_value = "4,8,16,32")]
+    samples: String,
+    /// Also draw the chart (SVG): max error against rays, one line per K.
+    #[arg(long)]
+    svg: Option<PathBuf>,
+}
+
+/// The solvers' convergence (residual against work) on the Cornell box and a ρ = 0.99
+/// furnace: markdown tables, and with --svg-dir the charts solvers-*.svg.
+#[derive(Args)]
+pub struct SolversBench {
+    /// The scene file.
+    #[arg(default_value = "scenes/cornell.toml")]
+    scene: PathBuf,
+    /// Pass-1 R for both systems.
+    #[arg(long, default_value_t = 32)]
+    circles: u32,
+    /// Pass-1 K for both systems.
+    #[arg(long, default_value_t = 8)]
+    samples: u32,
+    /// Furnace: n×n quads per face.
+    #[arg(long, default_value_t = 4)]
+    furnace: usize,
+    /// Write the charts (SVG) into this folder.
+    #[arg(long)]
+    svg_dir: Option<PathBuf>,
+}
+
+/// Hemisphere, hemicube and Monte Carlo at equal rays against Howell B-3: a markdown table,
+/// and with --svg-dir the chart methods-error.svg.
+#[derive(Args)]
+pub struct MethodsBench {
+    /// Comma-separated R values (the ray budgets).
+    #[arg(long, default_value = "8,12,16,24,32,48,64,96,128")]
+    circles: String,
+    /// Rectangle configurations (fixed seed).
+    #[arg(long, default_value_t = 200)]
+    cases: usize,
+    /// Write the chart (SVG) into this folder.
+    #[arg(long)]
+    svg_dir: Option<PathBuf>,
+}
+
+/// The paper's figure 9 on the Cornell box: b_R of two patches against R (9a) and rays
+/// against R (9b); with --svg-dir the charts fig9a.svg and fig9b.svg.
+#[derive(Args)]
+pub struct PaperFig9Bench {
+    /// The scene file.
+    #[arg(default_value = "scenes/cornell.toml")]
+    scene: PathBuf,
+    /// The two patches.
+    #[arg(long, default_value = "floor,red_wall")]
+    patches: String,
+    /// K.
+    #[arg(long, default_value_t = 8)]
+    samples: u32,
+    /// Comma-separated R values.
+    #[arg(long, default_value = "4,6,8,12,16,24,32,48,64,96,128")]
+    circles: String,
+    /// Ray budget of the Monte Carlo reference, as R.
+    #[arg(long, default_value_t = 256)]
+    reference_circles: u32,
+    /// Write the charts (SVG) into this folder.
+    #[arg(long)]
+    svg_dir: Option<PathBuf>,
+}
+
+/// What each --quality preset picks on SCENE, its cost there, and its measured error.
+#[derive(Args)]
+pub struct QualityBench {
+    /// The scene file.
+    #[arg(default_value = "scenes/cornell.toml")]
+    scene: PathBuf,
+}
+
+/// Pass-1 hemisphere rays per second of the soft backend on SCENE, on 1 thread and on all,
+/// printed as one machine-readable line per run.
+#[derive(Args)]
+pub struct RaysBench {
+    /// The scene file.
+    scene: PathBuf,
+    #[command(flatten)]
+    sampling: SamplingArgs,
+    /// Repeat each measurement this many times and keep the fastest.
+    #[arg(long, default_value_t = 3)]
+    repeat: u32,
+    /// Also measure the accelerator trait's provided ray-by-ray path (rotate each ray, then a
+    /// general nearest hit), on one thread over the first 64 sample points: what the
+    /// shared-origin casting of the soft engine buys.
+    #[arg(long)]
+    per_ray: bool,
+}
+
+impl AdaptiveBench {
+    fn run(self, out: &mut impl Write) -> Result<()> {
+        let settings = self.sampling.settings(false)?;
+        anyhow::ensure!(
+            (1..=256).contains(&self.reference) && (1..=256).contains(&self.initial),
+            "--reference and --initial must be between 1 and 256"
+        );
+        let bench = BenchSettings {
+            reference: self.reference,
+            uniform: list("--uniform", &self.uniform)?,
+            initial: self.initial,
+            margins: list("--margins", &self.margins)?,
+            depths: list("--depths", &self.depths)?,
+            tests: self.tests.into_iter().map(Into::into).collect(),
+            reference_cache: self.reference_cache,
+        };
+        // the command line, recorded under the table so that it can be regenerated
+        let command = format!(
+            "hemi {}",
+            std::env::args().skip(1).collect::<Vec<_>>().join(" ")
+        );
+        let scene = load(&self.scene)?;
+        let svg = self.svg.as_deref();
+        hemi_bench::adaptive::adaptive_vs_uniform(&scene, &settings, &bench, out, svg, &command)?;
+        Ok(())
+    }
+}
+
+impl TraceBench {
+    fn run(self, out: &mut impl Write) -> Result<()> {
+        let mut scene = load(&self.scene)?;
+        if self.tessellate > 0 {
+            anyhow::ensure!(self.tessellate <= 64, "--tessellate must be at most 64");
+            scene = hemi_bench::tessellate(&scene, self.tessellate);
+        }
+        hemi_bench::trace::single_rays(&scene, self.rays, out)
+    }
+}
+
+impl TessellationBench {
+    fn run(self, out: &mut impl Write) -> Result<()> {
+        let settings = self.sampling.settings(false)?;
+        anyhow::ensure!(
+            (1..=32).contains(&self.grid),
+            "--grid must be between 1 and 32"
+        );
+        hemi_bench::bezier_vs_tessellated(&load(&self.scene)?, &settings, self.grid, out)
+    }
+}
+
+impl FormFactorsBench {
+    fn run(self, out: &mut impl Write) -> Result<()> {
+        let r = list("--circles", &self.circles)?;
+        let k = list("--samples", &self.samples)?;
+        hemi_bench::form_factors::bench_form_factors(out, &r, &k, self.svg.as_deref())
+    }
+}
+
+impl SolversBench {
+    fn run(self, out: &mut impl Write) -> Result<()> {
+        let settings = Pass1Settings {
+            circles: self.circles,
+            samples: self.samples,
+            ..Pass1Settings::default()
+        };
+        let scene = load(&self.scene)?;
+        let dir = self.svg_dir.as_deref();
+        hemi_bench::solvers::bench_solvers(&scene, &settings, self.furnace, out, dir)
+    }
+}
+
+impl PaperFig9Bench {
+    fn run(self, out: &mut impl Write) -> Result<()> {
+        let names: Vec<&str> = self.patches.split(',').map(str::trim).collect();
+        let circles = list("--circles", &self.circles)?;
+        let (scene, dir) = (load(&self.scene)?, self.svg_dir.as_deref());
+        let (k, r) = (self.samples, self.reference_circles);
+        hemi_bench::paper::bench_fig9(&scene, &names, k, &circles, r, out, dir)
+    }
+}
+
+impl RaysBench {
+    fn run(self, out: &mut impl Write) -> Result<()> {
+        let settings = self.sampling.settings(false)?;
+        let label = self.scene.display().to_string();
+        let scene = load(&self.scene)?;
+        hemi_bench::rays::rays_per_second(&scene, &label, &settings, self.repeat, out)?;
+        if self.per_ray {
+            hemi_bench::rays::rays_per_second_per_ray(&scene, &label, &settings, out)?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,157 @@
+//! `hemi render`: both passes, then the image files.
+
+use crate::options::{AdaptiveArgs, EngineArgs, SamplingArgs, SolverArgs};
+use crate::pipeline::{self, Solved};
+use crate::progress::bar;
+use anyhow::Result;
+use clap::Args;
+use hemi::backend::SoftEngine;
+use hemi::render::{Image, Rendered};
+use hemi_kernel::camera::Camera;
+use hemi_kernel::specular::SpecularStats;
+use std::path::PathBuf;
+
+/// Both passes: writes the image (8-bit sRGB PNG, and linear EXR with --exr).
+#[derive(Args)]
+pub struct RenderArgs {
+    /// The scene file (TOML; OBJ/MTL and BPT geometry may be included from it).
+    scene: PathBuf,
+    /// Output PNG.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Also write the linear radiances as OpenEXR.
+    #[arg(long)]
+    exr: Option<PathBuf>,
+    /// Eye rays per pixel (anti-aliasing).
+    #[arg(long, default_value_t = 1)]
+    spp: u32,
+    /// Exposure in stops applied before the PNG's sRGB encoding (default: automatic).
+    #[arg(long, allow_hyphen_values = true)]
+    exposure: Option<f64>,
+    /// Draw the sample points adaptive sampling shot over the image, coloured by level
+    /// (white: initial guess, then yellow, orange, red, magenta, blue); needs --adaptive.
+    #[arg(long)]
+    show_samples: bool,
+    #[command(flatten)]
+    engine: EngineArgs,
+    #[command(flatten)]
+    sampling: SamplingArgs,
+    #[command(flatten)]
+    adaptive: AdaptiveArgs,
+    #[command(flatten)]
+    solver: SolverArgs,
+}
+
+/// Runs `hemi render`.
+pub fn run(args: RenderArgs) -> Result<()> {
+    let adaptive = args.adaptive.adaptive;
+    args.sampling.settings(adaptive)?;
+    anyhow::ensure!(
+        (1..=4096).contains(&args.spp),
+        "--spp must be between 1 and 4096"
+    );
+    let scene = hemi::scene::load(&args.scene)?;
+    let settings = args.sampling.settings_for(&scene, adaptive)?;
+    let camera = hemi::render::camera_of(&scene)?;
+    let engine = args.engine.open()?;
+    anyhow::ensure!(
+        !args.show_samples || adaptive,
+        "--show-samples draws the points of adaptive sampling: add --adaptive"
+    );
+    let backend = engine.backend(&scene, &settings)?;
+    let stats = args.engine.boards.board_stats;
+    let q = args.sampling.quality;
+    let solved = pipeline::solve(&backend, &args.adaptive, q, &args.solver, stats, true)?;
+    let pass1_counts = backend.model_counts();
+    let t2 = std::time::Instant::now();
+    let bar = bar(u64::from(camera.height), "pass 2");
+    let Rendered { image, specular } =
+        hemi::render::render(backend.get(), &solved.grids, &camera, args.spp, &|n| {
+            bar.inc(n)
+        })?;
+    bar.finish_and_clear();
+    backend.board_report(stats, "after pass 2");
+    let pass2 = t2.elapsed().as_secs_f64();
+    let ev = write_images(&args, &scene, &camera, &solved, image)?;
+    eprintln!(
+        "pass 1 {:.3} s ({} rays), solve {:.3} s ({}, {} sweeps), pass 2 {pass2:.3} s ({}x{}, {} \
+         spp), exposure {ev:+.2} EV -> {}",
+        solved.seconds.0,
+        solved.stats.rays,
+        solved.seconds.1,
+        solved.solution.solver.name(),
+        solved.solution.iterations,
+        camera.width,
+        camera.height,
+        args.spp,
+        args.output.display()
+    );
+    report_specular(&settings, &solved, &specular, &camera, args.spp);
+    let clock = args.engine.clock_mhz;
+    backend.report_model(solved.hemispheres, clock, "pass 1 and pass 2");
+    if let (Some((c, r)), Some((c1, r1))) = (backend.model_counts(), pass1_counts) {
+        eprintln!(
+            "model: pass 1 {c1} cycles ({:.0} per hemisphere), pass 2 {} cycles for {} rays",
+            c1 as f64 / solved.hemispheres.max(1) as f64,
+            c - c1,
+            r - r1
+        );
+    }
+    Ok(())
+}
+
+/// The exposure (given or automatic), the sample overlay of `--show-samples`, and the PNG and
+/// EXR files; returns the exposure.
+fn write_images(
+    args: &RenderArgs,
+    scene: &hemi::scene::Scene,
+    camera: &Camera,
+    solved: &Solved,
+    mut img: Image,
+) -> Result<f64> {
+    let ev = args
+        .exposure
+        .unwrap_or_else(|| hemi::render::auto_exposure(&img));
+    if args.show_samples {
+        let radius = (camera.height as f32 / 400.0).max(1.0);
+        let patches = scene.kernel_patches();
+        let mut engine = SoftEngine::new(&patches);
+        let dots =
+            hemi::overlay::draw_samples(&mut img, camera, &solved.sampled, &mut engine, ev, radius);
+        eprintln!("--show-samples: {dots} visible sample points drawn");
+    }
+    hemi::render::write_png(&img, ev, &args.output)?;
+    if let Some(exr) = &args.exr {
+        hemi::render::write_exr(&img, exr)?;
+    }
+    Ok(ev)
+}
+
+/// What the frustums of both passes did, on stderr, when there were any.
+fn report_specular(
+    settings: &hemi::settings::Pass1Settings,
+    solved: &Solved,
+    pass2: &SpecularStats,
+    camera: &Camera,
+    spp: u32,
+) {
+    if solved.stats.specular.frustums + pass2.frustums == 0 {
+        return;
+    }
+    let describe = hemi::optics::describe;
+    let rays = solved.stats.rays as u64;
+    eprintln!(
+        "{}",
+        describe(
+            "specular, pass 1",
+            &solved.stats.specular,
+            rays,
+            &settings.specular
+        )
+    );
+    let eye_rays = u64::from(camera.width) * u64::from(camera.height) * u64::from(spp);
+    eprintln!(
+        "{}",
+        describe("specular, pass 2", pass2, eye_rays, &settings.specular)
+    );
+}

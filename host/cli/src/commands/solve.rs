@@ -1,0 +1,69 @@
+//! `hemi solve`: pass 1 and the solve, the radiosity per patch.
+
+use crate::options::{AdaptiveArgs, EngineArgs, SamplingArgs, SolverArgs};
+use crate::pipeline;
+use anyhow::Result;
+use clap::Args;
+use std::io::Write;
+use std::path::PathBuf;
+
+/// Pass 1 and the solve: radiosity per patch.
+#[derive(Args)]
+pub struct SolveArgs {
+    /// The scene file (TOML; OBJ/MTL and BPT geometry may be included from it).
+    scene: PathBuf,
+    /// Print JSON: `{"patches": [{"name", "radiosity"}…], "iterations", "residual"}`.
+    #[arg(long)]
+    json: bool,
+    #[command(flatten)]
+    engine: EngineArgs,
+    #[command(flatten)]
+    sampling: SamplingArgs,
+    #[command(flatten)]
+    adaptive: AdaptiveArgs,
+    #[command(flatten)]
+    solver: SolverArgs,
+}
+
+/// Runs `hemi solve`, writing to `out`.
+pub fn run(args: SolveArgs, out: &mut impl Write) -> Result<()> {
+    let adaptive = args.adaptive.adaptive;
+    args.sampling.settings(adaptive)?;
+    let scene = hemi::scene::load(&args.scene)?;
+    let settings = args.sampling.settings_for(&scene, adaptive)?;
+    let engine = args.engine.open()?;
+    let backend = engine.backend(&scene, &settings)?;
+    let stats = args.engine.boards.board_stats;
+    let q = args.sampling.quality;
+    let solved = pipeline::solve(&backend, &args.adaptive, q, &args.solver, stats, false)?;
+    let sol = &solved.solution;
+    if args.json {
+        let patches: Vec<_> = scene
+            .patches
+            .iter()
+            .zip(&sol.radiosity)
+            .map(|(p, b)| serde_json::json!({"name": p.name, "radiosity": b}))
+            .collect();
+        let json = serde_json::json!({"patches": patches, "iterations": sol.iterations, "residual": sol.residual});
+        serde_json::to_writer(&mut *out, &json)?;
+        writeln!(out)?;
+    } else {
+        for (p, b) in scene.patches.iter().zip(&sol.radiosity) {
+            writeln!(out, "{:<16} {:.6} {:.6} {:.6}", p.name, b[0], b[1], b[2])?;
+        }
+        let name = sol.solver.name();
+        eprintln!(
+            "{name}: {} iterations, residual {:.2e}",
+            sol.iterations, sol.residual
+        );
+    }
+    if solved.stats.specular.frustums > 0 {
+        let (s, rays) = (&solved.stats.specular, solved.stats.rays as u64);
+        eprintln!(
+            "{}",
+            hemi::optics::describe("specular", s, rays, &settings.specular)
+        );
+    }
+    backend.report_model(solved.hemispheres, args.engine.clock_mhz, "pass 1");
+    Ok(())
+}

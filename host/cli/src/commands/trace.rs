@@ -1,0 +1,47 @@
+//! `hemi trace`: the nearest hit of rays read from stdin.
+
+use crate::input::rays_from_stdin;
+use crate::options::EngineArgs;
+use anyhow::Result;
+use clap::Args;
+use hemi::settings::Pass1Settings;
+use hemi_kernel::accel::Ray;
+use std::io::Write;
+use std::path::PathBuf;
+
+/// Nearest hit of rays read from stdin (`x y z dx dy dz`): `t patch u v` or `miss`.
+#[derive(Args)]
+pub struct TraceArgs {
+    /// The scene file (TOML; OBJ/MTL and BPT geometry may be included from it).
+    scene: PathBuf,
+    #[command(flatten)]
+    engine: EngineArgs,
+}
+
+/// Runs `hemi trace`, writing to `out`.
+pub fn run(args: TraceArgs, out: &mut impl Write) -> Result<()> {
+    let scene = hemi::scene::load(&args.scene)?;
+    let engine = args.engine.open()?;
+    // single rays need no hemisphere of the user's: the default one is only built
+    let backend = engine.backend(&scene, &Pass1Settings::default())?;
+    let (rays, bad_line) = rays_from_stdin();
+    let rays: Vec<Ray> = rays
+        .into_iter()
+        .map(|(origin, dir)| Ray { origin, dir })
+        .collect();
+    for hit in backend.get().nearest(&rays)? {
+        match hit {
+            Some(h) => {
+                let name = &scene.patches[h.patch as usize].name;
+                writeln!(out, "{} {name} {} {}", h.t, h.u, h.v)?
+            }
+            None => writeln!(out, "miss")?,
+        }
+    }
+    out.flush()?;
+    if let Some(e) = bad_line {
+        return Err(e);
+    }
+    backend.report_model(0, args.engine.clock_mhz, "trace");
+    Ok(())
+}

@@ -1,0 +1,165 @@
+//! The `--backend` a command runs on: parsed and opened once (boards connected, QEMU booted),
+//! then made into the library's backend for the scene and settings of the run.
+
+use crate::options::EngineArgs;
+use anyhow::{bail, Result};
+use hemi::backend::{Backend, InProcess, Model, Soft};
+use hemi::scene::Scene;
+use hemi::settings::Pass1Settings;
+use hemi_boards::farm::{parse_boards, FarmOptions};
+use hemi_boards::{Boards, Farm};
+use hemi_hdl_model::intersect::bezier::{SubdivConfig, STACK_ENTRIES};
+use hemi_hdl_model::ModelConfig;
+use hemi_kernel::link::AccelKind;
+
+/// An opened engine: which kind, and for boards the connected farm.
+pub enum Engine {
+    /// The kernel's f32 engine in this process.
+    Soft,
+    /// The cycle-level model of the accelerator in this process.
+    Model(ModelConfig),
+    /// Boards over the link; the firmware runs the jobs.
+    Boards {
+        /// The connected boards (boxed: a farm is large beside the other engines).
+        farm: Box<Farm>,
+        /// The engine they are asked to use.
+        accel: AccelKind,
+    },
+}
+
+/// An engine made into a backend for one scene and settings.
+pub enum Running<'s> {
+    /// In-process soft engines.
+    Soft(InProcess<'s, Soft>),
+    /// In-process model engines, with their counters.
+    Model(InProcess<'s, Model>),
+    /// A farm of boards.
+    Boards(Boards<'s>),
+}
+
+impl EngineArgs {
+    /// Parses `--backend` and its settings and opens the engine (boards connect here).
+    pub fn open(&self) -> Result<Engine> {
+        match self.backend.as_str() {
+            "soft" => Ok(Engine::Soft),
+            "model" => Ok(Engine::Model(self.model_config()?)),
+            list => match parse_boards(list)? {
+                Some(specs) => {
+                    let options = FarmOptions {
+                        firmware: self.boards.firmware.clone(),
+                        quiet: self.boards.quiet_boards,
+                    };
+                    let farm = Farm::connect(&specs, options)?;
+                    farm.set_cordic(self.cordic_iterations, self.cordic_width)?;
+                    let accel = match self.boards.board_accel.as_deref() {
+                        Some("soft") => AccelKind::Soft,
+                        _ => AccelKind::None,
+                    };
+                    Ok(Engine::Boards {
+                        farm: Box::new(farm),
+                        accel,
+                    })
+                }
+                None => bail!(
+                    "--backend {list}: expected soft, model, qemu or serial:PATH (boards may be \
+                     listed comma-separated)"
+                ),
+            },
+        }
+    }
+
+    /// The modelled accelerator of the `--cordic-*`, `--bezier-*` options, checked.
+    fn model_config(&self) -> Result<ModelConfig> {
+        anyhow::ensure!(
+            self.clock_mhz > 0.0 && self.clock_mhz.is_finite(),
+            "--clock-mhz must be positive"
+        );
+        let subdiv = SubdivConfig {
+            depth: self.bezier_depth,
+            coord_width: self.bezier_width,
+        };
+        anyhow::ensure!(
+            subdiv.is_valid_for(STACK_ENTRIES),
+            "--bezier-depth {} --bezier-width {}: the model takes depths 1..=13 and widths 12..=26",
+            self.bezier_depth,
+            self.bezier_width
+        );
+        Ok(ModelConfig {
+            iterations: self.cordic_iterations,
+            width: self.cordic_width,
+            subdivision_depth: self.bezier_depth,
+            coord_width: self.bezier_width,
+            ..ModelConfig::default()
+        })
+    }
+}
+
+impl Engine {
+    /// The backend of this engine for `scene` with `settings`.
+    pub fn backend<'s>(
+        &'s self,
+        scene: &'s Scene,
+        settings: &Pass1Settings,
+    ) -> Result<Running<'s>> {
+        Ok(match self {
+            Engine::Soft => Running::Soft(InProcess::new(scene, settings, Soft)?),
+            Engine::Model(config) => {
+                Running::Model(InProcess::new(scene, settings, Model::new(*config))?)
+            }
+            Engine::Boards { farm, accel } => {
+                Running::Boards(Boards::new(farm, scene, settings, *accel)?)
+            }
+        })
+    }
+}
+
+impl Running<'_> {
+    /// The library's view.
+    pub fn get(&self) -> &dyn Backend {
+        match self {
+            Running::Soft(b) => b,
+            Running::Model(b) => b,
+            Running::Boards(b) => b,
+        }
+    }
+
+    /// The modelled accelerator's (cycles, rays) so far, for `--backend model`.
+    pub fn model_counts(&self) -> Option<(u64, u64)> {
+        match self {
+            Running::Model(b) => Some(b.engines().counters.get()),
+            _ => None,
+        }
+    }
+
+    /// The modelled accelerator's configuration, for `--backend model`.
+    pub fn model_config(&self) -> Option<ModelConfig> {
+        match self {
+            Running::Model(b) => Some(b.engines().config),
+            _ => None,
+        }
+    }
+
+    /// The boards' counters on stderr after `what`, with `--board-stats`.
+    pub fn board_report(&self, enabled: bool, what: &str) {
+        if let (true, Running::Boards(b)) = (enabled, self) {
+            hemi_boards::report::report(b.farm(), what);
+        }
+    }
+
+    /// What the modelled accelerator did, on stderr: cycles per ray and per hemisphere, and the
+    /// time at the assumed clock (nothing for other backends).
+    pub fn report_model(&self, hemispheres: u64, clock_mhz: f64, what: &str) {
+        let (Some((cycles, rays)), Some(cfg)) = (self.model_counts(), self.model_config()) else {
+            return;
+        };
+        eprintln!(
+            "model ({} CORDIC iterations, {}-bit words): {what}: {cycles} cycles for {rays} rays = \
+             {:.1} cycles/ray, {:.0} cycles/hemisphere; {:.3} s at {clock_mhz} MHz",
+            cfg.iterations,
+            cfg.width,
+            cycles as f64 / rays.max(1) as f64,
+            cycles as f64 / hemispheres.max(1) as f64,
+            cycles as f64 / (clock_mhz * 1e6)
+        );
+    }
+}

@@ -1,0 +1,65 @@
+//! The `hemi` command line (spec §5): parses the command and dispatches to its module.
+
+mod commands;
+mod engine;
+mod input;
+mod options;
+mod pipeline;
+mod progress;
+
+use anyhow::Result;
+use clap::{Parser, Subcommand};
+use commands::{bench, board, form_factors, irradiance, render, solve, trace};
+use std::io::Write;
+
+#[derive(Parser)]
+#[command(
+    name = "hemi",
+    version,
+    about = "Generalized two-pass radiosity on the hemi co-processor"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Both passes: writes the image (8-bit sRGB PNG, and linear EXR with --exr).
+    Render(render::RenderArgs),
+    /// Pass-1 form factors between the scene's patches.
+    FormFactors(form_factors::FormFactorsArgs),
+    /// Pass 1 and the solve: radiosity per patch.
+    Solve(solve::SolveArgs),
+    /// Irradiance at points read from stdin (`x y z dx dy dz` per line), printed `r g b`.
+    Irradiance(irradiance::IrradianceArgs),
+    /// Nearest hit of rays read from stdin (`x y z dx dy dz`): `t patch u v` or `miss`.
+    Trace(trace::TraceArgs),
+    /// Benchmarks (speed is measured here, never asserted in tests).
+    #[command(subcommand)]
+    Bench(bench::BenchCommand),
+    /// The ray engine (board) itself.
+    #[command(subcommand)]
+    Board(board::BoardCommand),
+}
+
+fn main() -> Result<()> {
+    let cli = Cli::parse();
+    // `--backend model` builds a ~100 KB accelerator model per worker thread, on its stack;
+    // unoptimised builds copy it several times while building it, beyond rayon's 2 MiB default.
+    let _ = rayon::ThreadPoolBuilder::new()
+        .stack_size(16 << 20)
+        .build_global();
+    let mut out = std::io::BufWriter::new(std::io::stdout().lock());
+    match cli.command {
+        Command::Render(args) => render::run(args)?,
+        Command::FormFactors(args) => form_factors::run(args, &mut out)?,
+        Command::Solve(args) => solve::run(args, &mut out)?,
+        Command::Irradiance(args) => irradiance::run(args, &mut out)?,
+        Command::Trace(args) => trace::run(args, &mut out)?,
+        Command::Bench(command) => bench::run(command, &mut out)?,
+        Command::Board(command) => board::run(command, &mut out)?,
+    }
+    out.flush()?;
+    Ok(())
+}

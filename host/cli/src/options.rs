@@ -1,0 +1,326 @@
+//! The option groups commands share, each flattened only into the commands that use it, with
+//! clap `ValueEnum`s for the library's choices and the conversions to its typed settings.
+
+use anyhow::{bail, Result};
+use clap::{Args, ValueEnum};
+use hemi::adaptive::{AdaptiveSettings, Test};
+use hemi::method::Method;
+use hemi::optics::SpecularSettings;
+use hemi::quality::Quality;
+use hemi::scene::Scene;
+use hemi::settings::Pass1Settings;
+use hemi::solve::Solver;
+use hemi_hdl_model::ModelConfig;
+use hemi_kernel::hemisphere::DeltaRule;
+use std::path::PathBuf;
+
+/// How δD is assigned to rings.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum DeltaArg {
+    /// The exact band integral (default).
+    Band,
+    /// The paper's cos χ / K.
+    Paper,
+}
+
+/// The pass-1 method.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum MethodArg {
+    /// The paper's hemisphere of R circles.
+    Hemisphere,
+    /// Cohen & Greenberg's hemicube at the same ray budget.
+    Hemicube,
+    /// Stratified cosine-weighted Monte Carlo at the same ray budget.
+    MonteCarlo,
+    /// Plain (unstratified) cosine-weighted Monte Carlo at the same ray budget.
+    MonteCarloPlain,
+}
+
+/// A `--quality` preset.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum QualityArg {
+    /// 3 % target error, a ray budget for a quick look.
+    Draft,
+    /// 0.5 % target error.
+    Default,
+    /// 0.1 % target error, no ray budget.
+    High,
+}
+
+/// The radiosity solver.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SolverArg {
+    /// Measure the system and pick, saying why on stderr.
+    Auto,
+    /// Gauss-Seidel sweeps, the paper's solver.
+    #[value(alias = "gs")]
+    GaussSeidel,
+    /// Successive over-relaxation with ω from the measured spectral radius.
+    Sor,
+    /// Jacobi sweeps (the textbook baseline).
+    Jacobi,
+    /// Dense LU with partial pivoting.
+    Direct,
+    /// Progressive refinement shooting rows on demand (never forms the N×N matrix).
+    Progressive,
+}
+
+/// What adaptive sampling's gradient test compares.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum TestArg {
+    /// Each sample against the previous level's interpolation of it.
+    Surplus,
+    /// The paper's: the window's max − min.
+    Spread,
+}
+
+impl From<MethodArg> for Method {
+    fn from(m: MethodArg) -> Method {
+        match m {
+            MethodArg::Hemisphere => Method::Hemisphere,
+            MethodArg::Hemicube => Method::Hemicube,
+            MethodArg::MonteCarlo => Method::MonteCarlo { stratified: true },
+            MethodArg::MonteCarloPlain => Method::MonteCarlo { stratified: false },
+        }
+    }
+}
+
+impl From<QualityArg> for Quality {
+    fn from(q: QualityArg) -> Quality {
+        match q {
+            QualityArg::Draft => Quality::Draft,
+            QualityArg::Default => Quality::Default,
+            QualityArg::High => Quality::High,
+        }
+    }
+}
+
+impl From<SolverArg> for Solver {
+    fn from(s: SolverArg) -> Solver {
+        match s {
+            SolverArg::Auto => Solver::Auto,
+            SolverArg::GaussSeidel => Solver::GaussSeidel,
+            SolverArg::Sor => Solver::Sor,
+            SolverArg::Jacobi => Solver::Jacobi,
+            SolverArg::Direct => Solver::Direct,
+            SolverArg::Progressive => Solver::Progressive,
+        }
+    }
+}
+
+impl From<TestArg> for Test {
+    fn from(t: TestArg) -> Test {
+        match t {
+            TestArg::Surplus => Test::Surplus,
+            TestArg::Spread => Test::Spread,
+        }
+    }
+}
+
+/// Which ray engine runs the passes, and how the modelled accelerator and the boards are set.
+#[derive(Args, Clone, Debug)]
+pub struct EngineArgs {
+    /// Ray engine: soft | model | qemu | serial:PATH (boards comma-separated to spread jobs).
+    #[arg(long, default_value = "soft")]
+    pub backend: String,
+    /// Accelerator clock assumed when `--backend model` reports time.
+    #[arg(long, default_value_t = 100.0)]
+    pub clock_mhz: f64,
+    /// CORDIC iterations of the modelled accelerator (`--backend model`, and boards' models).
+    #[arg(long, default_value_t = 24)]
+    pub cordic_iterations: u32,
+    /// CORDIC word width in bits of the modelled accelerator (`--backend model`, and boards').
+    #[arg(long, default_value_t = 32)]
+    pub cordic_width: u32,
+    /// Bezier subdivision depth of the modelled accelerator (`--backend model`; 1..=13 with its
+    /// 40-entry stack).
+    #[arg(long, default_value_t = ModelConfig::default().subdivision_depth)]
+    pub bezier_depth: u32,
+    /// Bezier control-point datapath width in bits of the modelled accelerator
+    /// (`--backend model`; 12..=26).
+    #[arg(long, default_value_t = ModelConfig::default().coord_width)]
+    pub bezier_width: u32,
+    #[command(flatten)]
+    pub boards: BoardArgs,
+}
+
+/// How boards are booted and driven (the environment variables are read here only).
+#[derive(Args, Clone, Debug, Default)]
+pub struct BoardArgs {
+    /// Firmware ELF QEMU boards boot (default: built from this checkout if missing).
+    #[arg(long, env = "HEMI_FIRMWARE_ELF")]
+    pub firmware: Option<PathBuf>,
+    /// Ask boards for their soft fallback engine instead of their accelerator (measurements).
+    #[arg(long, env = "HEMI_BOARD_ACCEL", value_parser = ["soft"])]
+    pub board_accel: Option<String>,
+    /// Print the boards' counters (jobs, rays, ticks per ray, stack, link) after each pass.
+    #[arg(long, env = "HEMI_BOARD_STATS")]
+    pub board_stats: bool,
+    /// Do not log board reconnections and re-issued jobs.
+    #[arg(long, env = "HEMI_QUIET_BOARDS")]
+    pub quiet_boards: bool,
+}
+
+/// Hemisphere, lattice, method and specular bounds: everything [`Pass1Settings`] holds.
+#[derive(Args, Clone, Debug)]
+pub struct SamplingArgs {
+    /// Hemisphere circles R (M = 4R rays on the horizon circle).
+    #[arg(long, default_value_t = 64)]
+    pub circles: u32,
+    /// Initial K×K sample points per polygon patch [default: 16, or 2 with --adaptive].
+    #[arg(long)]
+    pub samples: Option<u32>,
+    /// Delta form factor rule.
+    #[arg(long, value_enum, default_value = "band")]
+    pub delta: DeltaArg,
+    /// Pass-1 method; the peers shoot as many rays per sample point as the hemisphere of
+    /// --circles.
+    #[arg(long, value_enum, default_value = "hemisphere")]
+    pub method: MethodArg,
+    /// Preset R and K from a target error and the scene's size (overrides --circles and
+    /// --samples, or with --adaptive --circles, --margin and --max-depth; see
+    /// docs/PERFORMANCE.md for what each costs).
+    #[arg(long, value_enum)]
+    pub quality: Option<QualityArg>,
+    /// Δ of paper §6.5: specular frustums carrying less than this fraction of their primary ray
+    /// are not shot.
+    #[arg(long, default_value_t = hemi_kernel::specular::DEFAULT_THRESHOLD)]
+    pub specular_threshold: f32,
+    /// Capacity of the skeleton stack (paper §6.2): the frustums waiting to be shot.
+    #[arg(long, default_value_t = 64)]
+    pub stack: usize,
+    /// The most specular bounces one path may take (paper §5).
+    #[arg(long, default_value_t = 24)]
+    pub max_bounces: u16,
+}
+
+impl SamplingArgs {
+    /// The settings, K defaulting to 16 (2 when `adaptive`); `--quality` is applied by
+    /// [`SamplingArgs::settings_for`].
+    pub fn settings(&self, adaptive: bool) -> Result<Pass1Settings> {
+        if self.circles < 2 || self.circles > 1024 {
+            bail!("--circles must be between 2 and 1024");
+        }
+        let samples = self.samples.unwrap_or(if adaptive { 2 } else { 16 });
+        if !(1..=256).contains(&samples) {
+            bail!("--samples must be between 1 and 256");
+        }
+        Ok(Pass1Settings {
+            circles: self.circles,
+            samples,
+            rule: match self.delta {
+                DeltaArg::Band => DeltaRule::Band,
+                DeltaArg::Paper => DeltaRule::Paper,
+            },
+            specular: SpecularSettings {
+                threshold: self.specular_threshold,
+                stack: self.stack,
+                max_bounces: self.max_bounces,
+            },
+            method: self.method.into(),
+        })
+    }
+
+    /// [`SamplingArgs::settings`] with `--quality` applied for `scene` (saying on stderr what it
+    /// picked).
+    pub fn settings_for(&self, scene: &Scene, adaptive: bool) -> Result<Pass1Settings> {
+        let mut settings = self.settings(adaptive)?;
+        if let Some(q) = self.quality {
+            let p = if adaptive {
+                hemi::quality::apply_adaptive(q.into(), scene, &mut settings)
+            } else {
+                hemi::quality::apply(q.into(), scene, &mut settings)
+            };
+            eprintln!("{}", p.why);
+        }
+        Ok(settings)
+    }
+}
+
+/// Adaptive patch sampling (paper §4).
+#[derive(Args, Clone, Debug)]
+pub struct AdaptiveArgs {
+    /// Adaptive patch sampling: refine each patch where the gradient test fails.
+    #[arg(long)]
+    pub adaptive: bool,
+    /// Gradient test margin (--adaptive): a 4-sample window fails when its luminances spread
+    /// by more than this fraction of their mean.
+    #[arg(long, default_value_t = 0.1)]
+    pub margin: f64,
+    /// Most subdivision levels beyond the initial guess (--adaptive).
+    #[arg(long, default_value_t = 4)]
+    pub max_depth: u32,
+    /// What the gradient test compares (--adaptive).
+    #[arg(long, value_enum, default_value = "surplus")]
+    pub test: TestArg,
+}
+
+impl AdaptiveArgs {
+    /// The settings with `--adaptive`, else `None` (uniform K×K); a `--quality` preset sets the
+    /// margin and depth, as it sets R and K.
+    pub fn settings(&self, quality: Option<QualityArg>) -> Result<Option<AdaptiveSettings>> {
+        if !self.adaptive {
+            return Ok(None);
+        }
+        if !(self.margin >= 0.0 && self.margin.is_finite()) {
+            bail!("--margin must be a finite number ≥ 0");
+        }
+        if self.max_depth > 8 {
+            bail!("--max-depth must be at most 8 (a 2×2 guess becomes 512×512)");
+        }
+        let (margin, max_depth) = quality.map_or((self.margin, self.max_depth), |q| {
+            Quality::from(q).adaptive()
+        });
+        Ok(Some(AdaptiveSettings {
+            margin,
+            max_depth,
+            test: self.test.into(),
+            ..AdaptiveSettings::default()
+        }))
+    }
+}
+
+/// The solve of (2.6).
+#[derive(Args, Clone, Debug)]
+pub struct SolverArgs {
+    /// Radiosity solver.
+    #[arg(long, value_enum, default_value = "auto")]
+    pub solver: SolverArg,
+    /// Largest N×N form-factor matrix pass 1 may form, in MiB (three f64 channels); above it,
+    /// `--solver auto` shoots rows on demand with progressive refinement instead.
+    #[arg(long, default_value_t = 4096)]
+    pub matrix_mib: u64,
+}
+
+impl SolverArgs {
+    /// Whether this run solves without a matrix: `--solver progressive`, or `auto` on a scene
+    /// whose N×N matrices would exceed `--matrix-mib` (said on stderr).
+    pub fn streaming(&self, scene: &Scene) -> bool {
+        let n = scene.patches.len() as u64;
+        let bytes = 3 * 8 * n * n;
+        match self.solver {
+            SolverArg::Progressive => true,
+            SolverArg::Auto if bytes > self.matrix_mib << 20 => {
+                eprintln!(
+                    "solver auto: {n} patches need {:.1} MiB of form factors (> --matrix-mib {}): \
+                     progressive refinement with rows shot on demand",
+                    bytes as f64 / (1 << 20) as f64,
+                    self.matrix_mib
+                );
+                true
+            }
+            _ => false,
+        }
+    }
+}
+
+/// A comma-separated list of numbers (`--circles 16,32,64`), with the option named in errors.
+pub fn list<T: std::str::FromStr>(option: &str, s: &str) -> Result<Vec<T>> {
+    s.split(',')
+        .map(|x| {
+            x.trim()
+                .parse::<T>()
+                .map_err(|_| anyhow::anyhow!("{option}: bad number `{x}`"))
+        })
+        .collect()
+}

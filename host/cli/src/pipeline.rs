@@ -1,0 +1,213 @@
+//! The part of a run every command that solves shares: pass 1 (uniform or adaptive) with its
+//! progress bar and report, the solve, and the radiosity field; or, without a matrix,
+//! progressive refinement with rows shot on demand.
+
+use crate::engine::Running;
+use crate::options::{AdaptiveArgs, SolverArgs};
+use crate::progress::bar;
+use anyhow::Result;
+use hemi::adaptive::{AdaptiveSettings, PatchReport, Progress};
+use hemi::on_demand::{grids_streaming, solve_streaming, RowShooter};
+use hemi::pass1::FormFactors;
+use hemi::radiosity::Grid;
+use hemi::scene::Scene;
+use hemi::solve::{self, SceneParts, Solution, SolveSettings, Solver};
+use hemi_kernel::tracer::ShotStats;
+
+/// A solved scene: the solution and its field, with what pass 1 did.
+pub struct Solved {
+    /// The solve.
+    pub solution: Solution,
+    /// The radiosity field (vertex grids per patch), when asked for.
+    pub grids: Vec<Grid>,
+    /// Pass 1's counters (empty when rows were shot on demand).
+    pub stats: ShotStats,
+    /// Hemispheres shot by pass 1 (the elements).
+    pub hemispheres: u64,
+    /// What adaptive sampling did per patch (empty for uniform sampling).
+    pub sampled: Vec<PatchReport>,
+    /// Seconds of pass 1 (or of the whole streaming solve) and of the solve after it.
+    pub seconds: (f64, f64),
+}
+
+/// Pass 1, uniform or adaptive (`--adaptive`, paper §4), on `backend`. Adaptive sampling prints
+/// per patch the depth it reached and the rows it computed to stderr and returns the same.
+pub fn sample(
+    backend: &Running<'_>,
+    adaptive: Option<AdaptiveSettings>,
+    board_stats: bool,
+) -> Result<(FormFactors, Vec<PatchReport>)> {
+    let Some(adaptive) = adaptive else {
+        let (scene, k) = (backend.get().scene(), backend.get().settings().samples);
+        let elements: u64 = (0..scene.patches.len())
+            .map(|i| hemi::shots::sample_count(scene, i, k) as u64)
+            .sum();
+        let bar = bar(elements, "pass 1");
+        let t0 = std::time::Instant::now();
+        let ff = hemi::pass1::form_factors(backend.get(), &|n| bar.inc(n))?;
+        bar.finish_and_clear();
+        if board_stats && matches!(backend, Running::Boards(_)) {
+            eprintln!("pass 1 on boards: {:.3} s", t0.elapsed().as_secs_f64());
+        }
+        backend.board_report(board_stats, "after pass 1");
+        return Ok((ff, Vec::new()));
+    };
+    let bar = bar(0, "pass 1");
+    let on = |p: Progress| match p {
+        Progress::Planned(n) => bar.inc_length(n),
+        Progress::Done(n) => bar.inc(n),
+    };
+    let refined = hemi::adaptive::refine(backend.get(), &adaptive, &on)?;
+    bar.finish_and_clear();
+    backend.board_report(board_stats, "after adaptive pass 1");
+    report_adaptive(
+        backend.get().scene(),
+        backend.get().settings().samples,
+        &adaptive,
+        &refined,
+    );
+    Ok((refined.form_factors, refined.patches))
+}
+
+/// What adaptive sampling did, on stderr: totals, then per diffuse patch its depth, grid and
+/// rows computed.
+fn report_adaptive(
+    scene: &Scene,
+    k: u32,
+    adaptive: &AdaptiveSettings,
+    refined: &hemi::adaptive::Refined,
+) {
+    let deepest = refined.patches.iter().map(|p| p.k).max().unwrap_or(0) as usize;
+    let diffuse = refined.patches.iter().filter(|p| p.k > 0).count();
+    eprintln!(
+        "adaptive sampling (K = {k}, margin {}, max depth {}): {} solves, {} rows computed \
+         (uniform {deepest}×{deepest} on the {diffuse} diffuse patches: {})",
+        adaptive.margin,
+        adaptive.max_depth,
+        refined.rounds,
+        refined.rows_computed(),
+        diffuse * deepest * deepest
+    );
+    eprintln!(
+        "{:<16} {:>5} {:>9} {:>14}",
+        "patch", "depth", "grid", "rows computed"
+    );
+    for (p, r) in scene.patches.iter().zip(&refined.patches) {
+        if r.k > 0 {
+            let grid = format!("{}×{}", r.k, r.k);
+            eprintln!(
+                "{:<16} {:>5} {grid:>9} {:>14}",
+                p.name,
+                r.depth,
+                r.rows_computed()
+            );
+        }
+    }
+}
+
+/// The solve of (2.6) on `ff` with `solver` (auto says what it picked on stderr).
+pub fn solve_scene(scene: &Scene, ff: &FormFactors, solver: Solver) -> Result<Solution> {
+    let parts = SceneParts::new(scene, ff.channels());
+    let system = parts.system(ff.channels())?;
+    if solver != Solver::Auto {
+        let d = solve::diagnose::row_sums(&system);
+        if d.rows_above_one > 0 {
+            eprintln!(
+                "warning: {} rows of F sum above 1 (largest {:.5}): sampling error; --solver auto \
+                 would scale them back",
+                d.rows_above_one, d.max_row_sum
+            );
+        }
+    }
+    solve::solve(&system, solver, &SolveSettings::default(), &mut |m| {
+        eprintln!("{m}")
+    })
+}
+
+/// Pass 1 and the solve, or progressive refinement with rows shot on demand when the solver
+/// args say so; the field too when `with_grids`.
+pub fn solve(
+    backend: &Running<'_>,
+    adaptive: &AdaptiveArgs,
+    quality: Option<crate::options::QualityArg>,
+    solver: &SolverArgs,
+    board_stats: bool,
+    with_grids: bool,
+) -> Result<Solved> {
+    let scene = backend.get().scene();
+    let t0 = std::time::Instant::now();
+    if solver.streaming(scene) {
+        return streaming(backend, adaptive.adaptive, solver, with_grids);
+    }
+    let (ff, sampled) = sample(backend, adaptive.settings(quality)?, board_stats)?;
+    let t1 = std::time::Instant::now();
+    let solution = solve_scene(scene, &ff, solver.solver.into())?;
+    let grids = if with_grids {
+        hemi::radiosity::grids(scene, &ff, &solution)
+    } else {
+        Vec::new()
+    };
+    Ok(Solved {
+        solution,
+        grids,
+        stats: ff.stats,
+        hemispheres: ff.elements.len() as u64,
+        sampled,
+        seconds: ((t1 - t0).as_secs_f64(), t1.elapsed().as_secs_f64()),
+    })
+}
+
+/// Progressive refinement with rows shot on demand (soft backend), and the grids from a second
+/// shot of every patch: no N×N matrix and no stored element rows.
+fn streaming(
+    backend: &Running<'_>,
+    adaptive: bool,
+    solver: &SolverArgs,
+    with_grids: bool,
+) -> Result<Solved> {
+    anyhow::ensure!(
+        matches!(backend, Running::Soft(_)),
+        "--solver progressive shoots rows on demand on the soft backend only"
+    );
+    anyhow::ensure!(
+        !adaptive,
+        "--adaptive refines from solved rows and needs the form-factor matrix: choose a \
+         --solver other than progressive"
+    );
+    let t0 = std::time::Instant::now();
+    let n = backend.get().scene().patches.len();
+    // keep at most about a quarter of --matrix-mib in cached rows
+    let cache = ((solver.matrix_mib << 20) / 4 / (24 * n.max(1) as u64)) as usize;
+    let mut shooter = RowShooter::new(backend.get(), cache)?;
+    let bar = bar(n as u64, "shots");
+    let settings = SolveSettings {
+        tolerance: 1e-6,
+        max_iterations: 1_000_000,
+    };
+    let solution = solve_streaming(&mut shooter, &settings, &mut |k, _| {
+        bar.set_position(k as u64)
+    })?;
+    bar.finish_and_clear();
+    eprintln!(
+        "progressive refinement: {} shots, {} rows shot ({} cached), {} rays, unshot residual \
+         {:.2e}",
+        solution.iterations,
+        shooter.shot,
+        cache.min(n),
+        shooter.rays,
+        solution.residual
+    );
+    let grids = if with_grids {
+        grids_streaming(&mut shooter, &solution)?
+    } else {
+        Vec::new()
+    };
+    Ok(Solved {
+        solution,
+        grids,
+        stats: ShotStats::default(),
+        hemispheres: 0,
+        sampled: Vec::new(),
+        seconds: (t0.elapsed().as_secs_f64(), 0.0),
+    })
+}

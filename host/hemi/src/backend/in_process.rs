@@ -1,0 +1,253 @@
+//! In-process backends: the kernel's passes on all cores, one engine per worker thread, over
+//! the soft engine or the accelerator model ([`Engines`]).
+
+use super::{Backend, Progress, Query, Seen, Traced};
+use crate::method::Shooter;
+use crate::optics::{pending_for, SceneOptics, Scratch};
+use crate::scene::Scene;
+use crate::settings::Pass1Settings;
+use crate::shots::{ElementRow, Shot};
+use anyhow::Result;
+use hemi_kernel::accel::{Accelerator, Hit, Ray};
+use hemi_kernel::camera::Camera;
+use hemi_kernel::geometry::Vec3;
+use hemi_kernel::hemisphere::OwnedHemisphere;
+use hemi_kernel::patch::Patch;
+use hemi_kernel::pixels::trace_pixels;
+use hemi_kernel::specular::SpecularStats;
+use hemi_kernel::tracer::{self, ShotStats};
+use rayon::prelude::*;
+use std::ops::Range;
+
+/// A kind of in-process engine: how to make one per worker thread over the kernel's patches.
+pub trait Engines: Sync {
+    /// The engine, borrowing the patches and `self`.
+    type Engine<'p>: Accelerator
+    where
+        Self: 'p;
+
+    /// Whether engines can be made over `patches` (a clear error if not: the model's memories
+    /// are bounded).
+    fn check(&self, patches: &[Patch]) -> Result<()>;
+
+    /// An engine over `patches`; [`Engines::check`] has passed for them.
+    fn engine<'p>(&'p self, patches: &'p [Patch]) -> Self::Engine<'p>;
+}
+
+/// Eye rays one pixel-tracer call casts at a time.
+const EYE_BATCH: usize = 4096;
+
+/// The passes' requests answered in this process by engines `E`, for one scene and settings.
+pub struct InProcess<'s, E> {
+    scene: &'s Scene,
+    settings: Pass1Settings,
+    hemi: OwnedHemisphere,
+    /// The optics table, which holds the kernel's patch memory too.
+    optics: SceneOptics,
+    engines: E,
+}
+
+impl<'s, E: Engines> InProcess<'s, E> {
+    /// A backend for `scene` with `settings`: builds the hemisphere table and the optics once,
+    /// and checks that `engines` can hold the scene.
+    pub fn new(scene: &'s Scene, settings: &Pass1Settings, engines: E) -> Result<Self> {
+        crate::optics::check(&settings.specular)?;
+        let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
+            .map_err(|e| anyhow::anyhow!("--circles {}: {e:?}", settings.circles))?;
+        let optics = SceneOptics::new(scene, &hemi.view())?;
+        engines.check(&optics.patches)?;
+        Ok(InProcess {
+            scene,
+            settings: *settings,
+            hemi,
+            optics,
+            engines,
+        })
+    }
+
+    /// The engines (the model's counters live there).
+    pub fn engines(&self) -> &E {
+        &self.engines
+    }
+
+    fn engine(&self) -> E::Engine<'_> {
+        self.engines.engine(&self.optics.patches)
+    }
+
+    /// One shot's row over the form-factor columns, sparse and in scene indices.
+    fn shoot_one(
+        &self,
+        state: &mut (E::Engine<'_>, Vec<[f32; 3]>, Scratch, Shooter),
+        shot: &Shot,
+    ) -> Result<(ElementRow, ShotStats)> {
+        let (engine, row, scratch, shooter) = state;
+        row.fill([0.0; 3]);
+        let stats = shooter.shoot(
+            engine,
+            &self.hemi.view(),
+            &self.optics.view(),
+            &mut scratch.view(),
+            &shot.point,
+            shot.cell.q(),
+            self.scene.kernel_id(shot.patch),
+            row,
+        )?;
+        let sparse = row
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| **f != [0.0; 3])
+            .map(|(c, f)| (self.optics.columns[c] as u32, *f))
+            .collect();
+        let element = ElementRow {
+            patch: shot.patch,
+            point: shot.point,
+            row: sparse,
+        };
+        Ok((element, stats))
+    }
+
+    /// What the eye rays of image row `y` saw, in tracer order.
+    fn trace_row(
+        &self,
+        (accel, dirs, scratch): &mut (E::Engine<'_>, Vec<Vec3>, Scratch),
+        camera: &Camera,
+        spp: u32,
+        y: u32,
+    ) -> (Vec<(u32, Seen)>, SpecularStats) {
+        let w = camera.width;
+        let mut seen = Vec::new();
+        let stats = trace_pixels(
+            accel,
+            camera,
+            &self.optics.view(),
+            &self.hemi.view(),
+            &mut scratch.view(),
+            y * w..(y + 1) * w,
+            spp,
+            dirs,
+            |p, _s, hit, weight| seen.push((p, self.seen(hit, weight))),
+        );
+        (seen, stats)
+    }
+
+    fn seen(&self, hit: &Hit, weight: [f32; 3]) -> Seen {
+        Seen {
+            side: self.scene.side_seen(hit.patch, hit.front),
+            u: hit.u,
+            v: hit.v,
+            weight,
+        }
+    }
+}
+
+impl<E: Engines> Backend for InProcess<'_, E> {
+    fn scene(&self) -> &Scene {
+        self.scene
+    }
+
+    fn settings(&self) -> &Pass1Settings {
+        &self.settings
+    }
+
+    fn shoot(&self, shots: &[Shot], done: &Progress<'_>) -> Result<(Vec<ElementRow>, ShotStats)> {
+        let optics = self.optics.view();
+        self.settings.method.check(&optics)?;
+        let cols = self.optics.columns.len();
+        let pending = if optics.has_specular() {
+            pending_for(&self.hemi.view())
+        } else {
+            0
+        };
+        let results: Vec<(ElementRow, ShotStats)> = shots
+            .par_iter()
+            .map_init(
+                || {
+                    let scratch = Scratch::new(pending, &self.settings.specular);
+                    let shooter = Shooter::new(self.settings.method, self.settings.circles);
+                    (self.engine(), vec![[0.0f32; 3]; cols], scratch, shooter)
+                },
+                |state, shot| {
+                    let out = self.shoot_one(state, shot)?;
+                    done(1);
+                    Ok(out)
+                },
+            )
+            .collect::<Result<_>>()?;
+        let mut stats = ShotStats::default();
+        let mut elements = Vec::with_capacity(results.len());
+        for (e, s) in results {
+            stats += s;
+            elements.push(e);
+        }
+        Ok((elements, stats))
+    }
+
+    fn trace(
+        &self,
+        camera: &Camera,
+        spp: u32,
+        rows: Range<u32>,
+        done: &Progress<'_>,
+    ) -> Result<Traced> {
+        let spp = spp.max(1);
+        let per_row: Vec<(Vec<(u32, Seen)>, SpecularStats)> = rows
+            .into_par_iter()
+            .map_init(
+                || {
+                    let scratch = Scratch::new(EYE_BATCH, &self.settings.specular);
+                    (self.engine(), vec![Vec3::ZERO; EYE_BATCH], scratch)
+                },
+                |state, y| {
+                    let out = self.trace_row(state, camera, spp, y);
+                    done(1);
+                    out
+                },
+            )
+            .collect();
+        let mut traced = Traced::default();
+        for (row, s) in per_row {
+            traced.specular += s;
+            traced.rows.push(row);
+        }
+        Ok(traced)
+    }
+
+    fn gather(&self, queries: &[Query]) -> Result<Vec<Vec<Seen>>> {
+        let pending = pending_for(&self.hemi.view());
+        let answers = queries
+            .par_iter()
+            .map_init(
+                || {
+                    let scratch = Scratch::new(pending, &self.settings.specular);
+                    (self.engine(), scratch)
+                },
+                |(accel, scratch), q| {
+                    let shot = tracer::Shot {
+                        origin: q.point,
+                        normal: q.normal,
+                        spin: 0.0,
+                        origin_patch: None,
+                        want_uv: true,
+                    };
+                    let mut seen = Vec::new();
+                    let (hemi, optics) = (self.hemi.view(), self.optics.view());
+                    tracer::shoot(accel, &hemi, &optics, &mut scratch.view(), &shot, |h, w| {
+                        seen.push(self.seen(h, w))
+                    });
+                    seen
+                },
+            )
+            .collect();
+        Ok(answers)
+    }
+
+    fn nearest(&self, rays: &[Ray]) -> Result<Vec<Option<Hit>>> {
+        Ok(rays
+            .par_iter()
+            .map_init(
+                || self.engine(),
+                |engine, ray| engine.nearest_hit(ray, f32::INFINITY),
+            )
+            .collect())
+    }
+}

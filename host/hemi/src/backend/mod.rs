@@ -1,0 +1,111 @@
+//! The backend trait: what a ray engine does for the passes, whoever runs it.
+//!
+//! A backend is made for one scene and one [`Pass1Settings`] and answers four kinds of
+//! requests: hemispheres from sample points ([`Backend::shoot`]: pass 1, adaptive levels,
+//! progressive rows), eye rays through image rows ([`Backend::trace`]: pass 2), hemispheres
+//! gathered at arbitrary points ([`Backend::gather`]: irradiance) and single rays
+//! ([`Backend::nearest`]: `hemi trace`). Every pass is written once over these
+//! ([`crate::pass1`], [`crate::adaptive`], [`crate::on_demand`], [`crate::render`],
+//! [`crate::irradiance`]); the in-process engines ([`InProcess`] over [`Soft`] or [`Model`]) and
+//! the boards (crate `hemi-boards`) implement them. A backend reports what its rays reached in
+//! scene indices, in the order its tracer made the reports, so the pass's sums run in the same
+//! order on every backend and a board gives the model's bits.
+
+mod in_process;
+mod model;
+mod soft;
+
+pub use in_process::{Engines, InProcess};
+pub use model::{CountedModel, Counters, Model};
+pub use soft::{Soft, SoftEngine, TREE_MIN_BUNDLE, TREE_MIN_SINGLE};
+
+use crate::scene::Scene;
+use crate::settings::Pass1Settings;
+use crate::shots::{ElementRow, Shot};
+use anyhow::Result;
+use hemi_kernel::accel::{Hit, Ray};
+use hemi_kernel::camera::Camera;
+use hemi_kernel::geometry::Vec3;
+use hemi_kernel::specular::SpecularStats;
+use hemi_kernel::tracer::ShotStats;
+use std::ops::Range;
+
+/// Progress of a request: called with how many units (rows, image rows) are done.
+pub type Progress<'a> = dyn Fn(u64) + Sync + 'a;
+
+/// What one ray reported on a diffuse surface: whose radiosity field it sees (the side of the
+/// patch, a scene index), where, and the weight it carries there (δD of its ring for a
+/// hemisphere ray, the product of the mirrors' k and lobe weights on the way for a frustum ray).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seen {
+    /// Scene patch whose grid the ray sees (`Scene::side_seen`).
+    pub side: usize,
+    /// Surface parameter u of the hit.
+    pub u: f32,
+    /// Surface parameter v of the hit.
+    pub v: f32,
+    /// Weight per channel.
+    pub weight: [f32; 3],
+}
+
+/// The reports of a run of image rows: per row, (pixel index, what it saw) in tracer order.
+#[derive(Clone, Debug, Default)]
+pub struct Traced {
+    /// One list per image row asked for.
+    pub rows: Vec<Vec<(u32, Seen)>>,
+    /// What the frustums of these rows did (in-process engines; boards count theirs on board).
+    pub specular: SpecularStats,
+}
+
+/// An irradiance query: a point and the normal of the surface it is on.
+#[derive(Clone, Copy, Debug)]
+pub struct Query {
+    /// The point.
+    pub point: Vec3,
+    /// The surface normal (unit).
+    pub normal: Vec3,
+}
+
+/// A ray engine as the passes see it (see the module notes).
+pub trait Backend: Sync {
+    /// The scene the backend was made for.
+    fn scene(&self) -> &Scene;
+
+    /// The settings the backend was made for.
+    fn settings(&self) -> &Pass1Settings;
+
+    /// Shoots the hemisphere of every shot and returns its element row, in the order of
+    /// `shots`, with the tracer's counters; `done` gets rows as they finish.
+    fn shoot(&self, shots: &[Shot], done: &Progress<'_>) -> Result<(Vec<ElementRow>, ShotStats)>;
+
+    /// Traces the eye rays of image rows `rows` through `camera`, `spp` per pixel, each row as
+    /// one run of the kernel's pixel tracer; `done` gets image rows as they finish.
+    fn trace(
+        &self,
+        camera: &Camera,
+        spp: u32,
+        rows: Range<u32>,
+        done: &Progress<'_>,
+    ) -> Result<Traced>;
+
+    /// Shoots a hemisphere at each query (spin 0, no origin patch) and returns what each of its
+    /// rays reached, directly or through specular surfaces, in tracer order.
+    fn gather(&self, queries: &[Query]) -> Result<Vec<Vec<Seen>>>;
+
+    /// The nearest hit of each ray, in scene patch indices (kernel patches: fronts).
+    fn nearest(&self, rays: &[Ray]) -> Result<Vec<Option<Hit>>>;
+}
+
+/// The default backend, the soft engine in this process, for `scene` with `settings`.
+pub fn soft<'s>(scene: &'s Scene, settings: &Pass1Settings) -> Result<InProcess<'s, Soft>> {
+    InProcess::new(scene, settings, Soft)
+}
+
+/// The accelerator model of `config` in this process, for `scene` with `settings`.
+pub fn model<'s>(
+    scene: &'s Scene,
+    settings: &Pass1Settings,
+    config: hemi_hdl_model::ModelConfig,
+) -> Result<InProcess<'s, Model>> {
+    InProcess::new(scene, settings, Model::new(config))
+}

@@ -1,0 +1,134 @@
+//! The cycle-level model of the accelerator as an in-process engine, driven through its
+//! register driver, with the cycles and rays of all its per-thread engines summed.
+
+use super::Engines;
+use hemi_hdl_model::{ModelAccelerator, ModelConfig, ModelError};
+use hemi_kernel::accel::{Accelerator, Hit, Ray};
+use hemi_kernel::geometry::Vec3;
+use hemi_kernel::hemisphere::Hemisphere;
+use hemi_kernel::patch::Patch;
+use hemi_kernel::rotation::Rotation;
+use std::ops::Range;
+use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
+
+/// The in-process engines of the model backend ([`super::InProcess`]`<Model>`): one modelled
+/// accelerator per worker thread, all adding to one set of [`Counters`].
+#[derive(Debug, Default)]
+pub struct Model {
+    /// The modelled accelerator's configuration.
+    pub config: ModelConfig,
+    /// What its engines did, summed.
+    pub counters: Counters,
+}
+
+impl Model {
+    /// Engines of `config`, with fresh counters.
+    pub fn new(config: ModelConfig) -> Model {
+        Model {
+            config,
+            counters: Counters::default(),
+        }
+    }
+}
+
+impl Engines for Model {
+    type Engine<'p> = CountedModel<'p>;
+
+    fn check(&self, patches: &[Patch]) -> anyhow::Result<()> {
+        model_engine(patches, self.config).map(drop)
+    }
+
+    fn engine<'p>(&'p self, patches: &'p [Patch]) -> CountedModel<'p> {
+        let inner = model_engine(patches, self.config).expect("checked when the backend was made");
+        CountedModel::new(inner, &self.counters)
+    }
+}
+
+/// Cycles and rays summed over the model engines of a run (one engine per worker thread).
+#[derive(Debug, Default)]
+pub struct Counters {
+    /// Accelerator clock cycles.
+    pub cycles: AtomicU64,
+    /// Rays the accelerator cast.
+    pub rays: AtomicU64,
+}
+
+impl Counters {
+    /// (cycles, rays) so far.
+    pub fn get(&self) -> (u64, u64) {
+        (self.cycles.load(Relaxed), self.rays.load(Relaxed))
+    }
+}
+
+/// A model engine that adds its cycles and rays to shared [`Counters`] when dropped. The model
+/// (about 100 KB) lives on the heap: worker threads' stacks are rayon's 2 MiB by default.
+pub struct CountedModel<'c> {
+    inner: Box<ModelAccelerator>,
+    counters: &'c Counters,
+}
+
+impl<'c> CountedModel<'c> {
+    /// Wraps `inner`.
+    pub fn new(inner: ModelAccelerator, counters: &'c Counters) -> Self {
+        CountedModel {
+            inner: Box::new(inner),
+            counters,
+        }
+    }
+}
+
+impl Drop for CountedModel<'_> {
+    fn drop(&mut self) {
+        self.counters.cycles.fetch_add(self.inner.cycles(), Relaxed);
+        self.counters.rays.fetch_add(self.inner.rays(), Relaxed);
+    }
+}
+
+impl Accelerator for CountedModel<'_> {
+    fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
+        self.inner.rotate(rot, d)
+    }
+    fn set_origin_patch(&mut self, patch: Option<u32>) {
+        self.inner.set_origin_patch(patch)
+    }
+    fn nearest_hit(&mut self, ray: &Ray, t_max: f32) -> Option<Hit> {
+        self.inner.nearest_hit(ray, t_max)
+    }
+    fn cast_from<F: FnMut(usize, Option<Hit>)>(
+        &mut self,
+        origin: Vec3,
+        dirs: &[Vec3],
+        want_uv: bool,
+        sink: F,
+    ) {
+        self.inner.cast_from(origin, dirs, want_uv, sink)
+    }
+    fn cast_rings<F: FnMut(usize, u32, Option<Hit>)>(
+        &mut self,
+        origin: Vec3,
+        rot: &Rotation,
+        hemi: &Hemisphere<'_>,
+        rings: Range<usize>,
+        want_uv: bool,
+        sink: F,
+    ) {
+        self.inner
+            .cast_rings(origin, rot, hemi, rings, want_uv, sink)
+    }
+}
+
+/// Builds a model engine over `patches`, with an error that says what the model cannot load.
+pub fn model_engine(patches: &[Patch], config: ModelConfig) -> anyhow::Result<ModelAccelerator> {
+    ModelAccelerator::new(patches, config).map_err(|e| match e {
+        ModelError::TooManyPatches { count, capacity } => anyhow::anyhow!(
+            "--backend model: the scene has {count} patches, the accelerator's patch memory holds {capacity}"
+        ),
+        ModelError::TooManyBezierPatches { count, capacity } => anyhow::anyhow!(
+            "--backend model: the scene has {count} Bezier patches, the accelerator's control-point memory holds {capacity}"
+        ),
+        ModelError::BadGeometry(i) => anyhow::anyhow!(
+            "--backend model: patch {i} does not fit the accelerator's fixed-point formats (non-finite or out of range)"
+        ),
+        other => anyhow::anyhow!("--backend model: {other:?}"),
+    })
+}

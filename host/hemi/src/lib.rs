@@ -1,0 +1,24 @@
+//! hemi's host library: scenes, sample points, the backend trait and its in-process engines,
+//! pass 1, the radiosity solve, radiosity fields, pass 2 and irradiance queries.
+//!
+//! Layers, each using only those above it (docs/ARCHITECTURE.md): `scene`, `analytic`;
+//! `optics`, `method`, `settings`, `shots`; `backend`; `pass1`; `solve`; `radiosity`; then the
+//! passes built on them: `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay`.
+#![forbid(unsafe_code)]
+
+pub mod adaptive;
+pub mod analytic;
+pub mod backend;
+pub mod irradiance;
+pub mod method;
+pub mod on_demand;
+pub mod optics;
+pub mod overlay;
+pub mod pass1;
+pub mod quality;
+pub mod radiosity;
+pub mod render;
+pub mod scene;
+pub mod settings;
+pub mod shots;
+pub mod solve;

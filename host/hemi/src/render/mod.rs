@@ -1,0 +1,101 @@
+//! Pass 2 (spec §2 step 4): eye rays through every pixel by the backend's pixel tracer, diffuse
+//! colour from the hit patch's vertex grid at the hit's (u,v) ([`shade`]), then exposure, tone
+//! map and the image files ([`image`]).
+
+pub mod image;
+
+pub use image::{auto_exposure, read_png, write_exr, write_png, Image};
+
+use crate::backend::{Backend, Progress, Traced};
+use crate::radiosity::{grid_of, Grid};
+use crate::scene::Scene;
+use anyhow::{Context, Result};
+use hemi_kernel::camera::Camera;
+use hemi_kernel::specular::SpecularStats;
+
+/// The kernel camera of a scene's `[camera]`.
+pub fn camera_of(scene: &Scene) -> Result<Camera> {
+    let c = scene
+        .camera
+        .as_ref()
+        .context("the scene has no [camera] table: pass 2 needs one (spec §6)")?;
+    Camera::look_at(
+        c.eye,
+        c.look_at,
+        c.up,
+        c.fov_y_deg as f32,
+        c.width,
+        c.height,
+    )
+    .context("[camera]: the view direction is zero or parallel to `up`")
+}
+
+/// An image and what its specular frustums did.
+#[derive(Clone, Debug)]
+pub struct Rendered {
+    /// The image.
+    pub image: Image,
+    /// Frustums, rays, truncation and stack use of pass 2, weights in pixel fractions summed
+    /// over all eye rays.
+    pub specular: SpecularStats,
+}
+
+/// Adds to pixel `px` what one of its `spp` rays shows: radiance B/π of the diffuse surface it
+/// reached, times the weight the specular path passed on.
+pub fn shade(px: &mut [f32; 3], weight: [f32; 3], b: [f64; 3], spp: u32) {
+    for c in 0..3 {
+        px[c] += (weight[c] as f64 * b[c] / std::f64::consts::PI / spp as f64) as f32;
+    }
+}
+
+/// Eye rays one request to the backend carries at most (bounds the reports held at once).
+const RAYS_PER_REQUEST: u64 = 1 << 18;
+
+/// Renders the backend's scene through `camera` with `spp` eye rays per pixel. A ray on a
+/// diffuse patch's front side sees its radiance B(u,v)/π (emitters included, so a light shows
+/// its radiance); a ray on a specular patch adds what its frustums see, weighted by k and the
+/// lobe (§5); back sides and misses are black. Frustums are cut from the backend's hemisphere
+/// and bounded by its specular settings, as in pass 1. `progress` gets the rows finished.
+pub fn render(
+    backend: &dyn Backend,
+    grids: &[Grid],
+    camera: &Camera,
+    spp: u32,
+    progress: &Progress<'_>,
+) -> Result<Rendered> {
+    let (w, h) = (camera.width, camera.height);
+    let spp = spp.max(1);
+    let per_request = (RAYS_PER_REQUEST / (u64::from(w) * u64::from(spp)).max(1)).max(1) as u32;
+    let mut pixels = vec![[0.0f32; 3]; w as usize * h as usize];
+    let mut specular = SpecularStats::default();
+    let mut first = 0;
+    while first < h {
+        let rows = first..(first + per_request).min(h);
+        let traced = backend.trace(camera, spp, rows, progress)?;
+        shade_rows(&mut pixels, grids, &traced, spp)?;
+        specular += traced.specular;
+        first += per_request;
+    }
+    let image = Image {
+        width: w,
+        height: h,
+        pixels,
+    };
+    Ok(Rendered { image, specular })
+}
+
+/// Shades what the eye rays of some rows saw into `pixels`, report by report in tracer order.
+fn shade_rows(pixels: &mut [[f32; 3]], grids: &[Grid], traced: &Traced, spp: u32) -> Result<()> {
+    for (p, seen) in traced.rows.iter().flatten() {
+        let px = pixels
+            .get_mut(*p as usize)
+            .context("a backend reported a ray outside the image")?;
+        shade(
+            px,
+            seen.weight,
+            grid_of(grids, seen.side)?.at(seen.u, seen.v),
+            spp,
+        );
+    }
+    Ok(())
+}

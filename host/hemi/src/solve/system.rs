@@ -1,0 +1,181 @@
+//! The system (2.6) itself, `B = E + ρ F B` per channel: its parts for a scene, assembled in
+//! one place ([`SceneParts`]), and the coupled form `B = E + K B` of a scene with translucent
+//! sheets, `K_s· = ρ_s F_s· + τ_s F_t·` with t the twin of side s (`scene::translucent`).
+
+use super::diagnose;
+use crate::scene::Scene;
+use anyhow::Result;
+
+/// Form factors per channel: `f[c][i][j]`. Without coloured mirrors the three are one matrix
+/// ([`grey`]); with them, indirect form factors S_ij differ per channel (paper §3.3).
+pub type Channels<'a> = [&'a [Vec<f64>]; 3];
+
+/// The same matrix for every channel.
+pub fn grey(f: &[Vec<f64>]) -> Channels<'_> {
+    [f, f, f]
+}
+
+/// The parts of (2.6) for a scene, owned, that a [`System`] borrows: ρ (k_d ρ_d) and E per
+/// patch and, when the scene has translucent sheets, the coupled matrices of [`coupled`], which
+/// carry ρ and τ themselves (so ρ is then 1). This is the one place the system is assembled.
+#[derive(Clone, Debug)]
+pub struct SceneParts {
+    rho: Vec<[f64; 3]>,
+    e: Vec<[f64; 3]>,
+    coupled: Option<[Vec<Vec<f64>>; 3]>,
+}
+
+impl SceneParts {
+    /// ρ, E and (for translucent sheets) the coupled matrices of `scene` with form factors `f`.
+    pub fn new(scene: &Scene, f: Channels<'_>) -> SceneParts {
+        let coupled = coupled(scene, f);
+        let (rho, e) = reflectance_and_emission(scene);
+        let rho = match coupled {
+            Some(_) => vec![[1.0; 3]; rho.len()],
+            None => rho,
+        };
+        SceneParts { rho, e, coupled }
+    }
+
+    /// The system `B = E + ρFB` (or `B = E + KB` with translucent sheets) over the `f` the
+    /// parts were made with.
+    pub fn system<'a>(&'a self, f: Channels<'a>) -> Result<System<'a>> {
+        let f = match &self.coupled {
+            Some([r, g, b]) => [r.as_slice(), g.as_slice(), b.as_slice()],
+            None => f,
+        };
+        System::new(f, &self.rho, &self.e)
+    }
+
+    /// The reflectance the system's matrices are multiplied by: ρ, or 1 with translucent sheets
+    /// (the coupled K carries ρ and τ).
+    pub fn rho(&self) -> &[[f64; 3]] {
+        &self.rho
+    }
+
+    /// Emission per patch.
+    pub fn e(&self) -> &[[f64; 3]] {
+        &self.e
+    }
+}
+
+/// ρ (k_d ρ_d) and E per patch of `scene`, the material side of (2.6). Progressive refinement
+/// with rows on demand, which never holds F, takes these with the coupled columns of
+/// `on_demand` (ρ then 1).
+pub fn reflectance_and_emission(scene: &Scene) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+    let n = scene.patches.len();
+    let rho = (0..n).map(|i| scene.material_of(i).diffuse).collect();
+    let e = (0..n).map(|i| scene.material_of(i).emission).collect();
+    (rho, e)
+}
+
+/// One radiosity system (2.6): per-channel F, ρ (k_d ρ_d) and E per patch.
+#[derive(Clone, Copy, Debug)]
+pub struct System<'a> {
+    /// F_ij per channel.
+    pub f: Channels<'a>,
+    /// Diffuse reflectance per patch and channel.
+    pub rho: &'a [[f64; 3]],
+    /// Emission per patch and channel.
+    pub e: &'a [[f64; 3]],
+}
+
+impl<'a> System<'a> {
+    /// Wraps the parts, checking that their sizes agree.
+    pub fn new(f: Channels<'a>, rho: &'a [[f64; 3]], e: &'a [[f64; 3]]) -> Result<System<'a>> {
+        let n = e.len();
+        anyhow::ensure!(
+            rho.len() == n
+                && f.iter()
+                    .all(|m| m.len() == n && m.iter().all(|r| r.len() == n)),
+            "the system's sizes disagree: {n} emissions, {} reflectances, an F that is not {n}×{n}",
+            rho.len()
+        );
+        Ok(System { f, rho, e })
+    }
+
+    /// Number of patches.
+    pub fn len(&self) -> usize {
+        self.e.len()
+    }
+
+    /// Whether the system has no patches.
+    pub fn is_empty(&self) -> bool {
+        self.e.is_empty()
+    }
+
+    /// Whether the three channels share one matrix (one LU serves all three).
+    pub fn is_grey(&self) -> bool {
+        std::ptr::eq(self.f[0], self.f[1]) && std::ptr::eq(self.f[1], self.f[2])
+    }
+
+    /// max |B − E − ρFB| / max |B| over patches and channels (the stopping rule of every
+    /// iterative solver here, so their residuals compare).
+    pub fn residual(&self, b: &[[f64; 3]]) -> f64 {
+        let mut worst = 0.0f64;
+        let mut scale = 0.0f64;
+        for i in 0..b.len() {
+            for c in 0..3 {
+                let gathered: f64 = self.f[c][i]
+                    .iter()
+                    .zip(b)
+                    .map(|(fij, bj)| fij * bj[c])
+                    .sum();
+                let r = b[i][c] - self.e[i][c] - self.rho[i][c] * gathered;
+                worst = worst.max(r.abs());
+                scale = scale.max(b[i][c].abs());
+            }
+        }
+        if scale > 0.0 {
+            worst / scale
+        } else {
+            worst
+        }
+    }
+
+    /// A copy of F (per channel) whose rows are scaled down to sum to at most 1, with the number
+    /// of rows changed. A row of F is the fraction of the hemisphere that reaches something, so
+    /// a sum above 1 is sampling error (pass 1's R and K), never light.
+    pub fn conserving(&self) -> ([Vec<Vec<f64>>; 3], usize) {
+        let mut changed = 0;
+        let out = self.f.map(|m| {
+            m.iter()
+                .map(|row| {
+                    let s: f64 = row.iter().sum();
+                    if s > 1.0 + diagnose::ROW_SLACK {
+                        changed += 1;
+                        row.iter().map(|x| x / s).collect()
+                    } else {
+                        row.clone()
+                    }
+                })
+                .collect()
+        });
+        (out, changed)
+    }
+}
+
+/// The coupled matrices `K_s· = ρ_s F_s· + τ_s F_twin(s)·` per channel, to be solved with a
+/// reflectance of 1 (see the module notes); `None` when no patch is translucent (the system is
+/// then the plain `B = E + ρFB`).
+pub fn coupled(scene: &Scene, f: Channels<'_>) -> Option<[Vec<Vec<f64>>; 3]> {
+    if !scene.has_translucency() {
+        return None;
+    }
+    let n = scene.patches.len();
+    Some([0, 1, 2].map(|c| {
+        (0..n)
+            .map(|i| {
+                let m = scene.material_of(i);
+                let (rho, tau) = (m.diffuse[c], m.translucency[c]);
+                let twin = scene.twin(i);
+                (0..n)
+                    .map(|j| {
+                        let through = twin.map_or(0.0, |t| tau * f[c][t][j]);
+                        rho * f[c][i][j] + through
+                    })
+                    .collect()
+            })
+            .collect()
+    }))
+}
