@@ -12,7 +12,7 @@
 
 use hemi_kernel::accel::either::Either;
 use hemi_kernel::accel::Accelerator;
-use hemi_kernel::link::engine::{AccelJob, AccelProvider, SoftProvider};
+use hemi_kernel::jobs::{AccelJob, AccelProvider, SoftProvider};
 use hemi_kernel::link::{AccelKind, ErrorCode};
 use hemi_kernel::patch::Patch;
 

@@ -16,7 +16,8 @@ use hemi::scene::Scene;
 use hemi_hdl_model::{ModelAccelerator, ModelConfig};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
-use hemi_kernel::link::{AccelKind, Capacities, ENGINE_CAPACITIES, PROTOCOL_VERSION};
+use hemi_kernel::jobs::ENGINE_CAPACITIES;
+use hemi_kernel::link::{AccelKind, Capacities, PROTOCOL_VERSION};
 use hemi_tests::{big_stack, cornell_scene, qemu_or_skip};
 
 fn settings() -> Pass1Settings {

@@ -18,7 +18,8 @@ use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use anyhow::{bail, Context, Result};
-use hemi_kernel::link::{AccelKind, HelloInfo, KERNEL_CAPACITIES, PROTOCOL_VERSION};
+use hemi_kernel::jobs::KERNEL_CAPACITIES;
+use hemi_kernel::link::{AccelKind, HelloInfo, PROTOCOL_VERSION};
 
 pub use link::{Handshake, Link, Retry};
 pub use qemu::{firmware_elf, qemu_available, Qemu};

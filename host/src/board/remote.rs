@@ -7,7 +7,7 @@ use anyhow::{bail, Context, Result};
 use hemi_kernel::camera::Camera;
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{ray_count, rays_on_ring, DeltaRule};
-use hemi_kernel::link::engine::rows_per_job;
+use hemi_kernel::jobs::rows_per_job;
 use hemi_kernel::link::{AccelKind, JobConfig, RayHit, Request, Response, MAX_HITS};
 use hemi_kernel::tracer::ShotStats;
 
