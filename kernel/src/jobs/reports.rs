@@ -31,7 +31,8 @@ impl<'a> Reports<'a> {
 
     /// Counts a report of ray `ray` reaching `h` with `weight`; kept from `skip` on while the
     /// answer has room. The patch it names is the patch for its front, `patches` + the patch
-    /// for the back side of a translucent sheet (the only backs the tracer reports; protocol 4).
+    /// for the back side of a translucent sheet (the only backs the tracer reports;
+    /// [`Feature::BackSides`](crate::link::Feature::BackSides)).
     pub(super) fn report(&mut self, ray: u16, h: &Hit, weight: [f32; 3]) {
         if self.out.total >= self.skip {
             let patch = if h.front {

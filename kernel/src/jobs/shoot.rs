@@ -27,8 +27,9 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         count: u16,
     ) -> Result<(Response, Work), ErrorCode> {
         let cfg = self.ready()?;
-        // Indices past the scene's patches name the back sides of translucent sheets (protocol
-        // 4): patch n + i is the back of patch i, shot from i's points facing the other way.
+        // Indices past the scene's patches name the back sides of translucent sheets
+        // (`Feature::BackSides`): patch n + i is the back of patch i, shot from i's points facing
+        // the other way.
         let (i, back) = match usize::from(patch).checked_sub(self.patches.len()) {
             Some(front) => (front, true),
             None => (usize::from(patch), false),

@@ -96,8 +96,8 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         if index >= total || surface.column.is_some_and(|c| c >= u32::from(total)) {
             return Err(ErrorCode::OutOfRange);
         }
-        // Diffuse transmission: a back side's column lies past the patches' (protocol 4); it
-        // must still fit the row.
+        // Diffuse transmission: a back side's column lies past the patches'
+        // (`Feature::BackSides`); it must still fit the row.
         if surface
             .back_column
             .is_some_and(|c| c as usize >= ENGINE_MAX_PATCHES)

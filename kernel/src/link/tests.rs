@@ -493,3 +493,25 @@ fn the_handshake_settles_on_the_older_version() {
     // a host too old: still answered, with the board's version, for the host to explain
     assert_eq!(version(&r[2].1), Some(PROTOCOL_VERSION));
 }
+
+#[test]
+fn features_are_supported_from_the_version_that_added_them() {
+    use crate::link::MIN_PROTOCOL_VERSION;
+    let mut hello = hello_info();
+    // oldest first, each within the versions this build speaks, and every one in this build
+    let since = Feature::ALL.map(Feature::since);
+    assert!(since.windows(2).all(|w| w[0] <= w[1]), "{since:?}");
+    assert!(since
+        .iter()
+        .all(|v| (MIN_PROTOCOL_VERSION..=PROTOCOL_VERSION).contains(v)));
+    for f in Feature::ALL {
+        hello.protocol = PROTOCOL_VERSION;
+        assert!(hello.supports(f), "{f}");
+        hello.protocol = f.since() - 1;
+        assert!(!hello.supports(f), "{f} at protocol {}", hello.protocol);
+    }
+    // what the host checks today: specular settings at 3, adaptive sampling at 4
+    hello.protocol = 3;
+    assert!(hello.supports(Feature::Tracing) && !hello.supports(Feature::ShootLevel));
+    assert!(hello.supports(Feature::Jobs));
+}
