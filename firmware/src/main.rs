@@ -98,7 +98,6 @@ fn main() -> ! {
             _ => "soft",
         }
     );
-    #[cfg(all(feature = "board", not(feature = "model")))]
     if let Some(slots) = engine.provider.attach_mmio() {
         defmt::println!(
             "accelerator found by its ID register: {=u32} patch slots",
