@@ -263,7 +263,7 @@ fn why(e: &ModelError) -> &'static str {
         ModelError::TooManyPatches { .. } => "too many patches",
         ModelError::TooManyBezierPatches { .. } => "too many Bezier patches",
         ModelError::BadGeometry(_) => "bad geometry",
-        #[allow(unreachable_patterns, reason = "ModelError may grow")]
+        #[expect(unreachable_patterns, reason = "ModelError may grow")]
         _ => "model error",
     }
 }

@@ -49,7 +49,7 @@ pub const MAX_LOBE_CHUNK: usize = 16;
 pub const MAX_HITS: usize = 80;
 
 /// Host → board.
-#[allow(
+#[expect(
     clippy::large_enum_variant,
     reason = "no heap on the board: a message is decoded once into one bounded stack slot"
 )]
@@ -232,10 +232,6 @@ impl Request {
 }
 
 /// Board → host. Every response carries the id of the request it answers (see `codec`).
-#[allow(
-    clippy::large_enum_variant,
-    reason = "no heap on the board: a message is encoded from one bounded stack slot"
-)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Response {
     /// The handshake.
