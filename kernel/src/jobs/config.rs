@@ -11,6 +11,9 @@ use crate::hemisphere::build_into;
 use crate::link::message::{ErrorCode, JobConfig, Response, TraceSettings, MAX_HITS};
 
 impl<P: AccelProvider, T: Platform> Engine<P, T> {
+    /// Takes a configuration. Settings outside the board's limits are refused before anything
+    /// changes; the hemisphere table is built again only when R or the rule changed, so a
+    /// repeated `Configure` (a host reconnecting) costs nothing.
     pub(super) fn configure(&mut self, c: &JobConfig) -> Result<(), ErrorCode> {
         let circles = usize::from(c.circles);
         if !(2..=ENGINE_MAX_CIRCLES).contains(&circles) || c.samples == 0 || c.spp == 0 {
@@ -63,6 +66,8 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         Ok(())
     }
 
+    /// Takes the specular settings; a stack deeper than the board's frames is `TooLong`, so the
+    /// host learns to ask for fewer rather than being cut silently.
     pub(super) fn set_tracing(&mut self, t: &TraceSettings) -> Result<(), ErrorCode> {
         if !(t.threshold.is_finite() && t.threshold > 0.0 && t.threshold < 1.0) {
             return Err(ErrorCode::OutOfRange);
@@ -77,6 +82,8 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         Ok(())
     }
 
+    /// Sets the accelerator's CORDIC. It applies to scenes loaded from then on
+    /// ([`AccelProvider::set_cordic`]), so a loaded scene is loaded again under it.
     pub(super) fn set_cordic(&mut self, iterations: u8, width: u8) -> Result<Response, ErrorCode> {
         if self.provider.set_cordic(iterations, width)? && self.scene == SceneState::Ready {
             // the loaded scene goes into the accelerator again, under the new CORDIC

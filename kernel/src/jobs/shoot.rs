@@ -81,7 +81,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
 
     /// Form-factor columns of the loaded scene: one per diffuse patch and one per back side of a
     /// translucent sheet (as many as the patches with the default all-diffuse optics).
-    pub(super) fn columns(&self) -> usize {
+    fn columns(&self) -> usize {
         self.surfaces
             .iter()
             .flat_map(|s| [s.column, s.back_column])
@@ -94,7 +94,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
 
     /// One hemisphere into `self.row` (over diffuse columns): the one place the tracer is
     /// called for pass 1. `BadScene` if the optics table does not fit the scene and hemisphere.
-    pub(super) fn shoot_one(
+    fn shoot_one(
         &mut self,
         origin: Vec3,
         normal: Vec3,

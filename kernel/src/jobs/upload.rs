@@ -145,7 +145,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
     }
 
     /// The scene being uploaded (or the loaded one): its patch count.
-    pub(super) fn scene_total(&self) -> Result<u16, ErrorCode> {
+    fn scene_total(&self) -> Result<u16, ErrorCode> {
         match self.scene {
             SceneState::Loading { total } => Ok(total),
             SceneState::Ready => Ok(self.patches.len() as u16),
@@ -153,7 +153,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         }
     }
 
-    pub(super) fn scene_ack(&self, total: u16) -> Response {
+    fn scene_ack(&self, total: u16) -> Response {
         let loaded = match self.scene {
             SceneState::Ready => total,
             _ => self.received.count_ones() as u16,
