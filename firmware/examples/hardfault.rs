@@ -13,7 +13,7 @@ fn main() -> ! {
     defmt::println!("reading {=usize:#x} on purpose", UNMAPPED);
     // SAFETY: not safe at all, deliberately: the bus error is the point of this example. Nothing
     // Rust owns is at this address, so no Rust-visible memory is corrupted before the fault.
-    #[allow(unsafe_code)]
+    #[expect(unsafe_code, reason = "the faulting read is the point of the example")]
     let v = unsafe { core::ptr::read_volatile(UNMAPPED as *const u32) };
     defmt::println!("unreachable {}", v);
     hemi_firmware::fault::succeed()

@@ -3,48 +3,176 @@
 //! the cycle-level HDL model driven through its register driver, exactly as the host's
 //! `--backend model` drives it; on a board (feature `board`) the same driver code over the
 //! accelerator's volatile registers ([`crate::accel_mmio`]), attached at boot if its ID register
-//! answers (`FwAccel::attach_mmio`, board builds).
+//! answers (`FwAccel::attach_mmio`).
 //!
 //! Which one answers jobs: the hardware engine if there is one, unless the host asks for the
 //! soft engine in its `Configure`. Jobs reach either engine through one [`Either`], so the
 //! tracer, the walker and the pixel loop are compiled once for both: a second copy per engine
 //! type is what overflowed a board's 128 KiB flash.
+//!
+//! Which hardware engine a build has is decided in one place, `selected`, from the features:
+//! `model` (the default), `board`, or neither (the soft engine only). `model` and `board`
+//! exclude each other.
 
+#[cfg(all(feature = "model", feature = "board"))]
+compile_error!(
+    "features `model` and `board` exclude each other: `model` runs jobs on the simulated \
+     accelerator (QEMU builds), `board` on a real one's registers (build a board with \
+     `--no-default-features --features board`)"
+);
+
+use hemi_hdl_model::cordic::CordicConfig;
+use hemi_hdl_model::{ModelConfig, ModelError};
 use hemi_kernel::accel::either::Either;
 use hemi_kernel::accel::Accelerator;
-use hemi_kernel::link::engine::{AccelJob, AccelProvider, SoftProvider};
+use hemi_kernel::jobs::{AccelJob, AccelProvider, SoftProvider};
 use hemi_kernel::link::{AccelKind, ErrorCode};
 use hemi_kernel::patch::Patch;
 
-/// The hardware engine of this build: the model under QEMU, the registers on a board.
-#[cfg(feature = "model")]
-type Hardware = hemi_hdl_model::ModelAccelerator;
-/// The hardware engine of this build: the model under QEMU, the registers on a board.
-#[cfg(all(feature = "board", not(feature = "model")))]
-type Hardware = hemi_hdl_model::RegisterAccelerator<crate::accel_mmio::AccelMmio>;
-/// No hardware engine in this build: a type no value of which exists.
-#[cfg(not(any(feature = "model", feature = "board")))]
-type Hardware = NoHardware;
+/// The hardware engine of this build: the model under QEMU, the registers on a board, or none
+/// (chosen in `selected`).
+type Hardware = selected::Hardware;
 
-/// The hardware engine of a build that has none (never constructed).
-#[cfg(not(any(feature = "model", feature = "board")))]
-pub enum NoHardware {}
-
-#[cfg(not(any(feature = "model", feature = "board")))]
-impl Accelerator for NoHardware {
-    fn rotate(
-        &mut self,
-        _: &hemi_kernel::rotation::Rotation,
-        _: hemi_kernel::geometry::Vec3,
-    ) -> hemi_kernel::geometry::Vec3 {
-        match *self {}
+/// What [`FwAccel`] needs of a hardware engine, so that everything but `selected` is the same
+/// code in every build.
+trait HardwareEngine: Accelerator + Sized {
+    /// Its kind in the handshake and in `Configure`.
+    const KIND: AccelKind;
+    /// Whether it is there from boot (the model) rather than once attached (a board's
+    /// registers, if their ID answers).
+    const FROM_BOOT: bool;
+    /// Attaches the engine at boot if it answers, with its patch slots; `None` for engines
+    /// that need no attaching or are not there.
+    fn attach(config: ModelConfig) -> Option<(Self, u32)> {
+        let _ = config;
+        None
     }
-    fn nearest_hit(
-        &mut self,
-        _: &hemi_kernel::accel::Ray,
-        _: f32,
-    ) -> Option<hemi_kernel::accel::Hit> {
-        match *self {}
+    /// Loads `patches` under `config` into `slot`, the engine if there is one.
+    fn load(
+        slot: &mut heapless::Vec<Self, 1>,
+        patches: &[Patch],
+        config: ModelConfig,
+    ) -> Result<(), ModelError>;
+    /// Accelerator clocks so far (on a board these are bus reads, so they are read once per
+    /// job).
+    fn clocks(&mut self) -> u64;
+    /// The clocks without a bus read, if the engine can give them for free (the model).
+    fn clocks_now(&self) -> Option<u64> {
+        None
+    }
+}
+
+/// The one place that reads the `model` and `board` features: the hardware engine of a QEMU
+/// build, the HDL model driven through its register driver exactly as the host's
+/// `--backend model` drives it.
+#[cfg(feature = "model")]
+mod selected {
+    use super::{AccelKind, HardwareEngine, ModelConfig, ModelError, Patch};
+    use hemi_hdl_model::ModelAccelerator;
+
+    pub(super) type Hardware = ModelAccelerator;
+
+    impl HardwareEngine for ModelAccelerator {
+        const KIND: AccelKind = AccelKind::Model;
+        const FROM_BOOT: bool = true;
+        fn load(
+            slot: &mut heapless::Vec<Self, 1>,
+            patches: &[Patch],
+            config: ModelConfig,
+        ) -> Result<(), ModelError> {
+            // Dropped first: the old model's state is not needed while the new one is built.
+            slot.clear();
+            let m = ModelAccelerator::new(patches, config)?;
+            // Cannot fail: the Vec was emptied above.
+            let _ = slot.push(m);
+            Ok(())
+        }
+        fn clocks(&mut self) -> u64 {
+            self.cycles()
+        }
+        fn clocks_now(&self) -> Option<u64> {
+            Some(self.cycles())
+        }
+    }
+}
+
+/// The hardware engine of a board build: the same driver code over the accelerator's volatile
+/// registers ([`crate::accel_mmio`]), attached at boot if its ID register answers.
+#[cfg(feature = "board")]
+mod selected {
+    use super::{why, AccelKind, HardwareEngine, ModelConfig, ModelError, Patch};
+    use crate::accel_mmio::AccelMmio;
+    use hemi_hdl_model::RegisterAccelerator;
+
+    pub(super) type Hardware = RegisterAccelerator<AccelMmio>;
+
+    impl HardwareEngine for RegisterAccelerator<AccelMmio> {
+        const KIND: AccelKind = AccelKind::Mmio;
+        const FROM_BOOT: bool = false;
+        fn attach(config: ModelConfig) -> Option<(Self, u32)> {
+            let bus = AccelMmio::take()?;
+            match RegisterAccelerator::with_bus(bus, &[], config) {
+                Ok(mut hw) => {
+                    let slots = hw.driver_mut().patch_capacity();
+                    Some((hw, slots))
+                }
+                Err(e) => {
+                    defmt::info!("no accelerator at the MMIO base: {=str}", why(&e));
+                    None
+                }
+            }
+        }
+        fn load(
+            slot: &mut heapless::Vec<Self, 1>,
+            patches: &[Patch],
+            config: ModelConfig,
+        ) -> Result<(), ModelError> {
+            match slot.first_mut() {
+                Some(hw) => hw.load_scene(patches, config),
+                None => Ok(()),
+            }
+        }
+        fn clocks(&mut self) -> u64 {
+            self.device_cycles()
+        }
+    }
+}
+
+/// A build without a hardware engine: the soft engine answers every job.
+#[cfg(not(any(feature = "model", feature = "board")))]
+mod selected {
+    use super::{AccelKind, HardwareEngine, ModelConfig, ModelError, Patch};
+    use hemi_kernel::accel::{Accelerator, Hit, Ray};
+    use hemi_kernel::geometry::Vec3;
+    use hemi_kernel::rotation::Rotation;
+
+    pub(super) type Hardware = NoHardware;
+
+    /// The hardware engine of a build that has none: a type no value of which exists.
+    pub enum NoHardware {}
+
+    impl Accelerator for NoHardware {
+        fn rotate(&mut self, _: &Rotation, _: Vec3) -> Vec3 {
+            match *self {}
+        }
+        fn nearest_hit(&mut self, _: &Ray, _: f32) -> Option<Hit> {
+            match *self {}
+        }
+    }
+
+    impl HardwareEngine for NoHardware {
+        const KIND: AccelKind = AccelKind::Soft;
+        const FROM_BOOT: bool = false;
+        fn load(
+            _: &mut heapless::Vec<Self, 1>,
+            _: &[Patch],
+            _: ModelConfig,
+        ) -> Result<(), ModelError> {
+            Ok(())
+        }
+        fn clocks(&mut self) -> u64 {
+            match *self {}
+        }
     }
 }
 
@@ -85,13 +213,7 @@ impl FwAccel {
     /// The hardware engine this build has, if any (whether a board's answers is known only
     /// after `FwAccel::attach_mmio`).
     pub const fn native() -> AccelKind {
-        if cfg!(feature = "model") {
-            AccelKind::Model
-        } else if cfg!(feature = "board") {
-            AccelKind::Mmio
-        } else {
-            AccelKind::Soft
-        }
+        Hardware::KIND
     }
 
     /// Whether jobs go to the hardware engine now.
@@ -102,14 +224,13 @@ impl FwAccel {
     /// Whether this build's hardware engine is there: the model always, a board's registers
     /// once attached.
     fn has_hardware(&self) -> bool {
-        cfg!(feature = "model") || !self.hardware.is_empty()
+        Hardware::FROM_BOOT || !self.hardware.is_empty()
     }
 
     /// The build parameters of the hardware engine: the defaults, with the host's CORDIC if it
     /// sent one.
-    #[cfg(any(feature = "model", feature = "board"))]
-    fn config(&self) -> hemi_hdl_model::ModelConfig {
-        let mut config = hemi_hdl_model::ModelConfig::default();
+    fn config(&self) -> ModelConfig {
+        let mut config = ModelConfig::default();
         if self.cordic != (0, 0) {
             config.iterations = u32::from(self.cordic.0);
             config.width = u32::from(self.cordic.1);
@@ -117,86 +238,34 @@ impl FwAccel {
         config
     }
 
-    /// Board builds: attaches the accelerator at its base address if its ID and version
-    /// answer, and returns its patch slots; `None` leaves the soft engine answering. Called
-    /// once, at boot (the registers can be taken only once).
-    #[cfg(all(feature = "board", not(feature = "model")))]
+    /// Attaches a board's accelerator at its base address if its ID and version answer, and
+    /// returns its patch slots; `None` leaves the soft engine answering (and is all other
+    /// builds have). Called once, at boot (the registers can be taken only once).
     pub fn attach_mmio(&mut self) -> Option<u32> {
-        let bus = crate::accel_mmio::AccelMmio::take()?;
-        match hemi_hdl_model::RegisterAccelerator::with_bus(bus, &[], self.config()) {
-            Ok(mut hw) => {
-                let slots = hw.driver_mut().patch_capacity();
-                self.hardware.clear();
-                let _ = self.hardware.push(hw);
-                Some(slots)
-            }
-            Err(e) => {
-                defmt::info!("no accelerator at the MMIO base: {=str}", why(&e));
-                None
-            }
-        }
-    }
-
-    /// Loads `patches` into the hardware engine, in place.
-    #[cfg(feature = "model")]
-    fn load_hardware(&mut self, patches: &[Patch]) -> Result<(), hemi_hdl_model::ModelError> {
-        // Dropped first: the old model's state is not needed while the new one is built.
+        let (hw, slots) = Hardware::attach(self.config())?;
         self.hardware.clear();
-        let m = hemi_hdl_model::ModelAccelerator::new(patches, self.config())?;
-        // Cannot fail: the Vec was emptied above.
-        let _ = self.hardware.push(m);
-        Ok(())
-    }
-
-    /// Loads `patches` into the hardware engine, in place.
-    #[cfg(all(feature = "board", not(feature = "model")))]
-    fn load_hardware(&mut self, patches: &[Patch]) -> Result<(), hemi_hdl_model::ModelError> {
-        let config = self.config();
-        match self.hardware.first_mut() {
-            Some(hw) => hw.load_scene(patches, config),
-            None => Ok(()),
-        }
-    }
-
-    /// No hardware engine: nothing to load.
-    #[cfg(not(any(feature = "model", feature = "board")))]
-    fn load_hardware(&mut self, _: &[Patch]) -> Result<(), ErrorCode> {
-        Ok(())
+        let _ = self.hardware.push(hw);
+        Some(slots)
     }
 
     /// Clocks of the hardware engine so far.
     fn hardware_clocks(&mut self) -> u64 {
-        #[cfg(feature = "model")]
-        if let Some(m) = self.hardware.first() {
-            return m.cycles();
-        }
-        #[cfg(all(feature = "board", not(feature = "model")))]
-        if let Some(hw) = self.hardware.first_mut() {
-            return hw.device_cycles();
-        }
-        self.clocks
+        self.hardware
+            .first_mut()
+            .map_or(self.clocks, HardwareEngine::clocks)
     }
 }
 
 /// What went wrong, in a word: `Debug` formatting would pull `core::fmt` into the flash.
-#[cfg(any(feature = "model", feature = "board"))]
-fn why(e: &hemi_hdl_model::ModelError) -> &'static str {
-    use hemi_hdl_model::ModelError;
+fn why(e: &ModelError) -> &'static str {
     match e {
         ModelError::Driver(_) => "driver: ID, version or timeout",
         ModelError::TooManyPatches { .. } => "too many patches",
         ModelError::TooManyBezierPatches { .. } => "too many Bezier patches",
         ModelError::BadGeometry(_) => "bad geometry",
-        #[allow(unreachable_patterns, reason = "ModelError may grow")]
+        #[expect(unreachable_patterns, reason = "ModelError may grow")]
         _ => "model error",
     }
-}
-
-/// Never called: a build without a hardware engine loads nothing that can fail.
-#[cfg(not(any(feature = "model", feature = "board")))]
-fn why(e: &ErrorCode) -> &'static str {
-    let _ = e;
-    "no accelerator"
 }
 
 /// A job on either engine, as one job for the soft provider: `job.run` is compiled once, for
@@ -240,7 +309,8 @@ impl AccelProvider for FwAccel {
 
     fn load(&mut self, patches: &[Patch]) -> Result<(), ErrorCode> {
         self.soft.load(patches)?;
-        if let Err(e) = self.load_hardware(patches) {
+        let config = self.config();
+        if let Err(e) = Hardware::load(&mut self.hardware, patches, config) {
             defmt::warn!("the accelerator cannot load the scene: {=str}", why(&e));
             // The soft engine still serves this scene if the host asks for it.
             self.hardware.clear();
@@ -275,8 +345,13 @@ impl AccelProvider for FwAccel {
                 Err(ErrorCode::Unsupported)
             };
         }
-        // the accelerator's own limits (ModelConfig): refused here, before any scene is touched
-        if !(12..=32).contains(&w) || !(4..=30).contains(&it) || it + 2 > w {
+        // the accelerator's own limits: refused here, before any scene is touched
+        if !(CordicConfig {
+            iterations: it,
+            width: w,
+        })
+        .is_valid()
+        {
             return Err(ErrorCode::OutOfRange);
         }
         let new = if (it, w) == (d.iterations, d.width) {
@@ -294,10 +369,9 @@ impl AccelProvider for FwAccel {
     }
 
     fn cycles(&self) -> u64 {
-        #[cfg(feature = "model")]
-        if let Some(m) = self.hardware.first() {
-            return m.cycles();
-        }
-        self.clocks
+        self.hardware
+            .first()
+            .and_then(HardwareEngine::clocks_now)
+            .unwrap_or(self.clocks)
     }
 }

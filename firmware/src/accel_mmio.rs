@@ -8,7 +8,7 @@
 //! trait is called with: offsets outside the register window or not word-aligned never reach the
 //! bus (they read 0 and ignore writes, as the device itself treats unmapped offsets), so only
 //! addresses inside the accelerator's own decode are ever dereferenced.
-#![allow(unsafe_code)]
+#![expect(unsafe_code, reason = "the accelerator's registers are volatile MMIO")]
 
 use core::sync::atomic::{AtomicBool, Ordering};
 use hemi_hdl_model::driver::RegisterAccess;

@@ -1,6 +1,7 @@
 //! What this firmware says about itself in the handshake.
 
-use hemi_kernel::link::{HelloInfo, BUILD_LEN, ENGINE_CAPACITIES, PROTOCOL_VERSION};
+use hemi_kernel::jobs::ENGINE_CAPACITIES;
+use hemi_kernel::link::{HelloInfo, BUILD_LEN, PROTOCOL_VERSION};
 
 /// Name, version and git revision, as reported in the handshake.
 pub const BUILD: &str = concat!(

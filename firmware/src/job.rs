@@ -3,7 +3,7 @@
 //! the link's own go to the job engine ([`FwEngine`]).
 
 use embedded_io::Write;
-use hemi_kernel::link::engine::{Engine, Platform};
+use hemi_kernel::jobs::{Engine, Platform};
 use hemi_kernel::link::{HelloInfo, JobHandler, LinkServer, LinkStats, NoEngine, MAX_WIRE_LEN};
 
 use crate::accel::FwAccel;

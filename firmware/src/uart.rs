@@ -9,7 +9,7 @@
 //! the job loop is busy (encoding a reply, later shooting a hemisphere) would be lost if the loop
 //! polled. The ring absorbs them; if even the ring fills, lost bytes are counted (`rx_overruns`)
 //! and the damaged frame is rejected by its CRC.
-#![allow(unsafe_code)]
+#![expect(unsafe_code, reason = "the UART's registers are volatile MMIO")]
 
 use core::cell::RefCell;
 use core::convert::Infallible;

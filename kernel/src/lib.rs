@@ -11,6 +11,8 @@
 //! - [`specular`], [`skeleton`]: indirect transport through frustums with a bounded stack (§6.2)
 //! - [`tracer`]: form-factor rows from hemisphere shots, direct and indirect (§3.1, §3.3, §3.4)
 //! - [`camera`], [`pixels`]: eye rays of pass 2 (§5)
+//! - [`link`]: the wire protocol between host and board, and nothing else
+//! - [`jobs`]: a board's job engine, serving the link's job requests with the above
 #![no_std]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -23,6 +25,7 @@ pub mod camera;
 pub mod frustum;
 pub mod geometry;
 pub mod hemisphere;
+pub mod jobs;
 pub mod link;
 pub mod optics;
 pub mod patch;

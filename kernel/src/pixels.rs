@@ -17,7 +17,7 @@ use crate::tracer::TraceScratch;
 /// reports `sink(pixel, sample, hit, weight)` for every ray, primary or frustum, that reaches
 /// the front of a diffuse patch; `weight` is per channel and relative to the eye ray (1 for a
 /// direct view). `hemi` is the table frustums are cut from; `dirs` is batch storage.
-#[allow(
+#[expect(
     clippy::too_many_arguments,
     reason = "the inputs of one pass-2 job, §5"
 )]

@@ -6,6 +6,11 @@
 //! a triangle) that would bias F_ij, so the weight is the element's true area share
 //! J(u,v)/(K² A), which equals 1/K² on parallelograms and sums to exactly 1 on any planar quad
 //! (the Jacobian is affine, so the midpoint rule is exact).
+//!
+//! Which points a patch gets (the *lattice rule*) is written once, here, for the host's pass 1
+//! and adaptive sampling and for a board's job engine, so that their rows agree bit for bit:
+//! [`uniform_side`], [`uniform_count`] and [`uniform_sample`], with [`SamplePoint::flipped`] for
+//! the back sides of translucent sheets.
 
 use crate::geometry::{Bezier, Polygon, Vec3};
 use crate::patch::Shape;
@@ -23,6 +28,54 @@ pub struct SamplePoint {
     pub v: f32,
     /// W_iq: the element's share of the patch area.
     pub weight: f32,
+}
+
+impl SamplePoint {
+    /// The same point for the back side of a translucent sheet: a back side shoots its
+    /// hemispheres from its front's points, facing the other way, so only the normal turns
+    /// (position, (u,v) and weight are the front's, which keeps the two sides' rows in
+    /// lockstep). Negation is exact, so flipping twice gives the point back bit for bit.
+    pub fn flipped(self) -> SamplePoint {
+        SamplePoint {
+            normal: -self.normal,
+            ..self
+        }
+    }
+}
+
+/// Sample points per side of a Bezier patch's uniform grid: paper §7 places 4×4 on every
+/// patch, whatever K (two subdivisions, whose corners give the normals).
+pub const BEZIER_SIDE: u32 = 4;
+
+/// The side of the uniform sample lattice of a patch of shape `shape` for K×K sampling (also the
+/// initial level of adaptive sampling): K on a polygon, [`BEZIER_SIDE`] on a Bezier patch
+/// whatever K, and 0 unless the patch is `diffuse`: a pure mirror has no form-factor column, so
+/// its points would shoot rows nobody reads. The back side of a translucent sheet has its
+/// front's lattice (its points are the front's, [`SamplePoint::flipped`]).
+pub fn uniform_side(shape: &Shape, diffuse: bool, k: u32) -> u32 {
+    match shape {
+        _ if !diffuse => 0,
+        Shape::Polygon(_) => k,
+        Shape::Bezier(_) => BEZIER_SIDE,
+    }
+}
+
+/// How many sample points a patch gets under K×K sampling ([`uniform_side`] squared, saturating):
+/// K² on a polygon, 16 on a Bezier patch, none on a pure mirror.
+pub fn uniform_count(shape: &Shape, diffuse: bool, k: u32) -> u32 {
+    let side = uniform_side(shape, diffuse, k);
+    side.saturating_mul(side)
+}
+
+/// Sample point `q` (v-major: q = b·side + a) of the uniform K×K sampling of a diffuse patch of
+/// shape `shape` and area `area`: [`grid_sample`] on a polygon, [`bezier_sample`] on a Bezier
+/// patch (the 4×4 of §7, whatever K), both cells of [`lattice_sample`] with the side of
+/// [`uniform_side`]. Whether the patch is diffuse is for [`uniform_count`] to say: this places
+/// the point the lattice has there. For the back side of a translucent sheet, flip the front's
+/// point ([`SamplePoint::flipped`]).
+pub fn uniform_sample(shape: &Shape, area: f32, k: u32, q: u32) -> SamplePoint {
+    let side = uniform_side(shape, true, k).max(1);
+    lattice_sample(shape, area, side, q % side, q / side)
 }
 
 /// The centre of the (u,v) cell `[u0, u0+du] × [v0, v0+dv]` on `poly`, as a sample point.
@@ -130,5 +183,74 @@ pub fn lattice_sample(shape: &Shape, area: f32, k: u32, a: u32, b: u32) -> Sampl
             let d = 1.0 / k as f32;
             bezier_cell_sample(bez, a as f32 * d, b as f32 * d, d, d, area)
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every field's bits, so the comparison is bit for bit (`-0.0 == 0.0` would hide a change).
+    fn bits(p: SamplePoint) -> [[u32; 3]; 3] {
+        let v = |v: Vec3| [v.x.to_bits(), v.y.to_bits(), v.z.to_bits()];
+        let rest = [p.u.to_bits(), p.v.to_bits(), p.weight.to_bits()];
+        [v(p.position), v(p.normal), rest]
+    }
+
+    fn trapezoid() -> Polygon {
+        let v = [[0., 0.], [3., 0.], [2., 1.], [1., 1.]].map(|[x, y]| Vec3::new(x, y, 0.5));
+        Polygon::quad(v).unwrap()
+    }
+
+    fn bump() -> Bezier {
+        let mut cp = [Vec3::ZERO; 16];
+        for (n, c) in cp.iter_mut().enumerate() {
+            let (i, j) = ((n % 4) as f32, (n / 4) as f32);
+            *c = Vec3::new(i, j, 0.3 * (i * j).sin());
+        }
+        Bezier::new(cp).unwrap()
+    }
+
+    #[test]
+    fn the_uniform_rule_places_the_grids_of_polygons_and_the_4x4_of_bezier_patches() {
+        let poly = trapezoid();
+        let shape = Shape::Polygon(poly);
+        for k in [1u32, 3, 16] {
+            assert_eq!(uniform_count(&shape, true, k), k * k);
+            for q in 0..k * k {
+                let want = grid_sample(&poly, k, q % k, q / k);
+                assert_eq!(bits(uniform_sample(&shape, poly.area, k, q)), bits(want));
+            }
+        }
+        let bez = bump();
+        let area = bezier_area(&bez);
+        let shape = Shape::Bezier(bez);
+        for k in [1u32, 4, 16] {
+            assert_eq!(uniform_side(&shape, true, k), BEZIER_SIDE);
+            assert_eq!(uniform_count(&shape, true, k), 16);
+            for q in 0..16 {
+                let want = bezier_sample(&bez, q % 4, q / 4, area);
+                assert_eq!(
+                    bits(uniform_sample(&shape, area, k, q)),
+                    bits(want),
+                    "k {k} q {q}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn a_mirror_gets_no_points_and_a_back_side_its_fronts_flipped() {
+        let shape = Shape::Polygon(trapezoid());
+        assert_eq!(uniform_count(&shape, false, 8), 0);
+        assert_eq!(uniform_count(&Shape::Bezier(bump()), false, 8), 0);
+        let front = uniform_sample(&shape, 2.0, 3, 4);
+        let back = front.flipped();
+        assert_eq!(back.normal, -front.normal);
+        assert_eq!(
+            (back.position, back.u, back.v, back.weight),
+            (front.position, front.u, front.v, front.weight)
+        );
+        assert_eq!(bits(back.flipped()), bits(front));
     }
 }

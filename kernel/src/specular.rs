@@ -274,7 +274,7 @@ impl Walker<'_, '_> {
         }
     }
 
-    #[allow(
+    #[expect(
         clippy::too_many_arguments,
         reason = "one frame's fields, named at the one call"
     )]

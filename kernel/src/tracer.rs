@@ -84,7 +84,7 @@ impl<'s> TraceScratch<'s> {
 /// F_iq,j per channel into `row` (one entry per diffuse column of `optics`; the caller zeroes
 /// it). `origin_patch` is the patch the sample point lies on, which the hemisphere does not see
 /// directly (F_ii = 0); it may see itself in a mirror.
-#[allow(
+#[expect(
     clippy::too_many_arguments,
     reason = "the inputs of one hemisphere shot, §3.4"
 )]

@@ -8,7 +8,7 @@ use hemi::pass1::{form_factors, FormFactors};
 use hemi::radiosity::element_value;
 use hemi::scene::{parse, Scene};
 use hemi::settings::Pass1Settings;
-use hemi::solve::{gauss_seidel, Solution};
+use hemi::solve::Solution;
 use hemi_tests::*;
 use std::path::PathBuf;
 
@@ -32,10 +32,7 @@ fn adaptive(margin: f64, max_depth: u32, test: Test) -> AdaptiveSettings {
 }
 
 fn solve(scene: &Scene, ff: &FormFactors) -> Solution {
-    let n = scene.patches.len();
-    let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
-    let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
-    gauss_seidel(ff.channels(), &rho, &e, &Default::default()).unwrap()
+    hemi::solve::SceneParts::gauss_seidel(scene, ff.channels(), &Default::default()).unwrap()
 }
 
 /// Total radiant power leaving the surfaces, Σ_i A_i B_i, per channel.

@@ -3,11 +3,11 @@
 //! silhouettes, rays parallel to a slab).
 
 // Vector code in f64 arrays: p[k], c[k] read as the formulas do.
-#![allow(clippy::needless_range_loop)]
 
 use hemi::analytic::{bezier_eval as eval, bezier_newton as newton};
 use hemi::backend::SoftEngine;
 use hemi::scene::load;
+use hemi_bench::rng::XorShift;
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::{Bezier, Subdivision, Vec3};
 use hemi_kernel::patch::{Patch, Shape};
@@ -20,21 +20,7 @@ fn teapot() -> Vec<Bezier> {
         "/../scenes/teapot.toml"
     )))
     .unwrap();
-    scene
-        .patches
-        .iter()
-        .filter_map(|p| match p.shape {
-            Shape::Bezier(b) => Some(b),
-            _ => None,
-        })
-        .collect()
-}
-
-fn rng(seed: &mut u64) -> f64 {
-    *seed ^= *seed << 13;
-    *seed ^= *seed >> 7;
-    *seed ^= *seed << 17;
-    (*seed >> 11) as f64 / (1u64 << 53) as f64
+    scene.bezier_patches()
 }
 
 #[test]
@@ -43,21 +29,21 @@ fn nearest_hits_match_a_newton_reference() {
     // normal; the reference is Newton's solution from a dense seed.
     let patches = teapot();
     let sub = Subdivision::default();
-    let mut seed = 0x9e37_79b9_7f4a_7c15u64;
+    let mut rng = XorShift::new(0x9e37_79b9_7f4a_7c15);
     let (mut compared, mut worst_t, mut worst_uv) = (0, 0.0f64, 0.0f64);
     let mut dropped = [0usize; 4];
     for _ in 0..3000 {
-        let b = &patches[(rng(&mut seed) * patches.len() as f64) as usize % patches.len()];
-        let (u, v) = (0.05 + 0.9 * rng(&mut seed), 0.05 + 0.9 * rng(&mut seed));
+        let b = &patches[(rng.f64() * patches.len() as f64) as usize % patches.len()];
+        let (u, v) = (0.05 + 0.9 * rng.f64(), 0.05 + 0.9 * rng.f64());
         let Some(n) = b.normal(u as f32, v as f32) else {
             dropped[0] += 1;
             continue;
         };
         let target = b.point(u as f32, v as f32);
         let tilt = Vec3::new(
-            rng(&mut seed) as f32 - 0.5,
-            rng(&mut seed) as f32 - 0.5,
-            rng(&mut seed) as f32 - 0.5,
+            rng.f64() as f32 - 0.5,
+            rng.f64() as f32 - 0.5,
+            rng.f64() as f32 - 0.5,
         ) * 0.8;
         let Some(dir) = (-n + tilt).try_normalize() else {
             continue;
@@ -66,7 +52,7 @@ fn nearest_hits_match_a_newton_reference() {
             dropped[1] += 1;
             continue;
         }
-        let o = target - dir * (0.5 + 2.5 * rng(&mut seed) as f32);
+        let o = target - dir * (0.5 + 2.5 * rng.f64() as f32);
         let Some((t_ref, u_ref, v_ref)) = newton(
             b,
             o.to_array().map(|x| x as f64),

@@ -2,9 +2,10 @@
 //! frame decoder and the message codec never panic, a good frame after any garbage still
 //! decodes, and the board's server answers every delimited frame with one reply.
 
+use hemi_kernel::jobs::ENGINE_CAPACITIES;
 use hemi_kernel::link::{
     decode_request, decode_response, encode_request, AccelKind, HelloInfo, LinkServer,
-    MaxFrameDecoder, Request, ENGINE_CAPACITIES, MAX_WIRE_LEN, PROTOCOL_VERSION,
+    MaxFrameDecoder, Request, MAX_WIRE_LEN, PROTOCOL_VERSION,
 };
 use proptest::prelude::*;
 

@@ -17,7 +17,8 @@ use hemi_boards::{BoardSpec, Boards, Farm, FarmOptions};
 use hemi_hdl_model::ModelConfig;
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::DeltaRule;
-use hemi_kernel::link::{AccelKind, Capacities, ENGINE_CAPACITIES, PROTOCOL_VERSION};
+use hemi_kernel::jobs::ENGINE_CAPACITIES;
+use hemi_kernel::link::{AccelKind, Capacities, PROTOCOL_VERSION};
 use hemi_tests::{big_stack, cornell_scene, qemu_or_skip};
 
 fn settings() -> Pass1Settings {
@@ -45,13 +46,8 @@ fn pass1_on(backend: &dyn Backend) -> pass1::FormFactors {
 }
 
 fn solve(scene: &Scene, ff: &pass1::FormFactors) -> Vec<hemi::radiosity::Grid> {
-    let rho: Vec<[f64; 3]> = (0..scene.patches.len())
-        .map(|i| scene.material_of(i).diffuse)
-        .collect();
-    let e: Vec<[f64; 3]> = (0..scene.patches.len())
-        .map(|i| scene.material_of(i).emission)
-        .collect();
-    let sol = hemi::solve::gauss_seidel(ff.channels(), &rho, &e, &Default::default()).unwrap();
+    let f = ff.channels();
+    let sol = hemi::solve::SceneParts::gauss_seidel(scene, f, &Default::default()).unwrap();
     hemi::radiosity::grids(scene, ff, &sol)
 }
 

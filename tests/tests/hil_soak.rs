@@ -3,6 +3,7 @@
 //! counter kept counting from boot, every kind of damage was counted, and a job after it all is
 //! answered. About 60 KB go up (QEMU carries ~10-15 KB/s that way), so it takes a few seconds.
 
+use hemi_bench::rng::XorShift;
 use std::time::Duration;
 
 use hemi_boards::{qemu_available, QemuBoard};
@@ -11,58 +12,44 @@ use hemi_kernel::link::{encode_frame, encode_request, Request, Response, MAX_WIR
 
 const T: Duration = Duration::from_secs(3);
 
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-    fn f32(&mut self) -> f32 {
-        // Any bit pattern: NaN, infinities and denormals included.
-        f32::from_bits(self.next() as u32)
-    }
-}
-
-fn random_request(rng: &mut Rng) -> Request {
-    let v = |rng: &mut Rng| Vec3::new(rng.f32(), rng.f32(), rng.f32());
-    match rng.next() % 9 {
+fn random_request(rng: &mut XorShift) -> Request {
+    let v = |rng: &mut XorShift| Vec3::new(rng.any_f32(), rng.any_f32(), rng.any_f32());
+    match rng.bits() % 9 {
         0 => Request::Shoot {
-            patch: rng.next() as u16,
-            first: rng.next() as u16,
-            count: rng.next() as u16,
+            patch: rng.bits() as u16,
+            first: rng.bits() as u16,
+            count: rng.bits() as u16,
         },
         1 => Request::Trace {
-            first: rng.next() as u32,
-            count: rng.next() as u16,
+            first: rng.bits() as u32,
+            count: rng.bits() as u16,
         },
         2 => Request::Gather {
             point: v(rng),
             normal: v(rng),
-            ring: rng.next() as u16,
-            first: rng.next() as u16,
-            count: rng.next() as u16,
+            ring: rng.bits() as u16,
+            first: rng.bits() as u16,
+            count: rng.bits() as u16,
         },
         3 => Request::SceneBegin {
-            patches: (rng.next() % 60) as u16,
+            patches: (rng.bits() % 60) as u16,
         },
         4 => Request::Source {
-            len: rng.next() as u16,
+            len: rng.bits() as u16,
         },
         5 => Request::Ping {
-            nonce: rng.next() as u32,
+            nonce: rng.bits() as u32,
         },
         6 => Request::ShootLevel {
-            patch: rng.next() as u16,
-            k: rng.next() as u16,
-            first: rng.next() as u16,
-            count: rng.next() as u16,
+            patch: rng.bits() as u16,
+            k: rng.bits() as u16,
+            first: rng.bits() as u16,
+            count: rng.bits() as u16,
         },
         7 => Request::Query {
             point: v(rng),
             normal: v(rng),
-            skip: rng.next() as u16,
+            skip: rng.bits() as u16,
         },
         _ => Request::EngineStats,
     }
@@ -81,11 +68,11 @@ fn random_frames_never_reset_the_firmware() {
     }
     let mut board = QemuBoard::boot(None).expect("boot");
     let link = &mut board.link;
-    let mut rng = Rng(0x5eed_1234_abcd_0001);
+    let mut rng = XorShift::new(0x5eed_1234_abcd_0001);
     let mut frame = [0u8; MAX_WIRE_LEN];
     let mut sent = 0u64;
     for round in 0..1500 {
-        let bytes: Vec<u8> = match rng.next() % 4 {
+        let bytes: Vec<u8> = match rng.bits() % 4 {
             // a well-formed request with random fields
             0 => {
                 let n = encode_request(1 + round, &random_request(&mut rng), &mut frame).unwrap();
@@ -95,21 +82,21 @@ fn random_frames_never_reset_the_firmware() {
             1 => {
                 let n = encode_request(1 + round, &random_request(&mut rng), &mut frame).unwrap();
                 let mut f = frame[..n].to_vec();
-                for _ in 0..1 + rng.next() % 3 {
-                    let i = (rng.next() as usize) % f.len();
-                    f[i] ^= rng.next() as u8;
+                for _ in 0..1 + rng.bits() % 3 {
+                    let i = (rng.bits() as usize) % f.len();
+                    f[i] ^= rng.bits() as u8;
                 }
                 f
             }
             // a valid frame around a random payload (unknown tags, bad postcard)
             2 => {
-                let len = (rng.next() % 40) as usize;
-                let payload: Vec<u8> = (0..len).map(|_| rng.next() as u8).collect();
+                let len = (rng.bits() % 40) as usize;
+                let payload: Vec<u8> = (0..len).map(|_| rng.bits() as u8).collect();
                 let n = encode_frame(&payload, &mut frame).unwrap();
                 frame[..n].to_vec()
             }
             // raw noise
-            _ => (0..rng.next() % 60).map(|_| rng.next() as u8).collect(),
+            _ => (0..rng.bits() % 60).map(|_| rng.bits() as u8).collect(),
         };
         sent += bytes.len() as u64;
         link.send_raw(&bytes).unwrap();

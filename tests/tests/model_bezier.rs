@@ -11,10 +11,11 @@
 
 use hemi::analytic::bezier_newton;
 use hemi::backend::SoftEngine;
+use hemi_bench::rng::XorShift;
 use hemi_hdl_model::{ModelAccelerator, ModelConfig};
 use hemi_kernel::accel::{Accelerator, Ray};
 use hemi_kernel::geometry::{Bezier, Vec3};
-use hemi_kernel::patch::{Patch, Shape};
+use hemi_kernel::patch::Patch;
 use std::path::Path;
 
 fn scene() -> hemi::scene::Scene {
@@ -22,38 +23,24 @@ fn scene() -> hemi::scene::Scene {
 }
 
 fn teapot(scene: &hemi::scene::Scene) -> Vec<Bezier> {
-    scene
-        .patches
-        .iter()
-        .filter_map(|p| match p.shape {
-            Shape::Bezier(b) => Some(b),
-            _ => None,
-        })
-        .collect()
-}
-
-fn rng(seed: &mut u64) -> f64 {
-    *seed ^= *seed << 13;
-    *seed ^= *seed >> 7;
-    *seed ^= *seed << 17;
-    (*seed >> 11) as f64 / (1u64 << 53) as f64
+    scene.bezier_patches()
 }
 
 /// A ray aimed at (u,v) of `b` from 0.5 to 3 units away within about 40° of the normal, and
 /// Newton's (t, u, v) for it.
-fn aimed(b: &Bezier, seed: &mut u64) -> Option<(Vec3, Vec3, (f64, f64, f64))> {
-    let (u, v) = (0.05 + 0.9 * rng(seed), 0.05 + 0.9 * rng(seed));
+fn aimed(b: &Bezier, rng: &mut XorShift) -> Option<(Vec3, Vec3, (f64, f64, f64))> {
+    let (u, v) = (0.05 + 0.9 * rng.f64(), 0.05 + 0.9 * rng.f64());
     let n = b.normal(u as f32, v as f32)?;
     let tilt = Vec3::new(
-        rng(seed) as f32 - 0.5,
-        rng(seed) as f32 - 0.5,
-        rng(seed) as f32 - 0.5,
+        rng.f64() as f32 - 0.5,
+        rng.f64() as f32 - 0.5,
+        rng.f64() as f32 - 0.5,
     ) * 0.8;
     let dir = (-n + tilt).try_normalize()?;
     if dir.dot(n) > -0.6 {
         return None;
     }
-    let o = b.point(u as f32, v as f32) - dir * (0.5 + 2.5 * rng(seed) as f32);
+    let o = b.point(u as f32, v as f32) - dir * (0.5 + 2.5 * rng.f64() as f32);
     let r = bezier_newton(
         b,
         o.to_array().map(|x| x as f64),
@@ -68,11 +55,11 @@ fn golden(cfg: ModelConfig, n: usize) -> (usize, f64, f64, usize) {
     let sc = scene();
     let patches = teapot(&sc);
     let mut models: Vec<Option<ModelAccelerator>> = patches.iter().map(|_| None).collect();
-    let mut seed = 0x2545_f491_4f6c_dd1du64;
+    let mut rng = XorShift::new(0x2545_f491_4f6c_dd1d);
     let (mut compared, mut worst_t, mut worst_uv, mut missed) = (0, 0.0f64, 0.0f64, 0);
     while compared + missed < n {
-        let i = (rng(&mut seed) * patches.len() as f64) as usize % patches.len();
-        let Some((o, d, (t, u, v))) = aimed(&patches[i], &mut seed) else {
+        let i = (rng.f64() * patches.len() as f64) as usize % patches.len();
+        let Some((o, d, (t, u, v))) = aimed(&patches[i], &mut rng) else {
             continue;
         };
         let m = models[i].get_or_insert_with(|| {
@@ -147,20 +134,20 @@ fn bezier_unit_matches_a_newton_reference() {
 /// Random rays through the teapot scene: from points around and above the teapot, towards
 /// random points of the teapot's box (so most rays meet it).
 fn scene_rays(n: usize) -> Vec<Ray> {
-    let mut seed = 0x1234_5678_9abc_def1u64;
+    let mut rng = XorShift::new(0x1234_5678_9abc_def1);
     let mut out = Vec::new();
     while out.len() < n {
-        let a = rng(&mut seed) * std::f64::consts::TAU;
-        let r = 3.5 + 3.0 * rng(&mut seed);
+        let a = rng.f64() * std::f64::consts::TAU;
+        let r = 3.5 + 3.0 * rng.f64();
         let o = Vec3::new(
             (r * a.cos()) as f32,
             (r * a.sin()) as f32,
-            (0.2 + 5.0 * rng(&mut seed)) as f32,
+            (0.2 + 5.0 * rng.f64()) as f32,
         );
         let target = Vec3::new(
-            (rng(&mut seed) * 6.0 - 3.0) as f32,
-            (rng(&mut seed) * 4.0 - 2.0) as f32,
-            (rng(&mut seed) * 3.2) as f32,
+            (rng.f64() * 6.0 - 3.0) as f32,
+            (rng.f64() * 4.0 - 2.0) as f32,
+            (rng.f64() * 3.2) as f32,
         );
         if let Some(dir) = (target - o).try_normalize() {
             out.push(Ray { origin: o, dir });

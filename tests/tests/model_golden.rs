@@ -5,6 +5,7 @@
 //! `cargo test --release -p hemi-tests --test model_golden -- --nocapture` prints the tables.
 
 use hemi::backend::SoftEngine;
+use hemi_bench::rng::XorShift;
 use hemi_hdl_model::cordic::{CordicConfig, CordicPipe, CordicSlot, Mode};
 use hemi_hdl_model::format::{Angle, Unit};
 use hemi_hdl_model::{ModelAccelerator, ModelConfig};
@@ -13,27 +14,16 @@ use hemi_kernel::geometry::Vec3;
 use hemi_kernel::rotation::{spin_for_sample, Rotation};
 
 /// Tiny deterministic generator (the tests must not depend on a crate's RNG stream).
-struct Lcg(u64);
-impl Lcg {
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
-
 /// Worst error of a rotation-mode pipe over `n` angles of the full circle and of a vectoring
 /// pipe over `n` vectors: (rotation: |v − v_ref|, vectoring: |angle − atan2|).
 fn cordic_errors(cfg: CordicConfig, n: usize) -> (f64, f64) {
     let mut rot: CordicPipe<u32> = CordicPipe::new(Mode::Rotate, cfg);
     let mut vec: CordicPipe<u32> = CordicPipe::new(Mode::Vector, cfg);
-    let mut rng = Lcg(7);
+    let mut rng = XorShift::new(0x7a5c_3e91_0b2d_4f67);
     let inputs: Vec<(f64, f64, f64)> = (0..n)
         .map(|_| {
-            let a = (rng.next() * 2.0 - 1.0) * std::f64::consts::PI;
-            let b = rng.next() * std::f64::consts::TAU;
+            let a = (rng.f64() * 2.0 - 1.0) * std::f64::consts::PI;
+            let b = rng.f64() * std::f64::consts::TAU;
             (a, b.cos(), b.sin())
         })
         .collect();
@@ -118,12 +108,12 @@ fn test_normals() -> Vec<Vec3> {
         Vec3::new(1.0, 1.0, 1.0) / 3f32.sqrt(),
         Vec3::new(-0.3, 0.5, -0.81).try_normalize().unwrap(),
     ];
-    let mut rng = Lcg(11);
+    let mut rng = XorShift::new(0xb5ad_4ece_da1c_e2a9);
     for _ in 0..40 {
         let n = Vec3::new(
-            rng.next() as f32 * 2.0 - 1.0,
-            rng.next() as f32 * 2.0 - 1.0,
-            rng.next() as f32 * 2.0 - 1.0,
+            rng.f64() as f32 * 2.0 - 1.0,
+            rng.f64() as f32 * 2.0 - 1.0,
+            rng.f64() as f32 * 2.0 - 1.0,
         );
         if let Some(n) = n.try_normalize() {
             v.push(n);
@@ -201,19 +191,19 @@ fn intersections_match_the_soft_engine_on_the_cornell_box() {
     let patches = cornell();
     let mut soft = SoftEngine::new(&patches);
     let mut model = ModelAccelerator::new(&patches, ModelConfig::default()).unwrap();
-    let mut rng = Lcg(3);
+    let mut rng = XorShift::new(0x3c6e_f372_fe94_f82b);
     let (mut same, mut differ, mut worst_t, mut worst_uv) = (0, 0, 0.0f32, 0.0f32);
     for _ in 0..2000 {
         // origins inside the box, random directions
         let o = Vec3::new(
-            50.0 + rng.next() as f32 * 450.0,
-            50.0 + rng.next() as f32 * 450.0,
-            50.0 + rng.next() as f32 * 450.0,
+            50.0 + rng.f64() as f32 * 450.0,
+            50.0 + rng.f64() as f32 * 450.0,
+            50.0 + rng.f64() as f32 * 450.0,
         );
         let Some(d) = Vec3::new(
-            rng.next() as f32 * 2.0 - 1.0,
-            rng.next() as f32 * 2.0 - 1.0,
-            rng.next() as f32 * 2.0 - 1.0,
+            rng.f64() as f32 * 2.0 - 1.0,
+            rng.f64() as f32 * 2.0 - 1.0,
+            rng.f64() as f32 * 2.0 - 1.0,
         )
         .try_normalize() else {
             continue;
@@ -277,12 +267,12 @@ fn soft_and_model_form_factors_agree() {
 }
 
 /// A random unit vector.
-fn unit(rng: &mut Lcg) -> Vec3 {
+fn unit(rng: &mut XorShift) -> Vec3 {
     loop {
         let v = Vec3::new(
-            rng.next() as f32 * 2.0 - 1.0,
-            rng.next() as f32 * 2.0 - 1.0,
-            rng.next() as f32 * 2.0 - 1.0,
+            rng.f64() as f32 * 2.0 - 1.0,
+            rng.f64() as f32 * 2.0 - 1.0,
+            rng.f64() as f32 * 2.0 - 1.0,
         );
         if let Some(u) = v.try_normalize().filter(|_| v.length() <= 1.0) {
             return u;
@@ -299,20 +289,20 @@ fn uv_of_planar_hits_is_within_the_bisection_depth_of_the_exact_inverse() {
     // levels leave a cell of 2^-16 = 1.5e-5, whose centre is within 7.6e-6 of the point; the
     // rest is the hit point's rounding (t and P are Q8.24 of the normalised scene) relative to
     // the patch's size.
-    let mut rng = Lcg(11);
+    let mut rng = XorShift::new(0xb5ad_4ece_da1c_e2a9);
     let mut worst = 0.0f64;
     let mut cases = 0;
     while cases < 300 {
-        let size = 0.05 + 1.95 * rng.next() as f32;
+        let size = 0.05 + 1.95 * rng.f64() as f32;
         let (e1, n) = (unit(&mut rng), unit(&mut rng));
         let Some(a) = n.cross(e1).try_normalize() else {
             continue;
         };
         let b = n.cross(a);
         let centre = Vec3::new(
-            rng.next() as f32 - 0.5,
-            rng.next() as f32 - 0.5,
-            rng.next() as f32 - 0.5,
+            rng.f64() as f32 - 0.5,
+            rng.f64() as f32 - 0.5,
+            rng.f64() as f32 - 0.5,
         );
         // corners at jittered angles around the centre (convex), or a triangle
         let triangle = cases % 3 == 0;
@@ -320,8 +310,8 @@ fn uv_of_planar_hits_is_within_the_bisection_depth_of_the_exact_inverse() {
         let v: Vec<Vec3> = (0..sides)
             .map(|k| {
                 let ang =
-                    (k as f64 + 0.6 * (rng.next() - 0.5)) * std::f64::consts::TAU / sides as f64;
-                let r = size * (0.6 + 0.4 * rng.next() as f32);
+                    (k as f64 + 0.6 * (rng.f64() - 0.5)) * std::f64::consts::TAU / sides as f64;
+                let r = size * (0.6 + 0.4 * rng.f64() as f32);
                 centre + a * (r * ang.cos() as f32) + b * (r * ang.sin() as f32)
             })
             .collect();
@@ -341,10 +331,10 @@ fn uv_of_planar_hits_is_within_the_bisection_depth_of_the_exact_inverse() {
         .unwrap();
         let patches = [Patch::polygon(poly), Patch::polygon(far)];
         let mut model = ModelAccelerator::new(&patches, ModelConfig::default()).unwrap();
-        let (u, v) = (0.02 + 0.96 * rng.next(), 0.02 + 0.96 * rng.next());
+        let (u, v) = (0.02 + 0.96 * rng.f64(), 0.02 + 0.96 * rng.f64());
         let p = poly.point(u as f32, v as f32);
-        let side = if rng.next() < 0.5 { 1.0 } else { -1.0 };
-        let o = p + poly.normal * (side * (0.1 + 0.9 * rng.next() as f32));
+        let side = if rng.f64() < 0.5 { 1.0 } else { -1.0 };
+        let o = p + poly.normal * (side * (0.1 + 0.9 * rng.f64() as f32));
         let Some(dir) = (p - o).try_normalize() else {
             continue;
         };

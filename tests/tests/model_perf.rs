@@ -148,17 +148,10 @@ fn cycles_per_ray_on_the_teapot_and_per_bezier_patch_test() {
 fn clocks_per_bezier_patch_test_against_depth_and_width() {
     use hemi_kernel::accel::Ray;
     use hemi_kernel::geometry::Vec3;
-    use hemi_kernel::patch::{Patch, Shape};
+    use hemi_kernel::patch::Patch;
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     let scene = hemi::scene::load(&root.join("scenes/teapot.toml")).unwrap();
-    let beziers: Vec<_> = scene
-        .patches
-        .iter()
-        .filter_map(|p| match p.shape {
-            Shape::Bezier(b) => Some(b),
-            _ => None,
-        })
-        .collect();
+    let beziers = scene.bezier_patches();
     println!(
         "\nOne Bezier patch test (rays aimed at random points of each teapot patch, 64 per patch)"
     );

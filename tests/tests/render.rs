@@ -24,10 +24,8 @@ fn small() -> Pass1Settings {
 
 fn solve_and_render(scene: &Scene, settings: &Pass1Settings, spp: u32) -> Image {
     let ff = form_factors(&soft(scene, settings).unwrap(), &|_| {}).unwrap();
-    let n = scene.patches.len();
-    let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
-    let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
-    let sol = hemi::solve::gauss_seidel(ff.channels(), &rho, &e, &Default::default()).unwrap();
+    let sol =
+        hemi::solve::SceneParts::gauss_seidel(scene, ff.channels(), &Default::default()).unwrap();
     let g = grids(scene, &ff, &sol);
     let backend = soft(scene, settings).unwrap();
     render(&backend, &g, &camera_of(scene).unwrap(), spp, &|_| {})

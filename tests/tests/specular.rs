@@ -289,10 +289,8 @@ fn pass_2_sees_a_light_in_a_mirror_at_k_r_times_its_radiance() {
         ..Pass1Settings::default()
     };
     let ff = form_factors(&soft(&scene, &settings).unwrap(), &|_| {}).unwrap();
-    let n = scene.patches.len();
-    let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
-    let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
-    let sol = hemi::solve::gauss_seidel(ff.channels(), &rho, &e, &Default::default()).unwrap();
+    let sol =
+        hemi::solve::SceneParts::gauss_seidel(&scene, ff.channels(), &Default::default()).unwrap();
     let grids = hemi::radiosity::grids(&scene, &ff, &sol);
     let camera = hemi::render::camera_of(&scene).unwrap();
     let out = hemi::render::render(
@@ -374,10 +372,7 @@ fn the_model_backend_agrees_with_soft_through_a_mirror() {
     }
     // The radiosities: what the model's fixed point changes in the answer.
     let solve = |ff: &hemi::pass1::FormFactors| {
-        let n = scene.patches.len();
-        let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
-        let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
-        hemi::solve::gauss_seidel(ff.channels(), &rho, &e, &Default::default())
+        hemi::solve::SceneParts::gauss_seidel(&scene, ff.channels(), &Default::default())
             .unwrap()
             .radiosity
     };

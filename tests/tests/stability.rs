@@ -3,7 +3,6 @@
 //! `cargo test -p hemi-tests --release --test stability -- --nocapture` prints what they measure.
 
 // Matrix code: F[i][j] reads as the equations do.
-#![allow(clippy::needless_range_loop)]
 
 use hemi::backend::soft;
 use hemi::method::Method;

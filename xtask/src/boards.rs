@@ -127,7 +127,7 @@ pub fn qemu(args: &[String]) -> Result<(), Failure> {
             match pty {
                 Some(pty) => eprintln!(
                     "xtask qemu: UART0 is on {pty}; talk to it with e.g. \
-                     `cargo run --release -p hemi -- board info --backend serial:{pty}`. \
+                     `cargo run --release -p hemi-cli -- board info --backend serial:{pty}`. \
                      Ctrl-C stops QEMU."
                 ),
                 None => eprint!("{line}"),

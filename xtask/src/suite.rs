@@ -91,7 +91,7 @@ fn steps() -> Vec<Step> {
         Step {
             name: "host-tests",
             what: "host tests, including the HIL tests over QEMU (HEMI_REQUIRE_QEMU=1), and the \
-                   kernel's board-engine tests with the large tables QEMU's model build uses",
+                   kernel's link and board-engine tests with the large tables QEMU's model build uses",
             kind: Kind::Commands(|| {
                 let mut c = cargo(["test"]);
                 c.args(HOST).env("HEMI_REQUIRE_QEMU", "1");
@@ -103,7 +103,9 @@ fn steps() -> Vec<Step> {
                     "--features",
                     "large-engine",
                     "--lib",
+                    "--",
                     "link::",
+                    "jobs::",
                 ]);
                 vec![c, large]
             }),
@@ -277,6 +279,7 @@ mod tests {
             [
                 "setup",
                 "fmt",
+                "layout",
                 "clippy-host",
                 "firmware-build",
                 "clippy-firmware",

@@ -22,7 +22,6 @@ use hemi::pass1::form_factors;
 use hemi::radiosity::{grids, Grid};
 use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
-use hemi::solve::gauss_seidel;
 use hemi_kernel::patch::Shape;
 use hemi_kernel::sampling::grid_sample;
 use std::io::Write;
@@ -166,10 +165,7 @@ pub fn reference(
 
 fn uniform_grids(scene: &Scene, settings: &Pass1Settings) -> Result<(Vec<Grid>, usize)> {
     let ff = form_factors(&hemi::backend::soft(scene, settings)?, &|_| {})?;
-    let n = scene.patches.len();
-    let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
-    let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
-    let sol = gauss_seidel(ff.channels(), &rho, &e, &Default::default())?;
+    let sol = hemi::solve::SceneParts::gauss_seidel(scene, ff.channels(), &Default::default())?;
     Ok((grids(scene, &ff, &sol), ff.elements.len()))
 }
 

@@ -6,7 +6,6 @@ pub mod chart;
 pub mod form_factors;
 pub mod methods;
 pub mod paper;
-pub mod plot;
 pub mod quality;
 pub mod rays;
 pub mod rng;
@@ -18,22 +17,11 @@ use hemi::analytic::bezier_newton;
 use hemi::pass1::form_factors;
 use hemi::scene::{Scene, ScenePatch};
 use hemi::settings::Pass1Settings;
-use hemi::solve::{gauss_seidel, SolveSettings};
+use hemi::solve::SolveSettings;
 use hemi_kernel::geometry::{Bezier, Polygon, Subdivision, Vec3};
 use hemi_kernel::patch::Shape;
 use std::io::Write;
 use std::time::Instant;
-
-fn beziers(scene: &Scene) -> Vec<Bezier> {
-    scene
-        .patches
-        .iter()
-        .filter_map(|p| match p.shape {
-            Shape::Bezier(b) => Some(b),
-            _ => None,
-        })
-        .collect()
-}
 
 /// Rays aimed at random points of random patches from 0.5 to 3 units away, within about 40° of
 /// the normal, with the f64 Newton reference of each: (patch, origin, direction, t, u, v).
@@ -69,7 +57,7 @@ pub fn bezier_accuracy(
     out: &mut impl Write,
     svg: Option<&std::path::Path>,
 ) -> Result<()> {
-    let patches = beziers(scene);
+    let patches = scene.bezier_patches();
     anyhow::ensure!(!patches.is_empty(), "the scene has no Bezier patches");
     let size = patches.iter().fold(0.0f32, |m, b| m.max(b.bounds().size())) as f64;
     let rays = aimed_rays(&patches, 2000);
@@ -230,9 +218,8 @@ pub fn bezier_vs_tessellated(
         let np = sc.patches.len();
         let rows: usize = ff.elements.iter().map(|e| e.row.len()).sum();
         let bytes = np * np * 8 + rows * 8;
-        let rho: Vec<[f64; 3]> = (0..np).map(|i| sc.material_of(i).diffuse).collect();
-        let e: Vec<[f64; 3]> = (0..np).map(|i| sc.material_of(i).emission).collect();
-        let sol = gauss_seidel(ff.channels(), &rho, &e, &SolveSettings::default())?;
+        let sol =
+            hemi::solve::SceneParts::gauss_seidel(&sc, ff.channels(), &SolveSettings::default())?;
         let teapot = area_mean(&sc, &sol.radiosity, |p| p.name.starts_with("teapot"));
         writeln!(
             out,

@@ -3,14 +3,14 @@
 //! rays against R. The reference of (a) is a converged run of a different method: stratified
 //! Monte Carlo at a much larger ray budget, at the same K.
 
-use super::plot::linear;
+use crate::chart::linear::linear;
 use crate::chart::{log_log, Series};
 use anyhow::{Context, Result};
 use hemi::method::Method;
 use hemi::pass1::form_factors;
 use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
-use hemi::solve::{direct, System};
+use hemi::solve::{direct, SceneParts};
 use hemi_kernel::hemisphere::ray_count;
 use std::io::Write;
 use std::path::Path;
@@ -20,16 +20,13 @@ fn radiosity(scene: &Scene, settings: &Pass1Settings) -> Result<(Vec<[f64; 3]>, 
     let t0 = Instant::now();
     let ff = form_factors(&hemi::backend::soft(scene, settings)?, &|_| {})?;
     let secs = t0.elapsed().as_secs_f64();
-    let n = scene.patches.len();
-    let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
-    let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
     // the dense solve: the chart shows pass 1's error alone, not a solver's tolerance
-    let sol = direct::solve(&System::new(ff.channels(), &rho, &e)?)?;
+    let parts = SceneParts::new(scene, ff.channels());
+    let sol = direct::solve(&parts.system(ff.channels())?)?;
     Ok((sol.radiosity, ff.stats.rays, secs))
 }
 
 /// Prints the table of fig. 9a/9b and writes `fig9a.svg` and `fig9b.svg` into `svg_dir`.
-#[allow(clippy::too_many_arguments, reason = "the figure's knobs")]
 pub fn bench_fig9(
     scene: &Scene,
     patches: &[&str],

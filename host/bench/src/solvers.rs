@@ -7,7 +7,7 @@ use hemi::pass1::form_factors;
 use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
 use hemi::solve::{
-    diagnose, direct, gauss_seidel, progressive, sor, Solution, SolveSettings, System,
+    diagnose, direct, gauss_seidel, progressive, sor, SceneParts, Solution, SolveSettings, System,
 };
 use std::io::Write;
 use std::path::Path;
@@ -238,10 +238,9 @@ pub fn bench_solvers(
     ] {
         let ff = form_factors(&hemi::backend::soft(scene, settings)?, &|_| {})?;
         let n = scene.patches.len();
-        let rho: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).diffuse).collect();
-        let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();
         let areas: Vec<f64> = scene.patches.iter().map(|p| p.area as f64).collect();
-        let system = System::new(ff.channels(), &rho, &e)?;
+        let parts = SceneParts::new(scene, ff.channels());
+        let system = parts.system(ff.channels())?;
         let rs = runs(&system, &areas, &solve_settings);
         let Series2(series) = table(out, label, &system, &rs, closed)?;
         if let Some(dir) = svg_dir {

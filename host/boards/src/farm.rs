@@ -18,8 +18,8 @@ use std::time::{Duration, Instant};
 
 use anyhow::{anyhow, bail, Context, Result};
 use hemi_kernel::link::{
-    AccelKind, EngineStats, ErrorCode, HelloInfo, JobConfig, Request, Response, TraceSettings,
-    TraceStats, MAX_LOBE_CHUNK,
+    AccelKind, EngineStats, ErrorCode, Feature, HelloInfo, JobConfig, Request, Response,
+    TraceSettings, TraceStats, MAX_LOBE_CHUNK,
 };
 use hemi_kernel::optics::Surface;
 use hemi_kernel::patch::Patch;
@@ -392,7 +392,7 @@ impl Farm {
             other => bail!("unexpected answer to Configure: {other:?}"),
         }
         let cordic = *self.cordic.lock().map_err(|_| anyhow!("poisoned"))?;
-        if conn.hello.protocol >= 3 {
+        if conn.hello.supports(Feature::Tracing) {
             let t = setup.tracing;
             match call(link, &Request::Tracing(t)).with_context(|| {
                 format!(
@@ -434,7 +434,7 @@ impl Farm {
             Response::SceneAck { .. } => {}
             other => bail!("unexpected answer to SceneBegin: {other:?}"),
         }
-        if conn.hello.protocol >= 3 {
+        if conn.hello.supports(Feature::LobeTable) {
             for (c, chunk) in setup.weights.chunks(MAX_LOBE_CHUNK).enumerate() {
                 let req = Request::SceneLobes {
                     first: u16::try_from(c * MAX_LOBE_CHUNK).context("lobe table too long")?,
@@ -452,7 +452,7 @@ impl Farm {
             // built, which changed SceneSurface's encoding: protocol 4 is the first whose boards
             // all read it.
             anyhow::ensure!(
-                setup.surfaces.is_empty() || conn.hello.protocol >= 4,
+                setup.surfaces.is_empty() || conn.hello.supports(Feature::OpticsTable),
                 "the board speaks protocol {}: its optics table lacks the back sides' columns \
                  (protocol 4); flash a newer firmware for specular scenes",
                 conn.hello.protocol
@@ -496,7 +496,11 @@ impl Farm {
             .map(|slot| {
                 let mut s = slot.lock().map_err(|_| anyhow!("poisoned"))?;
                 let conn = s.conn.as_mut().context("not connected")?;
-                anyhow::ensure!(conn.hello.protocol >= 3, "protocol {}", conn.hello.protocol);
+                anyhow::ensure!(
+                    conn.hello.supports(Feature::TraceStats),
+                    "protocol {}",
+                    conn.hello.protocol
+                );
                 match conn.link.call(&Request::TraceStats, CALL_TIMEOUT)? {
                     Response::TraceStats(st) => Ok(st),
                     other => bail!("unexpected answer to TraceStats: {other:?}"),

@@ -3,7 +3,8 @@
 use crate::link::{Link, Retry};
 use crate::qemu::QemuBoard;
 use anyhow::{bail, Context, Result};
-use hemi_kernel::link::{AccelKind, HelloInfo, KERNEL_CAPACITIES, PROTOCOL_VERSION};
+use hemi_kernel::jobs::KERNEL_CAPACITIES;
+use hemi_kernel::link::{AccelKind, HelloInfo, PROTOCOL_VERSION};
 use std::fmt;
 use std::path::{Path, PathBuf};
 use std::time::Duration;

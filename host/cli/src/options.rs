@@ -195,8 +195,8 @@ pub struct SamplingArgs {
 }
 
 impl SamplingArgs {
-    /// The settings, K defaulting to 16 (2 when `adaptive`); `--quality` is applied by
-    /// [`SamplingArgs::settings_for`].
+    /// The settings, checked, K defaulting to 16 (2 when `adaptive`); `--quality` is applied by
+    /// [`SamplingArgs::for_scene`] once the scene is loaded.
     pub fn settings(&self, adaptive: bool) -> Result<Pass1Settings> {
         if self.circles < 2 || self.circles > 1024 {
             bail!("--circles must be between 2 and 1024");
@@ -221,10 +221,14 @@ impl SamplingArgs {
         })
     }
 
-    /// [`SamplingArgs::settings`] with `--quality` applied for `scene` (saying on stderr what it
-    /// picked).
-    pub fn settings_for(&self, scene: &Scene, adaptive: bool) -> Result<Pass1Settings> {
-        let mut settings = self.settings(adaptive)?;
+    /// `settings` (from [`SamplingArgs::settings`]) with `--quality` applied for `scene`
+    /// (saying on stderr what it picked).
+    pub fn for_scene(
+        &self,
+        mut settings: Pass1Settings,
+        scene: &Scene,
+        adaptive: bool,
+    ) -> Pass1Settings {
         if let Some(q) = self.quality {
             let p = if adaptive {
                 hemi::quality::apply_adaptive(q.into(), scene, &mut settings)
@@ -233,7 +237,7 @@ impl SamplingArgs {
             };
             eprintln!("{}", p.why);
         }
-        Ok(settings)
+        settings
     }
 }
 

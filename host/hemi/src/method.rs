@@ -109,7 +109,7 @@ impl Shooter {
 
     /// Shoots sample point `point` (index `q` on patch `patch`) and accumulates its element row
     /// into `row` (zeroed by the caller), as [`shoot_hemisphere`] does.
-    #[allow(clippy::too_many_arguments, reason = "the inputs of one shot")]
+    #[expect(clippy::too_many_arguments, reason = "the inputs of one shot")]
     pub fn shoot<A: Accelerator>(
         &mut self,
         accel: &mut A,

@@ -1,13 +1,15 @@
 //! What a backend is asked to shoot: hemispheres at sample points, each named by its patch and
 //! its cell of a lattice, and the element rows F_iq,· that come back (paper §4.1).
 //!
-//! The lattice rule lives here once for the host: a polygon patch gets K×K points, a Bezier
-//! patch the 4×4 of paper §7 whatever K, a pure mirror none (it has no column and gathers
-//! nothing), and the back side of a translucent sheet its front's points facing the other way.
+//! The lattice rule is the kernel's (`hemi_kernel::sampling::uniform_side`, shared with the
+//! boards' job engine): a polygon patch gets K×K points, a Bezier patch the 4×4 of paper §7
+//! whatever K, a pure mirror none (it has no column and gathers nothing); the back side of a
+//! translucent sheet has its front's points facing the other way.
 
 use crate::scene::{Scene, Sides};
-use hemi_kernel::patch::Shape;
-use hemi_kernel::sampling::{bezier_sample, grid_sample, lattice_sample, SamplePoint};
+use hemi_kernel::sampling::{
+    lattice_sample, uniform_count, uniform_sample, uniform_side, SamplePoint,
+};
 
 /// Where a shot's point lies, which decides how a board is asked for it and which spin ψ its
 /// hemisphere gets (the cell index q picks the spin, `spin_for_sample`).
@@ -59,47 +61,33 @@ pub struct ElementRow {
     pub row: Vec<(u32, [f32; 3])>,
 }
 
-/// The side of patch `i` of the uniform lattice at K = `k`: K on a polygon, the 4 of §7 on a
-/// Bezier patch, 0 on a pure specular patch (it shoots no hemisphere).
+/// The side of patch `i` of the uniform lattice at K = `k`: the kernel's rule
+/// (`sampling::uniform_side`, which the boards' job engine uses too) for the patch's shape
+/// and material.
 pub fn lattice_side(scene: &Scene, i: usize, k: u32) -> u32 {
-    if !scene.material_of(i).is_diffuse() {
-        return 0;
-    }
-    match scene.patches[i].shape {
-        Shape::Polygon(_) => k,
-        Shape::Bezier(_) => 4,
-    }
+    let diffuse = scene.material_of(i).is_diffuse();
+    uniform_side(&scene.patches[i].shape, diffuse, k)
 }
 
 /// How many sample points patch `i` gets (see [`sample_points`]), without placing them.
 pub fn sample_count(scene: &Scene, i: usize, k: u32) -> usize {
-    let side = lattice_side(scene, i, k) as usize;
-    side * side
+    let diffuse = scene.material_of(i).is_diffuse();
+    uniform_count(&scene.patches[i].shape, diffuse, k) as usize
 }
 
 /// The sample points of patch `i`: K×K for a polygon, the 16 points of paper §7 for a Bezier
 /// patch (4×4 whatever K); none for a pure specular patch. The back side of a translucent sheet
 /// has its front's points, facing the other way.
 pub fn sample_points(scene: &Scene, i: usize, k: u32) -> Vec<SamplePoint> {
-    let patch = &scene.patches[i];
-    if !scene.material_of(i).is_diffuse() {
-        return Vec::new();
-    }
-    if let Sides::Back { front } = patch.sides {
-        let mut points = sample_points(scene, front, k);
-        for p in &mut points {
-            p.normal = -p.normal;
-        }
-        return points;
-    }
-    let side = lattice_side(scene, i, k);
-    let cells = (0..side).flat_map(|b| (0..side).map(move |a| (a, b)));
-    match &patch.shape {
-        Shape::Polygon(poly) => cells.map(|(a, b)| grid_sample(poly, k, a, b)).collect(),
-        Shape::Bezier(bez) => cells
-            .map(|(a, b)| bezier_sample(bez, a, b, patch.area))
-            .collect(),
-    }
+    let (at, flip) = match scene.patches[i].sides {
+        Sides::Back { front } => (front, true),
+        _ => (i, false),
+    };
+    let patch = &scene.patches[at];
+    (0..sample_count(scene, i, k) as u32)
+        .map(|q| uniform_sample(&patch.shape, patch.area, k, q))
+        .map(|p| if flip { p.flipped() } else { p })
+        .collect()
 }
 
 /// The uniform shots of patch `i` at K = `k`, in the order of [`sample_points`].
@@ -120,9 +108,7 @@ pub fn uniform_shots(scene: &Scene, i: usize, k: u32) -> impl Iterator<Item = Sh
 pub fn cell_point(scene: &Scene, i: usize, k: u32, a: u32, b: u32) -> SamplePoint {
     let patch = &scene.patches[i];
     if let Sides::Back { front } = patch.sides {
-        let mut p = cell_point(scene, front, k, a, b);
-        p.normal = -p.normal;
-        return p;
+        return cell_point(scene, front, k, a, b).flipped();
     }
     lattice_sample(&patch.shape, patch.area, k, a, b)
 }

@@ -24,7 +24,10 @@ use crate::patch::Patch;
 ///   model's CORDIC settings (`Cordic`) and the specular counters (`TraceStats`); every message
 ///   of version 2 is unchanged.
 /// - 4: `ShootLevel` (pass-1 jobs on a lattice of any k, for adaptive sampling) and `Query`
-///   (irradiance through specular surfaces); every message of version 3 is unchanged.
+///   (irradiance through specular surfaces); every message of version 3 is unchanged. The
+///   optics table is read as this build encodes it, with the back sides of translucent sheets.
+///
+/// [`Feature`] names each of these, and [`HelloInfo::supports`] says whether a link has it.
 pub const PROTOCOL_VERSION: u16 = 4;
 /// The oldest protocol this build still speaks: the handshake settles on the older of the two
 /// sides' versions if it is at least this, and the host sends only that version's messages.
@@ -46,7 +49,7 @@ pub const MAX_LOBE_CHUNK: usize = 16;
 pub const MAX_HITS: usize = 80;
 
 /// Host → board.
-#[allow(
+#[expect(
     clippy::large_enum_variant,
     reason = "no heap on the board: a message is decoded once into one bounded stack slot"
 )]
@@ -229,10 +232,6 @@ impl Request {
 }
 
 /// Board → host. Every response carries the id of the request it answers (see `codec`).
-#[allow(
-    clippy::large_enum_variant,
-    reason = "no heap on the board: a message is encoded from one bounded stack slot"
-)]
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Response {
     /// The handshake.
@@ -473,6 +472,98 @@ pub struct HelloInfo {
     pub accel: AccelKind,
     /// The board's limits.
     pub caps: Capacities,
+}
+
+impl HelloInfo {
+    /// Whether the link can use `feature`: the handshake's version (the older of the two sides')
+    /// is at least the one that added it. Hosts ask this instead of comparing versions, so
+    /// what a version brought is written once, in [`Feature::since`].
+    pub fn supports(&self, feature: Feature) -> bool {
+        self.protocol >= feature.since()
+    }
+}
+
+/// What each protocol version added, by name: a host asks [`HelloInfo::supports`] before it
+/// sends the messages of a feature, and names the feature (its `Display`) when a board lacks
+/// it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Feature {
+    /// The job engine (v2): scene upload, `Configure`, `Shoot`, `Trace`, `Gather`,
+    /// `EngineStats`. Every version this build speaks has it.
+    Jobs,
+    /// The specular settings, Δ, bounces and stack frames (`Tracing`, v3).
+    Tracing,
+    /// The accelerator's CORDIC iterations and word width (`Cordic`, v3).
+    Cordic,
+    /// The specular counters (`TraceStats`, v3).
+    TraceStats,
+    /// The lobe-weight table of specular materials (`SceneLobes`, v3).
+    LobeTable,
+    /// Pass 2 through specular surfaces, weighted reports per image row (`TraceRow`, v3).
+    TraceRow,
+    /// The optics table as this build encodes it (`SceneSurface` with the back sides'
+    /// columns): `Surface` gained `back_column` after v3 was first built, so v3 builds do not
+    /// agree on its encoding and only v4 boards can be sent one (specular and translucent
+    /// scenes).
+    OpticsTable,
+    /// The back sides of translucent sheets named past the patches (patch n + i in `Shoot`,
+    /// `ShootLevel` and the weighted reports, v4).
+    BackSides,
+    /// Pass-1 jobs on a k×k lattice of any k, for adaptive sampling (`ShootLevel`, v4).
+    ShootLevel,
+    /// Irradiance through specular surfaces (`Query`, v4).
+    Query,
+}
+
+impl Feature {
+    /// Every feature, oldest first.
+    pub const ALL: [Feature; 10] = [
+        Feature::Jobs,
+        Feature::Tracing,
+        Feature::Cordic,
+        Feature::TraceStats,
+        Feature::LobeTable,
+        Feature::TraceRow,
+        Feature::OpticsTable,
+        Feature::BackSides,
+        Feature::ShootLevel,
+        Feature::Query,
+    ];
+
+    /// The protocol version that added it (see [`PROTOCOL_VERSION`] for each version's list).
+    pub const fn since(self) -> u16 {
+        match self {
+            Feature::Jobs => 2,
+            Feature::Tracing
+            | Feature::Cordic
+            | Feature::TraceStats
+            | Feature::LobeTable
+            | Feature::TraceRow => 3,
+            Feature::OpticsTable | Feature::BackSides | Feature::ShootLevel | Feature::Query => 4,
+        }
+    }
+
+    /// What it is, in words for a message ("the board lacks {name} (protocol {since})").
+    pub const fn name(self) -> &'static str {
+        match self {
+            Feature::Jobs => "the job engine",
+            Feature::Tracing => "specular settings (Tracing)",
+            Feature::Cordic => "CORDIC settings (Cordic)",
+            Feature::TraceStats => "specular counters (TraceStats)",
+            Feature::LobeTable => "the lobe-weight table (SceneLobes)",
+            Feature::TraceRow => "pass 2 through mirrors (TraceRow jobs)",
+            Feature::OpticsTable => "the optics table with back sides (SceneSurface)",
+            Feature::BackSides => "back sides of translucent sheets",
+            Feature::ShootLevel => "adaptive sampling (ShootLevel jobs)",
+            Feature::Query => "irradiance through mirrors (Query jobs)",
+        }
+    }
+}
+
+impl core::fmt::Display for Feature {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        f.write_str(self.name())
+    }
 }
 
 /// Counters of the link since boot or the last [`Request::Reset`].

@@ -5,14 +5,15 @@
 //!   resynchronises at the next delimiter after any damage;
 //! - [`codec`]: payload = postcard of `(request id, message)`;
 //! - [`message`]: the [`Request`] and [`Response`] enums, extended by appending variants;
-//! - [`server`]: the board's end, shared by the firmware and in-process boards.
+//! - [`server`]: the board's end, shared by the firmware and in-process boards; it hands the
+//!   requests beyond the link's own to a [`JobHandler`] (a board's job engine, `crate::jobs`,
+//!   which depends on this module, never the other way).
 //!
 //! Nothing here allocates or panics on wire input; every buffer is bounded.
 
 pub mod cobs;
 pub mod codec;
 pub mod crc;
-pub mod engine;
 pub mod frame;
 pub mod message;
 pub mod server;
@@ -23,28 +24,14 @@ mod tests;
 pub use codec::{
     decode_request, decode_response, encode_request, encode_response, MessageError, NO_ID,
 };
-pub use engine::{Engine, ENGINE_CAPACITIES};
 pub use frame::{
     encode_frame, EncodeError, FrameDecoder, FrameError, FrameWriter, MaxFrameDecoder,
     MAX_FRAME_LEN, MAX_PAYLOAD_LEN, MAX_STUFFED_LEN, MAX_WIRE_LEN,
 };
 pub use message::{
-    AccelKind, Capacities, EngineStats, ErrorCode, HelloInfo, JobConfig, LinkStats, RayHit,
-    Request, Response, Rows, TraceSettings, TraceStats, WeightedHit, WeightedHits, BUILD_LEN,
-    MAX_BULK, MAX_HITS, MAX_LOBE_CHUNK, MAX_ROWS, MAX_ROW_ENTRIES, MAX_WEIGHTED,
+    AccelKind, Capacities, EngineStats, ErrorCode, Feature, HelloInfo, JobConfig, LinkStats,
+    RayHit, Request, Response, Rows, TraceSettings, TraceStats, WeightedHit, WeightedHits,
+    BUILD_LEN, MAX_BULK, MAX_HITS, MAX_LOBE_CHUNK, MAX_ROWS, MAX_ROW_ENTRIES, MAX_WEIGHTED,
     MIN_PROTOCOL_VERSION, PROTOCOL_VERSION,
 };
 pub use server::{JobHandler, LinkServer, NoEngine};
-
-/// The kernel's fixed budgets, reported in the handshake by every backend that runs the kernel.
-///
-/// In-process engines (the host's soft and model backends) have no fixed tables; these are the
-/// budgets they report. A board's engine reports [`ENGINE_CAPACITIES`], which it enforces.
-pub const KERNEL_CAPACITIES: Capacities = Capacities {
-    max_patches: 256,
-    max_sample_rows: 64,
-    stack_depth: 16,
-    max_frame_len: MAX_FRAME_LEN as u16,
-    max_circles: crate::hemisphere::MAX_CIRCLES as u16,
-    max_in_flight: 1,
-};

@@ -2,11 +2,11 @@
 //!
 //! It lives in the kernel, not the firmware, so the exact code the firmware runs is unit-tested on
 //! the host and on the target, and so an in-process board (the soft backend, tests) speaks the
-//! same protocol. It knows only link-level messages; engine messages are added beside them.
+//! same protocol. It knows only link-level messages; the rest go to a [`JobHandler`] (a board's
+//! job engine), so the link depends on no engine.
 
 use super::codec::{decode_request, encode_response, MessageError, NO_ID};
 use super::crc::crc32;
-use super::engine::{AccelProvider, Engine, Platform};
 use super::frame::{FrameError, MaxFrameDecoder};
 use super::message::{
     EngineStats, ErrorCode, HelloInfo, LinkStats, Request, Response, MAX_BULK, MIN_PROTOCOL_VERSION,
@@ -31,18 +31,6 @@ pub struct NoEngine;
 impl JobHandler for NoEngine {
     fn handle(&mut self, _id: u32, _req: &Request) -> Option<Response> {
         None
-    }
-}
-
-impl<P: AccelProvider, T: Platform> JobHandler for Engine<P, T> {
-    fn handle(&mut self, id: u32, req: &Request) -> Option<Response> {
-        Engine::handle(self, id, req)
-    }
-    fn reset(&mut self) {
-        Engine::reset(self)
-    }
-    fn engine_stats(&self, link: LinkStats) -> Option<EngineStats> {
-        Some(self.stats(link))
     }
 }
 

@@ -51,7 +51,7 @@ pub struct Placement {
 /// direction k in scene space (unit), `weight(k)` its share of the form factor. Every ray that
 /// reaches a diffuse side (see [`crate::optics::Surface::column_for`]) adds its weight to that
 /// side's column of `row`.
-#[allow(clippy::too_many_arguments, reason = "one batched shot")]
+#[expect(clippy::too_many_arguments, reason = "one batched shot")]
 pub(crate) fn cast_weighted<A: Accelerator>(
     accel: &mut A,
     optics: &Optics<'_>,

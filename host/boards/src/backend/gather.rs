@@ -6,10 +6,10 @@
 use super::Boards;
 use crate::index::{seen_patch, BoardPatch};
 use crate::protocol::require;
-use crate::protocol::Feature;
 use anyhow::{bail, Context, Result};
 use hemi::backend::{Query, Seen};
 use hemi_kernel::hemisphere::rays_on_ring;
+use hemi_kernel::link::Feature;
 use hemi_kernel::link::{Request, Response, WeightedHit, MAX_HITS, MAX_WEIGHTED};
 
 impl Boards<'_> {

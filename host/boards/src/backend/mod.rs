@@ -9,7 +9,6 @@ mod trace;
 
 use crate::farm::{Farm, Setup};
 use crate::protocol::require;
-use crate::protocol::Feature;
 use anyhow::{Context, Result};
 use hemi::backend::{Backend, Progress, Query, Seen, Traced};
 use hemi::optics::SceneOptics;
@@ -19,6 +18,7 @@ use hemi::shots::{ElementRow, Shot};
 use hemi_kernel::accel::{Hit, Ray};
 use hemi_kernel::camera::Camera;
 use hemi_kernel::hemisphere::OwnedHemisphere;
+use hemi_kernel::link::Feature;
 use hemi_kernel::link::{AccelKind, JobConfig, TraceSettings};
 use hemi_kernel::optics::Surface;
 use hemi_kernel::tracer::ShotStats;
@@ -83,7 +83,7 @@ impl<'a> Boards<'a> {
         if specular || scene.has_translucency() {
             require(
                 farm,
-                Feature::Optics,
+                Feature::OpticsTable,
                 "specular and translucent scenes on boards",
             )?;
         }

@@ -5,11 +5,11 @@
 use super::Boards;
 use crate::index::BoardPatch;
 use crate::protocol::require;
-use crate::protocol::Feature;
 use anyhow::{bail, Context, Result};
 use hemi::backend::Progress;
 use hemi::shots::{Cell, ElementRow, Shot};
 use hemi_kernel::hemisphere::ray_count;
+use hemi_kernel::link::Feature;
 use hemi_kernel::link::{Request, Response, Rows};
 use hemi_kernel::tracer::ShotStats;
 
@@ -58,9 +58,7 @@ impl Boards<'_> {
     /// Runs (first shot, count) of consecutive cells of one patch's lattice, at most as many as
     /// one answer holds.
     fn spans(&self, shots: &[Shot]) -> Vec<(usize, u16)> {
-        let per_job = usize::from(hemi_kernel::link::engine::rows_per_job(
-            self.scene.patches.len(),
-        ));
+        let per_job = usize::from(hemi_kernel::jobs::rows_per_job(self.scene.patches.len()));
         let follows = |a: &Shot, b: &Shot, c: u32| {
             a.patch == b.patch
                 && match (a.cell, b.cell) {

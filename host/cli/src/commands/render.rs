@@ -45,13 +45,13 @@ pub struct RenderArgs {
 /// Runs `hemi render`.
 pub fn run(args: RenderArgs) -> Result<()> {
     let adaptive = args.adaptive.adaptive;
-    args.sampling.settings(adaptive)?;
+    let checked = args.sampling.settings(adaptive)?;
     anyhow::ensure!(
         (1..=4096).contains(&args.spp),
         "--spp must be between 1 and 4096"
     );
     let scene = hemi::scene::load(&args.scene)?;
-    let settings = args.sampling.settings_for(&scene, adaptive)?;
+    let settings = args.sampling.for_scene(checked, &scene, adaptive);
     let camera = hemi::render::camera_of(&scene)?;
     let engine = args.engine.open()?;
     anyhow::ensure!(

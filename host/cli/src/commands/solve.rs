@@ -28,9 +28,9 @@ pub struct SolveArgs {
 /// Runs `hemi solve`, writing to `out`.
 pub fn run(args: SolveArgs, out: &mut impl Write) -> Result<()> {
     let adaptive = args.adaptive.adaptive;
-    args.sampling.settings(adaptive)?;
+    let checked = args.sampling.settings(adaptive)?;
     let scene = hemi::scene::load(&args.scene)?;
-    let settings = args.sampling.settings_for(&scene, adaptive)?;
+    let settings = args.sampling.for_scene(checked, &scene, adaptive);
     let engine = args.engine.open()?;
     let backend = engine.backend(&scene, &settings)?;
     let stats = args.engine.boards.board_stats;

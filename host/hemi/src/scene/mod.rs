@@ -144,6 +144,17 @@ impl Scene {
             .map(|p| Patch { shape: p.shape })
             .collect()
     }
+    /// The Bezier patches of the scene, in scene order (the teapot's, for the Bezier units'
+    /// tests and benchmarks).
+    pub fn bezier_patches(&self) -> Vec<hemi_kernel::geometry::Bezier> {
+        self.patches
+            .iter()
+            .filter_map(|p| match p.shape {
+                Shape::Bezier(b) => Some(b),
+                _ => None,
+            })
+            .collect()
+    }
     /// Number of front patches (all but the back sides, which come last).
     pub fn fronts(&self) -> usize {
         self.patches

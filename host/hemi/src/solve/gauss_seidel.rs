@@ -24,7 +24,7 @@ pub fn solve(system: &System<'_>, settings: &SolveSettings) -> Result<Solution> 
 /// One relaxed Gauss-Seidel update of patch i, channel c: the Gauss-Seidel value
 /// `(E_i + ρ_i Σ_{j≠i} F_ij B_j) / (1 − ρ_i F_ii)` blended as `B_i ← (1−ω) B_i + ω·GS`.
 #[inline]
-#[allow(
+#[expect(
     clippy::needless_range_loop,
     reason = "B_i is read through the row and written in place"
 )]

@@ -2,7 +2,7 @@
 //! one place ([`SceneParts`]), and the coupled form `B = E + K B` of a scene with translucent
 //! sheets, `K_s· = ρ_s F_s· + τ_s F_t·` with t the twin of side s (`scene::translucent`).
 
-use super::diagnose;
+use super::{diagnose, Solution, SolveSettings};
 use crate::scene::Scene;
 use anyhow::Result;
 
@@ -56,6 +56,17 @@ impl SceneParts {
     /// Emission per patch.
     pub fn e(&self) -> &[[f64; 3]] {
         &self.e
+    }
+
+    /// The system of `scene` over `f` solved by Gauss-Seidel (the paper's solver, §6.4).
+    pub fn gauss_seidel(
+        scene: &Scene,
+        f: Channels<'_>,
+        settings: &SolveSettings,
+    ) -> Result<Solution> {
+        let parts = SceneParts::new(scene, f);
+        let system = parts.system(f)?;
+        super::gauss_seidel(system.f, system.rho, system.e, settings)
     }
 }
 

@@ -1,7 +1,7 @@
 //! A linear-axes SVG line chart with optional horizontal reference lines, for the charts the
-//! log–log helper of [`crate::chart`] does not suit (a value converging, paper fig. 9a).
+//! log–log chart of [`super`] does not suit (a value converging, paper fig. 9a).
 
-use crate::chart::Series;
+use super::Series;
 use std::fmt::Write;
 
 const W: f64 = 640.0;
@@ -88,7 +88,7 @@ pub fn linear(
         );
         y += ys;
     }
-    crate::chart::frame(&mut s, R, x_label, y_label, note);
+    super::frame(&mut s, R, x_label, y_label, note);
     let mut legend = 0;
     for (i, (v, label)) in refs.iter().enumerate() {
         let c = COLOURS[i % COLOURS.len()];
@@ -116,7 +116,7 @@ pub fn linear(
             .iter()
             .map(|p| format!("{:.1},{:.1}", px(p.0), py(p.1)))
             .collect();
-        crate::chart::polyline(&mut s, &path, c);
+        super::polyline(&mut s, &path, c);
         let ly = T + 14.0 + 18.0 * legend as f64;
         legend += 1;
         let _ = writeln!(

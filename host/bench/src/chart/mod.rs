@@ -1,6 +1,8 @@
-//! A minimal SVG line chart (log–log axes) for the figures of docs/ACCURACY.md: a few dozen
-//! lines instead of a plotting crate, so the benchmarks that regenerate the figures stay quick
-//! to build.
+//! The benchmarks' SVG line charts for the figures of docs/ACCURACY.md and docs/PERFORMANCE.md:
+//! log–log axes here, linear axes in [`linear`]. A few dozen lines instead of a plotting crate,
+//! so the benchmarks that regenerate the figures stay quick to build.
+
+pub mod linear;
 
 use std::fmt::Write;
 
