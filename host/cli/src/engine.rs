@@ -1,7 +1,7 @@
 //! The `--backend` a command runs on: parsed and opened once (boards connected, QEMU booted),
 //! then made into the library's backend for the scene and settings of the run.
 
-use crate::options::EngineArgs;
+use crate::options::{BoardAccelArg, EngineArgs};
 use anyhow::{bail, Result};
 use hemi::backend::{Backend, InProcess, Model, Soft};
 use hemi::scene::Scene;
@@ -51,9 +51,9 @@ impl EngineArgs {
                     };
                     let farm = Farm::connect(&specs, options)?;
                     farm.set_cordic(self.cordic_iterations, self.cordic_width)?;
-                    let accel = match self.boards.board_accel.as_deref() {
-                        Some("soft") => AccelKind::Soft,
-                        _ => AccelKind::None,
+                    let accel = match self.boards.board_accel {
+                        Some(BoardAccelArg::Soft) => AccelKind::Soft,
+                        None => AccelKind::None,
                     };
                     Ok(Engine::Boards {
                         farm: Box::new(farm),

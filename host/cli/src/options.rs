@@ -65,6 +65,13 @@ pub enum SolverArg {
     Progressive,
 }
 
+/// An engine boards can be asked for instead of their own.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum BoardAccelArg {
+    /// The firmware's soft fallback: the kernel in f32 on the board's CPU.
+    Soft,
+}
+
 /// What adaptive sampling's gradient test compares.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum TestArg {
@@ -150,9 +157,10 @@ pub struct BoardArgs {
     /// Firmware ELF QEMU boards boot (default: built from this checkout if missing).
     #[arg(long, env = "HEMI_FIRMWARE_ELF")]
     pub firmware: Option<PathBuf>,
-    /// Ask boards for their soft fallback engine instead of their accelerator (measurements).
-    #[arg(long, env = "HEMI_BOARD_ACCEL", value_parser = ["soft"])]
-    pub board_accel: Option<String>,
+    /// The engine boards run jobs on (default: each board's own accelerator); `soft` asks for
+    /// their soft fallback (for measurements).
+    #[arg(long, value_enum, env = "HEMI_BOARD_ACCEL")]
+    pub board_accel: Option<BoardAccelArg>,
     /// Print the boards' counters (jobs, rays, ticks per ray, stack, link) after each pass.
     #[arg(long, env = "HEMI_BOARD_STATS")]
     pub board_stats: bool,

@@ -1,9 +1,10 @@
 //! hemi's host library: scenes, sample points, the backend trait and its in-process engines,
 //! pass 1, the radiosity solve, radiosity fields, pass 2 and irradiance queries.
 //!
-//! Layers, each using only those above it (docs/ARCHITECTURE.md): `scene`, `analytic`;
-//! `optics`, `method`, `settings`, `shots`; `backend`; `pass1`; `solve`; `radiosity`; then the
-//! passes built on them: `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay`.
+//! From the bottom up (no module imports one further down this list, and `cargo xtask layout`
+//! checks that the imports have no cycle): `scene`, `analytic`; `optics`, `method`, `settings`,
+//! `shots`; `backend`; `pass1`; `solve`; `radiosity`; then the passes built on them:
+//! `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay` (docs/ARCHITECTURE.md).
 #![forbid(unsafe_code)]
 
 pub mod adaptive;

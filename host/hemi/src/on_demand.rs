@@ -7,7 +7,7 @@ use crate::radiosity::{element_value, Grid};
 use crate::scene::Scene;
 use crate::shots::{uniform_shots, ElementRow};
 use crate::solve::progressive::progressive;
-use crate::solve::{reflectance_and_emission, Solution, SolveSettings};
+use crate::solve::{coupled_entry, reflectance_and_emission, Solution, SolveSettings};
 use anyhow::Result;
 use std::collections::HashMap;
 
@@ -96,8 +96,8 @@ impl<'a> RowShooter<'a> {
         self.column(i, &mut f)?;
         for (j, o) in out.iter_mut().enumerate() {
             let m = self.scene().material_of(j);
-            let through = self.scene().twin(j).map_or([0.0; 3], |t| f[t]);
-            *o = [0, 1, 2].map(|c| m.diffuse[c] * f[j][c] + m.translucency[c] * through[c]);
+            let twin = self.scene().twin(j);
+            *o = [0, 1, 2].map(|c| coupled_entry(m, c, f[j][c], twin.map(|t| f[t][c])));
         }
         Ok(())
     }

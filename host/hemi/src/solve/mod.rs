@@ -24,7 +24,9 @@ mod system;
 
 pub use diagnose::{diagnose, Diagnosis};
 pub use gauss_seidel::gauss_seidel;
-pub use system::{coupled, grey, reflectance_and_emission, Channels, SceneParts, System};
+pub use system::{
+    coupled, coupled_entry, grey, reflectance_and_emission, Channels, SceneParts, System,
+};
 
 use anyhow::Result;
 

@@ -3,7 +3,7 @@
 //! sheets, `K_s· = ρ_s F_s· + τ_s F_t·` with t the twin of side s (`scene::translucent`).
 
 use super::{diagnose, Solution, SolveSettings};
-use crate::scene::Scene;
+use crate::scene::{Material, Scene};
 use anyhow::Result;
 
 /// Form factors per channel: `f[c][i][j]`. Without coloured mirrors the three are one matrix
@@ -178,15 +178,19 @@ pub fn coupled(scene: &Scene, f: Channels<'_>) -> Option<[Vec<Vec<f64>>; 3]> {
         (0..n)
             .map(|i| {
                 let m = scene.material_of(i);
-                let (rho, tau) = (m.diffuse[c], m.translucency[c]);
                 let twin = scene.twin(i);
                 (0..n)
-                    .map(|j| {
-                        let through = twin.map_or(0.0, |t| tau * f[c][t][j]);
-                        rho * f[c][i][j] + through
-                    })
+                    .map(|j| coupled_entry(m, c, f[c][i][j], twin.map(|t| f[c][t][j])))
                     .collect()
             })
             .collect()
     }))
+}
+
+/// One entry of the coupled system in channel `c`, `K_sj = ρ_s F_sj + τ_s F_tj`, from side s's
+/// own form factor `own` and its twin t's `through` (`None` for an opaque patch): the one
+/// formula of the coupling, whether a whole matrix is formed ([`coupled`]) or a column from a
+/// shooter's row (`on_demand`).
+pub fn coupled_entry(m: &Material, c: usize, own: f64, through: Option<f64>) -> f64 {
+    m.diffuse[c] * own + through.map_or(0.0, |t| m.translucency[c] * t)
 }
