@@ -1,8 +1,10 @@
 //! `cargo xtask layout`: the architecture's invariants that the compiler does not check
 //! (docs/ARCHITECTURE.md, "Invariants"):
 //!
-//! - the modules of each host crate import one another without a cycle (a `crate::m` path in
-//!   module `n` is an edge n → m; the crate root is not a module);
+//! - the modules of each host crate import one another without a cycle: among the children of
+//!   any module (the crate root included), a path from one into another (`crate::`, `super::`
+//!   or `self::`, through the parent's re-exports) is an edge, and the edges form no cycle (a
+//!   parent may use its children, and a child its parent's own items);
 //! - the library crate `hemi` depends on no CLI, terminal, serial or process crate and reads no
 //!   environment variable;
 //! - no function of a host crate is longer than [`MAX_FN_LINES`] lines, and the CLI's `main` no
@@ -61,33 +63,96 @@ fn rust_files(dir: &Path) -> Vec<PathBuf> {
     out
 }
 
-/// The top-level module a file of `src` belongs to (`None` for the crate root).
-fn module_of(src: &Path, file: &Path) -> Option<String> {
-    let rel = file.strip_prefix(src).ok()?;
-    let first = rel.components().next()?.as_os_str().to_str()?;
-    let name = first.strip_suffix(".rs").unwrap_or(first);
-    (!matches!(name, "lib" | "main")).then(|| name.to_string())
+/// The module path of a file of `src`: `[]` for the crate root, `[a]` for `a.rs` or
+/// `a/mod.rs`, `[a, b]` for `a/b.rs`.
+fn module_path(src: &Path, file: &Path) -> Vec<String> {
+    let Ok(rel) = file.strip_prefix(src) else {
+        return Vec::new();
+    };
+    let mut parts: Vec<String> = rel
+        .components()
+        .filter_map(|c| c.as_os_str().to_str().map(str::to_string))
+        .collect();
+    let last = parts.pop().unwrap_or_default();
+    let stem = last.strip_suffix(".rs").unwrap_or(&last).to_string();
+    let root = parts.is_empty() && (stem == "lib" || stem == "main");
+    if stem != "mod" && !root {
+        parts.push(stem);
+    }
+    parts
 }
 
-/// The top-level modules a source text names through `crate::`, including
-/// `use crate::{a, b::c}` groups.
-fn crate_paths(text: &str) -> BTreeSet<String> {
-    let mut out = BTreeSet::new();
-    for (i, _) in text.match_indices("crate::") {
-        if text[..i].ends_with(|c: char| c.is_alphanumeric() || c == '_') {
-            continue; // e.g. `hemi_crate::`
-        }
-        let rest = &text[i + "crate::".len()..];
-        if let Some(group) = rest.strip_prefix('{') {
-            let end = group.find('}').unwrap_or(group.len());
-            for item in group[..end].split(',') {
-                out.extend(ident(item.trim()));
+/// Every path a source text names from inside its crate (`crate::…`, `super::…`, `self::…`),
+/// made absolute from the module `here`, with `use` groups (`a::{b, c::{d}}`) expanded.
+fn named_paths(text: &str, here: &[String]) -> Vec<Vec<String>> {
+    let mut out = Vec::new();
+    for start in ["crate::", "super::", "self::"] {
+        for (i, _) in text.match_indices(start) {
+            if text[..i].ends_with(|c: char| c.is_alphanumeric() || c == '_' || c == ':') {
+                continue; // e.g. `hemi_crate::`, or the second `super::` of `super::super::`
             }
-        } else {
-            out.extend(ident(rest));
+            let mut rest = &text[i + start.len()..];
+            let mut base: Vec<String> = match start {
+                "crate::" => Vec::new(),
+                "self::" => here.to_vec(),
+                _ => here[..here.len().saturating_sub(1)].to_vec(),
+            };
+            while let Some(more) = rest.strip_prefix("super::") {
+                base.pop();
+                rest = more;
+            }
+            expand(rest, &base, &mut out);
         }
     }
     out
+}
+
+/// Expands the path (or `{…}` group) at the start of `rest` onto `base`.
+fn expand(rest: &str, base: &[String], out: &mut Vec<Vec<String>>) {
+    let mut path = base.to_vec();
+    let mut s = rest;
+    loop {
+        if let Some(group) = s.strip_prefix('{') {
+            for item in split_group(group) {
+                expand(item.trim(), &path, out);
+            }
+            return;
+        }
+        let Some(name) = ident(s) else {
+            break;
+        };
+        s = &s[name.len()..];
+        path.push(name);
+        match s.strip_prefix("::") {
+            Some(more) => s = more,
+            None => break,
+        }
+    }
+    if path.len() > base.len() {
+        out.push(path);
+    }
+}
+
+/// The items of a `{…}` group (`group` starts after the `{`), split at its own commas.
+fn split_group(group: &str) -> Vec<&str> {
+    let (mut depth, mut from, mut items) = (0usize, 0usize, Vec::new());
+    for (i, c) in group.char_indices() {
+        match c {
+            '{' => depth += 1,
+            '}' if depth == 0 => {
+                items.push(&group[from..i]);
+                return items;
+            }
+            '}' => depth -= 1,
+            ',' if depth == 0 => {
+                items.push(&group[from..i]);
+                from = i + 1;
+            }
+            _ => {}
+        }
+    }
+    items.push(&group[from..]);
+    items
 }
 
 fn ident(s: &str) -> Option<String> {
@@ -97,22 +162,100 @@ fn ident(s: &str) -> Option<String> {
     (end > 0).then(|| s[..end].to_string())
 }
 
-/// The cycles among the top-level modules of one crate, one line each.
+/// The cycles among sibling modules of one crate (the children of one module, the crate root
+/// included), one line each. A path into a module's re-export counts as a path into the child
+/// it re-exports from; a parent may use its children, and a child its parent's own items.
 fn cycles(krate: &str, src: &Path, files: &[PathBuf]) -> Vec<String> {
-    let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
-    for f in files {
-        let Some(from) = module_of(src, f) else {
-            continue;
-        };
-        let text = fs::read_to_string(f).unwrap_or_default();
-        let code = strip_comments(&text);
-        let edges = graph.entry(from.clone()).or_default();
-        edges.extend(crate_paths(&code).into_iter().filter(|m| *m != from));
+    let texts: Vec<(Vec<String>, String)> = files
+        .iter()
+        .map(|f| {
+            let text = fs::read_to_string(f).unwrap_or_default();
+            (module_path(src, f), strip_comments(&text))
+        })
+        .collect();
+    let modules: BTreeSet<Vec<String>> = texts.iter().map(|(m, _)| m.clone()).collect();
+    let reexports = reexports(&texts, &modules);
+    // parent module → its children's edges
+    let mut graphs: BTreeMap<Vec<String>, BTreeMap<String, BTreeSet<String>>> = BTreeMap::new();
+    for (from, text) in &texts {
+        for path in named_paths(text, from) {
+            let Some(to) = target_module(&path, &modules, &reexports) else {
+                continue;
+            };
+            let common = from.iter().zip(&to).take_while(|(a, b)| a == b).count();
+            if from.len() > common && to.len() > common {
+                let graph = graphs.entry(from[..common].to_vec()).or_default();
+                let edges = graph.entry(from[common].clone()).or_default();
+                edges.insert(to[common].clone());
+            }
+        }
     }
-    find_cycles(&graph)
-        .into_iter()
-        .map(|c| format!("{krate}: import cycle {}", c.join(" → ")))
-        .collect()
+    let mut out = Vec::new();
+    for (parent, graph) in &graphs {
+        let at = match parent.is_empty() {
+            true => "the crate root".to_string(),
+            false => parent.join("::"),
+        };
+        for c in find_cycles(graph) {
+            out.push(format!(
+                "{krate}: import cycle under {at}: {}",
+                c.join(" → ")
+            ));
+        }
+    }
+    out
+}
+
+/// `pub use child::{A, B}` in a module: the item path `module::A` → the module `module::child`.
+fn reexports(
+    texts: &[(Vec<String>, String)],
+    modules: &BTreeSet<Vec<String>>,
+) -> BTreeMap<Vec<String>, Vec<String>> {
+    let mut map = BTreeMap::new();
+    for (here, text) in texts {
+        for statement in text.split(';') {
+            let Some(rest) = statement.trim().strip_prefix("pub use ") else {
+                continue;
+            };
+            let rest = rest.strip_prefix("self::").unwrap_or(rest);
+            let mut paths = Vec::new();
+            expand(rest, here, &mut paths);
+            for p in paths {
+                let child = p[..(here.len() + 1).min(p.len())].to_vec();
+                let (Some(item), true) = (p.last(), modules.contains(&child)) else {
+                    continue;
+                };
+                let mut key = here.clone();
+                key.push(item.clone());
+                if child.len() == here.len() + 1 && !modules.contains(&key) {
+                    map.insert(key, child);
+                }
+            }
+        }
+    }
+    map
+}
+
+/// The module a named path lands in: its longest prefix that is a module, following a
+/// re-export where the path meets one.
+fn target_module(
+    path: &[String],
+    modules: &BTreeSet<Vec<String>>,
+    reexports: &BTreeMap<Vec<String>, Vec<String>>,
+) -> Option<Vec<String>> {
+    let mut best = None;
+    for n in 1..=path.len() {
+        let prefix = path[..n].to_vec();
+        if modules.contains(&prefix) {
+            best = Some(prefix);
+        } else {
+            if let Some(child) = reexports.get(&prefix) {
+                best = Some(child.clone());
+            }
+            break;
+        }
+    }
+    best
 }
 
 /// Source text without `//` comments (doc links name modules without importing them).
@@ -276,11 +419,46 @@ mod tests {
         assert_eq!(found[0].first(), found[0].last());
     }
 
+    fn strings(v: &[&str]) -> Vec<String> {
+        v.iter().map(|s| s.to_string()).collect()
+    }
+
     #[test]
-    fn reads_crate_paths_and_groups() {
-        let text = "use crate::scene::Scene;\nuse crate::{backend::Backend, shots};\nlet x = crate::solve::grey(f);\nuse hemi_crate::x;";
-        let got: Vec<String> = crate_paths(text).into_iter().collect();
-        assert_eq!(got, ["backend", "scene", "shots", "solve"]);
+    fn reads_crate_super_and_nested_group_paths() {
+        let here = strings(&["solve", "system"]);
+        let text = "use crate::scene::Scene;\nuse crate::{backend::{Backend, Seen}, shots};\n\
+                    use super::{diagnose, Solution};\nlet x = hemi_crate::x;";
+        let got = named_paths(text, &here);
+        for want in [
+            &["scene", "Scene"][..],
+            &["backend", "Backend"],
+            &["backend", "Seen"],
+            &["shots"],
+            &["solve", "diagnose"],
+            &["solve", "Solution"],
+        ] {
+            assert!(got.contains(&strings(want)), "{want:?} in {got:?}");
+        }
+        assert_eq!(got.len(), 6, "{got:?}");
+    }
+
+    #[test]
+    fn finds_a_cycle_between_siblings_through_a_reexport() {
+        let dir = std::env::temp_dir().join(format!("xtask-layout-{}", std::process::id()));
+        let src = dir.join("src");
+        fs::create_dir_all(src.join("solve")).unwrap();
+        let write = |p: &str, t: &str| fs::write(src.join(p), t).unwrap();
+        write("lib.rs", "pub mod solve;\n");
+        write("solve/mod.rs", "mod a;\nmod b;\npub use a::Alpha;\n");
+        write("solve/a.rs", "use super::b::beta;\npub struct Alpha;\n");
+        write("solve/b.rs", "use super::Alpha;\npub fn beta() {}\n");
+        let found = cycles("t", &src, &rust_files(&src));
+        write("solve/b.rs", "pub fn beta() {}\n");
+        let none = cycles("t", &src, &rust_files(&src));
+        fs::remove_dir_all(&dir).unwrap();
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert!(found[0].contains("under solve"), "{found:?}");
+        assert!(none.is_empty(), "{none:?}");
     }
 
     #[test]
