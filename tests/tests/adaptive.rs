@@ -32,7 +32,7 @@ fn adaptive(margin: f64, max_depth: u32, test: Test) -> AdaptiveSettings {
 }
 
 fn solve(scene: &Scene, ff: &FormFactors) -> Solution {
-    hemi::solve::SceneParts::gauss_seidel(scene, ff.channels(), &Default::default()).unwrap()
+    hemi::solve::gauss_seidel_scene(scene, ff.channels(), &Default::default()).unwrap()
 }
 
 /// Total radiant power leaving the surfaces, Σ_i A_i B_i, per channel.

@@ -18,7 +18,7 @@ use std::time::{Duration, Instant};
 use hemi::pass1;
 use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
-use hemi_boards::{firmware_elf, BoardSpec, Boards, Farm, FarmOptions, Qemu};
+use hemi_boards::{firmware_elf, BoardSpec, Boards, Farm, FarmOptions, Qemu, QemuOptions};
 use hemi_hdl_model::ModelConfig;
 use hemi_kernel::hemisphere::DeltaRule;
 use hemi_kernel::link::AccelKind;
@@ -114,7 +114,7 @@ fn pass1_through_a_proxy_that_flips_drops_and_truncates_bytes() {
     }
     big_stack(|| {
         let elf = firmware_elf(None).unwrap();
-        let qemu = Qemu::boot(&elf).unwrap();
+        let qemu = Qemu::boot(&elf, &QemuOptions::default()).unwrap();
         let to_qemu = serialport::new(qemu.pty().to_string_lossy(), 115_200)
             .timeout(Duration::from_millis(5))
             .open()

@@ -7,7 +7,7 @@
 use hemi_tests::qemu_or_skip;
 use std::time::Duration;
 
-use hemi_boards::QemuBoard;
+use hemi_boards::{QemuBoard, QemuOptions};
 use hemi_kernel::link::{
     encode_frame, encode_request, AccelKind, ErrorCode, Request, Response, MAX_WIRE_LEN, NO_ID,
     PROTOCOL_VERSION,
@@ -24,7 +24,8 @@ fn handshake_ping_and_recovery_from_damaged_frames() {
     if !qemu_or_skip("hil_handshake") {
         return;
     }
-    let mut board = QemuBoard::boot(None).expect("boot the firmware in QEMU and handshake");
+    let mut board = QemuBoard::boot(None, &QemuOptions::default())
+        .expect("boot the firmware in QEMU and handshake");
     let pid = board.qemu().pid();
     assert!(process_alive(pid));
 

@@ -47,7 +47,7 @@ fn pass1_on(backend: &dyn Backend) -> pass1::FormFactors {
 
 fn solve(scene: &Scene, ff: &pass1::FormFactors) -> Vec<hemi::radiosity::Grid> {
     let f = ff.channels();
-    let sol = hemi::solve::SceneParts::gauss_seidel(scene, f, &Default::default()).unwrap();
+    let sol = hemi::solve::gauss_seidel_scene(scene, f, &Default::default()).unwrap();
     hemi::radiosity::grids(scene, ff, &sol)
 }
 

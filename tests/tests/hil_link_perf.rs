@@ -8,7 +8,7 @@
 
 use std::time::{Duration, Instant};
 
-use hemi_boards::{qemu_available, QemuBoard};
+use hemi_boards::{qemu_available, QemuBoard, QemuOptions};
 use hemi_kernel::link::{crc::crc32, Request, Response, MAX_BULK, PROTOCOL_VERSION};
 
 const T: Duration = Duration::from_secs(5);
@@ -34,7 +34,7 @@ fn link_latency_and_throughput() {
     // Build (or find) the firmware first so the boot time below is QEMU's and the handshake's.
     let elf = hemi_boards::firmware_elf(None).unwrap();
     let t0 = Instant::now();
-    let mut board = QemuBoard::boot(Some(&elf)).unwrap();
+    let mut board = QemuBoard::boot(Some(&elf), &QemuOptions::default()).unwrap();
     let boot = t0.elapsed();
     let hs = board.handshake.clone();
     let link = &mut board.link;

@@ -6,7 +6,7 @@
 use hemi_bench::rng::XorShift;
 use std::time::Duration;
 
-use hemi_boards::{qemu_available, QemuBoard};
+use hemi_boards::{qemu_available, QemuBoard, QemuOptions};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::link::{encode_frame, encode_request, Request, Response, MAX_WIRE_LEN};
 
@@ -66,7 +66,7 @@ fn random_frames_never_reset_the_firmware() {
         eprintln!("SKIPPED hil_soak: qemu-system-arm not found");
         return;
     }
-    let mut board = QemuBoard::boot(None).expect("boot");
+    let mut board = QemuBoard::boot(None, &QemuOptions::default()).expect("boot");
     let link = &mut board.link;
     let mut rng = XorShift::new(0x5eed_1234_abcd_0001);
     let mut frame = [0u8; MAX_WIRE_LEN];

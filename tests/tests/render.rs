@@ -24,8 +24,7 @@ fn small() -> Pass1Settings {
 
 fn solve_and_render(scene: &Scene, settings: &Pass1Settings, spp: u32) -> Image {
     let ff = form_factors(&soft(scene, settings).unwrap(), &|_| {}).unwrap();
-    let sol =
-        hemi::solve::SceneParts::gauss_seidel(scene, ff.channels(), &Default::default()).unwrap();
+    let sol = hemi::solve::gauss_seidel_scene(scene, ff.channels(), &Default::default()).unwrap();
     let g = grids(scene, &ff, &sol);
     let backend = soft(scene, settings).unwrap();
     render(&backend, &g, &camera_of(scene).unwrap(), spp, &|_| {})

@@ -289,8 +289,7 @@ fn pass_2_sees_a_light_in_a_mirror_at_k_r_times_its_radiance() {
         ..Pass1Settings::default()
     };
     let ff = form_factors(&soft(&scene, &settings).unwrap(), &|_| {}).unwrap();
-    let sol =
-        hemi::solve::SceneParts::gauss_seidel(&scene, ff.channels(), &Default::default()).unwrap();
+    let sol = hemi::solve::gauss_seidel_scene(&scene, ff.channels(), &Default::default()).unwrap();
     let grids = hemi::radiosity::grids(&scene, &ff, &sol);
     let camera = hemi::render::camera_of(&scene).unwrap();
     let out = hemi::render::render(
@@ -372,7 +371,7 @@ fn the_model_backend_agrees_with_soft_through_a_mirror() {
     }
     // The radiosities: what the model's fixed point changes in the answer.
     let solve = |ff: &hemi::pass1::FormFactors| {
-        hemi::solve::SceneParts::gauss_seidel(&scene, ff.channels(), &Default::default())
+        hemi::solve::gauss_seidel_scene(&scene, ff.channels(), &Default::default())
             .unwrap()
             .radiosity
     };

@@ -165,7 +165,7 @@ pub fn reference(
 
 fn uniform_grids(scene: &Scene, settings: &Pass1Settings) -> Result<(Vec<Grid>, usize)> {
     let ff = form_factors(&hemi::backend::soft(scene, settings)?, &|_| {})?;
-    let sol = hemi::solve::SceneParts::gauss_seidel(scene, ff.channels(), &Default::default())?;
+    let sol = hemi::solve::gauss_seidel_scene(scene, ff.channels(), &Default::default())?;
     Ok((grids(scene, &ff, &sol), ff.elements.len()))
 }
 

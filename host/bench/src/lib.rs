@@ -218,8 +218,7 @@ pub fn bezier_vs_tessellated(
         let np = sc.patches.len();
         let rows: usize = ff.elements.iter().map(|e| e.row.len()).sum();
         let bytes = np * np * 8 + rows * 8;
-        let sol =
-            hemi::solve::SceneParts::gauss_seidel(&sc, ff.channels(), &SolveSettings::default())?;
+        let sol = hemi::solve::gauss_seidel_scene(&sc, ff.channels(), &SolveSettings::default())?;
         let teapot = area_mean(&sc, &sol.radiosity, |p| p.name.starts_with("teapot"));
         writeln!(
             out,

@@ -12,7 +12,7 @@
 
 use std::collections::VecDeque;
 use std::path::PathBuf;
-use std::sync::atomic::{AtomicU32, AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicU32, AtomicU64, AtomicUsize, Ordering};
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
@@ -27,7 +27,7 @@ use hemi_kernel::patch::Patch;
 use crate::error::describe;
 use crate::error::is_refusal;
 use crate::link::{Link, Retry};
-use crate::qemu::{firmware_elf, Qemu};
+use crate::qemu::{firmware_elf, Qemu, QemuOptions};
 
 /// One board of a `--backend` list.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -78,8 +78,8 @@ pub struct Setup {
     pub patches: Vec<(Patch, f32)>,
     /// Hemisphere, samples, camera, spp. `accel: AccelKind::None` means each board's own.
     pub config: JobConfig,
-    /// The optics of the patches that are not plain diffuse with their own column (protocol 3;
-    /// empty for a diffuse scene).
+    /// The optics of the patches that are not plain diffuse with their own column (the optics
+    /// table, `Feature::OpticsTable`; empty for a diffuse scene).
     pub surfaces: Vec<(u16, Surface)>,
     /// The lobe-weight table the surfaces index.
     pub weights: Vec<f32>,
@@ -141,8 +141,11 @@ pub struct FarmEvents {
 pub struct Farm {
     slots: Vec<Mutex<Slot>>,
     firmware: Option<PathBuf>,
+    qemu: QemuOptions,
     setup: Mutex<Option<Setup>>,
     next_job: AtomicU32,
+    /// Bumped by every [`Farm::set_setup`], so a backend can tell that another replaced its scene.
+    generation: AtomicU64,
     events: Mutex<FarmEvents>,
     quiet: bool,
     /// CORDIC iterations and word width for the boards' accelerator model (protocol 3).
@@ -157,13 +160,19 @@ pub struct FarmOptions {
     pub firmware: Option<PathBuf>,
     /// Whether reconnections and re-issued jobs go unlogged.
     pub quiet: bool,
+    /// How QEMU boards are started.
+    pub qemu: QemuOptions,
 }
 
 impl Farm {
     /// Connects to every board (QEMU instances boot in parallel) and handshakes.
     pub fn connect(specs: &[BoardSpec], options: FarmOptions) -> Result<Farm> {
         anyhow::ensure!(!specs.is_empty(), "no boards given");
-        let FarmOptions { firmware, quiet } = options;
+        let FarmOptions {
+            firmware,
+            quiet,
+            qemu,
+        } = options;
         let firmware = if specs.contains(&BoardSpec::Qemu) {
             Some(firmware_elf(firmware.as_deref())?)
         } else {
@@ -183,8 +192,10 @@ impl Farm {
                 })
                 .collect(),
             firmware,
+            qemu,
             setup: Mutex::new(None),
             next_job: AtomicU32::new(0),
+            generation: AtomicU64::new(0),
             events: Mutex::new(FarmEvents::default()),
             quiet,
             cordic: Mutex::new(None),
@@ -223,7 +234,7 @@ impl Farm {
                     .firmware
                     .as_deref()
                     .context("no firmware ELF for QEMU")?;
-                let qemu = Qemu::boot(elf)?;
+                let qemu = Qemu::boot(elf, &self.qemu)?;
                 let pty = qemu.pty().to_string_lossy().into_owned();
                 let mut link = Link::open_serial(&pty)?;
                 let hs = link.handshake(Retry::default()).with_context(|| {
@@ -313,8 +324,9 @@ impl Farm {
     }
 
     /// Sets what the boards must hold; each board gets it before its next job (the scene is
-    /// uploaded again only when the patches or their optics changed).
-    pub fn set_setup(&self, setup: Setup) -> Result<()> {
+    /// uploaded again only when the patches or their optics changed). Returns the new setup
+    /// generation.
+    pub fn set_setup(&self, setup: Setup) -> Result<u64> {
         if let Some(caps) = self.capacities() {
             anyhow::ensure!(
                 setup.patches.len() <= usize::from(caps.max_patches),
@@ -358,7 +370,7 @@ impl Farm {
                 s.set_up = false;
             }
         }
-        Ok(())
+        Ok(self.generation.fetch_add(1, Ordering::AcqRel) + 1)
     }
 
     /// Uploads the setup to a connected board (the configuration only, if `config_only`).
@@ -403,7 +415,15 @@ impl Farm {
                 Response::Configured => {}
                 other => bail!("unexpected answer to Tracing: {other:?}"),
             }
-            if let Some((iterations, width)) = cordic {
+        } else {
+            anyhow::ensure!(
+                !setup.specular(),
+                "the board speaks protocol {}: it cannot hold specular surfaces (protocol 3)",
+                conn.hello.protocol
+            );
+        }
+        match cordic {
+            Some((iterations, width)) if conn.hello.supports(Feature::Cordic) => {
                 let req = Request::Cordic { iterations, width };
                 match call(link, &req).with_context(|| {
                     format!(
@@ -415,17 +435,11 @@ impl Farm {
                     other => bail!("unexpected answer to Cordic: {other:?}"),
                 }
             }
-        } else {
-            anyhow::ensure!(
-                !setup.specular(),
-                "the board speaks protocol {}: it cannot hold specular surfaces (protocol 3)",
-                conn.hello.protocol
-            );
-            anyhow::ensure!(
-                cordic.is_none_or(|c| c == (24, 32)),
+            _ => anyhow::ensure!(
+                conn.hello.supports(Feature::Cordic) || cordic.is_none_or(|c| c == (24, 32)),
                 "the board speaks protocol {}: it cannot take CORDIC settings (protocol 3)",
                 conn.hello.protocol
-            );
+            ),
         }
         if config_only {
             return Ok(());
@@ -478,6 +492,11 @@ impl Farm {
             }
         }
         Ok(())
+    }
+
+    /// The generation of the current setup (see [`Farm::set_setup`]).
+    pub fn generation(&self) -> u64 {
+        self.generation.load(Ordering::Acquire)
     }
 
     /// Whether the current setup has specular surfaces.

@@ -1,7 +1,7 @@
 //! The handshake of a backend, as `hemi board info` prints it.
 
 use crate::link::{Link, Retry};
-use crate::qemu::QemuBoard;
+use crate::qemu::{QemuBoard, QemuOptions};
 use anyhow::{bail, Context, Result};
 use hemi_kernel::jobs::KERNEL_CAPACITIES;
 use hemi_kernel::link::{AccelKind, HelloInfo, PROTOCOL_VERSION};
@@ -27,7 +27,7 @@ pub struct BoardInfo {
 /// The handshake of `backend`: `soft` (the kernel in this process), `qemu` (boots the firmware,
 /// `firmware` overrides the ELF, then stops QEMU again) or `serial:PATH` (a board on a serial
 /// port).
-pub fn info(backend: &str, firmware: Option<&Path>) -> Result<BoardInfo> {
+pub fn info(backend: &str, firmware: Option<&Path>, qemu: &QemuOptions) -> Result<BoardInfo> {
     match backend {
         "soft" => Ok(BoardInfo {
             backend: backend.into(),
@@ -42,7 +42,7 @@ pub fn info(backend: &str, firmware: Option<&Path>) -> Result<BoardInfo> {
             handshake: None,
         }),
         "qemu" => {
-            let board = QemuBoard::boot(firmware)?;
+            let board = QemuBoard::boot(firmware, qemu)?;
             Ok(BoardInfo {
                 backend: backend.into(),
                 hello: board.handshake.hello.clone(),

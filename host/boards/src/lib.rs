@@ -9,7 +9,7 @@
 //! - [`backend`]: the passes' requests cut into jobs for the farm ([`Boards`]);
 //! - [`index`]: patch indices as boards name them; [`protocol`]: what a farm's boards can do;
 //! - [`error`]: which failures are final ([`error::Refused`]) and which are retried;
-//! - [`info`]: the handshake of a backend, for `hemi board info`; [`report`]: their counters.
+//! - [`mod@info`]: the handshake of a backend, for `hemi board info`; [`report`]: their counters.
 #![forbid(unsafe_code)]
 
 pub mod backend;
@@ -26,4 +26,4 @@ pub use backend::Boards;
 pub use farm::{BoardSpec, Farm, FarmOptions};
 pub use info::{info, BoardInfo};
 pub use link::{Handshake, Link, Retry};
-pub use qemu::{firmware_elf, qemu_available, Qemu, QemuBoard};
+pub use qemu::{firmware_elf, qemu_available, Qemu, QemuBoard, QemuOptions};

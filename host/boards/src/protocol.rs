@@ -4,7 +4,8 @@ use crate::farm::Farm;
 use anyhow::Result;
 use hemi_kernel::link::Feature;
 
-/// Fails, naming the first board that lacks `feature` and what needs it, before any job.
+/// Fails, naming the first board that lacks `feature` and `what` needs it (a phrase that
+/// takes "needs"), before any job.
 pub fn require(farm: &Farm, feature: Feature, what: &str) -> Result<()> {
     match farm
         .hellos()
@@ -13,9 +14,8 @@ pub fn require(farm: &Farm, feature: Feature, what: &str) -> Result<()> {
         .find(|h| !h.supports(feature))
     {
         Some(old) => anyhow::bail!(
-            "{what} need{} protocol {} ({feature}); a board speaks protocol {} ({}): flash a \
-             newer firmware",
-            if what.ends_with('s') { "" } else { "s" },
+            "{what} needs protocol {}, which brought {feature}; a board speaks protocol {} ({}): \
+             flash a newer firmware",
             feature.since(),
             old.protocol,
             old.build

@@ -12,19 +12,46 @@ use anyhow::{bail, Context, Result};
 
 use crate::link::{Handshake, Link, Retry};
 
-/// The emulator binary; `HEMI_QEMU` overrides it.
-pub fn qemu_program() -> String {
-    std::env::var("HEMI_QEMU").unwrap_or_else(|_| "qemu-system-arm".into())
+/// How QEMU is started: which emulator binary, whether its clock counts instructions, and
+/// where the firmware's log goes. The CLI fills it from its options (and their environment
+/// variables, `HEMI_QEMU`, `HEMI_QEMU_ICOUNT`, `HEMI_FIRMWARE_LOG`).
+#[derive(Clone, Debug)]
+pub struct QemuOptions {
+    /// The emulator binary.
+    pub program: String,
+    /// `-icount shift=0`: one instruction per virtual ns, so SysTick counts instructions
+    /// deterministically (docs/PERFORMANCE.md, firmware instructions per ray).
+    pub icount: bool,
+    /// The file the firmware's raw defmt log (semihosting, on QEMU's stdout) is written to
+    /// (decode it with `defmt-print -e ELF < FILE`); `None` discards it.
+    pub log: Option<PathBuf>,
 }
 
-/// Whether the emulator can be started at all.
+impl Default for QemuOptions {
+    fn default() -> Self {
+        QemuOptions {
+            program: "qemu-system-arm".into(),
+            icount: false,
+            log: None,
+        }
+    }
+}
+
+/// Whether the default emulator can be started at all.
 pub fn qemu_available() -> bool {
-    Command::new(qemu_program())
-        .arg("--version")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .status()
-        .is_ok_and(|s| s.success())
+    QemuOptions::default().available()
+}
+
+impl QemuOptions {
+    /// Whether this emulator can be started at all.
+    pub fn available(&self) -> bool {
+        Command::new(&self.program)
+            .arg("--version")
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .status()
+            .is_ok_and(|s| s.success())
+    }
 }
 
 /// The firmware target triple.
@@ -138,20 +165,16 @@ pub struct Qemu {
 const BOOT_TIMEOUT: Duration = Duration::from_secs(20);
 
 impl Qemu {
-    /// Boots `elf` with UART0 on a new pty. The firmware's defmt log (semihosting, on QEMU's
-    /// stdout) is discarded, or written raw to the file named by `HEMI_FIRMWARE_LOG`
-    /// (decode it with `defmt-print -e ELF < FILE`).
-    pub fn boot(elf: &Path) -> Result<Self> {
+    /// Boots `elf` with UART0 on a new pty, as `options` say.
+    pub fn boot(elf: &Path, options: &QemuOptions) -> Result<Self> {
         install_signal_handler();
-        let program = qemu_program();
-        let mut child = Command::new(&program)
+        let program = &options.program;
+        let mut child = Command::new(program)
             .args(["-machine", "mps2-an386", "-cpu", "cortex-m4"])
             .args(["-display", "none", "-monitor", "none"])
             .args(["-semihosting-config", "enable=on,target=native"])
             .args(["-serial", "pty"])
-            // HEMI_QEMU_ICOUNT=1: one instruction per virtual ns, so SysTick counts instructions
-            // deterministically (docs/PERFORMANCE.md, firmware instructions per ray).
-            .args(if std::env::var_os("HEMI_QEMU_ICOUNT").is_some() {
+            .args(if options.icount {
                 &["-icount", "shift=0"][..]
             } else {
                 &[][..]
@@ -187,7 +210,8 @@ impl Qemu {
         // moves it.
         let (tx, rx) = mpsc::channel::<PathBuf>();
         let tx2 = tx.clone();
-        std::thread::spawn(move || drain_stdout(stdout, tx));
+        let log = options.log.clone();
+        std::thread::spawn(move || drain_stdout(stdout, tx, log));
         std::thread::spawn(move || drain_stderr(stderr_pipe, tx2, stderr));
         match rx.recv_timeout(BOOT_TIMEOUT) {
             Ok(pty) => qemu.pty = pty,
@@ -247,7 +271,7 @@ fn pty_in(line: &[u8]) -> Option<PathBuf> {
     Some(PathBuf::from(path))
 }
 
-fn drain_stdout(stdout: impl Read, tx: mpsc::Sender<PathBuf>) {
+fn drain_stdout(stdout: impl Read, tx: mpsc::Sender<PathBuf>, log: Option<PathBuf>) {
     let mut reader = BufReader::new(stdout);
     let mut line = Vec::new();
     // Only the first lines can hold the announcement; the firmware's log follows.
@@ -264,7 +288,7 @@ fn drain_stdout(stdout: impl Read, tx: mpsc::Sender<PathBuf>) {
         }
     }
     // Keep draining so QEMU never blocks on a full pipe.
-    let mut sink: Box<dyn Write> = match std::env::var_os("HEMI_FIRMWARE_LOG") {
+    let mut sink: Box<dyn Write> = match log {
         Some(path) => match std::fs::File::create(&path) {
             Ok(f) => Box::new(f),
             Err(_) => Box::new(std::io::sink()),
@@ -300,10 +324,11 @@ pub struct QemuBoard {
 }
 
 impl QemuBoard {
-    /// Finds or builds the firmware (see [`firmware_elf`]), boots it and handshakes.
-    pub fn boot(firmware: Option<&Path>) -> Result<Self> {
+    /// Finds or builds the firmware (see [`firmware_elf`]), boots it as `options` say and
+    /// handshakes.
+    pub fn boot(firmware: Option<&Path>, options: &QemuOptions) -> Result<Self> {
         let elf = firmware_elf(firmware)?;
-        let qemu = Qemu::boot(&elf)?;
+        let qemu = Qemu::boot(&elf, options)?;
         let pty = qemu.pty().to_string_lossy().into_owned();
         let mut link = Link::open_serial(&pty)?;
         let handshake = match link.handshake(Retry::default()) {

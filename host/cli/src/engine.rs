@@ -1,16 +1,29 @@
-//! The `--backend` a command runs on: parsed and opened once (boards connected, QEMU booted),
-//! then made into the library's backend for the scene and settings of the run.
+//! The `--backend` a command runs on: checked first (before a scene is read), opened when the
+//! run needs it (boards connected, QEMU booted), then made into the library's backend for the
+//! scene and settings of the run.
 
-use crate::options::{BoardAccelArg, EngineArgs};
+use crate::options::{
+    BoardAccelArg, BoardArgs, EngineArgs, InProcessArg, InProcessArgs, ModelArgs,
+};
 use anyhow::{bail, Result};
 use hemi::backend::{Backend, InProcess, Model, Soft};
 use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
-use hemi_boards::farm::{parse_boards, FarmOptions};
+use hemi_boards::farm::{parse_boards, BoardSpec, FarmOptions};
 use hemi_boards::{Boards, Farm};
 use hemi_hdl_model::intersect::bezier::{SubdivConfig, STACK_ENTRIES};
 use hemi_hdl_model::ModelConfig;
 use hemi_kernel::link::AccelKind;
+
+/// A checked `--backend`, not yet opened.
+pub enum Choice {
+    /// The kernel's f32 engine in this process.
+    Soft,
+    /// The cycle-level model of the accelerator in this process.
+    Model(ModelConfig),
+    /// Boards over the link.
+    Boards(Vec<BoardSpec>),
+}
 
 /// An opened engine: which kind, and for boards the connected farm.
 pub enum Engine {
@@ -38,28 +51,13 @@ pub enum Running<'s> {
 }
 
 impl EngineArgs {
-    /// Parses `--backend` and its settings and opens the engine (boards connect here).
-    pub fn open(&self) -> Result<Engine> {
+    /// Parses `--backend` and checks its settings, without opening anything.
+    pub fn check(&self) -> Result<Choice> {
         match self.backend.as_str() {
-            "soft" => Ok(Engine::Soft),
-            "model" => Ok(Engine::Model(self.model_config()?)),
+            "soft" => Ok(Choice::Soft),
+            "model" => Ok(Choice::Model(self.model.config()?)),
             list => match parse_boards(list)? {
-                Some(specs) => {
-                    let options = FarmOptions {
-                        firmware: self.boards.firmware.clone(),
-                        quiet: self.boards.quiet_boards,
-                    };
-                    let farm = Farm::connect(&specs, options)?;
-                    farm.set_cordic(self.cordic_iterations, self.cordic_width)?;
-                    let accel = match self.boards.board_accel {
-                        Some(BoardAccelArg::Soft) => AccelKind::Soft,
-                        None => AccelKind::None,
-                    };
-                    Ok(Engine::Boards {
-                        farm: Box::new(farm),
-                        accel,
-                    })
-                }
+                Some(specs) => Ok(Choice::Boards(specs)),
                 None => bail!(
                     "--backend {list}: expected soft, model, qemu or serial:PATH (boards may be \
                      listed comma-separated)"
@@ -67,9 +65,48 @@ impl EngineArgs {
             },
         }
     }
+}
 
+impl Choice {
+    /// Opens the engine (boards connect here, QEMU boots).
+    pub fn open(self, model: &ModelArgs, boards: &BoardArgs) -> Result<Engine> {
+        Ok(match self {
+            Choice::Soft => Engine::Soft,
+            Choice::Model(config) => Engine::Model(config),
+            Choice::Boards(specs) => {
+                let options = FarmOptions {
+                    firmware: boards.qemu.firmware.clone(),
+                    quiet: boards.quiet_boards,
+                    qemu: boards.qemu.options(),
+                };
+                let farm = Farm::connect(&specs, options)?;
+                farm.set_cordic(model.cordic_iterations, model.cordic_width)?;
+                let accel = match boards.board_accel {
+                    BoardAccelArg::Soft => AccelKind::Soft,
+                    BoardAccelArg::Own => AccelKind::None,
+                };
+                Engine::Boards {
+                    farm: Box::new(farm),
+                    accel,
+                }
+            }
+        })
+    }
+}
+
+impl InProcessArgs {
+    /// The engine, checked.
+    pub fn open(&self) -> Result<Engine> {
+        Ok(match self.backend {
+            InProcessArg::Soft => Engine::Soft,
+            InProcessArg::Model => Engine::Model(self.model.config()?),
+        })
+    }
+}
+
+impl ModelArgs {
     /// The modelled accelerator of the `--cordic-*`, `--bezier-*` options, checked.
-    fn model_config(&self) -> Result<ModelConfig> {
+    fn config(&self) -> Result<ModelConfig> {
         anyhow::ensure!(
             self.clock_mhz > 0.0 && self.clock_mhz.is_finite(),
             "--clock-mhz must be positive"

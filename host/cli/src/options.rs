@@ -2,6 +2,7 @@
 //! clap `ValueEnum`s for the library's choices and the conversions to its typed settings.
 
 use anyhow::{bail, Result};
+use clap::builder::FalseyValueParser;
 use clap::{Args, ValueEnum};
 use hemi::adaptive::{AdaptiveSettings, Test};
 use hemi::method::Method;
@@ -65,13 +66,6 @@ pub enum SolverArg {
     Progressive,
 }
 
-/// An engine boards can be asked for instead of their own.
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum BoardAccelArg {
-    /// The firmware's soft fallback: the kernel in f32 on the board's CPU.
-    Soft,
-}
-
 /// What adaptive sampling's gradient test compares.
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum TestArg {
@@ -130,6 +124,34 @@ pub struct EngineArgs {
     /// Ray engine: soft | model | qemu | serial:PATH (boards comma-separated to spread jobs).
     #[arg(long, default_value = "soft")]
     pub backend: String,
+    #[command(flatten)]
+    pub model: ModelArgs,
+    #[command(flatten)]
+    pub boards: BoardArgs,
+}
+
+/// The in-process engines only (`hemi trace`: boards answer no single rays).
+#[derive(Args, Clone, Debug)]
+pub struct InProcessArgs {
+    /// Ray engine.
+    #[arg(long, value_enum, default_value = "soft")]
+    pub backend: InProcessArg,
+    #[command(flatten)]
+    pub model: ModelArgs,
+}
+
+/// An in-process ray engine.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum InProcessArg {
+    /// The kernel in f32 on all cores.
+    Soft,
+    /// The cycle-level model of the accelerator.
+    Model,
+}
+
+/// The modelled accelerator (`--backend model`, and the CORDIC of boards' models).
+#[derive(Args, Clone, Debug)]
+pub struct ModelArgs {
     /// Accelerator clock assumed when `--backend model` reports time.
     #[arg(long, default_value_t = 100.0)]
     pub clock_mhz: f64,
@@ -147,26 +169,72 @@ pub struct EngineArgs {
     /// (`--backend model`; 12..=26).
     #[arg(long, default_value_t = ModelConfig::default().coord_width)]
     pub bezier_width: u32,
-    #[command(flatten)]
-    pub boards: BoardArgs,
 }
 
-/// How boards are booted and driven (the environment variables are read here only).
+/// How boards are booted and driven (the environment variables are read here only; a flag's
+/// variable counts as set unless it is empty, 0, false, no or off).
 #[derive(Args, Clone, Debug, Default)]
 pub struct BoardArgs {
+    #[command(flatten)]
+    pub qemu: QemuArgs,
+    /// The engine boards run jobs on.
+    #[arg(long, value_enum, env = "HEMI_BOARD_ACCEL", default_value = "own")]
+    pub board_accel: BoardAccelArg,
+    /// Print the boards' counters (jobs, rays, ticks per ray, stack, link) after each pass.
+    #[arg(long, env = "HEMI_BOARD_STATS", value_parser = FalseyValueParser::new())]
+    pub board_stats: bool,
+    /// Do not log board reconnections and re-issued jobs.
+    #[arg(long, env = "HEMI_QUIET_BOARDS", value_parser = FalseyValueParser::new())]
+    pub quiet_boards: bool,
+}
+
+/// How QEMU boards are booted.
+#[derive(Args, Clone, Debug, Default)]
+pub struct QemuArgs {
     /// Firmware ELF QEMU boards boot (default: built from this checkout if missing).
     #[arg(long, env = "HEMI_FIRMWARE_ELF")]
     pub firmware: Option<PathBuf>,
-    /// The engine boards run jobs on (default: each board's own accelerator); `soft` asks for
-    /// their soft fallback (for measurements).
-    #[arg(long, value_enum, env = "HEMI_BOARD_ACCEL")]
-    pub board_accel: Option<BoardAccelArg>,
-    /// Print the boards' counters (jobs, rays, ticks per ray, stack, link) after each pass.
-    #[arg(long, env = "HEMI_BOARD_STATS")]
-    pub board_stats: bool,
-    /// Do not log board reconnections and re-issued jobs.
-    #[arg(long, env = "HEMI_QUIET_BOARDS")]
-    pub quiet_boards: bool,
+    /// The QEMU binary `--backend qemu` starts.
+    #[arg(long, env = "HEMI_QEMU", default_value = "qemu-system-arm")]
+    pub qemu: String,
+    /// Boot QEMU with `-icount shift=0`, so the boards' SysTick counts instructions.
+    #[arg(long, env = "HEMI_QEMU_ICOUNT", value_parser = FalseyValueParser::new())]
+    pub qemu_icount: bool,
+    /// Write the QEMU firmware's raw defmt log here (decode: `defmt-print -e ELF < FILE`).
+    #[arg(long, env = "HEMI_FIRMWARE_LOG")]
+    pub firmware_log: Option<PathBuf>,
+}
+
+/// The engine boards are asked to run jobs on.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+pub enum BoardAccelArg {
+    /// Each board's own: its accelerator, or its model under QEMU.
+    #[default]
+    #[value(alias = "none", alias = "model", alias = "mmio")]
+    Own,
+    /// The firmware's soft fallback: the kernel in f32 on the board's CPU (for measurements).
+    Soft,
+}
+
+impl QemuArgs {
+    /// How QEMU boards are started.
+    pub fn options(&self) -> hemi_boards::QemuOptions {
+        hemi_boards::QemuOptions {
+            program: self.qemu.clone(),
+            icount: self.qemu_icount,
+            log: self.firmware_log.clone(),
+        }
+    }
+}
+
+/// A `--quality` preset for R and K (and with `--adaptive` the margin and depth).
+#[derive(Args, Clone, Debug)]
+pub struct QualityArgs {
+    /// Preset R and K from a target error and the scene's size (overrides --circles and
+    /// --samples, or with --adaptive --circles, --margin and --max-depth; see
+    /// docs/PERFORMANCE.md for what each costs).
+    #[arg(long, value_enum)]
+    pub quality: Option<QualityArg>,
 }
 
 /// Hemisphere, lattice, method and specular bounds: everything [`Pass1Settings`] holds.
@@ -185,11 +253,6 @@ pub struct SamplingArgs {
     /// --circles.
     #[arg(long, value_enum, default_value = "hemisphere")]
     pub method: MethodArg,
-    /// Preset R and K from a target error and the scene's size (overrides --circles and
-    /// --samples, or with --adaptive --circles, --margin and --max-depth; see
-    /// docs/PERFORMANCE.md for what each costs).
-    #[arg(long, value_enum)]
-    pub quality: Option<QualityArg>,
     /// Δ of paper §6.5: specular frustums carrying less than this fraction of their primary ray
     /// are not shot.
     #[arg(long, default_value_t = hemi_kernel::specular::DEFAULT_THRESHOLD)]
@@ -204,7 +267,7 @@ pub struct SamplingArgs {
 
 impl SamplingArgs {
     /// The settings, checked, K defaulting to 16 (2 when `adaptive`); `--quality` is applied by
-    /// [`SamplingArgs::for_scene`] once the scene is loaded.
+    /// [`QualityArgs::for_scene`] once the scene is loaded.
     pub fn settings(&self, adaptive: bool) -> Result<Pass1Settings> {
         if self.circles < 2 || self.circles > 1024 {
             bail!("--circles must be between 2 and 1024");
@@ -228,7 +291,9 @@ impl SamplingArgs {
             method: self.method.into(),
         })
     }
+}
 
+impl QualityArgs {
     /// `settings` (from [`SamplingArgs::settings`]) with `--quality` applied for `scene`
     /// (saying on stderr what it picked).
     pub fn for_scene(
@@ -323,6 +388,35 @@ impl SolverArgs {
             }
             _ => false,
         }
+    }
+}
+
+/// The field at the elements ([`hemi::field`]): gather sweeps after the patch solve.
+#[derive(Args, Clone, Debug)]
+pub struct FieldArgs {
+    /// Element-level gather sweeps after the patch solve: each element gathers the radiosity
+    /// field at its hemisphere's hits instead of patch averages (0: the paper's element values
+    /// (4.2) from the patch solution).
+    #[arg(long, default_value_t = 0)]
+    pub gather: u32,
+    /// Stop the sweeps when no element value changes by more than this fraction of the largest.
+    #[arg(long, default_value_t = 1e-3)]
+    pub gather_tolerance: f64,
+}
+
+impl FieldArgs {
+    /// The settings, checked.
+    pub fn settings(&self) -> Result<hemi::field::FieldSettings> {
+        if self.gather > 1000 {
+            bail!("--gather must be at most 1000 sweeps");
+        }
+        if !(self.gather_tolerance >= 0.0 && self.gather_tolerance.is_finite()) {
+            bail!("--gather-tolerance must be a finite number ≥ 0");
+        }
+        Ok(hemi::field::FieldSettings {
+            sweeps: self.gather,
+            tolerance: self.gather_tolerance,
+        })
     }
 }
 

@@ -7,6 +7,7 @@ use crate::options::{AdaptiveArgs, SolverArgs};
 use crate::progress::bar;
 use anyhow::Result;
 use hemi::adaptive::{AdaptiveSettings, PatchReport, Progress};
+use hemi::field::FieldSettings;
 use hemi::on_demand::{grids_streaming, solve_streaming, RowShooter};
 use hemi::pass1::FormFactors;
 use hemi::radiosity::Grid;
@@ -125,27 +126,31 @@ pub fn solve_scene(scene: &Scene, ff: &FormFactors, solver: Solver) -> Result<So
 }
 
 /// Pass 1 and the solve, or progressive refinement with rows shot on demand when the solver
-/// args say so; the field too when `with_grids`.
+/// args say so; the field too when `field` is given.
 pub fn solve(
     backend: &Running<'_>,
     adaptive: &AdaptiveArgs,
     quality: Option<crate::options::QualityArg>,
     solver: &SolverArgs,
     board_stats: bool,
-    with_grids: bool,
+    field: Option<FieldSettings>,
 ) -> Result<Solved> {
     let scene = backend.get().scene();
     let t0 = std::time::Instant::now();
     if solver.streaming(scene) {
-        return streaming(backend, adaptive.adaptive, solver, with_grids);
+        anyhow::ensure!(
+            field.is_none_or(|f| f.sweeps == 0),
+            "--gather sweeps the element field from a solved pass 1: choose a --solver other \
+             than progressive"
+        );
+        return streaming(backend, adaptive.adaptive, solver, field.is_some());
     }
     let (ff, sampled) = sample(backend, adaptive.settings(quality)?, board_stats)?;
     let t1 = std::time::Instant::now();
     let solution = solve_scene(scene, &ff, solver.solver.into())?;
-    let grids = if with_grids {
-        hemi::radiosity::grids(scene, &ff, &solution)
-    } else {
-        Vec::new()
+    let grids = match field {
+        Some(f) => field_grids(backend, &ff, &solution, &f)?,
+        None => Vec::new(),
     };
     Ok(Solved {
         solution,
@@ -155,6 +160,30 @@ pub fn solve(
         sampled,
         seconds: ((t1 - t0).as_secs_f64(), t1.elapsed().as_secs_f64()),
     })
+}
+
+/// The field of the solved scene: the element values (4.2), then `field`'s gather sweeps (with a
+/// progress bar and a line on stderr when there are any).
+fn field_grids(
+    backend: &Running<'_>,
+    ff: &FormFactors,
+    solution: &Solution,
+    field: &FieldSettings,
+) -> Result<Vec<Grid>> {
+    let bar = bar(u64::from(field.sweeps) * ff.elements.len() as u64, "gather");
+    let t0 = std::time::Instant::now();
+    let f = hemi::field::solve_field(backend.get(), ff, solution, field, &|n| bar.inc(n))?;
+    bar.finish_and_clear();
+    if field.sweeps > 0 {
+        eprintln!(
+            "element field: {} gather sweeps of {} elements, last change {:.2e}, {:.3} s",
+            f.sweeps,
+            ff.elements.len(),
+            f.change,
+            t0.elapsed().as_secs_f64()
+        );
+    }
+    Ok(f.grids)
 }
 
 /// Progressive refinement with rows shot on demand (soft backend), and the grids from a second

@@ -13,9 +13,18 @@ pub fn irradiance(
     grids: &[Grid],
     queries: &[Query],
 ) -> anyhow::Result<Vec<[f64; 3]>> {
-    let answers = backend.gather(queries)?;
-    answers.iter().map(|seen| gathered(grids, seen)).collect()
+    let mut out = Vec::with_capacity(queries.len());
+    for chunk in queries.chunks(QUERIES_PER_REQUEST) {
+        for seen in backend.gather(chunk)? {
+            out.push(gathered(grids, &seen)?);
+        }
+    }
+    Ok(out)
 }
+
+/// Queries one request to the backend carries: enough to keep every core busy, few enough that
+/// their reports (about one per hemisphere ray) stay small.
+const QUERIES_PER_REQUEST: usize = 64;
 
 /// `E = Σ w · B(hit)` over one query's reports, in the order the tracer made them.
 fn gathered(grids: &[Grid], seen: &[Seen]) -> anyhow::Result<[f64; 3]> {

@@ -2,14 +2,16 @@
 //! pass 1, the radiosity solve, radiosity fields, pass 2 and irradiance queries.
 //!
 //! From the bottom up (no module imports one further down this list, and `cargo xtask layout`
-//! checks that the imports have no cycle): `scene`, `analytic`; `optics`, `method`, `settings`,
-//! `shots`; `backend`; `pass1`; `solve`; `radiosity`; then the passes built on them:
-//! `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay` (docs/ARCHITECTURE.md).
+//! checks that the imports have no cycle): `scene`, `analytic`, `grid`; `optics`, `method`,
+//! `settings`, `shots`; `backend`; `pass1`; `solve`; `radiosity`; then the passes built on them:
+//! `field`, `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay` (docs/ARCHITECTURE.md).
 #![forbid(unsafe_code)]
 
 pub mod adaptive;
 pub mod analytic;
 pub mod backend;
+pub mod field;
+pub mod grid;
 pub mod irradiance;
 pub mod method;
 pub mod on_demand;

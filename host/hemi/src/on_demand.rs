@@ -2,12 +2,13 @@
 //! scenes whose N × N matrix does not fit (paper §9: "this restriction can be removed by using a
 //! progressive refinement technique"). Memory is O(N) per row plus a bounded cache of rows.
 
-use crate::backend::Backend;
+use crate::backend::{shoot_checked, Backend};
+use crate::pass1::add_element;
 use crate::radiosity::{element_value, Grid};
 use crate::scene::Scene;
 use crate::shots::{uniform_shots, ElementRow};
 use crate::solve::progressive::progressive;
-use crate::solve::{coupled_entry, reflectance_and_emission, Solution, SolveSettings};
+use crate::solve::{coupled_entry, system_reflectance_and_emission, Solution, SolveSettings};
 use anyhow::Result;
 use std::collections::HashMap;
 
@@ -47,7 +48,7 @@ impl<'a> RowShooter<'a> {
     pub fn element_rows(&mut self, i: usize) -> Result<Vec<ElementRow>> {
         let k = self.backend.settings().samples;
         let shots: Vec<_> = uniform_shots(self.scene(), i, k).collect();
-        let (rows, stats) = self.backend.shoot(&shots, &|_| {})?;
+        let (rows, stats) = shoot_checked(self.backend, &shots, &|_| {})?;
         self.rays += stats.rays as u64;
         Ok(rows)
     }
@@ -59,12 +60,7 @@ impl<'a> RowShooter<'a> {
         }
         let mut row = vec![[0.0f64; 3]; self.scene().patches.len()];
         for e in self.element_rows(i)? {
-            let w = e.point.weight;
-            for (j, f) in e.row {
-                for c in 0..3 {
-                    row[j as usize][c] += w as f64 * f[c] as f64;
-                }
-            }
+            add_element(&e, |j, c, x| row[j][c] += x);
         }
         self.shot += 1;
         if self.cache.len() < self.max_cached {
@@ -111,28 +107,15 @@ pub fn solve_streaming(
     on_shot: &mut dyn FnMut(u32, &[[f64; 3]]),
 ) -> Result<Solution> {
     let scene = shooter.scene();
-    let (rho, e) = reflectance_and_emission(scene);
+    // with translucent sheets B = E + KB: the coupled columns carry ρ and τ
+    let (rho, e) = system_reflectance_and_emission(scene);
     let areas: Vec<f64> = scene.patches.iter().map(|p| p.area as f64).collect();
     if scene.has_translucency() {
-        // B = E + KB: the coupled columns carry ρ and τ, so the reflectance is 1
-        let ones = vec![[1.0; 3]; rho.len()];
-        return progressive(
-            &ones,
-            &e,
-            &areas,
-            &mut |i, out| shooter.coupled_column(i, out),
-            settings,
-            on_shot,
-        );
+        let column = &mut |i, out: &mut [[f64; 3]]| shooter.coupled_column(i, out);
+        return progressive(&rho, &e, &areas, column, settings, on_shot);
     }
-    progressive(
-        &rho,
-        &e,
-        &areas,
-        &mut |i, out| shooter.column(i, out),
-        settings,
-        on_shot,
-    )
+    let column = &mut |i, out: &mut [[f64; 3]]| shooter.column(i, out);
+    progressive(&rho, &e, &areas, column, settings, on_shot)
 }
 
 /// The vertex grids of [`crate::radiosity::grids`] without stored element rows: every patch's

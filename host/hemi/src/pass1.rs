@@ -1,7 +1,7 @@
 //! Pass 1 (spec §2 steps 1–2): place sample points, have the backend shoot a hemisphere from
 //! each, and form patch form factors from the element rows by (4.3).
 
-use crate::backend::{Backend, Progress};
+use crate::backend::{shoot_checked, Backend, Progress};
 use crate::shots::{self, ElementRow};
 use hemi_kernel::tracer::ShotStats;
 
@@ -67,13 +67,24 @@ pub fn form_factors(backend: &dyn Backend, progress: &Progress<'_>) -> anyhow::R
     let shots: Vec<_> = (0..scene.patches.len())
         .flat_map(|i| shots::uniform_shots(scene, i, settings.samples))
         .collect();
-    let (elements, stats) = backend.shoot(&shots, progress)?;
+    let (elements, stats) = shoot_checked(backend, &shots, progress)?;
     Ok(FormFactors::from_elements(
         scene.patches.len(),
         elements,
         settings.samples,
         stats,
     ))
+}
+
+/// One element's share of its patch's row by (4.3): `add(j, c, W_iq F_iq,j)` for each patch j
+/// and channel c it saw (the one place the weighting is written; whole matrices here, single
+/// rows in `on_demand`).
+pub fn add_element(e: &ElementRow, mut add: impl FnMut(usize, usize, f64)) {
+    for &(j, f) in &e.row {
+        for (c, fc) in f.iter().enumerate() {
+            add(j as usize, c, e.point.weight as f64 * *fc as f64);
+        }
+    }
 }
 
 /// The patch matrices of [`FormFactors`]: the grey one, and the three channels when they
@@ -90,11 +101,7 @@ pub fn patch_matrix<'a>(n: usize, elements: impl Iterator<Item = &'a ElementRow>
         vec![vec![0.0f64; n]; n],
     ];
     for e in elements {
-        for &(j, f) in &e.row {
-            for (c, m) in rgb.iter_mut().enumerate() {
-                m[e.patch][j as usize] += e.point.weight as f64 * f[c] as f64;
-            }
-        }
+        add_element(e, |j, c, x| rgb[c][e.patch][j] += x);
     }
     if rgb[0] == rgb[1] && rgb[1] == rgb[2] {
         let [r, _, _] = rgb;

@@ -10,7 +10,8 @@ mod trace;
 use crate::farm::{Farm, Setup};
 use crate::protocol::require;
 use anyhow::{Context, Result};
-use hemi::backend::{Backend, Progress, Query, Seen, Traced};
+use hemi::backend::{Backend, Progress, Query, RowSink, Seen};
+use hemi::grid::Grid;
 use hemi::optics::SceneOptics;
 use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
@@ -21,8 +22,10 @@ use hemi_kernel::hemisphere::OwnedHemisphere;
 use hemi_kernel::link::Feature;
 use hemi_kernel::link::{AccelKind, JobConfig, TraceSettings};
 use hemi_kernel::optics::Surface;
+use hemi_kernel::specular::SpecularStats;
 use hemi_kernel::tracer::ShotStats;
 use std::ops::Range;
+use std::sync::atomic::{AtomicU64, Ordering};
 
 /// The boards of a farm as a backend for one scene and settings.
 pub struct Boards<'a> {
@@ -36,6 +39,9 @@ pub struct Boards<'a> {
     columns: Vec<usize>,
     /// The hemisphere the queries' ring weights come from.
     hemi: OwnedHemisphere,
+    /// The farm's setup generation this backend uploaded last: another backend on the same
+    /// farm may have uploaded its own scene since, and then this one uploads its again.
+    uploaded: AtomicU64,
 }
 
 impl<'a> Boards<'a> {
@@ -62,6 +68,7 @@ impl<'a> Boards<'a> {
             accel,
             columns: Vec::new(),
             hemi,
+            uploaded: AtomicU64::new(0),
         };
         boards.columns = boards.set_up(None, 1)?;
         Ok(boards)
@@ -84,7 +91,7 @@ impl<'a> Boards<'a> {
             require(
                 farm,
                 Feature::OpticsTable,
-                "specular and translucent scenes on boards",
+                "a specular or translucent scene on boards",
             )?;
         }
         let cap = farm.capacities().map_or(u16::MAX, |c| c.max_patches);
@@ -98,14 +105,23 @@ impl<'a> Boards<'a> {
             .into_iter()
             .zip(scene.patches.iter().map(|p| p.area))
             .collect();
-        farm.set_setup(Setup {
+        let generation = farm.set_setup(Setup {
             patches,
             config: self.config(camera, spp)?,
             surfaces: special_surfaces(&optics)?,
             weights: optics.weights.clone(),
             tracing: self.tracing(specular),
         })?;
+        self.uploaded.store(generation, Ordering::Release);
         Ok(optics.columns)
+    }
+
+    /// Uploads this backend's scene again if another backend on the farm replaced it.
+    fn current(&self) -> Result<()> {
+        if self.farm.generation() != self.uploaded.load(Ordering::Acquire) {
+            self.set_up(None, 1)?;
+        }
+        Ok(())
     }
 
     fn config(&self, camera: Option<Camera>, spp: u32) -> Result<JobConfig> {
@@ -162,6 +178,7 @@ impl Backend for Boards<'_> {
     }
 
     fn shoot(&self, shots: &[Shot], done: &Progress<'_>) -> Result<(Vec<ElementRow>, ShotStats)> {
+        self.current()?;
         self.shoot_rows(shots, done)
     }
 
@@ -170,12 +187,14 @@ impl Backend for Boards<'_> {
         camera: &Camera,
         spp: u32,
         rows: Range<u32>,
+        sink: &RowSink<'_>,
         done: &Progress<'_>,
-    ) -> Result<Traced> {
-        self.trace_rows(camera, spp, rows, done)
+    ) -> Result<SpecularStats> {
+        self.trace_rows(camera, spp, rows, sink, done)
     }
 
     fn gather(&self, queries: &[Query]) -> Result<Vec<Vec<Seen>>> {
+        self.current()?;
         queries.iter().map(|q| self.gather_one(q)).collect()
     }
 
@@ -183,6 +202,18 @@ impl Backend for Boards<'_> {
         anyhow::bail!(
             "trace: boards answer form-factors, solve, irradiance and render; use --backend soft \
              or model"
+        )
+    }
+
+    fn gather_field(
+        &self,
+        _shots: &[Shot],
+        _grids: &[Grid],
+        _done: &Progress<'_>,
+    ) -> Result<Vec<[f64; 3]>> {
+        anyhow::bail!(
+            "the element-level field gather (--gather) runs in-process only: boards have no job \
+             for it yet (it needs the radiosity grids on the board); use --gather 0 with boards"
         )
     }
 }

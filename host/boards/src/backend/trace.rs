@@ -6,9 +6,10 @@
 use super::Boards;
 use crate::index::{seen_patch, BoardPatch};
 use anyhow::{bail, Context, Result};
-use hemi::backend::{Progress, Seen, Traced};
+use hemi::backend::{Progress, RowSink, Seen};
 use hemi_kernel::camera::Camera;
 use hemi_kernel::link::{Request, Response, WeightedHit, MAX_HITS, MAX_WEIGHTED};
+use hemi_kernel::specular::SpecularStats;
 use std::ops::Range;
 
 impl Boards<'_> {
@@ -18,24 +19,26 @@ impl Boards<'_> {
         camera: &Camera,
         spp: u32,
         rows: Range<u32>,
+        sink: &RowSink<'_>,
         done: &Progress<'_>,
-    ) -> Result<Traced> {
+    ) -> Result<SpecularStats> {
         let spp = spp.max(1);
         anyhow::ensure!(
             spp as usize <= MAX_HITS,
             "--spp {spp}: a board traces at most {MAX_HITS} rays per pixel"
         );
         self.set_up(Some(*camera), spp)?;
-        let rows = if self.farm.specular() {
+        let first = rows.start;
+        let reports = if self.farm.specular() {
             self.weighted_rows(camera, spp, rows, done)?
         } else {
             self.pixel_rows(camera, spp, rows, done)?
         };
-        Ok(Traced {
-            rows,
-            // the boards' frustum counters are read with `TraceStats`, not per request
-            specular: Default::default(),
-        })
+        for (y, row) in (first..).zip(&reports) {
+            sink(y, row);
+        }
+        // the boards' frustum counters are read with `TraceStats`, not per request
+        Ok(SpecularStats::default())
     }
 
     /// A diffuse scene: `Trace` jobs over the pixels of `rows`, weight 1 per eye ray.

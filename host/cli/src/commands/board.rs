@@ -1,9 +1,9 @@
 //! `hemi board`: the ray engine (board) itself.
 
+use crate::options::QemuArgs;
 use anyhow::Result;
 use clap::Subcommand;
 use std::io::Write;
-use std::path::PathBuf;
 
 /// What `hemi board` does.
 #[derive(Subcommand)]
@@ -13,18 +13,17 @@ pub enum BoardCommand {
         /// Ray engine: soft | qemu | serial:PATH (comma-separated for several).
         #[arg(long, default_value = "soft")]
         backend: String,
-        /// Firmware ELF to boot in QEMU (default: built from this checkout if missing).
-        #[arg(long, env = "HEMI_FIRMWARE_ELF")]
-        firmware: Option<PathBuf>,
+        #[command(flatten)]
+        qemu: QemuArgs,
     },
 }
 
 /// Runs `hemi board …`, writing to `out`.
 pub fn run(command: BoardCommand, out: &mut impl Write) -> Result<()> {
     match command {
-        BoardCommand::Info { backend, firmware } => {
+        BoardCommand::Info { backend, qemu } => {
             for b in backend.split(',') {
-                let info = hemi_boards::info(b, firmware.as_deref())?;
+                let info = hemi_boards::info(b, qemu.firmware.as_deref(), &qemu.options())?;
                 writeln!(out, "{info}")?;
             }
         }

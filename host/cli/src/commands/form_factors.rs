@@ -1,6 +1,6 @@
 //! `hemi form-factors`: pass 1 alone, the patch form factors F_ij.
 
-use crate::options::{AdaptiveArgs, EngineArgs, SamplingArgs};
+use crate::options::{AdaptiveArgs, EngineArgs, QualityArgs, SamplingArgs};
 use crate::pipeline;
 use anyhow::Result;
 use clap::Args;
@@ -20,19 +20,22 @@ pub struct FormFactorsArgs {
     #[command(flatten)]
     sampling: SamplingArgs,
     #[command(flatten)]
+    quality: QualityArgs,
+    #[command(flatten)]
     adaptive: AdaptiveArgs,
 }
 
 /// Runs `hemi form-factors`, writing to `out`.
 pub fn run(args: FormFactorsArgs, out: &mut impl Write) -> Result<()> {
     let adaptive = args.adaptive.adaptive;
+    let choice = args.engine.check()?;
     let checked = args.sampling.settings(adaptive)?;
     let scene = hemi::scene::load(&args.scene)?;
-    let settings = args.sampling.for_scene(checked, &scene, adaptive);
-    let engine = args.engine.open()?;
+    let settings = args.quality.for_scene(checked, &scene, adaptive);
+    let engine = choice.open(&args.engine.model, &args.engine.boards)?;
     let backend = engine.backend(&scene, &settings)?;
     let stats = args.engine.boards.board_stats;
-    let adaptive = args.adaptive.settings(args.sampling.quality)?;
+    let adaptive = args.adaptive.settings(args.quality.quality)?;
     let (ff, _) = pipeline::sample(&backend, adaptive, stats)?;
     if args.json {
         let patches: Vec<_> = scene
@@ -60,6 +63,6 @@ pub fn run(args: FormFactorsArgs, out: &mut impl Write) -> Result<()> {
         eprintln!("{line}");
     }
     let hemispheres = ff.elements.len() as u64;
-    backend.report_model(hemispheres, args.engine.clock_mhz, "pass 1");
+    backend.report_model(hemispheres, args.engine.model.clock_mhz, "pass 1");
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! `hemi irradiance`: the solved field gathered at points read from stdin.
 
 use crate::input::rays_from_stdin;
-use crate::options::{AdaptiveArgs, EngineArgs, SamplingArgs, SolverArgs};
+use crate::options::{AdaptiveArgs, EngineArgs, FieldArgs, QualityArgs, SamplingArgs, SolverArgs};
 use crate::pipeline;
 use anyhow::Result;
 use clap::Args;
@@ -20,22 +20,34 @@ pub struct IrradianceArgs {
     #[command(flatten)]
     sampling: SamplingArgs,
     #[command(flatten)]
+    quality: QualityArgs,
+    #[command(flatten)]
     adaptive: AdaptiveArgs,
     #[command(flatten)]
     solver: SolverArgs,
+    #[command(flatten)]
+    field: FieldArgs,
 }
 
 /// Runs `hemi irradiance`, writing to `out`.
 pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
     let adaptive = args.adaptive.adaptive;
+    let choice = args.engine.check()?;
     let checked = args.sampling.settings(adaptive)?;
     let scene = hemi::scene::load(&args.scene)?;
-    let settings = args.sampling.for_scene(checked, &scene, adaptive);
-    let engine = args.engine.open()?;
+    let settings = args.quality.for_scene(checked, &scene, adaptive);
+    let engine = choice.open(&args.engine.model, &args.engine.boards)?;
     let backend = engine.backend(&scene, &settings)?;
     let stats = args.engine.boards.board_stats;
-    let q = args.sampling.quality;
-    let solved = pipeline::solve(&backend, &args.adaptive, q, &args.solver, stats, true)?;
+    let q = args.quality.quality;
+    let solved = pipeline::solve(
+        &backend,
+        &args.adaptive,
+        q,
+        &args.solver,
+        stats,
+        Some(args.field.settings()?),
+    )?;
     let (rays, bad_line) = rays_from_stdin();
     let queries: Vec<Query> = rays
         .into_iter()
@@ -50,7 +62,7 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
     }
     backend.report_model(
         solved.hemispheres,
-        args.engine.clock_mhz,
+        args.engine.model.clock_mhz,
         "pass 1 and queries",
     );
     Ok(())

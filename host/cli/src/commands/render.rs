@@ -1,6 +1,6 @@
 //! `hemi render`: both passes, then the image files.
 
-use crate::options::{AdaptiveArgs, EngineArgs, SamplingArgs, SolverArgs};
+use crate::options::{AdaptiveArgs, EngineArgs, FieldArgs, QualityArgs, SamplingArgs, SolverArgs};
 use crate::pipeline::{self, Solved};
 use crate::progress::bar;
 use anyhow::Result;
@@ -37,31 +37,43 @@ pub struct RenderArgs {
     #[command(flatten)]
     sampling: SamplingArgs,
     #[command(flatten)]
+    quality: QualityArgs,
+    #[command(flatten)]
     adaptive: AdaptiveArgs,
     #[command(flatten)]
     solver: SolverArgs,
+    #[command(flatten)]
+    field: FieldArgs,
 }
 
 /// Runs `hemi render`.
 pub fn run(args: RenderArgs) -> Result<()> {
     let adaptive = args.adaptive.adaptive;
+    let choice = args.engine.check()?;
     let checked = args.sampling.settings(adaptive)?;
     anyhow::ensure!(
         (1..=4096).contains(&args.spp),
         "--spp must be between 1 and 4096"
     );
     let scene = hemi::scene::load(&args.scene)?;
-    let settings = args.sampling.for_scene(checked, &scene, adaptive);
+    let settings = args.quality.for_scene(checked, &scene, adaptive);
     let camera = hemi::render::camera_of(&scene)?;
-    let engine = args.engine.open()?;
+    let engine = choice.open(&args.engine.model, &args.engine.boards)?;
     anyhow::ensure!(
         !args.show_samples || adaptive,
         "--show-samples draws the points of adaptive sampling: add --adaptive"
     );
     let backend = engine.backend(&scene, &settings)?;
     let stats = args.engine.boards.board_stats;
-    let q = args.sampling.quality;
-    let solved = pipeline::solve(&backend, &args.adaptive, q, &args.solver, stats, true)?;
+    let q = args.quality.quality;
+    let solved = pipeline::solve(
+        &backend,
+        &args.adaptive,
+        q,
+        &args.solver,
+        stats,
+        Some(args.field.settings()?),
+    )?;
     let pass1_counts = backend.model_counts();
     let t2 = std::time::Instant::now();
     let bar = bar(u64::from(camera.height), "pass 2");
@@ -87,7 +99,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         args.output.display()
     );
     report_specular(&settings, &solved, &specular, &camera, args.spp);
-    let clock = args.engine.clock_mhz;
+    let clock = args.engine.model.clock_mhz;
     backend.report_model(solved.hemispheres, clock, "pass 1 and pass 2");
     if let (Some((c, r)), Some((c1, r1))) = (backend.model_counts(), pass1_counts) {
         eprintln!(

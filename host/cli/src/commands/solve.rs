@@ -1,6 +1,6 @@
 //! `hemi solve`: pass 1 and the solve, the radiosity per patch.
 
-use crate::options::{AdaptiveArgs, EngineArgs, SamplingArgs, SolverArgs};
+use crate::options::{AdaptiveArgs, EngineArgs, QualityArgs, SamplingArgs, SolverArgs};
 use crate::pipeline;
 use anyhow::Result;
 use clap::Args;
@@ -20,6 +20,8 @@ pub struct SolveArgs {
     #[command(flatten)]
     sampling: SamplingArgs,
     #[command(flatten)]
+    quality: QualityArgs,
+    #[command(flatten)]
     adaptive: AdaptiveArgs,
     #[command(flatten)]
     solver: SolverArgs,
@@ -28,14 +30,15 @@ pub struct SolveArgs {
 /// Runs `hemi solve`, writing to `out`.
 pub fn run(args: SolveArgs, out: &mut impl Write) -> Result<()> {
     let adaptive = args.adaptive.adaptive;
+    let choice = args.engine.check()?;
     let checked = args.sampling.settings(adaptive)?;
     let scene = hemi::scene::load(&args.scene)?;
-    let settings = args.sampling.for_scene(checked, &scene, adaptive);
-    let engine = args.engine.open()?;
+    let settings = args.quality.for_scene(checked, &scene, adaptive);
+    let engine = choice.open(&args.engine.model, &args.engine.boards)?;
     let backend = engine.backend(&scene, &settings)?;
     let stats = args.engine.boards.board_stats;
-    let q = args.sampling.quality;
-    let solved = pipeline::solve(&backend, &args.adaptive, q, &args.solver, stats, false)?;
+    let q = args.quality.quality;
+    let solved = pipeline::solve(&backend, &args.adaptive, q, &args.solver, stats, None)?;
     let sol = &solved.solution;
     if args.json {
         let patches: Vec<_> = scene
@@ -64,6 +67,6 @@ pub fn run(args: SolveArgs, out: &mut impl Write) -> Result<()> {
             hemi::optics::describe("specular", s, rays, &settings.specular)
         );
     }
-    backend.report_model(solved.hemispheres, args.engine.clock_mhz, "pass 1");
+    backend.report_model(solved.hemispheres, args.engine.model.clock_mhz, "pass 1");
     Ok(())
 }

@@ -1,7 +1,7 @@
 //! `hemi trace`: the nearest hit of rays read from stdin.
 
 use crate::input::rays_from_stdin;
-use crate::options::EngineArgs;
+use crate::options::InProcessArgs;
 use anyhow::Result;
 use clap::Args;
 use hemi::settings::Pass1Settings;
@@ -15,13 +15,13 @@ pub struct TraceArgs {
     /// The scene file (TOML; OBJ/MTL and BPT geometry may be included from it).
     scene: PathBuf,
     #[command(flatten)]
-    engine: EngineArgs,
+    engine: InProcessArgs,
 }
 
 /// Runs `hemi trace`, writing to `out`.
 pub fn run(args: TraceArgs, out: &mut impl Write) -> Result<()> {
-    let scene = hemi::scene::load(&args.scene)?;
     let engine = args.engine.open()?;
+    let scene = hemi::scene::load(&args.scene)?;
     // single rays need no hemisphere of the user's: the default one is only built
     let backend = engine.backend(&scene, &Pass1Settings::default())?;
     let (rays, bad_line) = rays_from_stdin();
@@ -42,6 +42,6 @@ pub fn run(args: TraceArgs, out: &mut impl Write) -> Result<()> {
     if let Some(e) = bad_line {
         return Err(e);
     }
-    backend.report_model(0, args.engine.clock_mhz, "trace");
+    backend.report_model(0, args.engine.model.clock_mhz, "trace");
     Ok(())
 }

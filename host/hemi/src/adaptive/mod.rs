@@ -38,7 +38,7 @@
 pub mod gradient;
 pub mod lattice;
 
-use crate::backend::Backend;
+use crate::backend::{shoot_checked, Backend};
 use crate::pass1::{patch_matrix, FormFactors, PatchMatrix};
 use crate::radiosity::element_value;
 use crate::scene::Scene;
@@ -218,7 +218,7 @@ pub fn refine(
     let done = |d: u64| progress(Progress::Done(d));
     let shoot = |shots: &[Shot]| {
         progress(Progress::Planned(shots.len() as u64));
-        backend.shoot(shots, &done)
+        shoot_checked(backend, shots, &done)
     };
     let mut refinement = Refinement::start(scene, adaptive, settings.samples, &shoot)?;
     let mut rounds = 0;

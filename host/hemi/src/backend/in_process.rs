@@ -1,7 +1,8 @@
 //! In-process backends: the kernel's passes on all cores, one engine per worker thread, over
 //! the soft engine or the accelerator model ([`Engines`]).
 
-use super::{Backend, Progress, Query, Seen, Traced};
+use super::{Backend, Progress, Query, RowSink, Seen};
+use crate::grid::Grid;
 use crate::method::Shooter;
 use crate::optics::{pending_for, SceneOptics, Scratch};
 use crate::scene::Scene;
@@ -14,6 +15,7 @@ use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::OwnedHemisphere;
 use hemi_kernel::patch::Patch;
 use hemi_kernel::pixels::trace_pixels;
+use hemi_kernel::rotation::spin_for_sample;
 use hemi_kernel::specular::SpecularStats;
 use hemi_kernel::tracer::{self, ShotStats};
 use rayon::prelude::*;
@@ -187,10 +189,11 @@ impl<E: Engines> Backend for InProcess<'_, E> {
         camera: &Camera,
         spp: u32,
         rows: Range<u32>,
+        sink: &RowSink<'_>,
         done: &Progress<'_>,
-    ) -> Result<Traced> {
+    ) -> Result<SpecularStats> {
         let spp = spp.max(1);
-        let per_row: Vec<(Vec<(u32, Seen)>, SpecularStats)> = rows
+        let per_row: Vec<SpecularStats> = rows
             .into_par_iter()
             .map_init(
                 || {
@@ -198,18 +201,18 @@ impl<E: Engines> Backend for InProcess<'_, E> {
                     (self.engine(), vec![Vec3::ZERO; EYE_BATCH], scratch)
                 },
                 |state, y| {
-                    let out = self.trace_row(state, camera, spp, y);
+                    let (seen, stats) = self.trace_row(state, camera, spp, y);
+                    sink(y, &seen);
                     done(1);
-                    out
+                    stats
                 },
             )
             .collect();
-        let mut traced = Traced::default();
-        for (row, s) in per_row {
-            traced.specular += s;
-            traced.rows.push(row);
+        let mut specular = SpecularStats::default();
+        for s in per_row {
+            specular += s;
         }
-        Ok(traced)
+        Ok(specular)
     }
 
     fn gather(&self, queries: &[Query]) -> Result<Vec<Vec<Seen>>> {
@@ -239,6 +242,62 @@ impl<E: Engines> Backend for InProcess<'_, E> {
             )
             .collect();
         Ok(answers)
+    }
+
+    fn gather_field(
+        &self,
+        shots: &[Shot],
+        grids: &[Grid],
+        done: &Progress<'_>,
+    ) -> Result<Vec<[f64; 3]>> {
+        let pending = pending_for(&self.hemi.view());
+        shots
+            .par_iter()
+            .map_init(
+                || {
+                    (
+                        self.engine(),
+                        Scratch::new(pending, &self.settings.specular),
+                    )
+                },
+                |(accel, scratch), s| {
+                    let shot = tracer::Shot {
+                        origin: s.point.position,
+                        normal: s.point.normal,
+                        spin: spin_for_sample(s.cell.q()),
+                        origin_patch: Some(self.scene.kernel_id(s.patch) as u32),
+                        want_uv: true,
+                    };
+                    let (hemi, optics) = (self.hemi.view(), self.optics.view());
+                    let mut h = [0.0f64; 3];
+                    let mut unknown = None;
+                    tracer::shoot(
+                        accel,
+                        &hemi,
+                        &optics,
+                        &mut scratch.view(),
+                        &shot,
+                        |hit, w| {
+                            let seen = self.seen(hit, w);
+                            match grids.get(seen.side) {
+                                Some(g) => {
+                                    let b = g.at(seen.u, seen.v);
+                                    for c in 0..3 {
+                                        h[c] += w[c] as f64 * b[c];
+                                    }
+                                }
+                                None => unknown = Some(seen.side),
+                            }
+                        },
+                    );
+                    done(1);
+                    match unknown {
+                        Some(side) => anyhow::bail!("no radiosity grid for patch {side}"),
+                        None => Ok(h),
+                    }
+                },
+            )
+            .collect()
     }
 
     fn nearest(&self, rays: &[Ray]) -> Result<Vec<Option<Hit>>> {

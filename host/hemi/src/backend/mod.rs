@@ -19,6 +19,7 @@ pub use in_process::{Engines, InProcess};
 pub use model::{CountedModel, Counters, Model};
 pub use soft::{Soft, SoftEngine, TREE_MIN_BUNDLE, TREE_MIN_SINGLE};
 
+use crate::grid::Grid;
 use crate::scene::Scene;
 use crate::settings::Pass1Settings;
 use crate::shots::{ElementRow, Shot};
@@ -48,14 +49,9 @@ pub struct Seen {
     pub weight: [f32; 3],
 }
 
-/// The reports of a run of image rows: per row, (pixel index, what it saw) in tracer order.
-#[derive(Clone, Debug, Default)]
-pub struct Traced {
-    /// One list per image row asked for.
-    pub rows: Vec<Vec<(u32, Seen)>>,
-    /// What the frustums of these rows did (in-process engines; boards count theirs on board).
-    pub specular: SpecularStats,
-}
+/// Where [`Backend::trace`] hands each image row's reports: the row y and, in tracer order,
+/// (pixel index, what its ray saw). Called once per row, from any thread, rows in any order.
+pub type RowSink<'a> = dyn Fn(u32, &[(u32, Seen)]) + Sync + 'a;
 
 /// An irradiance query: a point and the normal of the surface it is on.
 #[derive(Clone, Copy, Debug)]
@@ -79,21 +75,54 @@ pub trait Backend: Sync {
     fn shoot(&self, shots: &[Shot], done: &Progress<'_>) -> Result<(Vec<ElementRow>, ShotStats)>;
 
     /// Traces the eye rays of image rows `rows` through `camera`, `spp` per pixel, each row as
-    /// one run of the kernel's pixel tracer; `done` gets image rows as they finish.
+    /// one run of the kernel's pixel tracer, and hands each row's reports to `sink` (so only the
+    /// rows in flight are held); `done` gets image rows as they finish. Returns what the
+    /// frustums did (in-process engines; boards count theirs on the board).
     fn trace(
         &self,
         camera: &Camera,
         spp: u32,
         rows: Range<u32>,
+        sink: &RowSink<'_>,
         done: &Progress<'_>,
-    ) -> Result<Traced>;
+    ) -> Result<SpecularStats>;
 
     /// Shoots a hemisphere at each query (spin 0, no origin patch) and returns what each of its
-    /// rays reached, directly or through specular surfaces, in tracer order.
+    /// rays reached, directly or through specular surfaces, in tracer order (callers pass a few
+    /// queries at a time: a hemisphere's reports number about as many as its rays).
     fn gather(&self, queries: &[Query]) -> Result<Vec<Vec<Seen>>>;
 
     /// The nearest hit of each ray, in scene patch indices (kernel patches: fronts).
     fn nearest(&self, rays: &[Ray]) -> Result<Vec<Option<Hit>>>;
+
+    /// Gathers the radiosity field `grids` (one per scene patch) over the hemisphere of every
+    /// shot, cast as pass 1 casts it (its spin, its origin patch, through specular surfaces):
+    /// per shot and channel `H = Σ_k w_k · B_side(k)(u_k, v_k)`, summed in tracer order. This is
+    /// the element-to-element transport of [`crate::field`], from the same rays as pass 1's
+    /// rows but with the light's variation across each patch; `done` gets shots as they finish.
+    fn gather_field(
+        &self,
+        shots: &[Shot],
+        grids: &[Grid],
+        done: &Progress<'_>,
+    ) -> Result<Vec<[f64; 3]>>;
+}
+
+/// [`Backend::shoot`], checked: one row per shot, for the shot's patch, in the order of
+/// `shots` (a backend that answers otherwise is an error, not a panic further on).
+pub fn shoot_checked(
+    backend: &dyn Backend,
+    shots: &[Shot],
+    done: &Progress<'_>,
+) -> Result<(Vec<ElementRow>, ShotStats)> {
+    let (rows, stats) = backend.shoot(shots, done)?;
+    anyhow::ensure!(
+        rows.len() == shots.len() && rows.iter().zip(shots).all(|(r, s)| r.patch == s.patch),
+        "the backend answered {} rows for {} shots, or rows of other patches",
+        rows.len(),
+        shots.len()
+    );
+    Ok((rows, stats))
 }
 
 /// The default backend, the soft engine in this process, for `scene` with `settings`.

@@ -6,12 +6,13 @@ pub mod image;
 
 pub use image::{auto_exposure, read_png, write_exr, write_png, Image};
 
-use crate::backend::{Backend, Progress, Traced};
+use crate::backend::{Backend, Progress, Seen};
 use crate::radiosity::{grid_of, Grid};
 use crate::scene::Scene;
 use anyhow::{Context, Result};
 use hemi_kernel::camera::Camera;
 use hemi_kernel::specular::SpecularStats;
+use std::sync::Mutex;
 
 /// The kernel camera of a scene's `[camera]`.
 pub fn camera_of(scene: &Scene) -> Result<Camera> {
@@ -48,9 +49,6 @@ pub fn shade(px: &mut [f32; 3], weight: [f32; 3], b: [f64; 3], spp: u32) {
     }
 }
 
-/// Eye rays one request to the backend carries at most (bounds the reports held at once).
-const RAYS_PER_REQUEST: u64 = 1 << 18;
-
 /// Renders the backend's scene through `camera` with `spp` eye rays per pixel. A ray on a
 /// diffuse patch's front side sees its radiance B(u,v)/π (emitters included, so a light shows
 /// its radiance); a ray on a specular patch adds what its frustums see, weighted by k and the
@@ -65,16 +63,27 @@ pub fn render(
 ) -> Result<Rendered> {
     let (w, h) = (camera.width, camera.height);
     let spp = spp.max(1);
-    let per_request = (RAYS_PER_REQUEST / (u64::from(w) * u64::from(spp)).max(1)).max(1) as u32;
-    let mut pixels = vec![[0.0f32; 3]; w as usize * h as usize];
-    let mut specular = SpecularStats::default();
-    let mut first = 0;
-    while first < h {
-        let rows = first..(first + per_request).min(h);
-        let traced = backend.trace(camera, spp, rows, progress)?;
-        shade_rows(&mut pixels, grids, &traced, spp)?;
-        specular += traced.specular;
-        first += per_request;
+    let rows: Vec<Mutex<Vec<[f32; 3]>>> = (0..h)
+        .map(|_| Mutex::new(vec![[0.0f32; 3]; w as usize]))
+        .collect();
+    let failed: Mutex<Option<anyhow::Error>> = Mutex::new(None);
+    let sink = |y: u32, seen: &[(u32, Seen)]| {
+        if let Err(e) = shade_row(&rows, grids, y, w, seen, spp) {
+            if let Ok(mut f) = failed.lock() {
+                f.get_or_insert(e);
+            }
+        }
+    };
+    let specular = backend.trace(camera, spp, 0..h, &sink, progress)?;
+    if let Some(e) = failed.into_inner().ok().flatten() {
+        return Err(e);
+    }
+    let mut pixels = Vec::with_capacity(w as usize * h as usize);
+    for row in rows {
+        pixels.extend(
+            row.into_inner()
+                .map_err(|_| anyhow::anyhow!("a row was poisoned"))?,
+        );
     }
     let image = Image {
         width: w,
@@ -84,18 +93,26 @@ pub fn render(
     Ok(Rendered { image, specular })
 }
 
-/// Shades what the eye rays of some rows saw into `pixels`, report by report in tracer order.
-fn shade_rows(pixels: &mut [[f32; 3]], grids: &[Grid], traced: &Traced, spp: u32) -> Result<()> {
-    for (p, seen) in traced.rows.iter().flatten() {
-        let px = pixels
-            .get_mut(*p as usize)
-            .context("a backend reported a ray outside the image")?;
-        shade(
-            px,
-            seen.weight,
-            grid_of(grids, seen.side)?.at(seen.u, seen.v),
-            spp,
-        );
+/// Shades what the eye rays of image row `y` saw into it, report by report in tracer order.
+fn shade_row(
+    rows: &[Mutex<Vec<[f32; 3]>>],
+    grids: &[Grid],
+    y: u32,
+    w: u32,
+    seen: &[(u32, Seen)],
+    spp: u32,
+) -> Result<()> {
+    let mut row = rows
+        .get(y as usize)
+        .context("a backend reported a row outside the image")?
+        .lock()
+        .map_err(|_| anyhow::anyhow!("a row was poisoned"))?;
+    for (p, s) in seen {
+        let x = p.checked_sub(y * w).filter(|x| *x < w);
+        let px = x
+            .and_then(|x| row.get_mut(x as usize))
+            .context("a backend reported a ray outside its row")?;
+        shade(px, s.weight, grid_of(grids, s.side)?.at(s.u, s.v), spp);
     }
     Ok(())
 }

@@ -26,7 +26,7 @@ pub struct Material {
     /// k_t per channel: specular transmission through the patch (a thin sheet, no refraction).
     pub transmission: Rgb,
     /// k_y ρ_y per channel: diffuse transmission (paper (2.2)). A patch of such a material is a
-    /// two-sided sheet: see [`crate::translucent`].
+    /// two-sided sheet: see [`crate::scene::translucent`].
     pub translucency: Rgb,
     /// Phong power n of both specular lobes (∞ for a perfect mirror).
     pub phong: f64,

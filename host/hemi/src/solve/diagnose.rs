@@ -1,11 +1,7 @@
 //! Detection: what makes an iterative solve of (2.6) slow or impossible, measured before it runs.
 
+pub use super::system::ROW_SLACK;
 use super::System;
-
-/// How far above 1 a row sum must be to count as "above 1". f64 rounding of the row sum is far
-/// below it; pass 1's f32 accumulation of 10⁴ ray weights per element can reach 10⁻⁵ (the Cornell
-/// box has rows at 1 + 7·10⁻⁶), and such rows are reported and scaled back like sampling error.
-pub const ROW_SLACK: f64 = 1e-6;
 
 /// What [`diagnose`] measured.
 #[derive(Clone, Debug, PartialEq)]

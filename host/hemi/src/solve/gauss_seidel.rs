@@ -105,6 +105,18 @@ pub(crate) fn relaxed(
     )
 }
 
+/// The system of `scene` over `f` (assembled by [`super::SceneParts`]) solved by Gauss-Seidel,
+/// the paper's solver (§6.4).
+pub fn gauss_seidel_scene(
+    scene: &crate::scene::Scene,
+    f: Channels<'_>,
+    settings: &SolveSettings,
+) -> Result<Solution> {
+    let parts = super::SceneParts::new(scene, f);
+    let system = parts.system(f)?;
+    gauss_seidel(system.f, system.rho, system.e, settings)
+}
+
 #[cfg(test)]
 mod tests {
     use super::super::grey;

@@ -23,9 +23,9 @@ pub mod sor;
 mod system;
 
 pub use diagnose::{diagnose, Diagnosis};
-pub use gauss_seidel::gauss_seidel;
+pub use gauss_seidel::{gauss_seidel, gauss_seidel_scene};
 pub use system::{
-    coupled, coupled_entry, grey, reflectance_and_emission, Channels, SceneParts, System,
+    coupled, coupled_entry, grey, system_reflectance_and_emission, Channels, SceneParts, System,
 };
 
 use anyhow::Result;

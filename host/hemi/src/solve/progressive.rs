@@ -13,7 +13,7 @@
 //! same relative residual the other solvers stop on. Memory is O(N) beyond the column of F_ji
 //! that one step needs, which [`progressive`] asks for one shooter at a time: from a stored
 //! matrix ([`solve_matrix`]: the column, exact), or computed on demand by shooting the shooter's
-//! hemispheres ([`super::rows`]: its row F_ij turned into the column by reciprocity,
+//! hemispheres ([`crate::on_demand`]: its row F_ij turned into the column by reciprocity,
 //! F_ji = F_ij A_i / A_j, as Cohen et al. do with their hemicube at the shooter).
 //!
 //! With translucent sheets the system is `B = E + KB` with K = ρF + τF_twin

@@ -2,7 +2,6 @@
 //! one place ([`SceneParts`]), and the coupled form `B = E + K B` of a scene with translucent
 //! sheets, `K_s· = ρ_s F_s· + τ_s F_t·` with t the twin of side s (`scene::translucent`).
 
-use super::{diagnose, Solution, SolveSettings};
 use crate::scene::{Material, Scene};
 use anyhow::Result;
 
@@ -28,13 +27,12 @@ pub struct SceneParts {
 impl SceneParts {
     /// ρ, E and (for translucent sheets) the coupled matrices of `scene` with form factors `f`.
     pub fn new(scene: &Scene, f: Channels<'_>) -> SceneParts {
-        let coupled = coupled(scene, f);
-        let (rho, e) = reflectance_and_emission(scene);
-        let rho = match coupled {
-            Some(_) => vec![[1.0; 3]; rho.len()],
-            None => rho,
-        };
-        SceneParts { rho, e, coupled }
+        let (rho, e) = system_reflectance_and_emission(scene);
+        SceneParts {
+            rho,
+            e,
+            coupled: coupled(scene, f),
+        }
     }
 
     /// The system `B = E + ρFB` (or `B = E + KB` with translucent sheets) over the `f` the
@@ -46,39 +44,29 @@ impl SceneParts {
         };
         System::new(f, &self.rho, &self.e)
     }
-
-    /// The reflectance the system's matrices are multiplied by: ρ, or 1 with translucent sheets
-    /// (the coupled K carries ρ and τ).
-    pub fn rho(&self) -> &[[f64; 3]] {
-        &self.rho
-    }
-
-    /// Emission per patch.
-    pub fn e(&self) -> &[[f64; 3]] {
-        &self.e
-    }
-
-    /// The system of `scene` over `f` solved by Gauss-Seidel (the paper's solver, §6.4).
-    pub fn gauss_seidel(
-        scene: &Scene,
-        f: Channels<'_>,
-        settings: &SolveSettings,
-    ) -> Result<Solution> {
-        let parts = SceneParts::new(scene, f);
-        let system = parts.system(f)?;
-        super::gauss_seidel(system.f, system.rho, system.e, settings)
-    }
 }
 
-/// ρ (k_d ρ_d) and E per patch of `scene`, the material side of (2.6). Progressive refinement
-/// with rows on demand, which never holds F, takes these with the coupled columns of
-/// `on_demand` (ρ then 1).
-pub fn reflectance_and_emission(scene: &Scene) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
+/// The material side of (2.6) per patch of `scene`: the reflectance the system multiplies its
+/// matrix by — ρ (k_d ρ_d), or 1 with translucent sheets, whose coupled K ([`coupled`]) carries
+/// ρ and τ itself — and E. Progressive refinement with rows on demand, which never holds F,
+/// takes these with the coupled columns of `on_demand`.
+pub fn system_reflectance_and_emission(scene: &Scene) -> (Vec<[f64; 3]>, Vec<[f64; 3]>) {
     let n = scene.patches.len();
-    let rho = (0..n).map(|i| scene.material_of(i).diffuse).collect();
+    let translucent = scene.has_translucency();
+    let rho = (0..n)
+        .map(|i| match translucent {
+            true => [1.0; 3],
+            false => scene.material_of(i).diffuse,
+        })
+        .collect();
     let e = (0..n).map(|i| scene.material_of(i).emission).collect();
     (rho, e)
 }
+
+/// How far above 1 a row sum must be to count as "above 1". f64 rounding of the row sum is far
+/// below it; pass 1's f32 accumulation of 10⁴ ray weights per element can reach 10⁻⁵ (the Cornell
+/// box has rows at 1 + 7·10⁻⁶), and such rows are reported and scaled back like sampling error.
+pub const ROW_SLACK: f64 = 1e-6;
 
 /// One radiosity system (2.6): per-channel F, ρ (k_d ρ_d) and E per patch.
 #[derive(Clone, Copy, Debug)]
@@ -153,7 +141,7 @@ impl<'a> System<'a> {
             m.iter()
                 .map(|row| {
                     let s: f64 = row.iter().sum();
-                    if s > 1.0 + diagnose::ROW_SLACK {
+                    if s > 1.0 + ROW_SLACK {
                         changed += 1;
                         row.iter().map(|x| x / s).collect()
                     } else {

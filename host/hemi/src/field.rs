@@ -1,0 +1,205 @@
+//! The radiosity field solved at the elements, not only at the patches.
+//!
+//! The solve (2.6) runs on patches, and the element values (4.2) see every other surface only
+//! through its patch average, `B_iq = E_i + ρ_i Σ_j F_iq,j B_j`. Where the light varies across a
+//! wall (a lamp's hot spot, a contact shadow, a bright corner), that average is wrong for most
+//! of the wall, and the field is biased: low in the open, far off in corners.
+//!
+//! Here each element gathers from the *field* instead: every ray of its hemisphere reads the
+//! radiosity where it lands, interpolated on the grid of the patch it hits at the hit's (u,v)
+//! ([`Grid::at`], the same interpolation pass 2 shows):
+//!
+//! ```text
+//!     B_iq ← E_i + ρ_i Σ_k w_k B_side(k)(u_k, v_k)   [+ τ_i Σ_k' w_k' B(u_k', v_k') of its twin]
+//! ```
+//!
+//! with w_k the ray's δD (times what mirrors on its way pass on). It is the element-level
+//! system with the renderer's own interpolation between elements, solved by Jacobi sweeps that
+//! start from the patch solution's element values: each sweep re-casts the same hemispheres as
+//! pass 1 (spin and origin patch alike) through [`Backend::gather_field`] and stores nothing but
+//! the K×K values, so memory stays that of the grids. The sweeps stop when the largest change of
+//! an element value, relative to the largest value, falls below the tolerance.
+
+use crate::backend::{Backend, Progress};
+use crate::grid::Grid;
+use crate::pass1::FormFactors;
+use crate::radiosity::{element_value, grids};
+use crate::scene::Scene;
+use crate::shots::{Cell, ElementRow, Shot};
+use crate::solve::Solution;
+
+/// How the field is solved at the elements.
+#[derive(Clone, Copy, Debug)]
+pub struct FieldSettings {
+    /// The most gather sweeps (0: the patch solution's element values (4.2), as the paper).
+    pub sweeps: u32,
+    /// Stop when no element value changes by more than this fraction of the largest reflected
+    /// value (B − E).
+    pub tolerance: f64,
+}
+
+impl Default for FieldSettings {
+    fn default() -> Self {
+        FieldSettings {
+            sweeps: 0,
+            tolerance: 1e-3,
+        }
+    }
+}
+
+/// The field and how its sweeps went.
+#[derive(Clone, Debug)]
+pub struct Field {
+    /// The radiosity grid of every scene patch.
+    pub grids: Vec<Grid>,
+    /// Sweeps done.
+    pub sweeps: u32,
+    /// The last sweep's largest change of an element value, relative to the largest reflected
+    /// value (B − E).
+    pub change: f64,
+}
+
+/// The field of a solved scene: the element values (4.2) of `sol` over `ff`'s elements, then up
+/// to `settings.sweeps` gather sweeps on `backend` (see the module notes).
+pub fn solve_field(
+    backend: &dyn Backend,
+    ff: &FormFactors,
+    sol: &Solution,
+    settings: &FieldSettings,
+    progress: &Progress<'_>,
+) -> anyhow::Result<Field> {
+    let scene = backend.scene();
+    let mut field = Field {
+        grids: grids(scene, ff, sol),
+        sweeps: 0,
+        change: f64::INFINITY,
+    };
+    if settings.sweeps == 0 || ff.elements.is_empty() {
+        return Ok(field);
+    }
+    let layout = Layout::of(scene, &ff.elements);
+    let shots = layout.shots(&ff.elements);
+    let mut values = layout.initial(scene, &ff.elements, sol);
+    while field.sweeps < settings.sweeps && field.change > settings.tolerance {
+        let gathered = backend.gather_field(&shots, &field.grids, progress)?;
+        let next = layout.values(scene, &ff.elements, &gathered);
+        field.change = relative_change(scene, &ff.elements, &values, &next);
+        field.grids = layout.grids(scene, &next);
+        values = next;
+        field.sweeps += 1;
+    }
+    Ok(field)
+}
+
+/// Where each patch's elements sit in pass 1's element list (grouped by patch, each patch's
+/// k×k v-major), and the twin pairing of translucent sheets.
+struct Layout {
+    /// First element of each patch (`usize::MAX` if it has none).
+    first: Vec<usize>,
+    /// Elements per patch.
+    count: Vec<usize>,
+}
+
+impl Layout {
+    fn of(scene: &Scene, elements: &[ElementRow]) -> Layout {
+        let n = scene.patches.len();
+        let mut first = vec![usize::MAX; n];
+        let mut count = vec![0; n];
+        for (k, e) in elements.iter().enumerate() {
+            first[e.patch] = first[e.patch].min(k);
+            count[e.patch] += 1;
+        }
+        Layout { first, count }
+    }
+
+    /// One shot per element, at its point, with its index in its patch's lattice as the cell
+    /// (which picks the hemisphere's spin, as in pass 1).
+    fn shots(&self, elements: &[ElementRow]) -> Vec<Shot> {
+        elements
+            .iter()
+            .enumerate()
+            .map(|(k, e)| Shot {
+                patch: e.patch,
+                cell: Cell::Uniform {
+                    q: (k - self.first[e.patch]) as u32,
+                },
+                point: e.point,
+            })
+            .collect()
+    }
+
+    /// The twin element of element `k` (patch `i`, index `q` in it): the same index on the other
+    /// side of a translucent sheet, when the two sides have the same lattice.
+    fn twin(&self, scene: &Scene, i: usize, q: usize) -> Option<usize> {
+        let t = scene.twin(i)?;
+        (self.count[t] == self.count[i]).then(|| self.first[t] + q)
+    }
+
+    /// The patch solution's element values (4.2), where the sweeps start.
+    fn initial(&self, scene: &Scene, elements: &[ElementRow], sol: &Solution) -> Vec<[f64; 3]> {
+        elements
+            .iter()
+            .enumerate()
+            .map(|(k, e)| {
+                let twin = self.twin(scene, e.patch, k - self.first[e.patch]);
+                element_value(scene, e, twin.map(|t| &elements[t]), &sol.radiosity)
+            })
+            .collect()
+    }
+
+    /// The element values of one sweep from what each element gathered: `E + ρ H`, plus
+    /// `τ H_twin` on a side of a translucent sheet (its twin's element at the same point).
+    fn values(
+        &self,
+        scene: &Scene,
+        elements: &[ElementRow],
+        gathered: &[[f64; 3]],
+    ) -> Vec<[f64; 3]> {
+        elements
+            .iter()
+            .enumerate()
+            .map(|(k, e)| {
+                let m = scene.material_of(e.patch);
+                let twin = self.twin(scene, e.patch, k - self.first[e.patch]);
+                let twin = twin.map(|t| gathered[t]);
+                let h = gathered[k];
+                [0, 1, 2].map(|c| {
+                    let through = twin.map_or(0.0, |t| m.translucency[c] * t[c]);
+                    m.emission[c] + m.diffuse[c] * h[c] + through
+                })
+            })
+            .collect()
+    }
+
+    /// The grids of element values `values` (patches without elements keep their emission).
+    fn grids(&self, scene: &Scene, values: &[[f64; 3]]) -> Vec<Grid> {
+        (0..scene.patches.len())
+            .map(|i| match self.count[i] {
+                0 => Grid::from_samples(1, &[scene.material_of(i).emission]),
+                n => {
+                    let k = (n as f64).sqrt().round() as usize;
+                    Grid::from_samples(k, &values[self.first[i]..self.first[i] + n])
+                }
+            })
+            .collect()
+    }
+}
+
+/// The largest change of an element value from `a` to `b`, relative to the largest reflected
+/// part `b − E` (emission does not change between sweeps and would hide the change on a
+/// scene whose lamps are far brighter than its walls), over elements and channels.
+fn relative_change(scene: &Scene, elements: &[ElementRow], a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    let (mut worst, mut scale) = (0.0f64, 0.0f64);
+    for ((e, x), y) in elements.iter().zip(a).zip(b) {
+        let emission = scene.material_of(e.patch).emission;
+        for c in 0..3 {
+            worst = worst.max((y[c] - x[c]).abs());
+            scale = scale.max((y[c] - emission[c]).abs());
+        }
+    }
+    if scale > 0.0 {
+        worst / scale
+    } else {
+        worst
+    }
+}
