@@ -10,6 +10,7 @@
 //! HEMI_REQUIRE_QEMU is unset.
 
 use hemi::backend::{Backend, Query};
+use hemi::irradiance::Direct;
 use hemi::pass1::{self, form_factors};
 use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
@@ -129,7 +130,9 @@ fn assert_same_irradiance(
     (point, normal): (Vec3, Vec3),
 ) -> [f64; 3] {
     let query = [Query { point, normal }];
-    let gather = |b: &dyn Backend| hemi::irradiance::irradiance(b, grids, &query).unwrap()[0];
+    let gather = |b: &dyn Backend| {
+        hemi::irradiance::irradiance(b, grids, &query, Direct::Hemisphere).unwrap()[0]
+    };
     let want = gather(&model(scene, settings, config));
     let got = gather(&boards(farm, scene, settings));
     assert_eq!(got.map(f64::to_bits), want.map(f64::to_bits));
@@ -310,8 +313,13 @@ fn run_mirror() {
         point: p,
         normal: -n,
     };
-    let away = hemi::irradiance::irradiance(&boards(&farm, &scene, &settings), &grids, &[away])
-        .unwrap()[0];
+    let away = hemi::irradiance::irradiance(
+        &boards(&farm, &scene, &settings),
+        &grids,
+        &[away],
+        Direct::Hemisphere,
+    )
+    .unwrap()[0];
     assert_ne!(away, got_e);
 }
 

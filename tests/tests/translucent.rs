@@ -162,7 +162,13 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
         point: hemi_kernel::geometry::Vec3::new(0.5, 0.5, 2.0 * c as f32 - 1e-4),
         normal: hemi_kernel::geometry::Vec3::new(0.0, 0.0, -1.0),
     };
-    let e = hemi::irradiance::irradiance(&backend, &grids, &[query]).unwrap()[0];
+    let e = hemi::irradiance::irradiance(
+        &backend,
+        &grids,
+        &[query],
+        hemi::irradiance::Direct::Hemisphere,
+    )
+    .unwrap()[0];
     // E = ∫ B_back(x) cos θ cos θ' / (π r²) dA over the sheet, by a fine midpoint sum over its
     // grid (the configuration is symmetric in x and y, so the grid's (u,v) orientation does
     // not matter)
@@ -185,7 +191,13 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
     // contributes per unit of form factor: E / E(B_back = 1) against ∫B dF / F(Howell).
     let mut flat = grids.clone();
     flat[3] = hemi::radiosity::Grid::from_samples(1, &[[1.0; 3]]);
-    let e1 = hemi::irradiance::irradiance(&backend, &flat, &[query]).unwrap()[0];
+    let e1 = hemi::irradiance::irradiance(
+        &backend,
+        &flat,
+        &[query],
+        hemi::irradiance::Direct::Hemisphere,
+    )
+    .unwrap()[0];
     let f_point = 4.0 * element_to_parallel_rectangle_corner(a / 2.0, a / 2.0, c);
     let (got, expect) = (e[0] / e1[0], want / f_point);
     println!(

@@ -170,7 +170,7 @@ fn cycles(krate: &str, src: &Path, files: &[PathBuf]) -> Vec<String> {
         .iter()
         .map(|f| {
             let text = fs::read_to_string(f).unwrap_or_default();
-            (module_path(src, f), strip_comments(&text))
+            (module_path(src, f), strip_comments(strip_tests(&text)))
         })
         .collect();
     let modules: BTreeSet<Vec<String>> = texts.iter().map(|(m, _)| m.clone()).collect();
@@ -256,6 +256,15 @@ fn target_module(
         }
     }
     best
+}
+
+/// Source text without its `#[cfg(test)]` module (by convention the file's last item): its
+/// `super::` paths are one level deeper than the file's, and tests are not the architecture.
+fn strip_tests(text: &str) -> &str {
+    match text.find("#[cfg(test)]\nmod ") {
+        Some(i) => &text[..i],
+        None => text,
+    }
 }
 
 /// Source text without `//` comments (doc links name modules without importing them).

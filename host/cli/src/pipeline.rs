@@ -138,11 +138,12 @@ pub fn solve(
     let scene = backend.get().scene();
     let t0 = std::time::Instant::now();
     if solver.streaming(scene) {
-        anyhow::ensure!(
-            field.is_none_or(|f| f.sweeps == 0),
-            "--gather sweeps the element field from a solved pass 1: choose a --solver other \
-             than progressive"
-        );
+        if field.is_some_and(|f| f.sweeps > 0) {
+            eprintln!(
+                "element field: no gather sweeps with rows shot on demand (they sweep a stored \
+                 pass 1): the paper's (4.2)"
+            );
+        }
         return streaming(backend, adaptive.adaptive, solver, field.is_some());
     }
     let (ff, sampled) = sample(backend, adaptive.settings(quality)?, board_stats)?;

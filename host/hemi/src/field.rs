@@ -15,18 +15,20 @@
 //!
 //! with w_k the ray's δD (times what mirrors on its way pass on). It is the element-level
 //! system with the renderer's own interpolation between elements, solved by Jacobi sweeps that
-//! start from the patch solution's element values: each sweep re-casts the same hemispheres as
+//! start from the patch solution's element values, each followed by a patch-level correction
+//! (a two-grid cycle, `coarse_correction`): each sweep re-casts the same hemispheres as
 //! pass 1 (spin and origin patch alike) through [`Backend::gather_field`] and stores nothing but
 //! the K×K values, so memory stays that of the grids. The sweeps stop when the largest change of
-//! an element value, relative to the largest value, falls below the tolerance.
+//! an element value, relative to the largest reflected value, falls below the tolerance.
 
 use crate::backend::{Backend, Progress};
+use crate::direct::{self, Direct, Emitters};
 use crate::grid::Grid;
 use crate::pass1::FormFactors;
 use crate::radiosity::{element_value, grids};
 use crate::scene::Scene;
 use crate::shots::{Cell, ElementRow, Shot};
-use crate::solve::Solution;
+use crate::solve::{gauss_seidel, SceneParts, Solution, SolveSettings, System};
 
 /// How the field is solved at the elements.
 #[derive(Clone, Copy, Debug)]
@@ -36,6 +38,8 @@ pub struct FieldSettings {
     /// Stop when no element value changes by more than this fraction of the largest reflected
     /// value (B − E).
     pub tolerance: f64,
+    /// Where each element's direct light from the emitters comes from in the sweeps.
+    pub direct: Direct,
 }
 
 impl Default for FieldSettings {
@@ -43,6 +47,7 @@ impl Default for FieldSettings {
         FieldSettings {
             sweeps: 0,
             tolerance: 1e-3,
+            direct: Direct::Exact,
         }
     }
 }
@@ -80,15 +85,82 @@ pub fn solve_field(
     let layout = Layout::of(scene, &ff.elements);
     let shots = layout.shots(&ff.elements);
     let mut values = layout.initial(scene, &ff.elements, sol);
+    let parts = SceneParts::new(scene, ff.channels());
+    let system = parts.system(ff.channels())?;
+    let emitters =
+        (settings.direct == Direct::Exact && direct::applies(backend)).then(|| Emitters::of(scene));
+    let skip = emitters
+        .as_ref()
+        .map_or(vec![false; scene.patches.len()], |e| e.handled().to_vec());
+    let points: Vec<_> = shots
+        .iter()
+        .map(|s| (s.point.position, s.point.normal))
+        .collect();
     while field.sweeps < settings.sweeps && field.change > settings.tolerance {
-        let gathered = backend.gather_field(&shots, &field.grids, progress)?;
-        let next = layout.values(scene, &ff.elements, &gathered);
+        let gathered = backend.gather_field(&shots, &field.grids, &skip, progress)?;
+        let mut light: Vec<[f64; 3]> = gathered.iter().map(|g| g.light).collect();
+        if let Some(emitters) = &emitters {
+            let direct = emitters.irradiance(backend, &field.grids, &points)?;
+            for (h, d) in light.iter_mut().zip(direct) {
+                for c in 0..3 {
+                    h[c] += d[c];
+                }
+            }
+        }
+        let mut next = layout.values(scene, &ff.elements, &light);
+        // fill first: the residual the correction spreads must not hold the buried values
+        let buried: Vec<bool> = gathered.iter().map(|g| g.blocked > BURIED).collect();
+        layout.fill_buried(&mut next, &buried);
+        coarse_correction(&system, &ff.elements, &values, &mut next)?;
         field.change = relative_change(scene, &ff.elements, &values, &next);
         field.grids = layout.grids(scene, &next);
         values = next;
         field.sweeps += 1;
     }
     Ok(field)
+}
+
+/// An element whose hemisphere meets backs of opaque patches with more than this fraction of
+/// its rays is taken to be buried in another body (a floor's sample under a block): its value is
+/// not the surface's, and bilinear interpolation would spread its darkness over the visible
+/// cells around it, so [`Layout::fill_buried`] replaces it.
+const BURIED: f32 = 0.5;
+
+/// The patch-level correction of a sweep (two-grid): the sweep's residual r = next − values
+/// leaves the error e of `next` with `e = ρT e + ρT r`, T the element transport. Its patch
+/// average — the slowest part to decay under sweeps — is solved exactly on the patch system,
+/// `ē = ρF ē + ρF r̄` (T averaged over a patch is F, and r̄ is r's area-weighted mean per patch),
+/// and added to every element of the patch. The sweeps are left with the detail only, which
+/// decays fast (light spreads over the hemisphere), so a few sweeps reach the tolerance.
+fn coarse_correction(
+    system: &System<'_>,
+    elements: &[ElementRow],
+    values: &[[f64; 3]],
+    next: &mut [[f64; 3]],
+) -> anyhow::Result<()> {
+    let n = system.len();
+    let mut mean = vec![[0.0f64; 3]; n];
+    for ((e, v), x) in elements.iter().zip(values).zip(next.iter()) {
+        for c in 0..3 {
+            mean[e.patch][c] += e.point.weight as f64 * (x[c] - v[c]);
+        }
+    }
+    let rhs: Vec<[f64; 3]> = (0..n)
+        .map(|i| {
+            [0, 1, 2].map(|c| {
+                let row = &system.f[c][i];
+                system.rho[i][c] * row.iter().zip(&mean).map(|(f, r)| f * r[c]).sum::<f64>()
+            })
+        })
+        .collect();
+    let settings = SolveSettings::default();
+    let correction = gauss_seidel(system.f, system.rho, &rhs, &settings)?.radiosity;
+    for (e, x) in elements.iter().zip(next.iter_mut()) {
+        for c in 0..3 {
+            x[c] += correction[e.patch][c];
+        }
+    }
+    Ok(())
 }
 
 /// Where each patch's elements sit in pass 1's element list (grouped by patch, each patch's
@@ -171,6 +243,21 @@ impl Layout {
             .collect()
     }
 
+    /// Replaces the value of every buried element (see [`BURIED`]) by the mean of its patch's
+    /// unburied neighbours (8-neighbourhood on the k×k lattice), growing inwards from the edge of
+    /// the buried region until it is filled; a patch buried whole keeps its values.
+    fn fill_buried(&self, values: &mut [[f64; 3]], buried: &[bool]) {
+        for (i, &n) in self.count.iter().enumerate() {
+            if n == 0 {
+                continue;
+            }
+            let k = (n as f64).sqrt().round() as usize;
+            let range = self.first[i]..self.first[i] + n;
+            let mut open: Vec<bool> = buried[range.clone()].to_vec();
+            fill_lattice(k, &mut values[range], &mut open);
+        }
+    }
+
     /// The grids of element values `values` (patches without elements keep their emission).
     fn grids(&self, scene: &Scene, values: &[[f64; 3]]) -> Vec<Grid> {
         (0..scene.patches.len())
@@ -182,6 +269,44 @@ impl Layout {
                 }
             })
             .collect()
+    }
+}
+
+/// One patch's k×k lattice: every `open` value (v-major) replaced by the mean of its known
+/// 8-neighbours, in rounds, until none is open or no round fills one.
+fn fill_lattice(k: usize, values: &mut [[f64; 3]], open: &mut [bool]) {
+    if open.iter().all(|o| *o) {
+        return;
+    }
+    while open.iter().any(|o| *o) {
+        let mut filled = Vec::new();
+        for q in (0..k * k).filter(|&q| open[q]) {
+            let (a, b) = ((q % k) as isize, (q / k) as isize);
+            let (mut sum, mut count) = ([0.0f64; 3], 0.0);
+            for (da, db) in (-1..=1).flat_map(|x| (-1..=1).map(move |y| (x, y))) {
+                let (x, y) = (a + da, b + db);
+                if x < 0 || y < 0 || x >= k as isize || y >= k as isize {
+                    continue;
+                }
+                let r = y as usize * k + x as usize;
+                if !open[r] {
+                    for c in 0..3 {
+                        sum[c] += values[r][c];
+                    }
+                    count += 1.0;
+                }
+            }
+            if count > 0.0 {
+                filled.push((q, sum.map(|s| s / count)));
+            }
+        }
+        if filled.is_empty() {
+            return;
+        }
+        for (q, v) in filled {
+            values[q] = v;
+            open[q] = false;
+        }
     }
 }
 

@@ -83,6 +83,13 @@ impl Grid {
     }
 }
 
+/// The grid of scene patch `side`, or an error naming what a backend got wrong.
+pub fn grid_of(grids: &[Grid], side: usize) -> anyhow::Result<&Grid> {
+    grids
+        .get(side)
+        .ok_or_else(|| anyhow::anyhow!("a backend reported a hit on unknown patch {side}"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

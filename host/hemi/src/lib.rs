@@ -4,12 +4,13 @@
 //! From the bottom up (no module imports one further down this list, and `cargo xtask layout`
 //! checks that the imports have no cycle): `scene`, `analytic`, `grid`; `optics`, `method`,
 //! `settings`, `shots`; `backend`; `pass1`; `solve`; `radiosity`; then the passes built on them:
-//! `field`, `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay` (docs/ARCHITECTURE.md).
+//! `direct`, `field`, `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay` (docs/ARCHITECTURE.md).
 #![forbid(unsafe_code)]
 
 pub mod adaptive;
 pub mod analytic;
 pub mod backend;
+pub mod direct;
 pub mod field;
 pub mod grid;
 pub mod irradiance;

@@ -1,7 +1,7 @@
 //! From patch radiosities back to the elements (4.2), gathered into the vertex grids of paper
 //! §4.3 ([`Grid`]) that pass 2 and the irradiance queries interpolate.
 
-pub use crate::grid::Grid;
+pub use crate::grid::{grid_of, Grid};
 use crate::pass1::FormFactors;
 use crate::scene::Scene;
 use crate::shots::ElementRow;
@@ -32,13 +32,6 @@ pub fn element_value(
         }
     }
     b
-}
-
-/// The grid of scene patch `side`, or an error naming what a backend got wrong.
-pub fn grid_of(grids: &[Grid], side: usize) -> anyhow::Result<&Grid> {
-    grids
-        .get(side)
-        .ok_or_else(|| anyhow::anyhow!("a backend reported a hit on unknown patch {side}"))
 }
 
 /// Element radiosities (4.2) `B_iq = E_i + ρ_i Σ_j F_iq,j B_j`, gathered into one grid per patch.

@@ -10,7 +10,7 @@ mod trace;
 use crate::farm::{Farm, Setup};
 use crate::protocol::require;
 use anyhow::{Context, Result};
-use hemi::backend::{Backend, Progress, Query, RowSink, Seen};
+use hemi::backend::{Backend, Gathered, Progress, Query, RowSink, Seen};
 use hemi::grid::Grid;
 use hemi::optics::SceneOptics;
 use hemi::scene::Scene;
@@ -205,12 +205,17 @@ impl Backend for Boards<'_> {
         )
     }
 
+    fn casts_single_rays(&self) -> bool {
+        false
+    }
+
     fn gather_field(
         &self,
         _shots: &[Shot],
         _grids: &[Grid],
+        _skip: &[bool],
         _done: &Progress<'_>,
-    ) -> Result<Vec<[f64; 3]>> {
+    ) -> Result<Vec<Gathered>> {
         anyhow::bail!(
             "the element-level field gather (--gather) runs in-process only: boards have no job \
              for it yet (it needs the radiosity grids on the board); use --gather 0 with boards"

@@ -6,6 +6,7 @@ use crate::pipeline;
 use anyhow::Result;
 use clap::Args;
 use hemi::backend::Query;
+use hemi::direct::{applies as exact_direct_applies, Direct};
 use std::io::Write;
 use std::path::PathBuf;
 
@@ -27,12 +28,28 @@ pub struct IrradianceArgs {
     solver: SolverArgs,
     #[command(flatten)]
     field: FieldArgs,
+    /// Where the lamps' direct light comes from: exact form factors to the emitting polygons
+    /// with shadow rays, or the hemisphere's rays (as all other light). Exact needs single rays
+    /// (not boards) and a scene without mirrors; elsewhere the hemisphere is used, said on
+    /// stderr.
+    #[arg(long, value_enum, default_value = "exact")]
+    direct: DirectArg,
+}
+
+/// Where a point query's direct light comes from.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+enum DirectArg {
+    /// Exact form factors with shadow rays.
+    Exact,
+    /// The hemisphere's rays.
+    Hemisphere,
 }
 
 /// Runs `hemi irradiance`, writing to `out`.
 pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
     let adaptive = args.adaptive.adaptive;
     let choice = args.engine.check()?;
+    let choice_is_boards = matches!(choice, crate::engine::Choice::Boards(_));
     let checked = args.sampling.settings(adaptive)?;
     let scene = hemi::scene::load(&args.scene)?;
     let settings = args.quality.for_scene(checked, &scene, adaptive);
@@ -46,14 +63,25 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
         q,
         &args.solver,
         stats,
-        Some(args.field.settings()?),
+        Some(args.field.settings(choice_is_boards)?),
     )?;
     let (rays, bad_line) = rays_from_stdin();
     let queries: Vec<Query> = rays
         .into_iter()
         .map(|(point, normal)| Query { point, normal })
         .collect();
-    for e in hemi::irradiance::irradiance(backend.get(), &solved.grids, &queries)? {
+    let direct = match args.direct {
+        DirectArg::Exact if exact_direct_applies(backend.get()) => Direct::Exact,
+        DirectArg::Exact => {
+            eprintln!(
+                "irradiance: direct light from the hemisphere (exact direct light needs single \
+                 rays, which boards do not cast, and a scene without specular surfaces)"
+            );
+            Direct::Hemisphere
+        }
+        DirectArg::Hemisphere => Direct::Hemisphere,
+    };
+    for e in hemi::irradiance::irradiance(backend.get(), &solved.grids, &queries, direct)? {
         writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
     }
     backend.board_report(stats, "after the queries");

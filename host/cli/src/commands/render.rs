@@ -50,6 +50,7 @@ pub struct RenderArgs {
 pub fn run(args: RenderArgs) -> Result<()> {
     let adaptive = args.adaptive.adaptive;
     let choice = args.engine.check()?;
+    let choice_is_boards = matches!(choice, crate::engine::Choice::Boards(_));
     let checked = args.sampling.settings(adaptive)?;
     anyhow::ensure!(
         (1..=4096).contains(&args.spp),
@@ -72,7 +73,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
         q,
         &args.solver,
         stats,
-        Some(args.field.settings()?),
+        Some(args.field.settings(choice_is_boards)?),
     )?;
     let pass1_counts = backend.model_counts();
     let t2 = std::time::Instant::now();

@@ -1,7 +1,7 @@
 //! In-process backends: the kernel's passes on all cores, one engine per worker thread, over
 //! the soft engine or the accelerator model ([`Engines`]).
 
-use super::{Backend, Progress, Query, RowSink, Seen};
+use super::{Backend, Gathered, Progress, Query, RowSink, Seen};
 use crate::grid::Grid;
 use crate::method::Shooter;
 use crate::optics::{pending_for, SceneOptics, Scratch};
@@ -132,6 +132,54 @@ impl<'s, E: Engines> InProcess<'s, E> {
         (seen, stats)
     }
 
+    /// One shot's `Σ w · B(hit)` over `grids`, hits on `skip`ped sides left out.
+    fn gather_field_at(
+        &self,
+        (accel, scratch): &mut (E::Engine<'_>, Scratch),
+        s: &Shot,
+        grids: &[Grid],
+        skip: &[bool],
+    ) -> Result<Gathered> {
+        let shot = tracer::Shot {
+            origin: s.point.position,
+            normal: s.point.normal,
+            spin: spin_for_sample(s.cell.q()),
+            origin_patch: Some(self.scene.kernel_id(s.patch) as u32),
+            want_uv: true,
+        };
+        let (hemi, optics) = (self.hemi.view(), self.optics.view());
+        let (mut h, mut unknown) = ([0.0f64; 3], None);
+        let stats = tracer::shoot(
+            accel,
+            &hemi,
+            &optics,
+            &mut scratch.view(),
+            &shot,
+            |hit, w| {
+                let seen = self.seen(hit, w);
+                if skip.get(seen.side).copied().unwrap_or(false) {
+                    return;
+                }
+                match grids.get(seen.side) {
+                    Some(g) => {
+                        let b = g.at(seen.u, seen.v);
+                        for c in 0..3 {
+                            h[c] += w[c] as f64 * b[c];
+                        }
+                    }
+                    None => unknown = Some(seen.side),
+                }
+            },
+        );
+        if let Some(side) = unknown {
+            anyhow::bail!("no radiosity grid for patch {side}");
+        }
+        Ok(Gathered {
+            light: h,
+            blocked: stats.back_hits as f32 / stats.rays.max(1) as f32,
+        })
+    }
+
     fn seen(&self, hit: &Hit, weight: [f32; 3]) -> Seen {
         Seen {
             side: self.scene.side_seen(hit.patch, hit.front),
@@ -248,8 +296,9 @@ impl<E: Engines> Backend for InProcess<'_, E> {
         &self,
         shots: &[Shot],
         grids: &[Grid],
+        skip: &[bool],
         done: &Progress<'_>,
-    ) -> Result<Vec<[f64; 3]>> {
+    ) -> Result<Vec<Gathered>> {
         let pending = pending_for(&self.hemi.view());
         shots
             .par_iter()
@@ -260,41 +309,10 @@ impl<E: Engines> Backend for InProcess<'_, E> {
                         Scratch::new(pending, &self.settings.specular),
                     )
                 },
-                |(accel, scratch), s| {
-                    let shot = tracer::Shot {
-                        origin: s.point.position,
-                        normal: s.point.normal,
-                        spin: spin_for_sample(s.cell.q()),
-                        origin_patch: Some(self.scene.kernel_id(s.patch) as u32),
-                        want_uv: true,
-                    };
-                    let (hemi, optics) = (self.hemi.view(), self.optics.view());
-                    let mut h = [0.0f64; 3];
-                    let mut unknown = None;
-                    tracer::shoot(
-                        accel,
-                        &hemi,
-                        &optics,
-                        &mut scratch.view(),
-                        &shot,
-                        |hit, w| {
-                            let seen = self.seen(hit, w);
-                            match grids.get(seen.side) {
-                                Some(g) => {
-                                    let b = g.at(seen.u, seen.v);
-                                    for c in 0..3 {
-                                        h[c] += w[c] as f64 * b[c];
-                                    }
-                                }
-                                None => unknown = Some(seen.side),
-                            }
-                        },
-                    );
+                |state, s| {
+                    let h = self.gather_field_at(state, s, grids, skip);
                     done(1);
-                    match unknown {
-                        Some(side) => anyhow::bail!("no radiosity grid for patch {side}"),
-                        None => Ok(h),
-                    }
+                    h
                 },
             )
             .collect()

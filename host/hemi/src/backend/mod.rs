@@ -53,6 +53,17 @@ pub struct Seen {
 /// (pixel index, what its ray saw). Called once per row, from any thread, rows in any order.
 pub type RowSink<'a> = dyn Fn(u32, &[(u32, Seen)]) + Sync + 'a;
 
+/// What one shot of [`Backend::gather_field`] gathered.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Gathered {
+    /// `Σ_k w_k · B(hit_k)` per channel.
+    pub light: [f64; 3],
+    /// The fraction of its rays that met the back of an opaque patch first: near 1 for a
+    /// sample point buried in another body (a floor's point under a block), whose value is
+    /// then not the surface's.
+    pub blocked: f32,
+}
+
 /// An irradiance query: a point and the normal of the surface it is on.
 #[derive(Clone, Copy, Debug)]
 pub struct Query {
@@ -95,17 +106,25 @@ pub trait Backend: Sync {
     /// The nearest hit of each ray, in scene patch indices (kernel patches: fronts).
     fn nearest(&self, rays: &[Ray]) -> Result<Vec<Option<Hit>>>;
 
+    /// Whether [`Backend::nearest`] answers (boards have no job for single rays).
+    fn casts_single_rays(&self) -> bool {
+        true
+    }
+
     /// Gathers the radiosity field `grids` (one per scene patch) over the hemisphere of every
     /// shot, cast as pass 1 casts it (its spin, its origin patch, through specular surfaces):
     /// per shot and channel `H = Σ_k w_k · B_side(k)(u_k, v_k)`, summed in tracer order. This is
     /// the element-to-element transport of [`crate::field`], from the same rays as pass 1's
     /// rows but with the light's variation across each patch; `done` gets shots as they finish.
+    /// Hits on a side whose `skip` entry is true are left out (the emitters whose direct light
+    /// [`crate::direct`] computes exactly).
     fn gather_field(
         &self,
         shots: &[Shot],
         grids: &[Grid],
+        skip: &[bool],
         done: &Progress<'_>,
-    ) -> Result<Vec<[f64; 3]>>;
+    ) -> Result<Vec<Gathered>>;
 }
 
 /// [`Backend::shoot`], checked: one row per shot, for the shot's patch, in the order of

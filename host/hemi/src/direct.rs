@@ -1,0 +1,315 @@
+//! Direct light from the emitters at a point, by exact form factors with shadow rays.
+//!
+//! A hemisphere of R circles sees a small lamp through a handful of rays, so the light it
+//! gathers from it jumps with R and with the point (a quantisation of a few per cent at the
+//! Cornell box's floor). Here each emitting polygon j is cut into m × m cells; a cell's form
+//! factor from the point is exact, by Lambert's contour integral over its edges,
+//!
+//! ```text
+//!     F_cell = 1/(2π) Σ_k θ_k · n·(a_k × a_k+1)/|a_k × a_k+1|,    a_k the unit vectors to its corners,
+//! ```
+//!
+//! (the cell clipped to the point's horizon first), one shadow ray to its centre says whether
+//! it is seen, and the light it sends is its radiosity there, B_j(u,v) of the emitter's grid:
+//! `E_direct = Σ_cells V · F_cell · B_j`. Unoccluded, the sum is the polygon's exact form
+//! factor; a shadow's edge is resolved to a cell. The rest of the light — everything but the
+//! emitters' own surfaces seen directly — still comes from the hemisphere ([`crate::irradiance`]).
+
+use crate::backend::Backend;
+use crate::grid::Grid;
+use crate::scene::Scene;
+use hemi_kernel::accel::Ray;
+use hemi_kernel::geometry::{Polygon, Vec3};
+use hemi_kernel::patch::Shape;
+
+/// Where the emitters' direct light comes from, at a point query and in the field's sweeps.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum Direct {
+    /// From the hemisphere's rays, as all other light (the paper's gather).
+    Hemisphere,
+    /// From exact form factors to the emitting polygons with shadow rays (this module), where
+    /// [`applies`]; the hemisphere elsewhere.
+    #[default]
+    Exact,
+}
+
+/// Whether exact direct light can be had on `backend`'s scene: single rays for the shadows,
+/// and no specular surface (a mirror's image of a lamp only the hemisphere's frustums see, and
+/// a hemisphere's report does not say whether it came through a mirror).
+pub fn applies(backend: &dyn Backend) -> bool {
+    let specular = backend
+        .scene()
+        .materials
+        .iter()
+        .any(|m| m.reflects() || m.transmits());
+    backend.casts_single_rays() && !specular
+}
+
+/// Cells per side of an emitter: 64 shadow rays per emitter and point.
+pub const CELLS: u32 = 8;
+
+/// The scene's emitters that direct light is computed for: the polygons that emit.
+#[derive(Clone, Debug)]
+pub struct Emitters {
+    /// (scene patch, its polygon).
+    list: Vec<(usize, Polygon)>,
+    /// Per scene patch: whether it is one of `list` (its direct light is not gathered again).
+    handled: Vec<bool>,
+    /// How far from a surface a shadow ray starts, and how close to the cell it may end.
+    epsilon: f32,
+}
+
+impl Emitters {
+    /// The emitting polygons of `scene` (a Bezier emitter stays with the hemisphere).
+    pub fn of(scene: &Scene) -> Emitters {
+        let mut handled = vec![false; scene.patches.len()];
+        let mut list = Vec::new();
+        let (mut lo, mut hi) = (
+            Vec3::new(f32::MAX, f32::MAX, f32::MAX),
+            Vec3::new(f32::MIN, f32::MIN, f32::MIN),
+        );
+        for (i, p) in scene.patches.iter().enumerate().take(scene.fronts()) {
+            if let Shape::Polygon(poly) = p.shape {
+                for v in poly.vertices() {
+                    (lo, hi) = (lo.min(*v), hi.max(*v));
+                }
+                let lit = scene.material_of(i).emission.iter().any(|e| *e > 0.0);
+                if lit {
+                    handled[i] = true;
+                    list.push((i, poly));
+                }
+            }
+        }
+        let size = (hi - lo).length();
+        let epsilon = if size.is_finite() { 1e-5 * size } else { 1e-5 };
+        Emitters {
+            list,
+            handled,
+            epsilon,
+        }
+    }
+
+    /// Whether the light of scene patch `side` seen directly is computed here.
+    pub fn handles(&self, side: usize) -> bool {
+        self.handled.get(side).copied().unwrap_or(false)
+    }
+
+    /// Per scene patch, whether its light seen directly is computed here (see [`Emitters::handles`]).
+    pub fn handled(&self) -> &[bool] {
+        &self.handled
+    }
+
+    /// The direct irradiance from every emitter, per channel, at each (point, normal), with
+    /// every point's shadow rays cast in one request.
+    pub fn irradiance(
+        &self,
+        backend: &dyn Backend,
+        grids: &[Grid],
+        at: &[(Vec3, Vec3)],
+    ) -> anyhow::Result<Vec<[f64; 3]>> {
+        let cells: Vec<Vec<Cell>> = at.iter().map(|&(p, n)| self.cells(p, n)).collect();
+        let mut rays = Vec::new();
+        for (&(point, normal), cells) in at.iter().zip(&cells) {
+            let origin = point + normal * self.epsilon;
+            rays.extend(cells.iter().map(|c| Ray {
+                origin,
+                dir: (c.centre - origin).try_normalize().unwrap_or(normal),
+            }));
+        }
+        let mut hits = backend.nearest(&rays)?.into_iter();
+        let mut out = Vec::with_capacity(at.len());
+        for (&(point, normal), cells) in at.iter().zip(&cells) {
+            let origin = point + normal * self.epsilon;
+            let mut e = [0.0f64; 3];
+            for (cell, hit) in cells.iter().zip(hits.by_ref()) {
+                let distance = (cell.centre - origin).length();
+                let seen = hit.is_some_and(|h| {
+                    h.patch as usize == cell.patch && h.t > distance - 10.0 * self.epsilon
+                });
+                if seen {
+                    let b = crate::grid::grid_of(grids, cell.patch)?.at(cell.u, cell.v);
+                    for c in 0..3 {
+                        e[c] += cell.form_factor * b[c];
+                    }
+                }
+            }
+            out.push(e);
+        }
+        Ok(out)
+    }
+
+    /// Every emitter cell in front of the point, with its exact form factor.
+    fn cells(&self, point: Vec3, normal: Vec3) -> Vec<Cell> {
+        let mut out = Vec::new();
+        for &(patch, poly) in &self.list {
+            // emitters shine from their front only
+            if (point - poly.v[0]).dot(poly.normal) <= 0.0 {
+                continue;
+            }
+            for b in 0..CELLS {
+                for a in 0..CELLS {
+                    let cell = cell_of(&poly, patch, a, b);
+                    let form_factor = form_factor(point, normal, &cell.corners);
+                    if form_factor > 0.0 {
+                        out.push(Cell {
+                            form_factor,
+                            ..cell
+                        });
+                    }
+                }
+            }
+        }
+        out
+    }
+}
+
+/// One cell of an emitter.
+#[derive(Clone, Copy, Debug)]
+struct Cell {
+    patch: usize,
+    corners: [Vec3; 4],
+    centre: Vec3,
+    u: f32,
+    v: f32,
+    form_factor: f64,
+}
+
+/// Cell (a, b) of the [`CELLS`] × [`CELLS`] lattice of `poly`'s (u,v) map.
+fn cell_of(poly: &Polygon, patch: usize, a: u32, b: u32) -> Cell {
+    let d = 1.0 / CELLS as f32;
+    let (u0, v0) = (a as f32 * d, b as f32 * d);
+    let corners = [
+        poly.point(u0, v0),
+        poly.point(u0 + d, v0),
+        poly.point(u0 + d, v0 + d),
+        poly.point(u0, v0 + d),
+    ];
+    let (u, v) = (u0 + 0.5 * d, v0 + 0.5 * d);
+    Cell {
+        patch,
+        corners,
+        centre: poly.point(u, v),
+        u,
+        v,
+        form_factor: 0.0,
+    }
+}
+
+type V3 = [f64; 3];
+
+fn sub(a: V3, b: V3) -> V3 {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+fn dot(a: V3, b: V3) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+fn cross(a: V3, b: V3) -> V3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn f64s(v: Vec3) -> V3 {
+    [v.x as f64, v.y as f64, v.z as f64]
+}
+
+/// The form factor from a differential area at `point` (normal `normal`) to the planar polygon
+/// `corners`, by Lambert's contour integral, over the part of the polygon above the point's
+/// horizon (clipped to it). Zero for a polygon wholly below it.
+pub fn form_factor(point: Vec3, normal: Vec3, corners: &[Vec3]) -> f64 {
+    let (p, n) = (f64s(point), f64s(normal));
+    let rel: Vec<V3> = corners.iter().map(|c| sub(f64s(*c), p)).collect();
+    let clipped = clip_to_horizon(&rel, n);
+    if clipped.len() < 3 {
+        return 0.0;
+    }
+    let mut sum = 0.0;
+    for k in 0..clipped.len() {
+        let (a, b) = (clipped[k], clipped[(k + 1) % clipped.len()]);
+        let (la, lb) = (dot(a, a).sqrt(), dot(b, b).sqrt());
+        if la == 0.0 || lb == 0.0 {
+            continue;
+        }
+        let g = cross(a, b);
+        let lg = dot(g, g).sqrt();
+        if lg == 0.0 {
+            continue; // a collapsed edge (a triangle's cells near its apex)
+        }
+        let theta = (dot(a, b) / (la * lb)).clamp(-1.0, 1.0).acos();
+        sum += theta * dot(n, g) / lg;
+    }
+    (sum / (2.0 * std::f64::consts::PI)).abs()
+}
+
+/// The polygon `rel` (corners relative to the point) clipped to the half-space above the
+/// tangent plane of normal `n` (Sutherland–Hodgman against one plane).
+fn clip_to_horizon(rel: &[V3], n: V3) -> Vec<V3> {
+    let eps = 1e-12;
+    let mut out = Vec::with_capacity(rel.len() + 1);
+    for k in 0..rel.len() {
+        let (a, b) = (rel[k], rel[(k + 1) % rel.len()]);
+        let (da, db) = (dot(a, n), dot(b, n));
+        if da > eps {
+            out.push(a);
+        }
+        if (da > eps) != (db > eps) {
+            let t = da / (da - db);
+            out.push([
+                a[0] + t * (b[0] - a[0]),
+                a[1] + t * (b[1] - a[1]),
+                a[2] + t * (b[2] - a[2]),
+            ]);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_square_straight_above_gives_howells_b3() {
+        // unit square at height 1, its corner above the point: Howell's B-3 closed form
+        let corners = [
+            Vec3::new(0.0, 0.0, 1.0),
+            Vec3::new(1.0, 0.0, 1.0),
+            Vec3::new(1.0, 1.0, 1.0),
+            Vec3::new(0.0, 1.0, 1.0),
+        ];
+        let f = form_factor(Vec3::ZERO, Vec3::new(0.0, 0.0, 1.0), &corners);
+        let want = crate::analytic::element_to_parallel_rectangle_corner(1.0, 1.0, 1.0);
+        assert!((f - want).abs() < 1e-6 * want, "{f} vs {want}");
+    }
+
+    #[test]
+    fn a_polygon_below_the_horizon_gives_nothing_and_one_across_it_half() {
+        let n = Vec3::new(0.0, 0.0, 1.0);
+        let below = [
+            Vec3::new(-1.0, -1.0, -1.0),
+            Vec3::new(1.0, -1.0, -1.0),
+            Vec3::new(1.0, 1.0, -1.0),
+            Vec3::new(-1.0, 1.0, -1.0),
+        ];
+        assert_eq!(form_factor(Vec3::ZERO, n, &below), 0.0);
+        // a vertical wall across the horizon: only its upper half is seen
+        let wall = [
+            Vec3::new(-1.0, 1.0, -1.0),
+            Vec3::new(1.0, 1.0, -1.0),
+            Vec3::new(1.0, 1.0, 1.0),
+            Vec3::new(-1.0, 1.0, 1.0),
+        ];
+        let upper = [
+            Vec3::new(-1.0, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(1.0, 1.0, 1.0),
+            Vec3::new(-1.0, 1.0, 1.0),
+        ];
+        let (a, b) = (
+            form_factor(Vec3::ZERO, n, &wall),
+            form_factor(Vec3::ZERO, n, &upper),
+        );
+        assert!(a > 0.0 && (a - b).abs() < 1e-9, "{a} vs {b}");
+    }
+}
