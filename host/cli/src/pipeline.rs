@@ -2,18 +2,84 @@
 //! progress bar and report, the solve, and the radiosity field; or, without a matrix,
 //! progressive refinement with rows shot on demand.
 
-use crate::engine::Running;
-use crate::options::{AdaptiveArgs, SolverArgs};
+use crate::engine::{Engine, Running};
+use crate::options::{AdaptiveArgs, EngineArgs, QualityArgs, SamplingArgs, SolverArgs};
 use crate::progress::bar;
 use anyhow::Result;
+use clap::Args;
 use hemi::adaptive::{AdaptiveSettings, PatchReport, Progress};
 use hemi::field::FieldSettings;
 use hemi::on_demand::{grids_streaming, solve_streaming, RowShooter};
 use hemi::pass1::FormFactors;
 use hemi::radiosity::Grid;
 use hemi::scene::Scene;
+use hemi::settings::Pass1Settings;
 use hemi::solve::{self, SceneParts, Solution, SolveSettings, Solver};
 use hemi_kernel::tracer::ShotStats;
+use std::path::PathBuf;
+
+/// What every command that runs pass 1 takes: the scene, the ray engine, the sampling and its
+/// preset, and adaptive sampling.
+#[derive(Args)]
+pub struct RunArgs {
+    /// The scene file (TOML; OBJ/MTL and BPT geometry may be included from it).
+    pub scene: PathBuf,
+    #[command(flatten)]
+    pub engine: EngineArgs,
+    #[command(flatten)]
+    pub sampling: SamplingArgs,
+    #[command(flatten)]
+    pub quality: QualityArgs,
+    #[command(flatten)]
+    pub adaptive: AdaptiveArgs,
+}
+
+/// A run made ready: the scene loaded, the settings with `--quality` applied, the engine open.
+pub struct Prepared {
+    /// The scene.
+    pub scene: Scene,
+    /// Pass 1's settings for it.
+    pub settings: Pass1Settings,
+    /// The opened engine.
+    pub engine: Engine,
+}
+
+impl RunArgs {
+    /// Checks the options (the backend first), loads the scene, applies `--quality`, runs
+    /// `check` on the scene (a command's own checks, before boards are booted), and opens the
+    /// engine.
+    pub fn prepare(&self, check: impl FnOnce(&Scene) -> Result<()>) -> Result<Prepared> {
+        let adaptive = self.adaptive.adaptive;
+        let choice = self.engine.check()?;
+        let checked = self.sampling.settings(adaptive)?;
+        let scene = hemi::scene::load(&self.scene)?;
+        let settings = self.quality.for_scene(checked, &scene, adaptive);
+        check(&scene)?;
+        let engine = choice.open(&self.engine.model, &self.engine.boards)?;
+        Ok(Prepared {
+            scene,
+            settings,
+            engine,
+        })
+    }
+
+    /// Whether the run is on boards.
+    pub fn on_boards(&self) -> bool {
+        matches!(self.engine.check(), Ok(crate::engine::Choice::Boards(_)))
+    }
+
+    /// Pass 1 and the solve of a prepared run on `backend` (see [`solve`]).
+    pub fn solve(
+        &self,
+        backend: &Running<'_>,
+        solver: &SolverArgs,
+        field: Option<FieldSettings>,
+    ) -> Result<Solved> {
+        let stats = self.engine.boards.board_stats;
+        let q = self.quality.quality;
+        solve(backend, &self.adaptive, q, solver, stats, field)
+    }
+}
 
 /// A solved scene: the solution and its field, with what pass 1 did.
 pub struct Solved {

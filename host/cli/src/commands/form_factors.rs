@@ -1,41 +1,27 @@
 //! `hemi form-factors`: pass 1 alone, the patch form factors F_ij.
 
-use crate::options::{AdaptiveArgs, EngineArgs, QualityArgs, SamplingArgs};
-use crate::pipeline;
+use crate::pipeline::{self, RunArgs};
 use anyhow::Result;
 use clap::Args;
 use std::io::Write;
-use std::path::PathBuf;
 
 /// Pass-1 form factors between the scene's patches.
 #[derive(Args)]
 pub struct FormFactorsArgs {
-    /// The scene file (TOML; OBJ/MTL and BPT geometry may be included from it).
-    scene: PathBuf,
+    #[command(flatten)]
+    run: RunArgs,
     /// Print JSON: `{"patches": [{"name", "area"}…], "matrix": [[F_ij…]…]}`.
     #[arg(long)]
     json: bool,
-    #[command(flatten)]
-    engine: EngineArgs,
-    #[command(flatten)]
-    sampling: SamplingArgs,
-    #[command(flatten)]
-    quality: QualityArgs,
-    #[command(flatten)]
-    adaptive: AdaptiveArgs,
 }
 
 /// Runs `hemi form-factors`, writing to `out`.
 pub fn run(args: FormFactorsArgs, out: &mut impl Write) -> Result<()> {
-    let adaptive = args.adaptive.adaptive;
-    let choice = args.engine.check()?;
-    let checked = args.sampling.settings(adaptive)?;
-    let scene = hemi::scene::load(&args.scene)?;
-    let settings = args.quality.for_scene(checked, &scene, adaptive);
-    let engine = choice.open(&args.engine.model, &args.engine.boards)?;
-    let backend = engine.backend(&scene, &settings)?;
-    let stats = args.engine.boards.board_stats;
-    let adaptive = args.adaptive.settings(args.quality.quality)?;
+    let run = args.run.prepare(|_| Ok(()))?;
+    let (scene, settings) = (&run.scene, &run.settings);
+    let backend = run.engine.backend(scene, settings)?;
+    let stats = args.run.engine.boards.board_stats;
+    let adaptive = args.run.adaptive.settings(args.run.quality.quality)?;
     let (ff, _) = pipeline::sample(&backend, adaptive, stats)?;
     if args.json {
         let patches: Vec<_> = scene
@@ -63,6 +49,6 @@ pub fn run(args: FormFactorsArgs, out: &mut impl Write) -> Result<()> {
         eprintln!("{line}");
     }
     let hemispheres = ff.elements.len() as u64;
-    backend.report_model(hemispheres, args.engine.model.clock_mhz, "pass 1");
+    backend.report_model(hemispheres, args.run.engine.model.clock_mhz, "pass 1");
     Ok(())
 }

@@ -1,29 +1,20 @@
 //! `hemi irradiance`: the solved field gathered at points read from stdin.
 
 use crate::input::rays_from_stdin;
-use crate::options::{AdaptiveArgs, EngineArgs, FieldArgs, QualityArgs, SamplingArgs, SolverArgs};
-use crate::pipeline;
+use crate::options::{FieldArgs, SolverArgs};
+use crate::pipeline::RunArgs;
 use anyhow::Result;
 use clap::Args;
 use hemi::backend::Query;
 use hemi::direct::{applies as exact_direct_applies, Direct};
 use std::io::Write;
-use std::path::PathBuf;
 
 /// Irradiance at points read from stdin (`x y z dx dy dz` per line, the convention of
 /// Radiance's `rtrace -I`), printed `r g b`.
 #[derive(Args)]
 pub struct IrradianceArgs {
-    /// The scene file (TOML; OBJ/MTL and BPT geometry may be included from it).
-    scene: PathBuf,
     #[command(flatten)]
-    engine: EngineArgs,
-    #[command(flatten)]
-    sampling: SamplingArgs,
-    #[command(flatten)]
-    quality: QualityArgs,
-    #[command(flatten)]
-    adaptive: AdaptiveArgs,
+    run: RunArgs,
     #[command(flatten)]
     solver: SolverArgs,
     #[command(flatten)]
@@ -47,24 +38,10 @@ enum DirectArg {
 
 /// Runs `hemi irradiance`, writing to `out`.
 pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
-    let adaptive = args.adaptive.adaptive;
-    let choice = args.engine.check()?;
-    let choice_is_boards = matches!(choice, crate::engine::Choice::Boards(_));
-    let checked = args.sampling.settings(adaptive)?;
-    let scene = hemi::scene::load(&args.scene)?;
-    let settings = args.quality.for_scene(checked, &scene, adaptive);
-    let engine = choice.open(&args.engine.model, &args.engine.boards)?;
-    let backend = engine.backend(&scene, &settings)?;
-    let stats = args.engine.boards.board_stats;
-    let q = args.quality.quality;
-    let solved = pipeline::solve(
-        &backend,
-        &args.adaptive,
-        q,
-        &args.solver,
-        stats,
-        Some(args.field.settings(choice_is_boards)?),
-    )?;
+    let field = args.field.settings(args.run.on_boards())?;
+    let run = args.run.prepare(|_| Ok(()))?;
+    let backend = run.engine.backend(&run.scene, &run.settings)?;
+    let solved = args.run.solve(&backend, &args.solver, Some(field))?;
     let (rays, bad_line) = rays_from_stdin();
     let queries: Vec<Query> = rays
         .into_iter()
@@ -84,13 +61,13 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
     for e in hemi::irradiance::irradiance(backend.get(), &solved.grids, &queries, direct)? {
         writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
     }
-    backend.board_report(stats, "after the queries");
+    backend.board_report(args.run.engine.boards.board_stats, "after the queries");
     if let Some(e) = bad_line {
         return Err(e);
     }
     backend.report_model(
         solved.hemispheres,
-        args.engine.model.clock_mhz,
+        args.run.engine.model.clock_mhz,
         "pass 1 and queries",
     );
     Ok(())

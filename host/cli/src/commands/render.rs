@@ -1,7 +1,7 @@
 //! `hemi render`: both passes, then the image files.
 
-use crate::options::{AdaptiveArgs, EngineArgs, FieldArgs, QualityArgs, SamplingArgs, SolverArgs};
-use crate::pipeline::{self, Solved};
+use crate::options::{FieldArgs, SolverArgs};
+use crate::pipeline::{RunArgs, Solved};
 use crate::progress::bar;
 use anyhow::Result;
 use clap::Args;
@@ -14,8 +14,8 @@ use std::path::PathBuf;
 /// Both passes: writes the image (8-bit sRGB PNG, and linear EXR with --exr).
 #[derive(Args)]
 pub struct RenderArgs {
-    /// The scene file (TOML; OBJ/MTL and BPT geometry may be included from it).
-    scene: PathBuf,
+    #[command(flatten)]
+    run: RunArgs,
     /// Output PNG.
     #[arg(short, long)]
     output: PathBuf,
@@ -33,14 +33,6 @@ pub struct RenderArgs {
     #[arg(long)]
     show_samples: bool,
     #[command(flatten)]
-    engine: EngineArgs,
-    #[command(flatten)]
-    sampling: SamplingArgs,
-    #[command(flatten)]
-    quality: QualityArgs,
-    #[command(flatten)]
-    adaptive: AdaptiveArgs,
-    #[command(flatten)]
     solver: SolverArgs,
     #[command(flatten)]
     field: FieldArgs,
@@ -48,33 +40,23 @@ pub struct RenderArgs {
 
 /// Runs `hemi render`.
 pub fn run(args: RenderArgs) -> Result<()> {
-    let adaptive = args.adaptive.adaptive;
-    let choice = args.engine.check()?;
-    let choice_is_boards = matches!(choice, crate::engine::Choice::Boards(_));
-    let checked = args.sampling.settings(adaptive)?;
     anyhow::ensure!(
         (1..=4096).contains(&args.spp),
         "--spp must be between 1 and 4096"
     );
-    let scene = hemi::scene::load(&args.scene)?;
-    let settings = args.quality.for_scene(checked, &scene, adaptive);
-    let camera = hemi::render::camera_of(&scene)?;
-    let engine = choice.open(&args.engine.model, &args.engine.boards)?;
     anyhow::ensure!(
-        !args.show_samples || adaptive,
+        !args.show_samples || args.run.adaptive.adaptive,
         "--show-samples draws the points of adaptive sampling: add --adaptive"
     );
-    let backend = engine.backend(&scene, &settings)?;
-    let stats = args.engine.boards.board_stats;
-    let q = args.quality.quality;
-    let solved = pipeline::solve(
-        &backend,
-        &args.adaptive,
-        q,
-        &args.solver,
-        stats,
-        Some(args.field.settings(choice_is_boards)?),
-    )?;
+    let field = args.field.settings(args.run.on_boards())?;
+    let run = args
+        .run
+        .prepare(|scene| hemi::render::camera_of(scene).map(drop))?;
+    let (scene, settings) = (&run.scene, &run.settings);
+    let camera = hemi::render::camera_of(scene)?;
+    let backend = run.engine.backend(scene, settings)?;
+    let stats = args.run.engine.boards.board_stats;
+    let solved = args.run.solve(&backend, &args.solver, Some(field))?;
     let pass1_counts = backend.model_counts();
     let t2 = std::time::Instant::now();
     let bar = bar(u64::from(camera.height), "pass 2");
@@ -85,7 +67,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     bar.finish_and_clear();
     backend.board_report(stats, "after pass 2");
     let pass2 = t2.elapsed().as_secs_f64();
-    let ev = write_images(&args, &scene, &camera, &solved, image)?;
+    let ev = write_images(&args, scene, &camera, &solved, image)?;
     eprintln!(
         "pass 1 {:.3} s ({} rays), solve {:.3} s ({}, {} sweeps), pass 2 {pass2:.3} s ({}x{}, {} \
          spp), exposure {ev:+.2} EV -> {}",
@@ -99,8 +81,8 @@ pub fn run(args: RenderArgs) -> Result<()> {
         args.spp,
         args.output.display()
     );
-    report_specular(&settings, &solved, &specular, &camera, args.spp);
-    let clock = args.engine.model.clock_mhz;
+    report_specular(settings, &solved, &specular, &camera, args.spp);
+    let clock = args.run.engine.model.clock_mhz;
     backend.report_model(solved.hemispheres, clock, "pass 1 and pass 2");
     if let (Some((c, r)), Some((c1, r1))) = (backend.model_counts(), pass1_counts) {
         eprintln!(

@@ -1,44 +1,29 @@
 //! `hemi solve`: pass 1 and the solve, the radiosity per patch.
 
-use crate::options::{AdaptiveArgs, EngineArgs, QualityArgs, SamplingArgs, SolverArgs};
-use crate::pipeline;
+use crate::options::SolverArgs;
+use crate::pipeline::RunArgs;
 use anyhow::Result;
 use clap::Args;
 use std::io::Write;
-use std::path::PathBuf;
 
 /// Pass 1 and the solve: radiosity per patch.
 #[derive(Args)]
 pub struct SolveArgs {
-    /// The scene file (TOML; OBJ/MTL and BPT geometry may be included from it).
-    scene: PathBuf,
+    #[command(flatten)]
+    run: RunArgs,
     /// Print JSON: `{"patches": [{"name", "radiosity"}…], "iterations", "residual"}`.
     #[arg(long)]
     json: bool,
-    #[command(flatten)]
-    engine: EngineArgs,
-    #[command(flatten)]
-    sampling: SamplingArgs,
-    #[command(flatten)]
-    quality: QualityArgs,
-    #[command(flatten)]
-    adaptive: AdaptiveArgs,
     #[command(flatten)]
     solver: SolverArgs,
 }
 
 /// Runs `hemi solve`, writing to `out`.
 pub fn run(args: SolveArgs, out: &mut impl Write) -> Result<()> {
-    let adaptive = args.adaptive.adaptive;
-    let choice = args.engine.check()?;
-    let checked = args.sampling.settings(adaptive)?;
-    let scene = hemi::scene::load(&args.scene)?;
-    let settings = args.quality.for_scene(checked, &scene, adaptive);
-    let engine = choice.open(&args.engine.model, &args.engine.boards)?;
-    let backend = engine.backend(&scene, &settings)?;
-    let stats = args.engine.boards.board_stats;
-    let q = args.quality.quality;
-    let solved = pipeline::solve(&backend, &args.adaptive, q, &args.solver, stats, None)?;
+    let run = args.run.prepare(|_| Ok(()))?;
+    let (scene, settings) = (&run.scene, &run.settings);
+    let backend = run.engine.backend(scene, settings)?;
+    let solved = args.run.solve(&backend, &args.solver, None)?;
     let sol = &solved.solution;
     if args.json {
         let patches: Vec<_> = scene
@@ -67,6 +52,10 @@ pub fn run(args: SolveArgs, out: &mut impl Write) -> Result<()> {
             hemi::optics::describe("specular", s, rays, &settings.specular)
         );
     }
-    backend.report_model(solved.hemispheres, args.engine.model.clock_mhz, "pass 1");
+    backend.report_model(
+        solved.hemispheres,
+        args.run.engine.model.clock_mhz,
+        "pass 1",
+    );
     Ok(())
 }
