@@ -258,8 +258,15 @@ impl Layout {
         }
     }
 
-    /// The grids of element values `values` (patches without elements keep their emission).
+    /// The grids of element values `values` (patches without elements keep their emission),
+    /// welded across the seams of smooth surfaces ([`crate::seams`]).
     fn grids(&self, scene: &Scene, values: &[[f64; 3]]) -> Vec<Grid> {
+        let mut grids = self.unwelded(scene, values);
+        crate::seams::weld(scene, &mut grids);
+        grids
+    }
+
+    fn unwelded(&self, scene: &Scene, values: &[[f64; 3]]) -> Vec<Grid> {
         (0..scene.patches.len())
             .map(|i| match self.count[i] {
                 0 => Grid::from_samples(1, &[scene.material_of(i).emission]),

@@ -62,6 +62,16 @@ impl Grid {
         self.k
     }
 
+    /// The value at vertex (i, j) of the (K+1)×(K+1) vertex grid (i along u).
+    pub fn vertex(&self, i: usize, j: usize) -> [f64; 3] {
+        self.vertices[j * (self.k + 1) + i]
+    }
+
+    /// Sets vertex (i, j) (seams are welded this way, `crate::seams`).
+    pub fn set_vertex(&mut self, i: usize, j: usize, value: [f64; 3]) {
+        self.vertices[j * (self.k + 1) + i] = value;
+    }
+
     /// B at (u, v).
     pub fn at(&self, u: f32, v: f32) -> [f64; 3] {
         let k = self.k;

@@ -3,8 +3,8 @@
 //!
 //! From the bottom up (no module imports one further down this list, and `cargo xtask layout`
 //! checks that the imports have no cycle): `scene`, `analytic`, `grid`; `optics`, `method`,
-//! `settings`, `shots`; `backend`; `pass1`; `solve`; `radiosity`; then the passes built on them:
-//! `direct`, `field`, `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay` (docs/ARCHITECTURE.md).
+//! `settings`, `shots`; `backend`; `pass1`; `solve`; `radiosity`, `seams`; then the passes built on
+//! them: `direct`, `field`, `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay` (docs/ARCHITECTURE.md).
 #![forbid(unsafe_code)]
 
 pub mod adaptive;
@@ -23,6 +23,7 @@ pub mod quality;
 pub mod radiosity;
 pub mod render;
 pub mod scene;
+pub mod seams;
 pub mod settings;
 pub mod shots;
 pub mod solve;
