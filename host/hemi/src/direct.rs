@@ -100,13 +100,20 @@ impl Emitters {
     }
 
     /// The direct irradiance from every emitter, per channel, at each (point, normal), with
-    /// every point's shadow rays cast in one request.
+    /// every point's shadow rays cast in one request ([`Emitters::paths`], then
+    /// [`DirectPaths::irradiance`]).
     pub fn irradiance(
         &self,
         backend: &dyn Backend,
         grids: &[Grid],
         at: &[(Vec3, Vec3)],
     ) -> anyhow::Result<Vec<[f64; 3]>> {
+        self.paths(backend, at)?.irradiance(grids)
+    }
+
+    /// The emitter cells each (point, normal) sees, with their form factors: the geometry and
+    /// the shadows, which do not change while the field's sweeps change the emitters' radiosity.
+    pub fn paths(&self, backend: &dyn Backend, at: &[(Vec3, Vec3)]) -> anyhow::Result<DirectPaths> {
         let cells: Vec<Vec<Cell>> = at.iter().map(|&(p, n)| self.cells(p, n)).collect();
         let mut rays = Vec::new();
         for (&(point, normal), cells) in at.iter().zip(&cells) {
@@ -117,25 +124,18 @@ impl Emitters {
             }));
         }
         let mut hits = backend.nearest(&rays)?.into_iter();
-        let mut out = Vec::with_capacity(at.len());
-        for (&(point, normal), cells) in at.iter().zip(&cells) {
+        let mut seen = Vec::with_capacity(at.len());
+        for (&(point, normal), cells) in at.iter().zip(cells) {
             let origin = point + normal * self.epsilon;
-            let mut e = [0.0f64; 3];
-            for (cell, hit) in cells.iter().zip(hits.by_ref()) {
+            let visible = cells.into_iter().zip(hits.by_ref()).filter(|(cell, hit)| {
                 let distance = (cell.centre - origin).length();
-                let seen = hit.is_some_and(|h| {
+                hit.is_some_and(|h| {
                     h.patch as usize == cell.patch && h.t > distance - 10.0 * self.epsilon
-                });
-                if seen {
-                    let b = crate::grid::grid_of(grids, cell.patch)?.at(cell.u, cell.v);
-                    for c in 0..3 {
-                        e[c] += cell.form_factor * b[c];
-                    }
-                }
-            }
-            out.push(e);
+                })
+            });
+            seen.push(visible.map(|(cell, _)| cell).collect());
         }
-        Ok(out)
+        Ok(DirectPaths { seen })
     }
 
     /// Every emitter cell in front of the point, with its exact form factor.
@@ -160,6 +160,32 @@ impl Emitters {
             }
         }
         out
+    }
+}
+
+/// The emitter cells some points see (after their shadow rays), with their form factors.
+#[derive(Clone, Debug)]
+pub struct DirectPaths {
+    seen: Vec<Vec<Cell>>,
+}
+
+impl DirectPaths {
+    /// Each point's direct irradiance, `Σ_cells F_cell · B_emitter(u, v)` over the cells it
+    /// sees, with the emitters' radiosity read off `grids`.
+    pub fn irradiance(&self, grids: &[Grid]) -> anyhow::Result<Vec<[f64; 3]>> {
+        self.seen
+            .iter()
+            .map(|cells| {
+                let mut e = [0.0f64; 3];
+                for cell in cells {
+                    let b = crate::grid::grid_of(grids, cell.patch)?.at(cell.u, cell.v);
+                    for c in 0..3 {
+                        e[c] += cell.form_factor * b[c];
+                    }
+                }
+                Ok(e)
+            })
+            .collect()
     }
 }
 

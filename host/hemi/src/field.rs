@@ -25,7 +25,7 @@ use crate::backend::{Backend, Progress};
 use crate::direct::{self, Direct, Emitters};
 use crate::grid::Grid;
 use crate::pass1::FormFactors;
-use crate::radiosity::{element_value, grids};
+use crate::radiosity::{combine, ElementIndex};
 use crate::scene::Scene;
 use crate::shots::{Cell, ElementRow, Shot};
 use crate::solve::{gauss_seidel, SceneParts, Solution, SolveSettings, System};
@@ -74,17 +74,17 @@ pub fn solve_field(
     progress: &Progress<'_>,
 ) -> anyhow::Result<Field> {
     let scene = backend.scene();
+    let index = ElementIndex::of(scene, &ff.elements);
+    let mut values = index.values(scene, &ff.elements, &sol.radiosity);
     let mut field = Field {
-        grids: grids(scene, ff, sol),
+        grids: index.grids(scene, &values),
         sweeps: 0,
         change: f64::INFINITY,
     };
     if settings.sweeps == 0 || ff.elements.is_empty() {
         return Ok(field);
     }
-    let layout = Layout::of(scene, &ff.elements);
-    let shots = layout.shots(&ff.elements);
-    let mut values = layout.initial(scene, &ff.elements, sol);
+    let shots = element_shots(&index, &ff.elements);
     let parts = SceneParts::new(scene, ff.channels());
     let system = parts.system(ff.channels())?;
     let emitters =
@@ -96,24 +96,30 @@ pub fn solve_field(
         .iter()
         .map(|s| (s.point.position, s.point.normal))
         .collect();
+    // the cells each element sees of the lamps and their shadows: fixed over the sweeps
+    let direct = match &emitters {
+        Some(e) => Some(e.paths(backend, &points)?),
+        None => None,
+    };
     while field.sweeps < settings.sweeps && field.change > settings.tolerance {
         let gathered = backend.gather_field(&shots, &field.grids, &skip, progress)?;
         let mut light: Vec<[f64; 3]> = gathered.iter().map(|g| g.light).collect();
-        if let Some(emitters) = &emitters {
-            let direct = emitters.irradiance(backend, &field.grids, &points)?;
-            for (h, d) in light.iter_mut().zip(direct) {
+        if let Some(direct) = &direct {
+            for (h, d) in light.iter_mut().zip(direct.irradiance(&field.grids)?) {
                 for c in 0..3 {
                     h[c] += d[c];
                 }
             }
         }
-        let mut next = layout.values(scene, &ff.elements, &light);
+        let mut next = swept_values(scene, &index, &ff.elements, &light);
         // fill first: the residual the correction spreads must not hold the buried values
         let buried: Vec<bool> = gathered.iter().map(|g| g.blocked > BURIED).collect();
-        layout.fill_buried(&mut next, &buried);
+        fill_buried(scene, &index, &mut next, &buried);
         coarse_correction(&system, &ff.elements, &values, &mut next)?;
         field.change = relative_change(scene, &ff.elements, &values, &next);
-        field.grids = layout.grids(scene, &next);
+        // welded across the seams of smooth surfaces (`crate::seams`)
+        field.grids = index.grids(scene, &next);
+        crate::seams::weld(scene, &mut field.grids);
         values = next;
         field.sweeps += 1;
     }
@@ -123,7 +129,7 @@ pub fn solve_field(
 /// An element whose hemisphere meets backs of opaque patches with more than this fraction of
 /// its rays is taken to be buried in another body (a floor's sample under a block): its value is
 /// not the surface's, and bilinear interpolation would spread its darkness over the visible
-/// cells around it, so [`Layout::fill_buried`] replaces it.
+/// cells around it, so [`fill_buried`] replaces it.
 const BURIED: f32 = 0.5;
 
 /// The patch-level correction of a sweep (two-grid): the sweep's residual r = next − values
@@ -163,119 +169,52 @@ fn coarse_correction(
     Ok(())
 }
 
-/// Where each patch's elements sit in pass 1's element list (grouped by patch, each patch's
-/// k×k v-major), and the twin pairing of translucent sheets.
-struct Layout {
-    /// First element of each patch (`usize::MAX` if it has none).
-    first: Vec<usize>,
-    /// Elements per patch.
-    count: Vec<usize>,
+/// One shot per element, at its point, with its index in its patch's lattice as the cell
+/// (which picks the hemisphere's spin, as in pass 1).
+fn element_shots(index: &ElementIndex, elements: &[ElementRow]) -> Vec<Shot> {
+    elements
+        .iter()
+        .enumerate()
+        .map(|(k, e)| Shot {
+            patch: e.patch,
+            cell: Cell::Uniform {
+                q: index.within(e.patch, k) as u32,
+            },
+            point: e.point,
+        })
+        .collect()
 }
 
-impl Layout {
-    fn of(scene: &Scene, elements: &[ElementRow]) -> Layout {
-        let n = scene.patches.len();
-        let mut first = vec![usize::MAX; n];
-        let mut count = vec![0; n];
-        for (k, e) in elements.iter().enumerate() {
-            first[e.patch] = first[e.patch].min(k);
-            count[e.patch] += 1;
+/// The element values of one sweep from what each element gathered ([`combine`], with its
+/// twin's on a translucent sheet).
+fn swept_values(
+    scene: &Scene,
+    index: &ElementIndex,
+    elements: &[ElementRow],
+    gathered: &[[f64; 3]],
+) -> Vec<[f64; 3]> {
+    elements
+        .iter()
+        .enumerate()
+        .map(|(k, e)| {
+            let through = index.twin(scene, e.patch, k).map(|t| gathered[t]);
+            combine(scene.material_of(e.patch), gathered[k], through)
+        })
+        .collect()
+}
+
+/// Replaces the value of every buried element (see [`BURIED`]) by the mean of its patch's
+/// unburied neighbours (8-neighbourhood on the k×k lattice), growing inwards from the edge of
+/// the buried region until it is filled; a patch buried whole keeps its values.
+fn fill_buried(scene: &Scene, index: &ElementIndex, values: &mut [[f64; 3]], buried: &[bool]) {
+    for i in 0..scene.patches.len() {
+        let range = index.range(i);
+        if range.is_empty() {
+            continue;
         }
-        Layout { first, count }
-    }
-
-    /// One shot per element, at its point, with its index in its patch's lattice as the cell
-    /// (which picks the hemisphere's spin, as in pass 1).
-    fn shots(&self, elements: &[ElementRow]) -> Vec<Shot> {
-        elements
-            .iter()
-            .enumerate()
-            .map(|(k, e)| Shot {
-                patch: e.patch,
-                cell: Cell::Uniform {
-                    q: (k - self.first[e.patch]) as u32,
-                },
-                point: e.point,
-            })
-            .collect()
-    }
-
-    /// The twin element of element `k` (patch `i`, index `q` in it): the same index on the other
-    /// side of a translucent sheet, when the two sides have the same lattice.
-    fn twin(&self, scene: &Scene, i: usize, q: usize) -> Option<usize> {
-        let t = scene.twin(i)?;
-        (self.count[t] == self.count[i]).then(|| self.first[t] + q)
-    }
-
-    /// The patch solution's element values (4.2), where the sweeps start.
-    fn initial(&self, scene: &Scene, elements: &[ElementRow], sol: &Solution) -> Vec<[f64; 3]> {
-        elements
-            .iter()
-            .enumerate()
-            .map(|(k, e)| {
-                let twin = self.twin(scene, e.patch, k - self.first[e.patch]);
-                element_value(scene, e, twin.map(|t| &elements[t]), &sol.radiosity)
-            })
-            .collect()
-    }
-
-    /// The element values of one sweep from what each element gathered: `E + ρ H`, plus
-    /// `τ H_twin` on a side of a translucent sheet (its twin's element at the same point).
-    fn values(
-        &self,
-        scene: &Scene,
-        elements: &[ElementRow],
-        gathered: &[[f64; 3]],
-    ) -> Vec<[f64; 3]> {
-        elements
-            .iter()
-            .enumerate()
-            .map(|(k, e)| {
-                let m = scene.material_of(e.patch);
-                let twin = self.twin(scene, e.patch, k - self.first[e.patch]);
-                let twin = twin.map(|t| gathered[t]);
-                let h = gathered[k];
-                [0, 1, 2].map(|c| {
-                    let through = twin.map_or(0.0, |t| m.translucency[c] * t[c]);
-                    m.emission[c] + m.diffuse[c] * h[c] + through
-                })
-            })
-            .collect()
-    }
-
-    /// Replaces the value of every buried element (see [`BURIED`]) by the mean of its patch's
-    /// unburied neighbours (8-neighbourhood on the k×k lattice), growing inwards from the edge of
-    /// the buried region until it is filled; a patch buried whole keeps its values.
-    fn fill_buried(&self, values: &mut [[f64; 3]], buried: &[bool]) {
-        for (i, &n) in self.count.iter().enumerate() {
-            if n == 0 {
-                continue;
-            }
-            let k = (n as f64).sqrt().round() as usize;
-            let range = self.first[i]..self.first[i] + n;
-            let mut open: Vec<bool> = buried[range.clone()].to_vec();
-            fill_lattice(k, &mut values[range], &mut open);
-        }
-    }
-
-    /// The grids of element values `values` (patches without elements keep their emission),
-    /// welded across the seams of smooth surfaces ([`crate::seams`]).
-    fn grids(&self, scene: &Scene, values: &[[f64; 3]]) -> Vec<Grid> {
-        let mut grids = self.unwelded(scene, values);
-        crate::seams::weld(scene, &mut grids);
-        grids
-    }
-
-    fn unwelded(&self, scene: &Scene, values: &[[f64; 3]]) -> Vec<Grid> {
-        (0..scene.patches.len())
-            .map(|i| match self.count[i] {
-                0 => Grid::from_samples(1, &[scene.material_of(i).emission]),
-                n => {
-                    let k = (n as f64).sqrt().round() as usize;
-                    Grid::from_samples(k, &values[self.first[i]..self.first[i] + n])
-                }
-            })
-            .collect()
+        let k = (range.len() as f64).sqrt().round() as usize;
+        let mut open: Vec<bool> = buried[range.clone()].to_vec();
+        fill_lattice(k, &mut values[range], &mut open);
     }
 }
 

@@ -4,7 +4,7 @@
 
 use crate::backend::{shoot_checked, Backend};
 use crate::pass1::add_element;
-use crate::radiosity::{element_value, Grid};
+use crate::radiosity::{element_value, patch_grid, Grid};
 use crate::scene::Scene;
 use crate::shots::{uniform_shots, ElementRow};
 use crate::solve::progressive::progressive;
@@ -130,11 +130,7 @@ pub fn grids_streaming(shooter: &mut RowShooter<'_>, sol: &Solution) -> Result<V
             .enumerate()
             .map(|(q, e)| element_value(scene, e, twin_rows.get(q), &sol.radiosity))
             .collect();
-        if samples.is_empty() {
-            Grid::from_samples(1, &[scene.material_of(i).emission])
-        } else {
-            Grid::from_samples((samples.len() as f64).sqrt().round() as usize, &samples)
-        }
+        patch_grid(scene, i, &samples)
     };
     let n = scene.patches.len();
     let mut grids: Vec<Option<Grid>> = vec![None; n];
