@@ -57,9 +57,9 @@ fn gathered(
         if emitters.is_some_and(|em| em.handles(s.side)) {
             continue;
         }
-        let b = crate::radiosity::grid_of(grids, s.side)?.at(s.u, s.v);
+        let l = s.light(grids)?;
         for c in 0..3 {
-            e[c] += s.weight[c] as f64 * b[c];
+            e[c] += l[c];
         }
     }
     Ok(e)

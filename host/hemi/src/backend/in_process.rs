@@ -148,7 +148,7 @@ impl<'s, E: Engines> InProcess<'s, E> {
             want_uv: true,
         };
         let (hemi, optics) = (self.hemi.view(), self.optics.view());
-        let (mut h, mut unknown) = ([0.0f64; 3], None);
+        let (mut h, mut failed) = ([0.0f64; 3], None);
         let stats = tracer::shoot(
             accel,
             &hemi,
@@ -160,19 +160,14 @@ impl<'s, E: Engines> InProcess<'s, E> {
                 if skip.get(seen.side).copied().unwrap_or(false) {
                     return;
                 }
-                match grids.get(seen.side) {
-                    Some(g) => {
-                        let b = g.at(seen.u, seen.v);
-                        for c in 0..3 {
-                            h[c] += w[c] as f64 * b[c];
-                        }
-                    }
-                    None => unknown = Some(seen.side),
+                match seen.light(grids) {
+                    Ok(l) => (0..3).for_each(|c| h[c] += l[c]),
+                    Err(e) => failed = Some(e),
                 }
             },
         );
-        if let Some(side) = unknown {
-            anyhow::bail!("no radiosity grid for patch {side}");
+        if let Some(e) = failed {
+            return Err(e);
         }
         Ok(Gathered {
             light: h,

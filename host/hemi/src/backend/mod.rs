@@ -49,6 +49,15 @@ pub struct Seen {
     pub weight: [f32; 3],
 }
 
+impl Seen {
+    /// The light the ray carries back from the field `grids` (one per scene patch):
+    /// `w · B_side(u, v)` per channel, the term every gather sums.
+    pub fn light(&self, grids: &[Grid]) -> Result<[f64; 3]> {
+        let b = crate::grid::grid_of(grids, self.side)?.at(self.u, self.v);
+        Ok([0, 1, 2].map(|c| self.weight[c] as f64 * b[c]))
+    }
+}
+
 /// Where [`Backend::trace`] hands each image row's reports: the row y and, in tracer order,
 /// (pixel index, what its ray saw). Called once per row, from any thread, rows in any order.
 pub type RowSink<'a> = dyn Fn(u32, &[(u32, Seen)]) + Sync + 'a;
