@@ -64,15 +64,8 @@ impl Emitters {
     pub fn of(scene: &Scene) -> Emitters {
         let mut handled = vec![false; scene.patches.len()];
         let mut list = Vec::new();
-        let (mut lo, mut hi) = (
-            Vec3::new(f32::MAX, f32::MAX, f32::MAX),
-            Vec3::new(f32::MIN, f32::MIN, f32::MIN),
-        );
         for (i, p) in scene.patches.iter().enumerate().take(scene.fronts()) {
             if let Shape::Polygon(poly) = p.shape {
-                for v in poly.vertices() {
-                    (lo, hi) = (lo.min(*v), hi.max(*v));
-                }
                 let lit = scene.material_of(i).emission.iter().any(|e| *e > 0.0);
                 if lit {
                     handled[i] = true;
@@ -80,7 +73,7 @@ impl Emitters {
                 }
             }
         }
-        let size = (hi - lo).length();
+        let size = scene.extent();
         let epsilon = if size.is_finite() { 1e-5 * size } else { 1e-5 };
         Emitters {
             list,

@@ -21,7 +21,7 @@ const SMOOTH: f32 = 0.98;
 
 /// Welds the boundary vertices of `grids` (one per scene patch) across the scene's seams.
 pub fn weld(scene: &Scene, grids: &mut [Grid]) {
-    let tolerance = 1e-4 * scene_size(scene);
+    let tolerance = 1e-4 * scene.extent();
     if !(tolerance > 0.0 && tolerance.is_finite()) {
         return;
     }
@@ -112,16 +112,4 @@ fn weld_group(scene: &Scene, grids: &mut [Grid], group: &[Vertex]) {
 fn key(p: Vec3, tolerance: f32) -> (i64, i64, i64) {
     let q = |x: f32| (x / tolerance).round() as i64;
     (q(p.x), q(p.y), q(p.z))
-}
-
-/// The diagonal of the scene's bounding box.
-fn scene_size(scene: &Scene) -> f32 {
-    let mut lo = Vec3::new(f32::MAX, f32::MAX, f32::MAX);
-    let mut hi = Vec3::new(f32::MIN, f32::MIN, f32::MIN);
-    for p in &scene.patches {
-        let b = Patch { shape: p.shape }.bounds();
-        lo = lo.min(b.min);
-        hi = hi.max(b.max);
-    }
-    (hi - lo).length()
 }

@@ -155,6 +155,17 @@ impl Scene {
             })
             .collect()
     }
+    /// The diagonal of the scene's bounding box: the length tolerances are relative to.
+    pub fn extent(&self) -> f32 {
+        let mut lo = Vec3::new(f32::MAX, f32::MAX, f32::MAX);
+        let mut hi = Vec3::new(f32::MIN, f32::MIN, f32::MIN);
+        for p in &self.patches {
+            let b = Patch { shape: p.shape }.bounds();
+            lo = lo.min(b.min);
+            hi = hi.max(b.max);
+        }
+        (hi - lo).length()
+    }
     /// Number of front patches (all but the back sides, which come last).
     pub fn fronts(&self) -> usize {
         self.patches
