@@ -34,6 +34,7 @@ Python 3.11 (tomllib), standard library only.
 from __future__ import annotations
 
 import argparse
+import json
 import importlib.util
 import math
 import os
@@ -398,6 +399,31 @@ def run_rtrace(rad_text: str, points, repeats: int, rtrace_args: str, env, offse
     return stats, wall, shlex.join(cmd)
 
 
+def reference(conv, points, opts):
+    """Radiance's mean and standard error per point: from `opts.reference` when it holds a run
+    of exactly this input, else by rtrace (and saved there)."""
+    key = {"rad": conv.text(), "points": [v for _, v in points], "rtrace": opts.rtrace_args,
+           "repeats": opts.repeats, "offset": opts.offset}
+    if opts.reference and opts.reference.exists():
+        saved = json.loads(opts.reference.read_text())
+        if saved.get("key") == key:
+            print(f"- Radiance: {saved['version']}; `{saved['command']}`, {opts.repeats} "
+                  f"estimates per point: {saved['wall']:.1f} s wall (read from {opts.reference})")
+            return [(m, s) for m, s in saved["stats"]]
+        print(f"- {opts.reference} holds another run: running rtrace again", file=sys.stderr)
+    env = find_radiance()
+    with tempfile.TemporaryDirectory(prefix="hemi-radiance-") as tmp:
+        stats, wall, cmd = run_rtrace(conv.text(), points, opts.repeats, opts.rtrace_args, env,
+                                      opts.offset, Path(tmp))
+    version = radiance_version(env)
+    print(f"- Radiance: {version}; `{cmd}` (scene.oct from oconv), "
+          f"{opts.repeats} estimates per point: {wall:.1f} s wall")
+    if opts.reference:
+        opts.reference.write_text(json.dumps({"key": key, "version": version, "command": cmd,
+                                              "wall": wall, "stats": stats}))
+    return stats
+
+
 def run_hemi(hemi: Path, scene: Path, points, hemi_args: str):
     text = "".join(f"{fmt3(v)}\n" for _, v in points)
     cmd = [str(hemi), "irradiance", str(scene)] + shlex.split(hemi_args)
@@ -467,6 +493,10 @@ def main(argv=None):
     ap.add_argument("--skip-hemi", action="store_true", help="Radiance only")
     ap.add_argument("--skip-radiance", action="store_true", help="hemi only (prints its values)")
     ap.add_argument("--write-rad", type=Path, help="also write the converted scene here")
+    ap.add_argument("--reference", type=Path,
+                    help="Radiance's results as JSON: read from this file when it holds a run "
+                         "of the same scene text, points, options and repeats, else computed and "
+                         "written there (so hemi's settings can be iterated against one run)")
     ap.add_argument("--no-offset", dest="offset", action="store_false",
                     help="do not move points back by rtrace -I's 1e-4 look-ahead")
     ap.add_argument("--no-emitter-reflect", dest="emitter_reflect", action="store_false",
@@ -501,12 +531,7 @@ def main(argv=None):
         print(f"- converter: {n}")
     rad_stats = hemi_vals = None
     if not opts.skip_radiance:
-        env = find_radiance()
-        with tempfile.TemporaryDirectory(prefix="hemi-radiance-") as tmp:
-            rad_stats, rwall, rcmd = run_rtrace(conv.text(), points, opts.repeats,
-                                                opts.rtrace_args, env, opts.offset, Path(tmp))
-        print(f"- Radiance: {radiance_version(env)}; `{rcmd}` (scene.oct from oconv), "
-              f"{opts.repeats} estimates per point: {rwall:.1f} s wall")
+        rad_stats = reference(conv, points, opts)
     runs = []
     if not opts.skip_hemi:
         hemi = opts.hemi

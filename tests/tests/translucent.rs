@@ -166,7 +166,10 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
         &backend,
         &grids,
         &[query],
-        hemi::irradiance::Direct::Hemisphere,
+        &hemi::irradiance::QuerySettings {
+            direct: hemi::irradiance::Direct::Hemisphere,
+            near_levels: 0,
+        },
     )
     .unwrap()[0];
     // E = ∫ B_back(x) cos θ cos θ' / (π r²) dA over the sheet, by a fine midpoint sum over its
@@ -195,7 +198,10 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
         &backend,
         &flat,
         &[query],
-        hemi::irradiance::Direct::Hemisphere,
+        &hemi::irradiance::QuerySettings {
+            direct: hemi::irradiance::Direct::Hemisphere,
+            near_levels: 0,
+        },
     )
     .unwrap()[0];
     let f_point = 4.0 * element_to_parallel_rectangle_corner(a / 2.0, a / 2.0, c);

@@ -7,6 +7,7 @@ use anyhow::Result;
 use clap::Args;
 use hemi::backend::Query;
 use hemi::direct::{applies as exact_direct_applies, Direct};
+use hemi::irradiance::QuerySettings;
 use std::io::Write;
 
 /// Irradiance at points read from stdin (`x y z dx dy dz` per line, the convention of
@@ -25,6 +26,11 @@ pub struct IrradianceArgs {
     /// stderr.
     #[arg(long, value_enum, default_value = "exact")]
     direct: DirectArg,
+    /// Levels of near-field evaluation: hits within a few grid cells of a query point take the
+    /// radiosity computed afresh at the hit (a query of its own, with this many levels less)
+    /// instead of the grid's, for corners and contact shadows; 0 reads every hit off the grids.
+    #[arg(long, default_value_t = 1, value_name = "LEVELS")]
+    near: u32,
 }
 
 /// Where a point query's direct light comes from.
@@ -58,7 +64,11 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
         }
         DirectArg::Hemisphere => Direct::Hemisphere,
     };
-    for e in hemi::irradiance::irradiance(backend.get(), &solved.grids, &queries, direct)? {
+    let settings = QuerySettings {
+        direct,
+        near_levels: args.near,
+    };
+    for e in hemi::irradiance::irradiance(backend.get(), &solved.grids, &queries, &settings)? {
         writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
     }
     backend.board_report(args.run.engine.boards.board_stats, "after the queries");

@@ -1,0 +1,123 @@
+//! The near field of a point query: the surfaces close to the point, looked at again.
+//!
+//! A query's hemisphere reads the radiosity where each ray lands off the patch grids, which
+//! are bilinear over K×K cells. Across the room that is enough: a cell at distance d subtends
+//! about (h/d)² of the hemisphere, h the cell's size, so its interpolation error is a small
+//! part of the sum. Next to the point it is not: in a corner, or 5 mm from a block standing on
+//! the floor, the nearest few cells fill half the hemisphere, and they are where the light
+//! changes fastest (the corner's darkening, the contact shadow), which a grid of cells as big
+//! as the distance smooths out. The query then reads their light too bright and too flat.
+//!
+//! So a ray that lands within [`NEAR`] cell sizes of the query point does not read the grid:
+//! the radiosity there is computed afresh, as a query of its own at the hit,
+//!
+//! ```text
+//!     B(x) = E + ρ H(x)  [+ τ H_twin(x) on a translucent sheet],
+//! ```
+//!
+//! with H(x) the same irradiance computation one level down (its own direct light, its own
+//! near field, `levels − 1` deep). Hits are grouped by the sub-cell of their patch's grid they
+//! fall in ([`SPLIT`] × [`SPLIT`] per cell), and each group is evaluated once, at the mean
+//! (u, v) of its hits: a point the rays saw, so it is never buried under another body, and
+//! one evaluation per sub-cell bounds the work by the near area, not by the rays.
+
+use crate::backend::{Query, Seen};
+use crate::grid::Grid;
+use crate::scene::{Scene, Sides};
+use hemi_kernel::geometry::Vec3;
+use hemi_kernel::patch::Shape;
+use std::collections::BTreeMap;
+
+/// A hit is in the near field when it is closer to the query point than this many cell sizes
+/// (√area / K) of the grid it lands on.
+pub const NEAR: f32 = 3.0;
+
+/// Sub-cells per cell side the near hits are grouped by.
+pub const SPLIT: u32 = 4;
+
+/// Where a query's near hits are, and what to evaluate for them.
+#[derive(Debug, Default)]
+pub struct NearField {
+    /// Per query, (index into its `seen` list, evaluation it reads).
+    pub hits: Vec<Vec<(usize, usize)>>,
+    /// The evaluations: (side, mean u, mean v).
+    pub points: Vec<(usize, f32, f32)>,
+}
+
+impl NearField {
+    /// Finds the near hits of each query in `seen` (its hemisphere's reports) on `grids`,
+    /// leaving out the sides `skip` says are handled otherwise.
+    pub fn of(
+        scene: &Scene,
+        grids: &[Grid],
+        queries: &[Query],
+        seen: &[Vec<Seen>],
+        skip: impl Fn(usize) -> bool,
+    ) -> NearField {
+        // (query, side, sub-cell) → (evaluation, Σu, Σv, count): grouped per query, so a
+        // query's answer does not depend on what else is asked with it
+        let mut groups: BTreeMap<GroupKey, Group> = BTreeMap::new();
+        let mut hits = Vec::with_capacity(queries.len());
+        for (n, (q, reports)) in queries.iter().zip(seen).enumerate() {
+            let mut near = Vec::new();
+            for (r, s) in reports.iter().enumerate() {
+                let Some(grid) = grids.get(s.side) else {
+                    continue;
+                };
+                if skip(s.side) || !is_near(scene, grid.k(), s, q.point) {
+                    continue;
+                }
+                let key = (n, s.side, sub_cell(grid.k(), s.u, s.v));
+                let next = groups.len();
+                let g = groups.entry(key).or_insert((next, 0.0, 0.0, 0));
+                g.1 += s.u as f64;
+                g.2 += s.v as f64;
+                g.3 += 1;
+                near.push((r, g.0));
+            }
+            hits.push(near);
+        }
+        let mut points = vec![(0, 0.0, 0.0); groups.len()];
+        for ((_, side, _), (n, su, sv, count)) in groups {
+            let c = count as f64;
+            points[n] = (side, (su / c) as f32, (sv / c) as f32);
+        }
+        NearField { hits, points }
+    }
+}
+
+/// A group of near hits: (query, side, sub-cell).
+type GroupKey = (usize, usize, u32);
+
+/// What is known of a group: (its evaluation's index, Σu, Σv, hits).
+type Group = (usize, f64, f64, u32);
+
+/// Whether `s` landed within [`NEAR`] cell sizes of `point`.
+fn is_near(scene: &Scene, k: usize, s: &Seen, point: Vec3) -> bool {
+    let patch = &scene.patches[s.side];
+    let cell = patch.area.sqrt() / k as f32;
+    let (hit, _) = surface_at(scene, s.side, s.u, s.v);
+    (hit - point).length() < NEAR * cell
+}
+
+/// The index of the sub-cell of a k×k grid that (u, v) falls in ([`SPLIT`] per cell side).
+fn sub_cell(k: usize, u: f32, v: f32) -> u32 {
+    let n = k as u32 * SPLIT;
+    let at = |t: f32| ((t.clamp(0.0, 1.0) * n as f32) as u32).min(n - 1);
+    at(v) * n + at(u)
+}
+
+/// The point of scene side `side` at (u, v) and the side's normal there (a back side of a
+/// translucent sheet faces the other way from its front).
+pub fn surface_at(scene: &Scene, side: usize, u: f32, v: f32) -> (Vec3, Vec3) {
+    let (at, flip) = match scene.patches[side].sides {
+        Sides::Back { front } => (front, true),
+        _ => (side, false),
+    };
+    let shape = &scene.patches[at].shape;
+    let (point, normal) = match shape {
+        Shape::Polygon(p) => (p.point(u, v), p.normal),
+        Shape::Bezier(b) => (b.point(u, v), b.normal_near(u, v).unwrap_or(Vec3::Z)),
+    };
+    (point, if flip { -normal } else { normal })
+}
