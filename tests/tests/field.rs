@@ -35,6 +35,7 @@ fn irradiance_at(
     let query = QuerySettings {
         direct,
         near_levels: 0,
+        ..QuerySettings::default()
     };
     queries_at(scene, s, sweeps, &query, points)
 }
@@ -55,6 +56,7 @@ fn queries_at(
         sweeps,
         tolerance: 0.0,
         direct,
+        ..FieldSettings::default()
     };
     let grids = solve_field(&backend, &ff, &sol, &field, &|_| {})
         .unwrap()
@@ -166,6 +168,7 @@ fn the_furnace_gives_e_over_one_minus_rho_at_every_point_and_direction() {
             let query = QuerySettings {
                 direct,
                 near_levels,
+                ..QuerySettings::default()
             };
             let got = queries_at(&scene, &settings(16, 4), 3, &query, &points);
             let worst = got
@@ -273,6 +276,7 @@ fn the_near_field_resolves_the_light_by_a_contact_edge() {
         let query = QuerySettings {
             direct: Direct::Exact,
             near_levels,
+            ..QuerySettings::default()
         };
         let got = queries_at(&scene, &settings(32, 8), 2, &query, &at)[0];
         let worst = (0..3)
@@ -335,6 +339,7 @@ vertices = [[0, 0, 0], [0, 1, 0], [0, 1, 1], [0, 0, 1]]
             sweeps,
             tolerance: 0.0,
             direct: Direct::Exact,
+            ..FieldSettings::default()
         };
         solve_field(&backend, &ff, &sol, &field, &|_| {})
             .unwrap()
@@ -344,6 +349,47 @@ vertices = [[0, 0, 0], [0, 1, 0], [0, 1, 1], [0, 0, 1]]
     println!("change after each sweep: {changes:?}");
     assert!(changes.windows(2).all(|w| w[1] < w[0]), "{changes:?}");
     assert!(changes[5] < 1e-3, "{changes:?}");
+}
+
+#[test]
+fn sweeps_from_the_recorded_transport_equal_sweeps_that_re_cast() {
+    // the same hemispheres: the recorded vertex weights (f32) reproduce the re-cast sums to
+    // their rounding, on a scene with a curved surface and a mirror-free room
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let scene = hemi::scene::load(&root.join("scenes/teapot.toml")).unwrap();
+    let s = settings(6, 2);
+    let backend = soft(&scene, &s).unwrap();
+    let ff = form_factors(&backend, &|_| {}).unwrap();
+    let sol = gauss_seidel_scene(&scene, ff.channels(), &Default::default()).unwrap();
+    let field = |transport_bytes: u64| {
+        let settings = FieldSettings {
+            sweeps: 2,
+            tolerance: 0.0,
+            direct: Direct::Exact,
+            transport_bytes,
+        };
+        solve_field(&backend, &ff, &sol, &settings, &|_| {}).unwrap()
+    };
+    let (recorded, recast) = (field(1 << 30), field(0));
+    assert!(matches!(
+        recorded.how,
+        Some(hemi::field::Sweeps::Recorded { .. })
+    ));
+    assert!(matches!(
+        recast.how,
+        Some(hemi::field::Sweeps::OverBudget { .. })
+    ));
+    let mut worst = 0.0f64;
+    for (a, b) in recorded.grids.iter().zip(&recast.grids) {
+        for (u, v) in [(0.1, 0.2), (0.5, 0.5), (0.93, 0.61)] {
+            let (x, y) = (a.at(u, v), b.at(u, v));
+            for c in 0..3 {
+                worst = worst.max((x[c] - y[c]).abs() / y[c].abs().max(1e-6));
+            }
+        }
+    }
+    println!("recorded against re-cast sweeps: largest relative difference {worst:.2e}");
+    assert!(worst < 1e-5, "{worst}");
 }
 
 #[test]
@@ -362,6 +408,7 @@ fn the_teapots_field_is_continuous_across_its_patch_seams() {
             sweeps,
             tolerance: 0.0,
             direct: Direct::Exact,
+            ..FieldSettings::default()
         };
         let grids = solve_field(&backend, &ff, &sol, &field, &|_| {})
             .unwrap()

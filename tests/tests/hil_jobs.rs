@@ -124,6 +124,7 @@ fn assert_same_small_render(
 const HEMISPHERE_ONLY: QuerySettings = QuerySettings {
     direct: Direct::Hemisphere,
     near_levels: 0,
+    near_cells: hemi::irradiance::near::NEAR,
 };
 
 /// The irradiance at `p` facing `n` through the boards equals the in-process model's, bit for

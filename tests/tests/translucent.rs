@@ -169,6 +169,7 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
         &hemi::irradiance::QuerySettings {
             direct: hemi::irradiance::Direct::Hemisphere,
             near_levels: 0,
+            ..hemi::irradiance::QuerySettings::default()
         },
     )
     .unwrap()[0];
@@ -201,6 +202,7 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
         &hemi::irradiance::QuerySettings {
             direct: hemi::irradiance::Direct::Hemisphere,
             near_levels: 0,
+            ..hemi::irradiance::QuerySettings::default()
         },
     )
     .unwrap()[0];

@@ -402,6 +402,11 @@ pub struct FieldArgs {
     /// Stop the sweeps when no element value changes by more than this fraction of the largest.
     #[arg(long, default_value_t = 1e-3)]
     pub gather_tolerance: f64,
+    /// Memory for the recorded element transport (MiB): what each element's hemisphere gathers
+    /// from each grid vertex, cast once so the sweeps need no rays; past it every sweep
+    /// re-casts its hemispheres (said on stderr).
+    #[arg(long, default_value_t = 1024, value_name = "MIB")]
+    pub field_mib: u64,
 }
 
 /// Gather sweeps by default: with the patch-level correction of each sweep, three bring the
@@ -432,6 +437,7 @@ impl FieldArgs {
             sweeps,
             tolerance: self.gather_tolerance,
             direct: hemi::direct::Direct::Exact,
+            transport_bytes: self.field_mib.saturating_mul(1 << 20),
         })
     }
 }

@@ -8,7 +8,7 @@ use crate::progress::bar;
 use anyhow::Result;
 use clap::Args;
 use hemi::adaptive::{AdaptiveSettings, PatchReport, Progress};
-use hemi::field::FieldSettings;
+use hemi::field::{FieldSettings, Sweeps};
 use hemi::on_demand::{grids_streaming, solve_streaming, RowShooter};
 use hemi::pass1::FormFactors;
 use hemi::radiosity::Grid;
@@ -229,6 +229,9 @@ pub fn solve(
     })
 }
 
+/// Bytes in a MiB, for messages.
+const MIB: f64 = (1u64 << 20) as f64;
+
 /// The field of the solved scene: the element values (4.2), then `field`'s gather sweeps (with a
 /// progress bar and a line on stderr when there are any).
 fn field_grids(
@@ -242,8 +245,20 @@ fn field_grids(
     let f = hemi::field::solve_field(backend.get(), ff, solution, field, &|n| bar.inc(n))?;
     bar.finish_and_clear();
     if field.sweeps > 0 {
+        let how = match f.how {
+            Some(Sweeps::Recorded { bytes }) => {
+                format!("transport recorded in {:.1} MiB", bytes as f64 / MIB)
+            }
+            Some(Sweeps::OverBudget { estimate }) => format!(
+                "each sweep re-cast: the transport would need about {:.0} MiB \
+                 (> --field-mib {})",
+                estimate as f64 / MIB,
+                field.transport_bytes >> 20
+            ),
+            Some(Sweeps::Recast) | None => "each sweep re-cast".to_string(),
+        };
         eprintln!(
-            "element field: {} gather sweeps of {} elements, last change {:.2e}, {:.3} s",
+            "element field: {} gather sweeps of {} elements ({how}), last change {:.2e}, {:.3} s",
             f.sweeps,
             ff.elements.len(),
             f.change,

@@ -75,13 +75,8 @@ impl Grid {
     /// B at (u, v).
     pub fn at(&self, u: f32, v: f32) -> [f64; 3] {
         let k = self.k;
-        let cell = |t: f32| {
-            let x = (t as f64).clamp(0.0, 1.0) * k as f64;
-            let i = (x.floor() as usize).min(k - 1);
-            (i, x - i as f64)
-        };
-        let (a, fa) = cell(u);
-        let (b, fb) = cell(v);
+        let (a, fa) = locate(k, u);
+        let (b, fb) = locate(k, v);
         let at = |i: usize, j: usize| self.vertices[j * (k + 1) + i];
         let mut out = [0.0; 3];
         for (c, o) in out.iter_mut().enumerate() {
@@ -91,6 +86,26 @@ impl Grid {
         }
         out
     }
+}
+
+/// The cell of a k-cell grid side that parameter `t` falls in, and where in it (0..1).
+fn locate(k: usize, t: f32) -> (usize, f64) {
+    let x = (t as f64).clamp(0.0, 1.0) * k as f64;
+    let i = (x.floor() as usize).min(k - 1);
+    (i, x - i as f64)
+}
+
+/// The four vertices (i, j) of a k×k grid that [`Grid::at`] blends at (u, v), with their
+/// bilinear weights (which sum to 1): `Grid::at(u, v) = Σ w · vertex(i, j)`.
+pub fn corners(k: usize, u: f32, v: f32) -> [((usize, usize), f64); 4] {
+    let (a, fa) = locate(k, u);
+    let (b, fb) = locate(k, v);
+    [
+        ((a, b), (1.0 - fa) * (1.0 - fb)),
+        ((a + 1, b), fa * (1.0 - fb)),
+        ((a, b + 1), (1.0 - fa) * fb),
+        ((a + 1, b + 1), fa * fb),
+    ]
 }
 
 /// The grid of scene patch `side`, or an error naming what a backend got wrong.
@@ -112,6 +127,25 @@ mod tests {
                 let b = g.at(i as f32 / 20.0, j as f32 / 20.0);
                 assert!((b[0] - 0.3).abs() < 1e-12 && (b[2] - 0.1).abs() < 1e-12);
             }
+        }
+    }
+
+    #[test]
+    fn the_corners_blend_to_what_at_interpolates() {
+        let samples: Vec<[f64; 3]> = (0..9).map(|i| [i as f64, (i * i) as f64, 1.0]).collect();
+        let g = Grid::from_samples(3, &samples);
+        for (u, v) in [(0.0, 0.0), (0.41, 0.77), (1.0, 0.5), (0.999, 1.0)] {
+            let mut sum = [0.0; 3];
+            for ((i, j), w) in corners(3, u, v) {
+                for (s, x) in sum.iter_mut().zip(g.vertex(i, j)) {
+                    *s += w * x;
+                }
+            }
+            let at = g.at(u, v);
+            assert!(
+                (0..3).all(|c| (sum[c] - at[c]).abs() < 1e-12),
+                "{sum:?} vs {at:?}"
+            );
         }
     }
 

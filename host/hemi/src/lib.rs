@@ -2,7 +2,7 @@
 //! pass 1, the radiosity solve, radiosity fields, pass 2 and irradiance queries.
 //!
 //! From the bottom up (no module imports one further down this list, and `cargo xtask layout`
-//! checks that the imports have no cycle): `scene`, `analytic`, `grid`; `optics`, `method`,
+//! checks that the imports have no cycle): `scene`, `analytic`, `grid`, `transport`; `optics`, `method`,
 //! `settings`, `shots`; `backend`; `pass1`; `solve`; `radiosity`, `seams`; then the passes built on
 //! them: `direct`, `field`, `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay` (docs/ARCHITECTURE.md).
 #![forbid(unsafe_code)]
@@ -27,3 +27,4 @@ pub mod seams;
 pub mod settings;
 pub mod shots;
 pub mod solve;
+pub mod transport;

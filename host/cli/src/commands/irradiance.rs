@@ -31,6 +31,10 @@ pub struct IrradianceArgs {
     /// instead of the grid's, for corners and contact shadows; 0 reads every hit off the grids.
     #[arg(long, default_value_t = 1, value_name = "LEVELS")]
     near: u32,
+    /// How close a hit must be to the point to be evaluated afresh, in cells of the grid it
+    /// lands on.
+    #[arg(long, default_value_t = hemi::irradiance::near::NEAR, value_name = "CELLS")]
+    near_cells: f32,
 }
 
 /// Where a point query's direct light comes from.
@@ -67,6 +71,7 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
     let settings = QuerySettings {
         direct,
         near_levels: args.near,
+        near_cells: args.near_cells,
     };
     for e in hemi::irradiance::irradiance(backend.get(), &solved.grids, &queries, &settings)? {
         writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;

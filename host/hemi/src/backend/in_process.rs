@@ -8,6 +8,7 @@ use crate::optics::{pending_for, SceneOptics, Scratch};
 use crate::scene::Scene;
 use crate::settings::Pass1Settings;
 use crate::shots::{ElementRow, Shot};
+use crate::transport::{Accumulator, Layout, TransportRow};
 use anyhow::Result;
 use hemi_kernel::accel::{Accelerator, Hit, Ray};
 use hemi_kernel::camera::Camera;
@@ -135,11 +136,44 @@ impl<'s, E: Engines> InProcess<'s, E> {
     /// One shot's `Σ w · B(hit)` over `grids`, hits on `skip`ped sides left out.
     fn gather_field_at(
         &self,
-        (accel, scratch): &mut (E::Engine<'_>, Scratch),
+        state: &mut (E::Engine<'_>, Scratch),
         s: &Shot,
         grids: &[Grid],
         skip: &[bool],
     ) -> Result<Gathered> {
+        let mut h = [0.0f64; 3];
+        let blocked = self.field_hits(state, s, skip, |seen| {
+            let l = seen.light(grids)?;
+            (0..3).for_each(|c| h[c] += l[c]);
+            Ok(())
+        })?;
+        Ok(Gathered { light: h, blocked })
+    }
+
+    /// One shot's row of the element transport over `layout`, hits on `skip`ped sides left out.
+    fn transport_at(
+        &self,
+        (state, row): &mut ((E::Engine<'_>, Scratch), Accumulator),
+        s: &Shot,
+        layout: &Layout,
+        skip: &[bool],
+    ) -> Result<TransportRow> {
+        let blocked = self.field_hits(state, s, skip, |seen| {
+            layout.add(row, seen.side, (seen.u, seen.v), seen.weight)
+        })?;
+        Ok(row.take(blocked))
+    }
+
+    /// Casts a shot's hemisphere as pass 1 does (its spin, its origin patch, through specular
+    /// surfaces, with (u,v)) and hands `each` what every ray saw, sides `skip` says left out;
+    /// returns the fraction of rays that met the back of an opaque patch ([`Gathered::blocked`]).
+    fn field_hits(
+        &self,
+        (accel, scratch): &mut (E::Engine<'_>, Scratch),
+        s: &Shot,
+        skip: &[bool],
+        mut each: impl FnMut(Seen) -> Result<()>,
+    ) -> Result<f32> {
         let shot = tracer::Shot {
             origin: s.point.position,
             normal: s.point.normal,
@@ -148,7 +182,7 @@ impl<'s, E: Engines> InProcess<'s, E> {
             want_uv: true,
         };
         let (hemi, optics) = (self.hemi.view(), self.optics.view());
-        let (mut h, mut failed) = ([0.0f64; 3], None);
+        let mut failed = None;
         let stats = tracer::shoot(
             accel,
             &hemi,
@@ -157,22 +191,18 @@ impl<'s, E: Engines> InProcess<'s, E> {
             &shot,
             |hit, w| {
                 let seen = self.seen(hit, w);
-                if skip.get(seen.side).copied().unwrap_or(false) {
+                if failed.is_some() || skip.get(seen.side).copied().unwrap_or(false) {
                     return;
                 }
-                match seen.light(grids) {
-                    Ok(l) => (0..3).for_each(|c| h[c] += l[c]),
-                    Err(e) => failed = Some(e),
+                if let Err(e) = each(seen) {
+                    failed = Some(e);
                 }
             },
         );
-        if let Some(e) = failed {
-            return Err(e);
+        match failed {
+            Some(e) => Err(e),
+            None => Ok(stats.back_hits as f32 / stats.rays.max(1) as f32),
         }
-        Ok(Gathered {
-            light: h,
-            blocked: stats.back_hits as f32 / stats.rays.max(1) as f32,
-        })
     }
 
     fn seen(&self, hit: &Hit, weight: [f32; 3]) -> Seen {
@@ -311,6 +341,34 @@ impl<E: Engines> Backend for InProcess<'_, E> {
                 },
             )
             .collect()
+    }
+
+    fn transport(
+        &self,
+        shots: &[Shot],
+        layout: &Layout,
+        skip: &[bool],
+        done: &Progress<'_>,
+    ) -> Result<Option<Vec<TransportRow>>> {
+        let pending = pending_for(&self.hemi.view());
+        let rows = shots
+            .par_iter()
+            .map_init(
+                || {
+                    let engine = (
+                        self.engine(),
+                        Scratch::new(pending, &self.settings.specular),
+                    );
+                    (engine, Accumulator::new(layout.len()))
+                },
+                |state, s| {
+                    let row = self.transport_at(state, s, layout, skip);
+                    done(1);
+                    row
+                },
+            )
+            .collect::<Result<_>>()?;
+        Ok(Some(rows))
     }
 
     fn nearest(&self, rays: &[Ray]) -> Result<Vec<Option<Hit>>> {

@@ -23,6 +23,7 @@ use crate::grid::Grid;
 use crate::scene::Scene;
 use crate::settings::Pass1Settings;
 use crate::shots::{ElementRow, Shot};
+use crate::transport::{Layout, TransportRow};
 use anyhow::Result;
 use hemi_kernel::accel::{Hit, Ray};
 use hemi_kernel::camera::Camera;
@@ -134,6 +135,21 @@ pub trait Backend: Sync {
         skip: &[bool],
         done: &Progress<'_>,
     ) -> Result<Vec<Gathered>>;
+
+    /// Records the element transport of every shot ([`crate::transport`]): the weight its
+    /// hemisphere, cast as [`Backend::gather_field`] casts it, gives each vertex of `layout`,
+    /// hits on `skip`ped sides left out, so the field's sweeps need no rays. `None` if this
+    /// backend does not record it (the sweeps then re-cast through `gather_field`).
+    fn transport(
+        &self,
+        shots: &[Shot],
+        layout: &Layout,
+        skip: &[bool],
+        done: &Progress<'_>,
+    ) -> Result<Option<Vec<TransportRow>>> {
+        let _ = (shots, layout, skip, done);
+        Ok(None)
+    }
 }
 
 /// [`Backend::shoot`], checked: one row per shot, for the shot's patch, in the order of

@@ -18,12 +18,14 @@ use crate::radiosity::{combine, Grid};
 use near::{surface_at, NearField};
 
 /// How point queries gather.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct QuerySettings {
     /// Where the emitters' direct light comes from.
     pub direct: Direct,
     /// How many levels of near-field evaluation ([`near`]): 0 reads every hit off the grids.
     pub near_levels: u32,
+    /// How close a hit must be to be evaluated afresh, in cell sizes of its grid.
+    pub near_cells: f32,
 }
 
 impl Default for QuerySettings {
@@ -31,6 +33,7 @@ impl Default for QuerySettings {
         QuerySettings {
             direct: Direct::Exact,
             near_levels: 1,
+            near_cells: near::NEAR,
         }
     }
 }
@@ -50,6 +53,7 @@ pub fn irradiance(
         backend,
         grids,
         emitters: emitters.as_ref(),
+        near_cells: settings.near_cells,
     };
     gather.at(queries, settings.near_levels)
 }
@@ -63,6 +67,7 @@ struct Gather<'a> {
     backend: &'a dyn Backend,
     grids: &'a [Grid],
     emitters: Option<&'a Emitters>,
+    near_cells: f32,
 }
 
 impl Gather<'_> {
@@ -89,7 +94,7 @@ impl Gather<'_> {
         let scene = self.backend.scene();
         let near = match levels {
             0 => NearField::default(),
-            _ => NearField::of(scene, self.grids, chunk, &seen, handled),
+            _ => NearField::of(scene, self.grids, chunk, &seen, self.near_cells, handled),
         };
         let values = self.radiosity(&near.points, levels.saturating_sub(1))?;
         let mut out = Vec::with_capacity(chunk.len());

@@ -8,7 +8,7 @@
 //! changes fastest (the corner's darkening, the contact shadow), which a grid of cells as big
 //! as the distance smooths out. The query then reads their light too bright and too flat.
 //!
-//! So a ray that lands within [`NEAR`] cell sizes of the query point does not read the grid:
+//! So a ray that lands within a few cell sizes ([`NEAR`] by default) of the query point does not read the grid:
 //! the radiosity there is computed afresh, as a query of its own at the hit,
 //!
 //! ```text
@@ -28,8 +28,8 @@ use hemi_kernel::geometry::Vec3;
 use hemi_kernel::patch::Shape;
 use std::collections::BTreeMap;
 
-/// A hit is in the near field when it is closer to the query point than this many cell sizes
-/// (√area / K) of the grid it lands on.
+/// A hit is in the near field by default when it is closer to the query point than this many
+/// cell sizes (√area / K) of the grid it lands on.
 pub const NEAR: f32 = 3.0;
 
 /// Sub-cells per cell side the near hits are grouped by.
@@ -52,6 +52,7 @@ impl NearField {
         grids: &[Grid],
         queries: &[Query],
         seen: &[Vec<Seen>],
+        cells: f32,
         skip: impl Fn(usize) -> bool,
     ) -> NearField {
         // (query, side, sub-cell) → (evaluation, Σu, Σv, count): grouped per query, so a
@@ -64,7 +65,7 @@ impl NearField {
                 let Some(grid) = grids.get(s.side) else {
                     continue;
                 };
-                if skip(s.side) || !is_near(scene, grid.k(), s, q.point) {
+                if skip(s.side) || !is_near(scene, grid.k(), s, q.point, cells) {
                     continue;
                 }
                 let key = (n, s.side, sub_cell(grid.k(), s.u, s.v));
@@ -92,12 +93,12 @@ type GroupKey = (usize, usize, u32);
 /// What is known of a group: (its evaluation's index, Σu, Σv, hits).
 type Group = (usize, f64, f64, u32);
 
-/// Whether `s` landed within [`NEAR`] cell sizes of `point`.
-fn is_near(scene: &Scene, k: usize, s: &Seen, point: Vec3) -> bool {
+/// Whether `s` landed within `near` cell sizes of `point`.
+fn is_near(scene: &Scene, k: usize, s: &Seen, point: Vec3, near: f32) -> bool {
     let patch = &scene.patches[s.side];
     let cell = patch.area.sqrt() / k as f32;
     let (hit, _) = surface_at(scene, s.side, s.u, s.v);
-    (hit - point).length() < NEAR * cell
+    (hit - point).length() < near * cell
 }
 
 /// The index of the sub-cell of a k×k grid that (u, v) falls in ([`SPLIT`] per cell side).

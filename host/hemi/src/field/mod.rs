@@ -16,12 +16,17 @@
 //! with w_k the ray's δD (times what mirrors on its way pass on). It is the element-level
 //! system with the renderer's own interpolation between elements, solved by Jacobi sweeps that
 //! start from the patch solution's element values, each followed by a patch-level correction
-//! (a two-grid cycle, `coarse_correction`): each sweep re-casts the same hemispheres as
-//! pass 1 (spin and origin patch alike) through [`Backend::gather_field`] and stores nothing but
-//! the K×K values, so memory stays that of the grids. The sweeps stop when the largest change of
-//! an element value, relative to the largest reflected value, falls below the tolerance.
+//! (a two-grid cycle, `coarse_correction`). The hemispheres are those of pass 1 (spin and
+//! origin patch alike), cast once more to record what each element gathers from each grid
+//! vertex ([`crate::transport`]), after which a sweep is a sparse product and costs no rays;
+//! where that record would not fit [`FieldSettings::transport_bytes`] (or the backend does not
+//! record it), each sweep re-casts them through [`Backend::gather_field`] and memory stays that
+//! of the grids. The sweeps stop when the largest change of an element value, relative to the
+//! largest reflected value, falls below the tolerance.
 
-use crate::backend::{Backend, Progress};
+mod fill;
+
+use crate::backend::{Backend, Gathered, Progress};
 use crate::direct::{self, Direct, Emitters};
 use crate::grid::Grid;
 use crate::pass1::FormFactors;
@@ -29,6 +34,8 @@ use crate::radiosity::{combine, ElementIndex};
 use crate::scene::Scene;
 use crate::shots::{Cell, ElementRow, Shot};
 use crate::solve::{gauss_seidel, SceneParts, Solution, SolveSettings, System};
+use crate::transport::{Layout, TransportRow};
+use fill::fill_buried;
 
 /// How the field is solved at the elements.
 #[derive(Clone, Copy, Debug)]
@@ -40,6 +47,8 @@ pub struct FieldSettings {
     pub tolerance: f64,
     /// Where each element's direct light from the emitters comes from in the sweeps.
     pub direct: Direct,
+    /// The most memory the recorded element transport may take; past it the sweeps re-cast.
+    pub transport_bytes: u64,
 }
 
 impl Default for FieldSettings {
@@ -48,8 +57,27 @@ impl Default for FieldSettings {
             sweeps: 0,
             tolerance: 1e-3,
             direct: Direct::Exact,
+            transport_bytes: 1 << 30,
         }
     }
+}
+
+/// How the sweeps gathered.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Sweeps {
+    /// From the element transport, recorded once in this many bytes.
+    Recorded {
+        /// Bytes of the record.
+        bytes: u64,
+    },
+    /// By re-casting the hemispheres each sweep: the backend does not record the transport.
+    Recast,
+    /// By re-casting the hemispheres each sweep: the record would need about `estimate`
+    /// bytes, more than the budget.
+    OverBudget {
+        /// The estimate, from the first elements recorded.
+        estimate: u64,
+    },
 }
 
 /// The field and how its sweeps went.
@@ -62,6 +90,8 @@ pub struct Field {
     /// The last sweep's largest change of an element value, relative to the largest reflected
     /// value (B − E).
     pub change: f64,
+    /// How the sweeps gathered (`None` without sweeps).
+    pub how: Option<Sweeps>,
 }
 
 /// The field of a solved scene: the element values (4.2) of `sol` over `ff`'s elements, then up
@@ -80,6 +110,7 @@ pub fn solve_field(
         grids: index.grids(scene, &values),
         sweeps: 0,
         change: f64::INFINITY,
+        how: None,
     };
     if settings.sweeps == 0 || ff.elements.is_empty() {
         return Ok(field);
@@ -101,8 +132,23 @@ pub fn solve_field(
         Some(e) => Some(e.paths(backend, &points)?),
         None => None,
     };
+    let layout = Layout::of(&field.grids)?;
+    let per_sweep = &|n: u64| progress(n * u64::from(settings.sweeps));
+    let (recorded, how) = record(backend, &shots, &layout, &skip, settings, per_sweep)?;
+    field.how = Some(how);
     while field.sweeps < settings.sweeps && field.change > settings.tolerance {
-        let gathered = backend.gather_field(&shots, &field.grids, &skip, progress)?;
+        let gathered = match &recorded {
+            Some(rows) => {
+                let vertices = layout.values(&field.grids);
+                rows.iter()
+                    .map(|r| Gathered {
+                        light: r.gather(&vertices),
+                        blocked: r.blocked,
+                    })
+                    .collect()
+            }
+            None => backend.gather_field(&shots, &field.grids, &skip, progress)?,
+        };
         let mut light: Vec<[f64; 3]> = gathered.iter().map(|g| g.light).collect();
         if let Some(direct) = &direct {
             for (h, d) in light.iter_mut().zip(direct.irradiance(&field.grids)?) {
@@ -124,6 +170,37 @@ pub fn solve_field(
         field.sweeps += 1;
     }
     Ok(field)
+}
+
+/// Elements whose transport is recorded in one request: enough to keep every core busy, and
+/// the first request's size is the estimate the budget is checked against.
+const RECORD_CHUNK: usize = 256;
+
+/// The element transport of `shots` ([`crate::transport`]), if the backend records it and it
+/// fits `settings.transport_bytes`: estimated from the first chunk before the rest is recorded,
+/// and checked as it grows.
+fn record(
+    backend: &dyn Backend,
+    shots: &[Shot],
+    layout: &Layout,
+    skip: &[bool],
+    settings: &FieldSettings,
+    progress: &Progress<'_>,
+) -> anyhow::Result<(Option<Vec<TransportRow>>, Sweeps)> {
+    let mut rows: Vec<TransportRow> = Vec::with_capacity(shots.len());
+    let mut bytes = 0u64;
+    for chunk in shots.chunks(RECORD_CHUNK) {
+        let Some(part) = backend.transport(chunk, layout, skip, progress)? else {
+            return Ok((None, Sweeps::Recast));
+        };
+        bytes += part.iter().map(|r| r.bytes() as u64).sum::<u64>();
+        rows.extend(part);
+        let estimate = bytes / rows.len() as u64 * shots.len() as u64;
+        if estimate.max(bytes) > settings.transport_bytes {
+            return Ok((None, Sweeps::OverBudget { estimate }));
+        }
+    }
+    Ok((Some(rows), Sweeps::Recorded { bytes }))
 }
 
 /// An element whose hemisphere meets backs of opaque patches with more than this fraction of
@@ -201,59 +278,6 @@ fn swept_values(
             combine(scene.material_of(e.patch), gathered[k], through)
         })
         .collect()
-}
-
-/// Replaces the value of every buried element (see [`BURIED`]) by the mean of its patch's
-/// unburied neighbours (8-neighbourhood on the k×k lattice), growing inwards from the edge of
-/// the buried region until it is filled; a patch buried whole keeps its values.
-fn fill_buried(scene: &Scene, index: &ElementIndex, values: &mut [[f64; 3]], buried: &[bool]) {
-    for i in 0..scene.patches.len() {
-        let range = index.range(i);
-        if range.is_empty() {
-            continue;
-        }
-        let k = (range.len() as f64).sqrt().round() as usize;
-        let mut open: Vec<bool> = buried[range.clone()].to_vec();
-        fill_lattice(k, &mut values[range], &mut open);
-    }
-}
-
-/// One patch's k×k lattice: every `open` value (v-major) replaced by the mean of its known
-/// 8-neighbours, in rounds, until none is open or no round fills one.
-fn fill_lattice(k: usize, values: &mut [[f64; 3]], open: &mut [bool]) {
-    if open.iter().all(|o| *o) {
-        return;
-    }
-    while open.iter().any(|o| *o) {
-        let mut filled = Vec::new();
-        for q in (0..k * k).filter(|&q| open[q]) {
-            let (a, b) = ((q % k) as isize, (q / k) as isize);
-            let (mut sum, mut count) = ([0.0f64; 3], 0.0);
-            for (da, db) in (-1..=1).flat_map(|x| (-1..=1).map(move |y| (x, y))) {
-                let (x, y) = (a + da, b + db);
-                if x < 0 || y < 0 || x >= k as isize || y >= k as isize {
-                    continue;
-                }
-                let r = y as usize * k + x as usize;
-                if !open[r] {
-                    for c in 0..3 {
-                        sum[c] += values[r][c];
-                    }
-                    count += 1.0;
-                }
-            }
-            if count > 0.0 {
-                filled.push((q, sum.map(|s| s / count)));
-            }
-        }
-        if filled.is_empty() {
-            return;
-        }
-        for (q, v) in filled {
-            values[q] = v;
-            open[q] = false;
-        }
-    }
 }
 
 /// The largest change of an element value from `a` to `b`, relative to the largest reflected

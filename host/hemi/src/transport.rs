@@ -1,0 +1,211 @@
+//! The element transport, recorded once: what each element's hemisphere gathers from each
+//! vertex of the radiosity grids.
+//!
+//! A gather sweep of the element field ([`crate::field`]) sums, over the rays of an element's
+//! hemisphere, `w_k · B_side(u_k, v_k)`, and `B(u, v)` is bilinear in the four vertices around
+//! the hit ([`crate::grid::corners`]). So the sum is linear in the vertex values,
+//!
+//! ```text
+//!     H_e = Σ_k w_k Σ_corners c_k,v B_v = Σ_v T_ev B_v,    T_ev = Σ_k w_k c_k,v,
+//! ```
+//!
+//! and the rays decide only T: the same for every sweep. Casting the hemispheres once and
+//! keeping T's row per element (the vertices it sees, a few thousand at most, however many
+//! rays) turns each sweep from a pass of rays into a sparse product, so the sweeps can run to
+//! convergence for less than one pass of rays costs. T needs memory in proportion to elements
+//! times the vertices each sees; [`Layout`] numbers the vertices and the field falls back to
+//! re-casting when T would not fit its budget.
+
+use crate::grid::{corners, Grid};
+
+/// Every vertex of every patch grid, numbered: patch `side`'s (K+1)² vertices from
+/// `first[side]`, v-major as [`Grid::vertex`].
+#[derive(Clone, Debug)]
+pub struct Layout {
+    first: Vec<u32>,
+    k: Vec<usize>,
+    len: usize,
+}
+
+impl Layout {
+    /// The layout of `grids` (one per scene patch), or an error if it has more vertices than
+    /// 32-bit indices number.
+    pub fn of(grids: &[Grid]) -> anyhow::Result<Layout> {
+        let (mut first, mut k, mut len) = (Vec::new(), Vec::new(), 0usize);
+        for g in grids {
+            first.push(u32::try_from(len)?);
+            k.push(g.k());
+            len += (g.k() + 1) * (g.k() + 1);
+        }
+        anyhow::ensure!(
+            u32::try_from(len).is_ok(),
+            "{len} grid vertices: more than the element transport numbers"
+        );
+        Ok(Layout { first, k, len })
+    }
+
+    /// Vertices in all.
+    pub fn len(&self) -> usize {
+        self.len
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// Adds what one ray gathers, weight `w` on side `side` at (u, v), to `row`; a side the
+    /// layout does not know is an error.
+    pub fn add(
+        &self,
+        row: &mut Accumulator,
+        side: usize,
+        (u, v): (f32, f32),
+        w: [f32; 3],
+    ) -> anyhow::Result<()> {
+        let (Some(&first), Some(&k)) = (self.first.get(side), self.k.get(side)) else {
+            anyhow::bail!("a backend reported a hit on unknown patch {side}");
+        };
+        for ((i, j), c) in corners(k, u, v) {
+            let vertex = first + (j * (k + 1) + i) as u32;
+            row.add(vertex, [0, 1, 2].map(|n| (w[n] as f64 * c) as f32));
+        }
+        Ok(())
+    }
+
+    /// The vertex values of `grids` in this layout's order.
+    pub fn values(&self, grids: &[Grid]) -> Vec<[f64; 3]> {
+        let mut out = Vec::with_capacity(self.len);
+        for (g, &k) in grids.iter().zip(&self.k) {
+            for j in 0..=k {
+                for i in 0..=k {
+                    out.push(g.vertex(i, j));
+                }
+            }
+        }
+        out
+    }
+}
+
+/// One element's row of T while its rays come in: dense over the layout (so adding is one
+/// index), with the vertices touched listed so that taking the row costs only them.
+#[derive(Clone, Debug)]
+pub struct Accumulator {
+    dense: Vec<[f32; 3]>,
+    touched: Vec<u32>,
+}
+
+impl Accumulator {
+    /// An empty row over `vertices` vertices.
+    pub fn new(vertices: usize) -> Accumulator {
+        Accumulator {
+            dense: vec![[0.0; 3]; vertices],
+            touched: Vec::new(),
+        }
+    }
+
+    fn add(&mut self, vertex: u32, w: [f32; 3]) {
+        let d = &mut self.dense[vertex as usize];
+        if *d == [0.0; 3] {
+            self.touched.push(vertex);
+        }
+        for c in 0..3 {
+            d[c] += w[c];
+        }
+    }
+
+    /// The row gathered so far, vertices in ascending order, and the accumulator emptied.
+    pub fn take(&mut self, blocked: f32) -> TransportRow {
+        self.touched.sort_unstable();
+        self.touched.dedup();
+        let entries = self
+            .touched
+            .drain(..)
+            .map(|v| {
+                let w = std::mem::take(&mut self.dense[v as usize]);
+                (v, w)
+            })
+            .filter(|(_, w)| *w != [0.0; 3])
+            .collect();
+        TransportRow { entries, blocked }
+    }
+}
+
+/// One element's row of T.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TransportRow {
+    /// (vertex, weight per channel), vertices ascending.
+    pub entries: Vec<(u32, [f32; 3])>,
+    /// The fraction of the element's rays that met the back of an opaque patch first
+    /// ([`crate::backend::Gathered::blocked`]).
+    pub blocked: f32,
+}
+
+impl TransportRow {
+    /// `H = Σ_v T_v B_v` per channel over the vertex values `vertices` ([`Layout::values`]).
+    pub fn gather(&self, vertices: &[[f64; 3]]) -> [f64; 3] {
+        let mut h = [0.0f64; 3];
+        for &(v, w) in &self.entries {
+            let b = vertices[v as usize];
+            for c in 0..3 {
+                h[c] += w[c] as f64 * b[c];
+            }
+        }
+        h
+    }
+
+    /// The memory the row holds.
+    pub fn bytes(&self) -> usize {
+        std::mem::size_of::<Self>()
+            + self.entries.capacity() * std::mem::size_of::<(u32, [f32; 3])>()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_recorded_row_gathers_what_the_grids_interpolate() {
+        // two grids, rays at a few (u, v): Σ w·B(u,v) read off the grids equals the row's
+        // product with the vertex values
+        let a = Grid::from_samples(
+            2,
+            &[
+                [1.0, 2.0, 3.0],
+                [2.0, 1.0, 0.5],
+                [0.0, 4.0, 1.0],
+                [3.0, 3.0, 3.0],
+            ],
+        );
+        let b = Grid::from_samples(1, &[[0.25, 0.5, 0.75]]);
+        let grids = [a, b];
+        let layout = Layout::of(&grids).unwrap();
+        assert_eq!(layout.len(), 9 + 4);
+        let rays = [
+            (0, (0.1, 0.9), [0.5, 0.5, 0.5]),
+            (0, (0.6, 0.2), [0.25, 0.5, 1.0]),
+            (1, (0.3, 0.3), [1.0, 1.0, 1.0]),
+            (0, (0.1, 0.9), [0.5, 0.5, 0.5]),
+        ];
+        let mut acc = Accumulator::new(layout.len());
+        let mut want = [0.0f64; 3];
+        for &(side, uv, w) in &rays {
+            layout.add(&mut acc, side, uv, w).unwrap();
+            let b = grids[side].at(uv.0, uv.1);
+            for c in 0..3 {
+                want[c] += w[c] as f64 * b[c];
+            }
+        }
+        let row = acc.take(0.0);
+        assert!(row.entries.windows(2).all(|w| w[0].0 < w[1].0));
+        let got = row.gather(&layout.values(&grids));
+        assert!(
+            (0..3).all(|c| (got[c] - want[c]).abs() < 1e-6),
+            "{got:?} vs {want:?}"
+        );
+        // the accumulator is empty again
+        assert!(acc.take(0.0).entries.is_empty());
+        assert!(layout.add(&mut acc, 2, (0.5, 0.5), [1.0; 3]).is_err());
+    }
+}
