@@ -20,6 +20,8 @@ pub mod server;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod wire_tests;
 
 pub use codec::{
     decode_request, decode_response, encode_request, encode_response, MessageError, NO_ID,
