@@ -344,7 +344,7 @@ fn server_sink_and_source() {
             9,
             Response::SinkAck {
                 len: 6,
-                crc: crc::crc32(&[0, 1, 2, 0, 0, 9])
+                crc: crc32(&[0, 1, 2, 0, 0, 9])
             }
         )
     );
