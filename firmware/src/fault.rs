@@ -1,6 +1,10 @@
 //! What happens when the firmware fails: a panic or a HardFault ends QEMU with a failing
 //! status (feature `qemu`, the default) so a test run can never hang; on a board (feature off,
 //! where a semihosting call without a debugger would itself fault) the chip resets.
+//!
+//! The panic handler is this module's under QEMU, and panic-probe's on a board (feature `rtt`):
+//! it logs the panic and raises a HardFault, where `probe-rs run` stops and shows the backtrace;
+//! without a probe, the HardFault handler below resets the chip.
 
 use cortex_m_rt::{exception, ExceptionFrame};
 
@@ -26,6 +30,7 @@ pub fn succeed() -> ! {
     }
 }
 
+#[cfg(feature = "qemu")]
 #[panic_handler]
 fn panic(info: &core::panic::PanicInfo) -> ! {
     defmt::error!("panic: {}", defmt::Display2Format(info));

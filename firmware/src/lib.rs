@@ -10,10 +10,25 @@
 #![deny(unsafe_code)]
 
 // Linked for their side effects: the critical-section implementation, the vector table and
-// runtime, and the defmt logger over semihosting (field notes: without these, linking fails).
+// runtime, and the defmt logger (field notes: without these, linking fails). The logger is
+// semihosting under QEMU, which prints it on QEMU's stdout, and RTT on a board, where
+// semihosting without a debugger would fault; panic-probe comes with RTT and is the board's
+// panic handler.
 use cortex_m as _;
 use cortex_m_rt as _;
+#[cfg(feature = "qemu")]
 use defmt_semihosting as _;
+#[cfg(feature = "rtt")]
+use {defmt_rtt as _, panic_probe as _};
+
+#[cfg(all(feature = "qemu", feature = "rtt"))]
+compile_error!(
+    "features `qemu` (log over semihosting) and `rtt` (log over RTT) exclude each other"
+);
+#[cfg(not(any(feature = "qemu", feature = "rtt")))]
+compile_error!(
+    "the firmware needs a log transport: feature `qemu` (the default) or `rtt` (`board` has it)"
+);
 
 pub mod accel;
 pub mod accel_mmio;

@@ -86,7 +86,7 @@ fn main() -> ! {
         stack: Some(stack_use),
         clock: true,
     };
-    defmt::println!(
+    defmt::info!(
         "{=str} up: UART0 at {=usize:#x}, accelerator {=str}",
         board::BUILD,
         uart::UART0_BASE,
@@ -97,7 +97,7 @@ fn main() -> ! {
         }
     );
     if let Some(slots) = engine.provider.attach_mmio() {
-        defmt::println!(
+        defmt::info!(
             "accelerator found by its ID register: {=u32} patch slots",
             slots
         );

@@ -6,8 +6,8 @@
 //! (arithmetic shifts truncate towards −∞ in both), so one model covers every width at run time
 //! instead of one monomorphised copy per width.
 
-use fixed::types::extra::{U24, U29, U30};
-use fixed::{FixedI32, FixedI64};
+use fixed::types::extra::{LeEqU128, U24, U29, U30, U32, U54, U60};
+use fixed::{FixedI128, FixedI32, FixedI64};
 
 /// A component of a direction or of a CORDIC vector: Q2.30, range [−2, 2). Two integer bits hold
 /// the CORDIC gain growth (|v|·K ≤ 1.65) of a unit vector.
@@ -17,8 +17,33 @@ pub type Angle = FixedI32<U29>;
 /// A scene coordinate after the driver's power-of-two normalisation: Q8.24. The loaded patches
 /// fit in [−1, 1]; the range out to ±128 is for ray origins outside the scene (cameras).
 pub type Coord = FixedI32<U24>;
-/// A difference of two coordinates (33 bits significant), kept in 64.
+/// A difference of two coordinates (33 bits significant), kept in 64; also a distance t or a
+/// box corner in the Bezier unit's 64-bit registers.
 pub type Coord64 = FixedI64<U24>;
+/// A direction component, or a fraction of a Bezier leaf (s, r ∈ [0, 1]), in a 64-bit register:
+/// Q.30.
+pub type Unit64 = FixedI64<U30>;
+/// A reciprocal 1/d of a direction component: Q32.32 (the slab test's multiplier).
+pub type Recip = FixedI64<U32>;
+/// A plane distance h = n · (v₀ − O): Q2.30 × Q8.24, so Q.54, exact in 128 bits.
+pub type PlaneDist = FixedI128<U54>;
+/// A ray's denominator n · d: Q2.30 × Q2.30, so Q.60, exact in 128 bits.
+pub type PlaneDen = FixedI128<U60>;
+
+/// The divider: n / d truncated towards zero, with `F` fraction bits. The numerator's bits are
+/// shifted by F + frac(d) − frac(n), the one alignment the two formats call for, so no divider
+/// writes its shift by hand. `None` for d = 0.
+#[inline]
+pub fn quotient<F: LeEqU128, N: LeEqU128, D: LeEqU128>(
+    n: FixedI128<N>,
+    d: FixedI128<D>,
+) -> Option<FixedI128<F>> {
+    let shift = F::U32 + D::U32 - N::U32;
+    n.to_bits()
+        .checked_shl(shift)
+        .and_then(|bits| bits.checked_div(d.to_bits()))
+        .map(FixedI128::from_bits)
+}
 
 /// The low-bit mask that reduces a 32-bit container to a `width`-bit word.
 #[inline]

@@ -9,7 +9,7 @@
 use std::time::{Duration, Instant};
 
 use hemi_boards::{qemu_available, QemuBoard, QemuOptions};
-use hemi_kernel::link::{crc::crc32, Request, Response, MAX_BULK, PROTOCOL_VERSION};
+use hemi_kernel::link::{crc32, Request, Response, MAX_BULK, PROTOCOL_VERSION};
 
 const T: Duration = Duration::from_secs(5);
 const WINDOW: usize = 4;

@@ -166,18 +166,19 @@ pub fn qemu(args: &[String]) -> Result<(), Failure> {
     }
 }
 
-/// `cargo xtask flash --chip CHIP [--features F] [ELF]`: `probe-rs run --chip CHIP ELF`.
+/// `cargo xtask flash [--chip CHIP] [--features F] [ELF]`: `firmware/probe-run.sh ELF`, which
+/// runs `probe-rs run` for the MPS2+ AN386 (firmware/mps2-an386.yaml) or for `--chip`.
 ///
 /// Without an ELF, builds the firmware for a board (`--no-default-features --features board`, or
-/// the features given; no QEMU semihosting exits; the `board` profile, optimised for size) into
-/// `target/board/`, so the QEMU build the HIL tests use is left alone. It is the same build
-/// `cargo xtask test` checks against the flash and RAM of memory.x.
+/// the features given; no QEMU semihosting exits, the log over RTT; the `board` profile,
+/// optimised for size) into `target/board/`, so the QEMU build the HIL tests use is left alone.
+/// It is the same build `cargo xtask test` checks against the flash and RAM of memory.x, and the
+/// one `cargo board-run` runs.
 pub fn flash(args: &[String]) -> Result<(), Failure> {
-    const USAGE: &str = "usage: cargo xtask flash --chip CHIP [--features F] [ELF] \
-                         (`probe-rs chip list` names the chips; env PROBE_RS_CHIP works too)";
-    let mut chip = std::env::var("PROBE_RS_CHIP")
-        .ok()
-        .filter(|c| !c.is_empty());
+    const USAGE: &str = "usage: cargo xtask flash [--chip CHIP] [--features F] [ELF] \
+                         (default chip: the MPS2+ AN386 of firmware/mps2-an386.yaml; \
+                         `probe-rs chip list` names the others; env PROBE_RS_CHIP works too)";
+    let mut chip: Option<String> = None;
     let mut features: Option<String> = None;
     let mut elf: Option<PathBuf> = None;
     let mut it = args.iter();
@@ -189,14 +190,13 @@ pub fn flash(args: &[String]) -> Result<(), Failure> {
             _ => return Err(Failure::Usage(USAGE.into())),
         }
     }
-    let chip = chip.ok_or(Failure::Usage(USAGE.into()))?;
-    let Some(probe_rs) = which("probe-rs") else {
+    if which("probe-rs").is_none() {
         return Err(Failure::Failed(
             "probe-rs is not installed. Install it with:\n  cargo install probe-rs-tools --locked\n\
              (it takes 20+ minutes to build; it is never used in CI)"
                 .into(),
         ));
-    };
+    }
     let elf = match elf {
         Some(elf) => elf,
         None => {
@@ -204,12 +204,15 @@ pub fn flash(args: &[String]) -> Result<(), Failure> {
             board_elf()
         }
     };
-    let mut probe = Command::new(probe_rs);
-    probe.args(["run", "--chip", &chip]).arg(&elf);
+    let mut probe = Command::new(root().join("firmware/probe-run.sh"));
+    probe.arg(&elf);
+    if let Some(chip) = chip {
+        probe.env("PROBE_RS_CHIP", chip);
+    }
     eprintln!("$ {}", display(&probe));
     let status = probe
         .status()
-        .map_err(|e| Failure::Failed(format!("cannot start probe-rs: {e}")))?;
+        .map_err(|e| Failure::Failed(format!("cannot start firmware/probe-run.sh: {e}")))?;
     if status.success() {
         Ok(())
     } else {

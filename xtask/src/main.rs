@@ -7,7 +7,8 @@
 //! - `layout`: the architecture's invariants the compiler does not check (no import cycle in the
 //!   host crates, a library without CLI or serial crates, short functions).
 //! - `qemu [ELF]`: boot the firmware in QEMU, UART on a pty, defmt log decoded on the terminal.
-//! - `flash --chip CHIP [ELF]`: flash and run the firmware on a board with probe-rs (never in CI).
+//! - `flash [--chip CHIP] [ELF]`: load and run the firmware on a board with probe-rs, its defmt
+//!   log printed (never in CI).
 
 mod boards;
 mod layout;
@@ -36,9 +37,10 @@ commands:
                               library, no function over 150 lines (main: 60)
   qemu [ELF] [-- QEMU_ARGS]   boot the firmware (default: the release build) in qemu-system-arm;
                               UART0 on a pty, defmt log decoded on stdout; Ctrl-C to stop
-  flash --chip CHIP [--features F] [ELF]
-                              flash and run the firmware on a board through a debug probe with
-                              `probe-rs run` (needs probe-rs-tools; never run in CI)
+  flash [--chip CHIP] [--features F] [ELF]
+                              load and run the board build on an MPS2+ (AN386, or --chip) through
+                              a debug probe with `probe-rs run`, printing its defmt log (needs
+                              probe-rs-tools; never run in CI)
   help                        this text
 ";
 

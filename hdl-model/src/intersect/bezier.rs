@@ -34,8 +34,16 @@
 //!   (products up to 103 bits, i128 registers); t, s and r come out of dividers as truncated
 //!   quotients (t as Q8.24, s and r as Q.30) after normalising the denominator to 62 bits.
 //! - (u, v) = cell origin (the depth bits of the cell index) + (s, r) · 2^-depth, Q2.30.
+//!
+//! Values with a binary point are `fixed` types (`crate::format`): the ray, reciprocals, boxes,
+//! distances, numerators and (s, r), so a product or quotient realigns by what its formats say
+//! (`wide_mul`, `format::quotient`) rather than by a shift written beside a comment. The
+//! control-point banks stay raw words: the midpoint adders, masks and min/max trees do not
+//! depend on where the point is, and the host runs them lane by lane.
 
-use crate::format::width_mask;
+use crate::format::{quotient, width_mask, Coord, Coord64, Recip, Unit, Unit64};
+use fixed::types::extra::{LeEqU128, U24, U30, U72, U78};
+use fixed::FixedI128;
 
 /// Coordinate words of one patch's control points in control-point memory: 16 points × (x, y, z).
 pub const CP_WORDS: usize = 48;
@@ -64,13 +72,13 @@ pub const LEAF_CLOCKS: u32 = 34;
 /// Clocks of the reciprocal unit that computes 1/d (three radix-2 dividers, 32 quotient bits,
 /// plus one to load): pipelined, at the input of the ray queue.
 pub const RECIP_LATENCY: u64 = 33;
-/// LSBs (Q8.24) each slab interval is widened by.
-pub const SLAB_MARGIN: i64 = 2;
+/// Each slab interval is widened by this (two LSBs of Q8.24).
+pub const SLAB_MARGIN: Coord64 = Coord64::from_bits(2);
 /// The barycentric tolerance of the leaf test as a shift of the determinant: 2^-20 ≈ 1e-6, the
 /// kernel's `EPS`, so rays through a leaf edge are not lost between two leaves.
 const BARY_EPS_SHIFT: u32 = 20;
 
-/// A control point: x, y, z raw Q8.24 (holding Q2.(Wc−2)).
+/// A control point: x, y, z as raw words of the Q8.24 containers (holding Q2.(Wc−2)).
 pub type Point = [i32; 3];
 
 /// The 16 control points of a (sub-)patch as the datapath's registers hold them: one bank per
@@ -121,39 +129,43 @@ pub fn to_datapath(raw: i32, mask: i32) -> i32 {
     ((raw << 6) >> 6) & mask
 }
 
-/// The per-ray inputs of the unit.
+/// The per-ray inputs of the unit, in its 64-bit registers.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RaySetup {
-    /// Origin, raw Q8.24.
-    pub origin: [i64; 3],
-    /// Direction, raw Q2.30.
-    pub dir: [i64; 3],
-    /// 1/d per axis, raw Q32.32 (unused where `parallel`).
-    pub inv: [i64; 3],
+    /// Origin.
+    pub origin: [Coord64; 3],
+    /// Direction.
+    pub dir: [Unit64; 3],
+    /// 1/d per axis (zero where `parallel`).
+    pub inv: [Recip; 3],
     /// d is zero on this axis.
     pub parallel: [bool; 3],
 }
 
 impl RaySetup {
-    /// The ray with its reciprocals: 2^62 / d (a Q2.30 divisor gives Q32.32), truncated.
-    pub fn new(origin: [i32; 3], dir: [i32; 3]) -> Self {
-        let d = dir.map(|c| c as i64);
+    /// The ray with its reciprocals 1/d, truncated: 2^(32 + 30) / d's bits, the Q32.32
+    /// quotient of the constant 1 by a Q2.30 divisor.
+    pub fn new(origin: [Coord; 3], dir: [Unit; 3]) -> Self {
+        let d = dir.map(Unit64::from);
         RaySetup {
-            origin: origin.map(|c| c as i64),
+            origin: origin.map(Coord64::from),
             dir: d,
-            inv: d.map(|c| if c == 0 { 0 } else { (1i64 << 62) / c }),
-            parallel: d.map(|c| c == 0),
+            inv: d.map(|c| match c.to_bits() {
+                0 => Recip::ZERO,
+                bits => Recip::from_bits((1i64 << 62) / bits),
+            }),
+            parallel: d.map(|c| c == Unit64::ZERO),
         }
     }
 }
 
-/// An axis-aligned box, raw Q8.24.
+/// An axis-aligned box.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Box3 {
     /// Minimum corner.
-    pub lo: [i64; 3],
+    pub lo: [Coord64; 3],
     /// Maximum corner.
-    pub hi: [i64; 3],
+    pub hi: [Coord64; 3],
 }
 
 impl Box3 {
@@ -163,18 +175,20 @@ impl Box3 {
         // trees as vector min/max; the box registers are the 64-bit slab inputs
         let lo = net.map(|bank| bank.into_iter().fold(i32::MAX, i32::min));
         let hi = net.map(|bank| bank.into_iter().fold(i32::MIN, i32::max));
+        // the words are Q8.24 containers (holding Q2.(Wc−2))
+        let word = |w: i32| Coord64::from(Coord::from_bits(w));
         Box3 {
-            lo: lo.map(i64::from),
-            hi: hi.map(i64::from),
+            lo: lo.map(word),
+            hi: hi.map(word),
         }
     }
 
-    /// The slab test of §6.1: the entry distance (raw Q8.24, at least `t_min`) if the ray meets
-    /// the box with entry ≤ exit, exit ≥ `t_min` and entry < `t_max`.
+    /// The slab test of §6.1: the entry distance (at least `t_min`) if the ray meets the box
+    /// with entry ≤ exit, exit ≥ `t_min` and entry < `t_max`.
     #[inline]
-    pub fn slab(&self, ray: &RaySetup, t_min: i64, t_max: i64) -> Option<i64> {
-        let mut enter = i64::MIN;
-        let mut exit = i64::MAX;
+    pub fn slab(&self, ray: &RaySetup, t_min: Coord64, t_max: Coord64) -> Option<Coord64> {
+        let mut enter = Coord64::MIN;
+        let mut exit = Coord64::MAX;
         for k in 0..3 {
             let o = ray.origin[k];
             if ray.parallel[k] {
@@ -193,11 +207,15 @@ impl Box3 {
     }
 }
 
-/// Q8.24 × Q32.32 → Q8.24 (the product truncated by the constant shift 32), saturated to a
-/// quarter of the 64-bit range so that the margins cannot wrap.
+/// A distance along the ray: `delta` · 1/d, the 128-bit product truncated back to Q8.24 and
+/// saturated to a quarter of the 64-bit range so that the margins cannot wrap.
 #[inline]
-fn mul_q32(delta: i64, inv: i64) -> i64 {
-    ((delta as i128 * inv as i128) >> 32).clamp(i64::MIN as i128 / 4, i64::MAX as i128 / 4) as i64
+fn mul_q32(delta: Coord64, inv: Recip) -> Coord64 {
+    /// The saturation bounds, in the product's container.
+    const LO: FixedI128<U24> = FixedI128::from_bits(i64::MIN as i128 / 4);
+    const HI: FixedI128<U24> = FixedI128::from_bits(i64::MAX as i128 / 4);
+    let t: FixedI128<U24> = delta.wide_mul(inv).wrapping_to_num();
+    t.clamp(LO, HI).wrapping_to_num()
 }
 
 /// Midpoints of four pairs of datapath words (one adder per lane): a 1-bit-wider add and the
@@ -254,16 +272,17 @@ impl SplitStage {
     }
 }
 
-/// The flatness test: every control point within `tol` (max norm, raw Q8.24) of the bilinear
-/// map of the four corners at (c/3, r/3). Scaled by 9 so that the weights are integers.
+/// The flatness test: every control point within `tol` (max norm) of the bilinear map of the
+/// four corners at (c/3, r/3). Scaled by 9 so that the weights are integers: the sums are in
+/// the control points' own format (Q8.24 containers), so they compare with 9 · `tol` exactly.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct FlatnessStage;
 
 impl FlatnessStage {
     /// The stage's logic.
-    pub fn eval(&self, cp: &Net, tol: i64) -> bool {
+    pub fn eval(&self, cp: &Net, tol: Coord64) -> bool {
         let (p00, p10, p01, p11) = (point(cp, 0), point(cp, 3), point(cp, 12), point(cp, 15));
-        let lim = 9 * tol;
+        let lim = (tol * 9).to_bits();
         for r in 0..4i64 {
             for c in 0..4i64 {
                 let p = point(cp, 4 * r as usize + c as usize);
@@ -300,17 +319,19 @@ fn dot(a: [i128; 3], b: [i128; 3]) -> i128 {
 
 /// Möller–Trumbore numerators of one triangle, sign-normalised so that det > 0: (det, b1·det,
 /// b2·det, t·det), and the side (det > 0 before normalisation: the ray meets the side
-/// ∂P/∂u × ∂P/∂v points away from). Units: det, b1n, b2n Q.78; tn Q.72.
+/// ∂P/∂u × ∂P/∂v points away from). They are exact integer products, and their formats follow
+/// from the factors': edges and s = O − a are Q.24 and d is Q.30, so det = e1 · (d × e2),
+/// b1n = s · (d × e2) and b2n = d · (s × e1) are Q.78, tn = e2 · (s × e1) is Q.72.
 struct Numerators {
-    det: i128,
-    b1n: i128,
-    b2n: i128,
-    tn: i128,
+    det: FixedI128<U78>,
+    b1n: FixedI128<U78>,
+    b2n: FixedI128<U78>,
+    tn: FixedI128<U72>,
     front: bool,
 }
 
 fn triangle(ray: &RaySetup, a: Point, b: Point, c: Point) -> Option<Numerators> {
-    let d = ray.dir.map(|x| x as i128);
+    let d = ray.dir.map(|x| x.to_bits() as i128);
     let e1 = sub(b, a);
     let e2 = sub(c, a);
     let p = cross(d, e2);
@@ -319,7 +340,7 @@ fn triangle(ray: &RaySetup, a: Point, b: Point, c: Point) -> Option<Numerators> 
         // degenerate (a collapsed edge at a pole) or parallel: the other triangle answers
         return None;
     }
-    let s: [i128; 3] = core::array::from_fn(|k| ray.origin[k] as i128 - a[k] as i128);
+    let s: [i128; 3] = core::array::from_fn(|k| ray.origin[k].to_bits() as i128 - a[k] as i128);
     let q = cross(s, e1);
     let (mut b1n, mut b2n, mut tn) = (dot(s, p), dot(d, q), dot(e2, q));
     let front = det > 0;
@@ -332,24 +353,25 @@ fn triangle(ray: &RaySetup, a: Point, b: Point, c: Point) -> Option<Numerators> 
         return None;
     }
     Some(Numerators {
-        det,
-        b1n,
-        b2n,
-        tn,
+        det: FixedI128::from_bits(det),
+        b1n: FixedI128::from_bits(b1n),
+        b2n: FixedI128::from_bits(b2n),
+        tn: FixedI128::from_bits(tn),
         front,
     })
 }
 
-/// A divider's truncated quotient n · 2^30 / det for 0 ≤ n ≤ 2·det, det normalised to 62 bits
-/// first (both shifted by the same amount, so the quotient keeps 30+ significant bits).
-fn quotient30(n: i128, det: i128) -> i64 {
-    let k = (128 - det.leading_zeros()).saturating_sub(62);
-    (((n >> k) << 30) / (det >> k)) as i64
+/// A leaf divider's truncated quotient n / det with `F` fraction bits (32-bit results, F + 2
+/// bits significant at most), det normalised to 62 bits first: both are shifted by the same
+/// amount, so the formats and the quotient's 30+ significant bits stay.
+fn leaf_quotient<F: LeEqU128, N: LeEqU128>(n: FixedI128<N>, det: FixedI128<U78>) -> i64 {
+    let k = (128 - det.to_bits().leading_zeros()).saturating_sub(62);
+    quotient::<F, _, _>(n >> k, det >> k).map_or(0, |q| q.to_bits() as i64)
 }
 
 /// The leaf stage: the ray against the leaf's corner quad as the triangles (P00, P10, P11) and
-/// (P00, P11, P01), two-sided. Returns t (raw Q8.24), the leaf-local (s, r) as Q.30 in
-/// [0, 2^30], and the side, for the nearer hit with `t_min < t < t_max`.
+/// (P00, P11, P01), two-sided. Returns t, the leaf-local (s, r) in [0, 1], and the side, for the
+/// nearer hit with `t_min < t < t_max`.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct LeafStage;
 
@@ -359,21 +381,22 @@ impl LeafStage {
         &self,
         cp: &Net,
         ray: &RaySetup,
-        t_min: i64,
-        t_max: i64,
-    ) -> Option<(i64, i64, i64, bool)> {
+        t_min: Coord64,
+        t_max: Coord64,
+    ) -> Option<(Coord64, Unit64, Unit64, bool)> {
         let (p00, p10, p01, p11) = (point(cp, 0), point(cp, 3), point(cp, 12), point(cp, 15));
-        let mut best: Option<(i64, i64, i64, bool)> = None;
+        let mut best: Option<(Coord64, Unit64, Unit64, bool)> = None;
         let mut best_t = t_max;
         for (tri, (a, b, c)) in [(p00, p10, p11), (p00, p11, p01)].into_iter().enumerate() {
             let Some(n) = triangle(ray, a, b, c) else {
                 continue;
             };
-            // t ≤ 0, or beyond the Q8.24 range (t·det·2^30 > 2^31·det): no hit
-            if n.tn <= 0 || n.tn > 2 * n.det {
+            // t = tn / det ≤ 0, or beyond Q8.24's 128: no hit (in the bits, Q.72 against Q.78,
+            // t ≤ 128 is tn ≤ 2 · det)
+            if !n.tn.is_positive() || n.tn.to_bits() > 2 * n.det.to_bits() {
                 continue;
             }
-            let t = quotient30(n.tn, n.det);
+            let t = Coord64::from_bits(leaf_quotient::<U24, _>(n.tn, n.det));
             if t <= t_min || t >= best_t {
                 continue;
             }
@@ -383,8 +406,9 @@ impl LeafStage {
             } else {
                 (n.b1n, n.b1n + n.b2n)
             };
-            let s = quotient30(sn.clamp(0, n.det), n.det);
-            let r = quotient30(rn.clamp(0, n.det), n.det);
+            let zero = FixedI128::ZERO;
+            let s = Unit64::from_bits(leaf_quotient::<U30, _>(sn.clamp(zero, n.det), n.det));
+            let r = Unit64::from_bits(leaf_quotient::<U30, _>(rn.clamp(zero, n.det), n.det));
             best_t = t;
             best = Some((t, s, r, n.front));
         }
@@ -403,8 +427,8 @@ pub struct Node {
     pub iv: u32,
     /// Subdivision level.
     pub depth: u32,
-    /// Entry distance of its box (raw Q8.24).
-    pub enter: i64,
+    /// Entry distance of its box.
+    pub enter: Coord64,
 }
 
 /// The on-chip stack: `cap` entries of a single-port memory.
@@ -461,19 +485,19 @@ impl Stack {
 pub struct Job {
     /// The ray.
     pub ray: RaySetup,
-    /// Hits at or below this t (raw Q8.24) are the surface the ray starts on.
-    pub t_min: i64,
+    /// Hits at or below this t are the surface the ray starts on.
+    pub t_min: Coord64,
     /// Only hits nearer than this count (the ray's nearest Bezier hit so far).
-    pub t_max: i64,
-    /// Flatness tolerance (raw Q8.24; 0: subdivide to the maximum depth).
-    pub tol: i64,
+    pub t_max: Coord64,
+    /// Flatness tolerance (0: subdivide to the maximum depth).
+    pub tol: Coord64,
 }
 
 /// What the engine returns for one patch.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct BezierOut {
-    /// The nearest hit: t (raw Q8.24), u, v (raw Q2.30), front side.
-    pub hit: Option<(i64, i32, i32, bool)>,
+    /// The nearest hit: t, u, v, front side.
+    pub hit: Option<(Coord64, Unit, Unit, bool)>,
     /// A push found the stack full: a subtree was dropped and the hit may be missing.
     pub overflow: bool,
 }
@@ -513,8 +537,8 @@ pub struct BezierEngine {
     work: Option<Node>,
     stack: Stack,
     job: Job,
-    best: Option<(i64, i32, i32, bool)>,
-    best_t: i64,
+    best: Option<(Coord64, Unit, Unit, bool)>,
+    best_t: Coord64,
     overflow: bool,
     stats: BezierStats,
 }
@@ -532,7 +556,7 @@ impl BezierEngine {
             stack: Stack::new(stack),
             job: Job::default(),
             best: None,
-            best_t: 0,
+            best_t: Coord64::ZERO,
             overflow: false,
             stats: BezierStats::default(),
         }
@@ -574,7 +598,7 @@ impl BezierEngine {
 
     /// Starts a test of the patch `cp` (datapath words, see [`BezierEngine::load`]) whose root
     /// box the ray enters at `enter`: the root goes into the working register.
-    pub fn start(&mut self, cp: Net, enter: i64, job: Job) {
+    pub fn start(&mut self, cp: Net, enter: Coord64, job: Job) {
         debug_assert!(!self.busy());
         self.job = job;
         self.best = None;
@@ -628,7 +652,7 @@ impl BezierEngine {
                 }
                 let leaf = node.depth >= self.cfg.depth
                     || (node.depth >= 2
-                        && self.job.tol > 0
+                        && self.job.tol.is_positive()
                         && FlatnessStage.eval(&node.cp, self.job.tol));
                 if leaf {
                     self.stats.leaves += 1;
@@ -636,10 +660,13 @@ impl BezierEngine {
                     if let Some((t, s, r, front)) =
                         LeafStage.eval(&node.cp, &self.job.ray, self.job.t_min, self.best_t)
                     {
-                        let at =
-                            |i: u32, x: i64| ((i as i64) << (30 - node.depth)) + (x >> node.depth);
+                        // the cell's corner i · 2^-depth plus the leaf-local x · 2^-depth
+                        let at = |i: u32, x: Unit64| -> Unit {
+                            let corner = Unit64::from_bits(i64::from(i) << (30 - node.depth));
+                            (corner + (x >> node.depth)).wrapping_to_num()
+                        };
                         self.best_t = t;
-                        self.best = Some((t, at(node.iu, s) as i32, at(node.iv, r) as i32, front));
+                        self.best = Some((t, at(node.iu, s), at(node.iv, r), front));
                     }
                     return None;
                 }
@@ -653,7 +680,7 @@ impl BezierEngine {
     fn step(&mut self, node: Node) {
         self.stats.steps += 1;
         let children = SplitStage.eval(&node.cp, self.mask);
-        let mut hit: [(i64, usize); 4] = [(0, 0); 4];
+        let mut hit: [(Coord64, usize); 4] = [(Coord64::ZERO, 0); 4];
         let mut n = 0;
         for (k, child) in children.iter().enumerate() {
             if let Some(e) = Box3::of(child).slab(&self.job.ray, self.job.t_min, self.best_t) {
@@ -664,7 +691,7 @@ impl BezierEngine {
         // a four-input sorting network on the entry distances (ties: lower index nearer)
         let hit = &mut hit[..n];
         hit.sort_unstable();
-        let child = |(e, k): (i64, usize)| Node {
+        let child = |(e, k): (Coord64, usize)| Node {
             cp: children[k],
             iu: (node.iu << 1) | (k & 1) as u32,
             iv: (node.iv << 1) | (k >> 1) as u32,
@@ -719,11 +746,12 @@ mod tests {
         tol: i64,
     ) -> (BezierOut, u32) {
         let ray = RaySetup::new(
-            o.map(q),
-            d.map(|x| (x * (1u64 << 30) as f64).round() as i32),
+            o.map(|x| Coord::from_bits(q(x))),
+            d.map(|x| Unit::from_bits((x * (1u64 << 30) as f64).round() as i32)),
         );
         let cp = e.load(words);
-        let Some(enter) = Box3::of(&cp).slab(&ray, 0, i32::MAX as i64) else {
+        let far = Coord64::from_bits(i32::MAX as i64);
+        let Some(enter) = Box3::of(&cp).slab(&ray, Coord64::ZERO, far) else {
             return (BezierOut::default(), 0);
         };
         e.start(
@@ -731,9 +759,9 @@ mod tests {
             enter,
             Job {
                 ray,
-                t_min: 0,
-                t_max: i32::MAX as i64,
-                tol,
+                t_min: Coord64::ZERO,
+                t_max: far,
+                tol: Coord64::from_bits(tol),
             },
         );
         let mut clocks = 0;
@@ -746,12 +774,12 @@ mod tests {
         }
     }
 
-    fn f(x: i64) -> f64 {
-        x as f64 / ONE
+    fn f(x: Coord64) -> f64 {
+        x.to_num()
     }
 
-    fn uv(x: i32) -> f64 {
-        x as f64 / (1u64 << 30) as f64
+    fn uv(x: Unit) -> f64 {
+        x.to_num()
     }
 
     #[test]
@@ -843,8 +871,8 @@ mod tests {
         let e = BezierEngine::new(SubdivConfig::DEFAULT, STACK_ENTRIES);
         let cp = e.load(&w);
         // thirds are rounded to the LSB: within 9 LSBs
-        assert!(FlatnessStage.eval(&cp, 1));
+        assert!(FlatnessStage.eval(&cp, Coord64::DELTA));
         let w = patch(|u, v| [u, v, 0.5 * u * u * v]);
-        assert!(!FlatnessStage.eval(&e.load(&w), 1 << 12));
+        assert!(!FlatnessStage.eval(&e.load(&w), Coord64::from_bits(1 << 12)));
     }
 }

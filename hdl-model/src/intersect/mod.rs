@@ -17,7 +17,9 @@
 //!
 //! Then the (u,v) pipe ([`uv`]) locates the hit point on the hit patch. Widths: coordinates Q8.24
 //! (32 bits), a_i 34 bits, e_i ≤ 62 bits (an origin-wide truncation keeps far origins in range),
-//! d · e_i and h, n · d up to 98 bits (i128 containers), t Q8.24.
+//! d · e_i and h, n · d up to 98 bits (i128 containers), t Q8.24. h ([`PlaneDist`], Q.54), n · d
+//! ([`PlaneDen`], Q.60) and t are `fixed` types, so the divider's alignment comes from their
+//! formats; the edge normals stay integers (their scale follows the origin).
 //!
 //! A Bezier slot is not pipelined: its clock in the issue stage slab-tests the ray against the
 //! patch's root box (computed in the set-up pass); a miss costs that one clock like a planar
@@ -33,9 +35,10 @@ pub mod bezier;
 pub mod patch_mem;
 pub mod uv;
 
-use crate::format::{Coord, Unit};
+use crate::format::{quotient, Coord, Coord64, PlaneDen, PlaneDist, Unit};
 use crate::pipe::{Delay, Pipe};
 use bezier::{BezierEngine, BezierStats, Box3, Job, RaySetup, SubdivConfig, BEZIER_ROWS};
+use fixed::types::extra::U24;
 use patch_mem::{
     BezierSlot, PatchMem, PatchWords, KIND_BEZIER, KIND_EMPTY, KIND_QUAD, KIND_TRIANGLE,
     PATCH_CAPACITY,
@@ -45,17 +48,20 @@ use uv::{Cell, UvStage};
 /// Clocks of the pipelined divider (a quotient bit per clock for a 32-bit t plus two).
 pub const DIV_LATENCY: usize = 34;
 
-/// Plane distances (raw Q.54) at or below this count as "origin in the patch's plane": its own
-/// patch and coplanar neighbours only graze. 2^-20 of the normalised scene half-size.
-pub const PLANE_EPS: i128 = 1 << 34;
+/// Plane distances at or below this count as "origin in the patch's plane": its own patch and
+/// coplanar neighbours only graze. 2^-20 of the normalised scene half-size.
+pub const PLANE_EPS: PlaneDist = PlaneDist::from_bits(1 << 34);
 
 /// The per-patch set-up for one origin.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct LocalPatch {
+    /// Edge normals a_i × a_{i+1}: integers whose scale follows the origin (an origin-wide
+    /// truncation, see `setup`), so they have no fixed binary point; only the signs of d · e_i
+    /// are used.
     e: [[i64; 3]; 4],
     sides: u8,
-    n: [i32; 3],
-    h: i128,
+    n: [Unit; 3],
+    h: PlaneDist,
     active: bool,
     /// a Bezier slot with a valid row (its root box is in the unit's `bez_root`)
     bezier: bool,
@@ -111,14 +117,13 @@ pub struct RayOut<T: Copy + Default> {
 /// so slots are handed out round-robin and one is free again once `in_flight` is below this.
 pub const RAY_SLOTS: usize = 64;
 
-/// A Bezier patch's answer, computed by the subdivision engine: t (raw Q8.24), u, v (raw
-/// Q2.30), side.
+/// A Bezier patch's answer, computed by the subdivision engine: t, u, v, side.
 #[derive(Clone, Copy, Debug, Default)]
 struct Direct {
     hit: bool,
-    t: i64,
-    u: i32,
-    v: i32,
+    t: Coord64,
+    u: Unit,
+    v: Unit,
     front: bool,
 }
 
@@ -131,8 +136,8 @@ struct Token {
     last: bool,
     /// the ray is inside this patch's pyramid (edge stage result)
     inside: bool,
-    h: i128,
-    den: i128,
+    h: PlaneDist,
+    den: PlaneDen,
     front: bool,
     /// a Bezier slot's finished answer (bypasses the divider's arithmetic)
     direct: Option<Direct>,
@@ -149,9 +154,9 @@ struct Quotient {
     /// a positive, in-range t
     hit: bool,
     front: bool,
-    t: i64,
+    t: Coord64,
     /// (u,v) already known (Bezier hits)
-    uv: Option<(i32, i32)>,
+    uv: Option<(Unit, Unit)>,
 }
 
 /// A (u,v) pipeline register: the cell, whether the ray hit, and its slot.
@@ -161,7 +166,7 @@ struct UvReg {
     hit: bool,
     slot: u8,
     /// (u,v) known on entry: the stages pass it through
-    direct: Option<(i32, i32)>,
+    direct: Option<(Unit, Unit)>,
     /// the stages are enabled (the ray wants (u,v) and its hit is planar)
     bisect: bool,
 }
@@ -186,9 +191,10 @@ impl EdgeStage {
         tok.h = lp.h;
         // n · d matters only inside the pyramid (the divider ignores it otherwise)
         if inside {
-            tok.den = d[0] * lp.n[0] as i128 + d[1] * lp.n[1] as i128 + d[2] * lp.n[2] as i128;
+            let n = lp.n.map(|c| c.to_bits() as i128);
+            tok.den = PlaneDen::from_bits(d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
         }
-        tok.front = lp.h < 0;
+        tok.front = lp.h.is_negative();
         tok
     }
 }
@@ -206,7 +212,7 @@ impl DivideStage {
             last: tok.last,
             hit: false,
             front: tok.front,
-            t: 0,
+            t: Coord64::ZERO,
             uv: None,
         };
         if let Some(d) = tok.direct {
@@ -216,21 +222,23 @@ impl DivideStage {
             out.uv = Some((d.u, d.v));
             return out;
         }
-        if !tok.inside || tok.den == 0 {
+        if !tok.inside {
             return out;
         }
-        // h is Q.54, n·d Q.60: (h << 30) / (n·d) is Q.24
-        let q = (tok.h << 30) / tok.den;
-        if q > 0 && q <= i32::MAX as i128 {
-            out.hit = true;
-            out.t = q as i64;
+        // t in the Q8.24 of the result: positive and within its 32 bits
+        match quotient::<U24, _, _>(tok.h, tok.den) {
+            Some(q) if q.is_positive() && q.to_bits() <= i32::MAX as i128 => {
+                out.hit = true;
+                out.t = q.wrapping_to_num();
+            }
+            _ => {}
         }
         out
     }
 }
 
-/// The best candidate of a ray so far: patch, t (raw Q8.24), front, (u,v) if already known.
-type Best = Option<(u32, i64, bool, Option<(i32, i32)>)>;
+/// The best candidate of a ray so far: patch, t, front, (u,v) if already known.
+type Best = Option<(u32, Coord64, bool, Option<(Unit, Unit)>)>;
 
 /// Stage 3: the running minimum of one ray.
 #[derive(Clone, Copy, Debug, Default)]
@@ -287,13 +295,13 @@ pub struct IntersectUnit<T: Copy + Default> {
     engine_on: bool,
     /// root boxes of the control-point rows, from the set-up pass
     bez_root: [Box3; BEZIER_ROWS],
-    /// the current ray with its reciprocals, and its nearest Bezier hit so far (raw Q8.24)
+    /// the current ray with its reciprocals, and its nearest Bezier hit so far
     ray_setup: RaySetup,
-    bez_best_t: i64,
+    bez_best_t: Coord64,
 }
 
-/// Exclusive bound of a Bezier hit's t: the largest Q8.24 t plus one LSB.
-const T_LIMIT: i64 = i32::MAX as i64 + 1;
+/// Exclusive bound of a Bezier hit's t: the largest t of the result's Q8.24 plus one LSB.
+const T_LIMIT: Coord64 = Coord64::from_bits(i32::MAX as i64 + 1);
 
 impl<T: Copy + Default> IntersectUnit<T> {
     /// An idle unit whose (u,v) pipe has `depth` levels (1..=24) and whose subdivision engine
@@ -368,10 +376,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         }
         let slot = self.next_slot;
         self.next_slot = (slot + 1) % RAY_SLOTS as u8;
-        self.ray_setup = RaySetup::new(
-            ray.origin.map(|c| c.to_bits()),
-            ray.dir.map(|c| c.to_bits()),
-        );
+        self.ray_setup = RaySetup::new(ray.origin, ray.dir);
         self.bez_best_t = T_LIMIT;
         self.rays[slot as usize] = ray;
         self.current = Some(slot);
@@ -425,8 +430,12 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let sides = p.sides();
         let a: [[i64; 3]; 4] =
             core::array::from_fn(|k| core::array::from_fn(|c| p.v[k][c].to_bits() as i64 - o[c]));
-        let n = p.n.map(|c| c.to_bits());
-        let h: i128 = (0..3).map(|c| n[c] as i128 * a[0][c] as i128).sum();
+        let n = p.n;
+        let h = PlaneDist::from_bits(
+            (0..3)
+                .map(|c| n[c].to_bits() as i128 * a[0][c] as i128)
+                .sum(),
+        );
         if h.abs() <= PLANE_EPS {
             self.local[i] = lp;
             return;
@@ -437,7 +446,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let amax = o.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0) + (1 << 25);
         let bits = 64 - amax.leading_zeros();
         let shift = (2 * bits + 2).saturating_sub(62);
-        let s: i128 = if h > 0 { 1 } else { -1 };
+        let s: i128 = if h.is_positive() { 1 } else { -1 };
         for k in 0..sides {
             let (u, v) = (a[k], a[(k + 1) % sides]);
             let cross = [
@@ -472,8 +481,8 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 let mut h = self.hits[reg.slot as usize];
                 match reg.direct {
                     Some((u, v)) => {
-                        h.u = Unit::from_bits(u);
-                        h.v = Unit::from_bits(v);
+                        h.u = u;
+                        h.v = v;
                     }
                     None if reg.bisect => {
                         h.u = uv::centre(reg.cell.iu, depth);
@@ -508,7 +517,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             if let Some((patch, t, front, direct)) = best {
                 self.hits[slot as usize] = HitOut {
                     patch,
-                    t: Coord::from_bits(t as i32),
+                    t: t.wrapping_to_num(),
                     u: Unit::ZERO,
                     v: Unit::ZERO,
                     front,
@@ -519,10 +528,13 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 let ray = &self.rays[slot as usize];
                 if direct.is_none() && ray.uv {
                     let p = mem.patch(patch as usize);
-                    let o = ray.origin.map(|c| c.to_bits() as i64);
-                    let d = ray.dir.map(|c| c.to_bits() as i64);
-                    // P = O + t d: Q8.24 + (Q8.24 × Q2.30 >> 30)
-                    let hp: [i64; 3] = core::array::from_fn(|c| o[c] + ((t * d[c]) >> 30));
+                    // P = O + t d, the product truncated to the origin's Q8.24 (t < 128, so it
+                    // is the 32-bit Q8.24 it left the divider as)
+                    let t: Coord = t.wrapping_to_num();
+                    let hp: [i64; 3] = core::array::from_fn(|c| {
+                        let td: Coord64 = t.wide_mul(ray.dir[c]).wrapping_to_num();
+                        (Coord64::from(ray.origin[c]) + td).to_bits()
+                    });
                     entry.cell = Cell::project(
                         p.v.map(|v| v.map(|c| c.to_bits() as i64)),
                         hp,
@@ -615,7 +627,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             return None;
         }
         let slot = BezierSlot::decode(mem.slot(i));
-        let t_min = slot.t_min.to_bits() as i64;
+        let t_min = Coord64::from(slot.t_min);
         let root = self.bez_root[slot.row as usize];
         match root.slab(&self.ray_setup, t_min, self.bez_best_t) {
             None => Some(Direct::default()),
@@ -631,7 +643,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
                         ray: self.ray_setup,
                         t_min,
                         t_max: self.bez_best_t,
-                        tol: slot.tol.to_bits() as i64,
+                        tol: Coord64::from(slot.tol),
                     },
                 );
                 self.engine_on = true;

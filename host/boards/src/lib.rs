@@ -4,6 +4,7 @@
 //! - [`link`]: request/response client of the wire protocol of `hemi_kernel::link`, with
 //!   timeouts and the handshake's retries;
 //! - [`qemu`]: boots the firmware in QEMU with UART0 on a pty and never leaves QEMU behind;
+//!   [`firmware_log`]: its defmt log, decoded with the ELF's table when asked for;
 //! - [`farm`]: a farm of boards taking jobs, several in flight per link, re-issued when a link
 //!   fails;
 //! - [`backend`]: the passes' requests cut into jobs for the farm ([`Boards`]);
@@ -15,6 +16,7 @@
 pub mod backend;
 pub mod error;
 pub mod farm;
+pub mod firmware_log;
 pub mod index;
 pub mod info;
 pub mod link;
@@ -24,6 +26,7 @@ pub mod report;
 
 pub use backend::Boards;
 pub use farm::{BoardSpec, Farm, FarmOptions};
+pub use firmware_log::FirmwareLog;
 pub use info::{info, BoardInfo};
 pub use link::{Handshake, Link, Retry};
 pub use qemu::{firmware_elf, qemu_available, Qemu, QemuBoard, QemuOptions};

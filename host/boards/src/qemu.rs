@@ -2,14 +2,16 @@
 //! QEMU process never outlives its owner: killed and reaped on drop (errors, panics) and on
 //! Ctrl-C / SIGTERM / SIGHUP of the host process.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command, ExitStatus, Stdio};
 use std::sync::{mpsc, Arc, Mutex, Once, Weak};
+use std::thread::JoinHandle;
 use std::time::Duration;
 
 use anyhow::{bail, Context, Result};
 
+use crate::firmware_log::{FirmwareLog, LogDecoder};
 use crate::link::{Handshake, Link, Retry};
 
 /// How QEMU is started: which emulator binary, whether its clock counts instructions, and
@@ -22,9 +24,9 @@ pub struct QemuOptions {
     /// `-icount shift=0`: one instruction per virtual ns, so SysTick counts instructions
     /// deterministically (docs/PERFORMANCE.md, firmware instructions per ray).
     pub icount: bool,
-    /// The file the firmware's raw defmt log (semihosting, on QEMU's stdout) is written to
-    /// (decode it with `defmt-print -e ELF < FILE`); `None` discards it.
-    pub log: Option<PathBuf>,
+    /// Where the firmware's defmt log (semihosting, on QEMU's stdout) goes, decoded with the
+    /// booted ELF's table; `None` drains and discards it undecoded.
+    pub log: Option<FirmwareLog>,
 }
 
 impl Default for QemuOptions {
@@ -159,6 +161,9 @@ pub struct Qemu {
     pid: u32,
     pty: PathBuf,
     stderr: Arc<Mutex<String>>,
+    /// The thread reading QEMU's stdout (the firmware's log), joined once QEMU has stopped so
+    /// the log's last lines are out before [`Qemu::stop`] returns.
+    stdout: Option<JoinHandle<()>>,
 }
 
 /// How long QEMU may take to announce its pty.
@@ -168,6 +173,11 @@ impl Qemu {
     /// Boots `elf` with UART0 on a new pty, as `options` say.
     pub fn boot(elf: &Path, options: &QemuOptions) -> Result<Self> {
         install_signal_handler();
+        // Only a log that is asked for is decoded; its ELF is read before QEMU starts.
+        let decoder = match &options.log {
+            Some(log) => Some(LogDecoder::open(elf, log)?),
+            None => None,
+        };
         let program = &options.program;
         let mut child = Command::new(program)
             .args(["-machine", "mps2-an386", "-cpu", "cortex-m4"])
@@ -203,6 +213,7 @@ impl Qemu {
             pid,
             pty: PathBuf::new(),
             stderr: stderr.clone(),
+            stdout: None,
         };
 
         // QEMU 7.2 announces the pty on stdout ("char device redirected to /dev/pts/N (label
@@ -210,8 +221,10 @@ impl Qemu {
         // moves it.
         let (tx, rx) = mpsc::channel::<PathBuf>();
         let tx2 = tx.clone();
-        let log = options.log.clone();
-        std::thread::spawn(move || drain_stdout(stdout, tx, log));
+        let decoder = decoder.map(|d| d.for_pid(pid));
+        qemu.stdout = Some(std::thread::spawn(move || {
+            drain_stdout(stdout, tx, decoder)
+        }));
         std::thread::spawn(move || drain_stderr(stderr_pipe, tx2, stderr));
         match rx.recv_timeout(BOOT_TIMEOUT) {
             Ok(pty) => qemu.pty = pty,
@@ -244,6 +257,15 @@ impl Qemu {
     /// Kills and reaps QEMU (idempotent). The firmware serves forever, so there is no clean exit
     /// to wait for; the pty disappears with the process.
     pub fn stop(&mut self) -> Option<ExitStatus> {
+        let status = self.kill();
+        // QEMU is gone, so its stdout is at its end and the reader finishes.
+        if let Some(reader) = self.stdout.take() {
+            let _ = reader.join();
+        }
+        status
+    }
+
+    fn kill(&self) -> Option<ExitStatus> {
         let mut child = self.child.lock().ok()?;
         if let Ok(Some(status)) = child.try_wait() {
             return Some(status);
@@ -271,7 +293,7 @@ fn pty_in(line: &[u8]) -> Option<PathBuf> {
     Some(PathBuf::from(path))
 }
 
-fn drain_stdout(stdout: impl Read, tx: mpsc::Sender<PathBuf>, log: Option<PathBuf>) {
+fn drain_stdout(stdout: impl Read, tx: mpsc::Sender<PathBuf>, log: Option<LogDecoder>) {
     let mut reader = BufReader::new(stdout);
     let mut line = Vec::new();
     // Only the first lines can hold the announcement; the firmware's log follows.
@@ -288,14 +310,12 @@ fn drain_stdout(stdout: impl Read, tx: mpsc::Sender<PathBuf>, log: Option<PathBu
         }
     }
     // Keep draining so QEMU never blocks on a full pipe.
-    let mut sink: Box<dyn Write> = match log {
-        Some(path) => match std::fs::File::create(&path) {
-            Ok(f) => Box::new(f),
-            Err(_) => Box::new(std::io::sink()),
-        },
-        None => Box::new(std::io::sink()),
-    };
-    let _ = std::io::copy(&mut reader, &mut sink);
+    match log {
+        Some(decoder) => decoder.run(reader),
+        None => {
+            let _ = std::io::copy(&mut reader, &mut std::io::sink());
+        }
+    }
 }
 
 fn drain_stderr(stderr: impl Read, tx: mpsc::Sender<PathBuf>, text: Arc<Mutex<String>>) {

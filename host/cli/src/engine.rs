@@ -77,7 +77,7 @@ impl Choice {
                 let options = FarmOptions {
                     firmware: boards.qemu.firmware.clone(),
                     quiet: boards.quiet_boards,
-                    qemu: boards.qemu.options(),
+                    qemu: boards.qemu.options()?,
                 };
                 let farm = Farm::connect(&specs, options)?;
                 farm.set_cordic(model.cordic_iterations, model.cordic_width)?;

@@ -11,6 +11,7 @@ use hemi::quality::Quality;
 use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
 use hemi::solve::Solver;
+use hemi_boards::FirmwareLog;
 use hemi_hdl_model::ModelConfig;
 use hemi_kernel::hemisphere::DeltaRule;
 use std::path::PathBuf;
@@ -200,8 +201,17 @@ pub struct QemuArgs {
     /// Boot QEMU with `-icount shift=0`, so the boards' SysTick counts instructions.
     #[arg(long, env = "HEMI_QEMU_ICOUNT", value_parser = FalseyValueParser::new())]
     pub qemu_icount: bool,
-    /// Write the QEMU firmware's raw defmt log here (decode: `defmt-print -e ELF < FILE`).
-    #[arg(long, env = "HEMI_FIRMWARE_LOG")]
+    /// Print the QEMU firmware's defmt log, decoded with the booted ELF's table, one line per
+    /// message prefixed with its QEMU's pid: to stderr, or to FILE with --firmware-log=FILE
+    /// (HEMI_FIRMWARE_LOG: `-` for stderr, or a path). Off by default, and then not decoded.
+    #[arg(
+        long,
+        env = "HEMI_FIRMWARE_LOG",
+        value_name = "FILE",
+        num_args = 0..=1,
+        require_equals = true,
+        default_missing_value = "-"
+    )]
     pub firmware_log: Option<PathBuf>,
 }
 
@@ -217,13 +227,18 @@ pub enum BoardAccelArg {
 }
 
 impl QemuArgs {
-    /// How QEMU boards are started.
-    pub fn options(&self) -> hemi_boards::QemuOptions {
-        hemi_boards::QemuOptions {
+    /// How QEMU boards are started. A log file is created here, before any board boots.
+    pub fn options(&self) -> Result<hemi_boards::QemuOptions> {
+        let log = match self.firmware_log.as_deref() {
+            None => None,
+            Some(path) if path.as_os_str() == "-" => Some(FirmwareLog::stderr()),
+            Some(path) => Some(FirmwareLog::create(path)?),
+        };
+        Ok(hemi_boards::QemuOptions {
             program: self.qemu.clone(),
             icount: self.qemu_icount,
-            log: self.firmware_log.clone(),
-        }
+            log,
+        })
     }
 }
 

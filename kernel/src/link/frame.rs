@@ -5,21 +5,41 @@
 //! the damaged frame is lost, never the good one after it. Empty frames (two 0x00 in a row) are
 //! idle filler and are ignored.
 
-use super::cobs::{self, CobsWriter};
-use super::crc::Crc32;
+use cobs::{EncoderState, PushResult};
+use crc::{Crc, Digest, CRC_32_ISO_HDLC};
 
 /// Largest frame content before stuffing: payload plus the 4-byte CRC. Both ends refuse more.
 pub const MAX_FRAME_LEN: usize = 1024;
 /// Largest payload (postcard message with its request id) in one frame.
 pub const MAX_PAYLOAD_LEN: usize = MAX_FRAME_LEN - CRC_LEN;
 /// Largest stuffed frame, without delimiters: the receive buffer a decoder needs.
-pub const MAX_STUFFED_LEN: usize = cobs::max_encoded_len(MAX_FRAME_LEN);
+pub const MAX_STUFFED_LEN: usize = max_stuffed_len(MAX_FRAME_LEN);
 /// Largest frame on the wire, both delimiters included: the transmit buffer an encoder needs.
 pub const MAX_WIRE_LEN: usize = MAX_STUFFED_LEN + 2;
 /// A decoder sized for the largest frame of this protocol.
 pub type MaxFrameDecoder = FrameDecoder<MAX_STUFFED_LEN>;
 
 const CRC_LEN: usize = 4;
+
+/// The frame checksum, CRC-32/ISO-HDLC (zlib's, PNG's, Ethernet's): the `crc` crate's
+/// byte-wise table, built at compile time (1 KiB of flash on the firmware). A `static`, so the
+/// table exists once and every digest borrows it.
+static CRC32: Crc<u32> = Crc::<u32>::new(&CRC_32_ISO_HDLC);
+
+/// CRC-32 of a whole slice: the frame checksum, also what [`Response::SinkAck`] reports.
+///
+/// [`Response::SinkAck`]: super::Response::SinkAck
+pub fn crc32(bytes: &[u8]) -> u32 {
+    CRC32.checksum(bytes)
+}
+
+/// Largest stuffed size of `len` content bytes: one code byte per started block of 254, plus
+/// one. The encoder writes a code byte after every full block even when nothing follows (that
+/// is how the protocol's frames have always been stuffed), so this is one more than
+/// `cobs::max_encoding_length` when `len` is a multiple of 254.
+const fn max_stuffed_len(len: usize) -> usize {
+    len + len / 254 + 1
+}
 
 /// Why a received frame was dropped. Each kind is counted separately in the link statistics.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,22 +72,66 @@ pub fn encode_frame(payload: &[u8], out: &mut [u8]) -> Result<usize, EncodeError
 
 /// Writes a frame while its payload is produced: checksums and stuffs byte by byte, so messages
 /// go from postcard to wire bytes without an intermediate buffer (it is a postcard flavor).
+///
+/// The stuffing is the `cobs` crate's streaming [`EncoderState`]; this type only owns the
+/// buffer, the delimiters and the payload limit. Every write is bounds-checked: a short buffer
+/// is [`EncodeError::TooLong`], never a panic.
 pub struct FrameWriter<'a> {
-    cobs: CobsWriter<'a>,
-    crc: Crc32,
+    out: &'a mut [u8],
+    /// Next free position in `out`.
+    end: usize,
+    cobs: EncoderState,
+    crc: Digest<'static, u32>,
     payload_len: usize,
 }
 
+/// Where the stuffed bytes start in `out`: after the leading delimiter.
+const STUFFED_AT: usize = 1;
+
 impl<'a> FrameWriter<'a> {
-    /// Starts a frame at the beginning of `out` (writes the leading delimiter).
+    /// Starts a frame at the beginning of `out`: the leading delimiter, then the placeholder
+    /// for the first code byte that [`EncoderState`] expects.
     pub fn new(out: &'a mut [u8]) -> Result<Self, EncodeError> {
-        *out.first_mut().ok_or(EncodeError::TooLong)? = 0;
-        let cobs = CobsWriter::new(out, 1).map_err(|_| EncodeError::TooLong)?;
-        Ok(Self {
-            cobs,
-            crc: Crc32::new(),
+        let mut w = Self {
+            out,
+            end: 0,
+            cobs: EncoderState::default(),
+            crc: CRC32.digest(),
             payload_len: 0,
-        })
+        };
+        w.append(0)?;
+        w.append(0)?;
+        Ok(w)
+    }
+
+    fn append(&mut self, byte: u8) -> Result<(), EncodeError> {
+        *self.out.get_mut(self.end).ok_or(EncodeError::TooLong)? = byte;
+        self.end += 1;
+        Ok(())
+    }
+
+    /// Sets the code byte at `idx` of the stuffed part.
+    fn set_code(&mut self, idx: usize, code: u8) -> Result<(), EncodeError> {
+        let slot = self.out.get_mut(STUFFED_AT + idx);
+        *slot.ok_or(EncodeError::TooLong)? = code;
+        Ok(())
+    }
+
+    /// Stuffs one content byte (payload or CRC); a closed block leaves a placeholder for the
+    /// next code byte.
+    fn stuff(&mut self, byte: u8) -> Result<(), EncodeError> {
+        match self.cobs.push(byte) {
+            PushResult::AddSingle(b) => self.append(b),
+            PushResult::ModifyFromStartAndSkip((idx, code)) => {
+                self.set_code(idx, code)?;
+                self.append(0)
+            }
+            PushResult::ModifyFromStartAndPushAndSkip((idx, code, b)) => {
+                self.set_code(idx, code)?;
+                self.append(b)?;
+                self.append(0)
+            }
+        }
     }
 
     /// Appends one payload byte.
@@ -76,18 +140,20 @@ impl<'a> FrameWriter<'a> {
             return Err(EncodeError::TooLong);
         }
         self.payload_len += 1;
-        self.crc.push(byte);
-        self.cobs.push(byte).map_err(|_| EncodeError::TooLong)
+        self.crc.update(core::slice::from_ref(&byte));
+        self.stuff(byte)
     }
 
     /// Appends the CRC and the trailing delimiter; returns the frame's length in `out`.
     pub fn finish(mut self) -> Result<usize, EncodeError> {
-        for b in self.crc.finish().to_le_bytes() {
-            self.cobs.push(b).map_err(|_| EncodeError::TooLong)?;
+        let crc = self.crc.clone().finalize();
+        for b in crc.to_le_bytes() {
+            self.stuff(b)?;
         }
-        let (end, out) = self.cobs.finish().map_err(|_| EncodeError::TooLong)?;
-        *out.get_mut(end).ok_or(EncodeError::TooLong)? = 0;
-        Ok(end + 1)
+        let (idx, code) = self.cobs.clone().finalize();
+        self.set_code(idx, code)?;
+        self.append(0)?;
+        Ok(self.end)
     }
 }
 
@@ -171,15 +237,15 @@ impl<const N: usize> FrameDecoder<N> {
 
     fn finish_frame(&mut self, len: usize) -> Result<&[u8], FrameError> {
         let stuffed = self.buf.get_mut(..len).ok_or(FrameError::TooLong)?;
+        // The buffer holds no zero (delimiters end frames before they are stored), so the
+        // crate's decoder sees the whole frame; it checks every block length against it.
         let n = cobs::decode_in_place(stuffed).map_err(|_| FrameError::BadFraming)?;
         let payload_len = n.checked_sub(CRC_LEN).ok_or(FrameError::BadFraming)?;
         let frame = self.buf.get(..n).ok_or(FrameError::BadFraming)?;
         let (payload, crc) = frame.split_at(payload_len);
         let mut want = [0u8; CRC_LEN];
         want.copy_from_slice(crc);
-        let mut c = Crc32::new();
-        c.update(payload);
-        if c.finish() != u32::from_le_bytes(want) {
+        if crc32(payload) != u32::from_le_bytes(want) {
             return Err(FrameError::BadCrc);
         }
         Ok(payload)

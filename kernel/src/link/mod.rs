@@ -1,8 +1,9 @@
 //! The wire protocol between the host and a board: the only place that knows the byte format.
 //!
 //! Layers, bottom up (docs/protocol.md has the full description):
-//! - [`frame`]: `0x00 · COBS(payload · CRC-32) · 0x00`; a streaming [`FrameDecoder`] that
-//!   resynchronises at the next delimiter after any damage;
+//! - [`frame`]: `0x00 · COBS(payload · CRC-32) · 0x00`, stuffed by the `cobs` crate and
+//!   checksummed by the `crc` crate; a streaming [`FrameDecoder`] that resynchronises at the next
+//!   delimiter after any damage;
 //! - [`codec`]: payload = postcard of `(request id, message)`;
 //! - [`message`]: the [`Request`] and [`Response`] enums, extended by appending variants;
 //! - [`server`]: the board's end, shared by the firmware and in-process boards; it hands the
@@ -11,21 +12,21 @@
 //!
 //! Nothing here allocates or panics on wire input; every buffer is bounded.
 
-pub mod cobs;
 pub mod codec;
-pub mod crc;
 pub mod frame;
 pub mod message;
 pub mod server;
 
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+mod wire_tests;
 
 pub use codec::{
     decode_request, decode_response, encode_request, encode_response, MessageError, NO_ID,
 };
 pub use frame::{
-    encode_frame, EncodeError, FrameDecoder, FrameError, FrameWriter, MaxFrameDecoder,
+    crc32, encode_frame, EncodeError, FrameDecoder, FrameError, FrameWriter, MaxFrameDecoder,
     MAX_FRAME_LEN, MAX_PAYLOAD_LEN, MAX_STUFFED_LEN, MAX_WIRE_LEN,
 };
 pub use message::{

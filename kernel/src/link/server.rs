@@ -6,7 +6,7 @@
 //! job engine), so the link depends on no engine.
 
 use super::codec::{decode_request, encode_response, MessageError, NO_ID};
-use super::crc::crc32;
+use super::frame::crc32;
 use super::frame::{FrameError, MaxFrameDecoder};
 use super::message::{
     EngineStats, ErrorCode, HelloInfo, LinkStats, Request, Response, MAX_BULK, MIN_PROTOCOL_VERSION,

@@ -344,7 +344,7 @@ fn server_sink_and_source() {
             9,
             Response::SinkAck {
                 len: 6,
-                crc: crc::crc32(&[0, 1, 2, 0, 0, 9])
+                crc: crc32(&[0, 1, 2, 0, 0, 9])
             }
         )
     );
@@ -356,9 +356,9 @@ fn server_sink_and_source() {
 }
 
 /// xorshift64*: deterministic pseudo-random input without a test-only dependency.
-struct XorShift(u64);
+pub(super) struct XorShift(pub(super) u64);
 impl XorShift {
-    fn next(&mut self) -> u64 {
+    pub(super) fn next(&mut self) -> u64 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;

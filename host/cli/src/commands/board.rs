@@ -22,8 +22,9 @@ pub enum BoardCommand {
 pub fn run(command: BoardCommand, out: &mut impl Write) -> Result<()> {
     match command {
         BoardCommand::Info { backend, qemu } => {
+            let options = qemu.options()?;
             for b in backend.split(',') {
-                let info = hemi_boards::info(b, qemu.firmware.as_deref(), &qemu.options())?;
+                let info = hemi_boards::info(b, qemu.firmware.as_deref(), &options)?;
                 writeln!(out, "{info}")?;
             }
         }
