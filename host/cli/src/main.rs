@@ -1,9 +1,10 @@
-//! The `hemi` command line (spec §5): parses the command and dispatches to its module.
+//! The `hemi` command line: parses the command and dispatches to its module.
 
 mod commands;
 mod engine;
 mod input;
 mod options;
+mod output;
 mod pipeline;
 mod progress;
 
