@@ -26,7 +26,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Both passes: writes the image (8-bit sRGB PNG, and linear EXR with --exr).
+    /// Both passes: writes the image (8-bit sRGB PNG, linear EXR or Radiance HDR, by extension).
     Render(render::RenderArgs),
     /// Pass-1 form factors between the scene's patches.
     FormFactors(form_factors::FormFactorsArgs),
@@ -53,7 +53,7 @@ fn main() -> Result<()> {
         .build_global();
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     match cli.command {
-        Command::Render(args) => render::run(args)?,
+        Command::Render(args) => render::run(args, &mut out)?,
         Command::FormFactors(args) => form_factors::run(args, &mut out)?,
         Command::Solve(args) => solve::run(args, &mut out)?,
         Command::Irradiance(args) => irradiance::run(args, &mut out)?,

@@ -400,3 +400,77 @@ fn trace_answers_each_line_before_the_input_closes() {
     assert!(co.ask("0.5 0.5 0.5 0 0 -1").contains(" p1 "));
     assert!(co.finish());
 }
+
+#[test]
+fn render_refuses_bad_outputs_before_it_even_reads_the_scene() {
+    // the scene does not exist: each error below must come from the output check, before it
+    let missing = "/nonexistent/scene.toml";
+    let cases: [(&[&str], &str); 5] = [
+        (&["-o", "out.jpg"], "unknown image format"),
+        (&["-o", "/nonexistent/dir/out.png"], "cannot write there"),
+        (&["-o", "/tmp"], "unknown image format"),
+        (&["-o", "same.exr", "--exr", "./same.exr"], "both name"),
+        (
+            &["-o", "out.png", "--exr", "/nonexistent/dir/x.exr"],
+            "--exr",
+        ),
+    ];
+    for (args, want) in cases {
+        let (ok, _, err) = run(&[&["render", missing][..], args].concat(), "");
+        assert!(!ok && err.contains(want), "{args:?}: {err}");
+        assert!(
+            !err.contains("scene"),
+            "{args:?} was checked after the scene: {err}"
+        );
+    }
+    assert!(
+        !std::path::Path::new("same.exr").exists(),
+        "the check leaves no file behind"
+    );
+    let p = scene("view.toml", TWO_SQUARES);
+    let p = p.to_str().unwrap();
+    for (args, want) in [
+        (&["--size", "0x10"][..], "--size"),
+        (&["--size", "640"][..], "--size"),
+        (&["--fov", "180"][..], "--fov"),
+        (&["--eye", "1,2"][..], "--eye"),
+        (&[][..], "--eye X,Y,Z and --look-at"),
+    ] {
+        let out = std::env::temp_dir().join(format!("hemi-view-{}.png", std::process::id()));
+        let o = out.to_str().unwrap();
+        let (ok, _, err) = run(&[&["render", p, "-o", o][..], args].concat(), "");
+        assert!(!ok && err.contains(want), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn render_writes_png_to_stdout_at_the_size_and_view_given() {
+    // TWO_SQUARES has no camera: the view comes from the command line
+    let p = scene("stdout.toml", TWO_SQUARES);
+    let args = [
+        "render",
+        p.to_str().unwrap(),
+        "-o",
+        "-",
+        "--size",
+        "24x16",
+        "--eye",
+        "0.5,0.5,0.5",
+        "--look-at",
+        "0.5,0.5,1",
+        "--fov",
+        "90",
+        "--circles",
+        "8",
+        "--samples",
+        "2",
+    ];
+    let out = hemi().args(args).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let png = out.stdout;
+    assert_eq!(&png[1..4], b"PNG", "{err}");
+    // the IHDR chunk: width and height, big endian, after the 8-byte signature and 8 bytes
+    let be = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap());
+    assert_eq!((be(16), be(20)), (24, 16));
+}

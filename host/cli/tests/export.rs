@@ -115,3 +115,58 @@ fn the_furnace_exported_as_ply_and_gltf_has_e_over_one_minus_rho_on_every_vertex
     assert_eq!(gltf.meshes().count(), 6);
     assert_eq!(seen, 6 * 25);
 }
+
+#[test]
+fn a_render_to_hdr_reads_back_as_the_exr_of_the_same_render() {
+    let d = dir("hdr");
+    let scene = d.join("box.toml");
+    let camera = "[camera]\neye = [0.5, 0.5, 0.05]\nlook_at = [0.5, 0.5, 1.0]\nup = [0, 1, 0]\n\
+                  fov_y_deg = 60\nwidth = 4\nheight = 4\n";
+    // the face behind the eye is the lamp, so the light varies over the picture
+    let lit = furnace(0.0, 0.5).replacen(
+        "name = \"f0\"\nmaterial = \"m\"",
+        "name = \"f0\"\nmaterial = \"lamp\"",
+        1,
+    );
+    let lamp = "[[material]]\nname = \"lamp\"\ndiffuse = [0, 0, 0]\nemission = [5, 3, 1]\n";
+    std::fs::write(&scene, format!("{lamp}{lit}{camera}")).unwrap();
+    let (hdr, exr) = (d.join("box.hdr"), d.join("box.exr"));
+    let (h, e) = (hdr.to_str().unwrap(), exr.to_str().unwrap());
+    // --size overrides the scene's 4×4; 40 is inside the run-length encoded widths
+    let base = [
+        "render",
+        scene.to_str().unwrap(),
+        "--circles",
+        "8",
+        "--samples",
+        "2",
+    ];
+    hemi(&[&base[..], &["-o", h, "--exr", e, "--size", "40x30"]].concat());
+    let picture =
+        radiant::load(std::io::BufReader::new(std::fs::File::open(&hdr).unwrap())).unwrap();
+    assert_eq!((picture.width, picture.height), (40, 30));
+    let linear = exr::prelude::read_first_rgba_layer_from_file(
+        &exr,
+        |size, _| vec![[0f32; 3]; size.width() * size.height()],
+        |px: &mut Vec<[f32; 3]>, at, (r, g, b, _): (f32, f32, f32, f32)| {
+            px[at.y() * 40 + at.x()] = [r, g, b]
+        },
+    )
+    .unwrap()
+    .layer_data
+    .channel_data
+    .pixels;
+    for (rgbe, want) in picture.data.iter().zip(&linear) {
+        // RGBE keeps 8 bits of mantissa: within 1/128 of the pixel's largest channel
+        let largest = want[0].max(want[1]).max(want[2]);
+        assert!(largest > 0.0, "every pixel sees a lit wall");
+        for (got, want) in [rgbe.r, rgbe.g, rgbe.b].iter().zip(want) {
+            assert!((got - want).abs() <= largest / 100.0, "{got} vs {want}");
+        }
+    }
+    // and a width of 4 is written flat, which the decoder reads too
+    hemi(&[&base[..], &["-o", h]].concat());
+    let small = radiant::load(std::io::BufReader::new(std::fs::File::open(&hdr).unwrap())).unwrap();
+    assert_eq!((small.width, small.height), (4, 4));
+    assert!(small.data.iter().all(|p| p.r > 0.0));
+}
