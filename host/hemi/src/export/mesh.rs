@@ -85,6 +85,11 @@ fn doubled_area_squared(positions: &[[f32; 3]], t: [u32; 3]) -> f32 {
     n.dot(n)
 }
 
+/// The area of triangle `t`.
+pub fn area(positions: &[[f32; 3]], t: [u32; 3]) -> f32 {
+    0.5 * doubled_area_squared(positions, t).sqrt()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -25,15 +25,37 @@ pub fn display(b: [f32; 3], exposure: f64) -> [f32; 3] {
     b.map(|x| (x as f64 * scale).clamp(0.0, 1.0) as f32)
 }
 
-/// The automatic exposure of the meshes' vertex radiances, by the rule the renderer uses for
-/// its pixels ([`crate::render::image::exposure_for`]).
+/// The automatic exposure of the meshes, by the rule the renderer applies to its pixels
+/// ([`crate::render::image::auto_exposure`]) with every vertex weighted by the area around it
+/// (a third of its triangles'): the lamp's few vertices then weigh what the lamp's few pixels
+/// do, instead of a twentieth of the vertices of a small scene.
 pub fn auto_exposure(meshes: &[PatchMesh]) -> f64 {
-    let pi = std::f32::consts::PI;
-    crate::render::image::exposure_for(
-        meshes
+    use crate::render::image::{luminance, EXPOSED_LEVEL, EXPOSED_PERCENTILE};
+    let mut lum: Vec<(f32, f64)> = Vec::new();
+    for m in meshes {
+        let mut area = vec![0.0f64; m.positions.len()];
+        for t in &m.triangles {
+            let a = mesh::area(&m.positions, *t) as f64 / 3.0;
+            for &i in t {
+                area[i as usize] += a;
+            }
+        }
+        let radiance = m
+            .radiosity
             .iter()
-            .flat_map(|m| m.radiosity.iter().map(move |b| b.map(|x| x / pi))),
-    )
+            .map(|b| luminance(b) / std::f32::consts::PI);
+        lum.extend(radiance.zip(area).filter(|&(l, a)| l > 0.0 && a > 0.0));
+    }
+    lum.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let total: f64 = lum.iter().map(|(_, a)| a).sum();
+    let mut below = 0.0;
+    for (l, a) in lum {
+        below += a;
+        if below >= EXPOSED_PERCENTILE * total {
+            return (EXPOSED_LEVEL / l as f64).log2();
+        }
+    }
+    0.0
 }
 
 /// A mesh format's writer: [`write_ply`] or [`write_glb`] (meshes, exposure in stops).
@@ -53,4 +75,28 @@ pub fn write_file(
     write(&mut out, meshes, exposure)
         .and_then(|()| std::io::Write::flush(&mut out))
         .with_context(|| format!("cannot write {}", path.display()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A square of side `s` at uniform radiosity `b`.
+    fn square(s: f32, b: f32) -> PatchMesh {
+        PatchMesh {
+            name: "square".into(),
+            positions: vec![[0.0, 0.0, 0.0], [s, 0.0, 0.0], [s, s, 0.0], [0.0, s, 0.0]],
+            radiosity: vec![[b; 3]; 4],
+            triangles: vec![[0, 1, 2], [0, 2, 3]],
+        }
+    }
+
+    #[test]
+    fn a_small_bright_lamp_does_not_set_the_exposure_of_a_large_wall() {
+        // the lamp has as many vertices as the wall but 1/10 000 of its area
+        let meshes = [square(100.0, std::f32::consts::PI), square(1.0, 1e3)];
+        let ev = auto_exposure(&meshes);
+        assert!((ev - 0.85f64.log2()).abs() < 1e-6, "{ev}");
+        assert_eq!(display([std::f32::consts::PI; 3], ev), [0.85; 3]);
+    }
 }

@@ -15,7 +15,13 @@ pub struct Image {
     pub pixels: Vec<[f32; 3]>,
 }
 
-fn luminance(p: &[f32; 3]) -> f32 {
+/// Auto exposure puts this percentile of the lit luminances …
+pub const EXPOSED_PERCENTILE: f64 = 0.95;
+/// … at this fraction of full scale.
+pub const EXPOSED_LEVEL: f64 = 0.85;
+
+/// Luminance of a linear RGB radiance (Rec. 709 weights).
+pub fn luminance(p: &[f32; 3]) -> f32 {
     0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]
 }
 
@@ -26,8 +32,7 @@ pub fn auto_exposure(img: &Image) -> f64 {
     exposure_for(img.pixels.iter().copied())
 }
 
-/// The automatic exposure of [`auto_exposure`] for any set of radiances (an image's pixels, an
-/// exported mesh's vertices), so every picture hemi makes is exposed by one rule.
+/// The automatic exposure of [`auto_exposure`] for any set of equally weighted radiances.
 pub fn exposure_for(radiances: impl Iterator<Item = [f32; 3]>) -> f64 {
     let mut lum: Vec<f32> = radiances
         .map(|p| luminance(&p))
@@ -37,8 +42,8 @@ pub fn exposure_for(radiances: impl Iterator<Item = [f32; 3]>) -> f64 {
         return 0.0;
     }
     lum.sort_by(f32::total_cmp);
-    let p95 = lum[((lum.len() - 1) as f64 * 0.95) as usize] as f64;
-    (0.85 / p95).log2()
+    let p95 = lum[((lum.len() - 1) as f64 * EXPOSED_PERCENTILE) as usize] as f64;
+    (EXPOSED_LEVEL / p95).log2()
 }
 
 /// A linear value in [0, 1] (clipped) encoded as an 8-bit sRGB code.
