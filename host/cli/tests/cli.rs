@@ -1,4 +1,4 @@
-//! The `hemi` command line as a user drives it: output shapes of spec §5, errors, and the
+//! The `hemi` command line as a user drives it: the output shapes of the README's command table, errors, and the
 //! irradiance query against a closed form.
 
 use std::io::Write;
