@@ -8,11 +8,23 @@
 //! encoded and are written flat, with the one ambiguous pixel value rewritten exactly.) The
 //! encoder is short enough not to need an image crate; tests read its files with one.
 
-use super::Image;
+use super::image::Image;
+use anyhow::Context;
 use std::io::{Result, Write};
+use std::path::Path;
 
-/// Writes `img` as a Radiance picture.
-pub fn write_hdr(img: &Image, out: &mut dyn Write) -> Result<()> {
+/// Writes the linear radiances of `img` as a Radiance picture file.
+pub fn write_hdr(img: &Image, path: &Path) -> anyhow::Result<()> {
+    let file =
+        std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+    let mut out = std::io::BufWriter::new(file);
+    write_hdr_to(img, &mut out)
+        .and_then(|()| out.flush())
+        .with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// Writes `img` as a Radiance picture to `out`.
+pub fn write_hdr_to(img: &Image, out: &mut dyn Write) -> Result<()> {
     let (w, h) = (img.width as usize, img.height as usize);
     write!(
         out,

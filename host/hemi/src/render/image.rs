@@ -91,16 +91,6 @@ pub fn write_png_to(img: &Image, exposure: f64, out: &mut dyn Write) -> Result<(
     Ok(())
 }
 
-/// Writes the linear radiances as a Radiance picture file (`.hdr`, see [`super::hdr`]).
-pub fn write_hdr(img: &Image, path: &Path) -> Result<()> {
-    let file =
-        std::fs::File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
-    let mut out = std::io::BufWriter::new(file);
-    super::hdr::write_hdr(img, &mut out)
-        .and_then(|()| out.flush())
-        .with_context(|| format!("cannot write {}", path.display()))
-}
-
 /// Writes the linear radiances as an OpenEXR file (32-bit float RGB).
 pub fn write_exr(img: &Image, path: &Path) -> Result<()> {
     let w = img.width as usize;

@@ -5,7 +5,8 @@
 pub mod hdr;
 pub mod image;
 
-pub use image::{auto_exposure, read_png, write_exr, write_hdr, write_png, write_png_to, Image};
+pub use hdr::write_hdr;
+pub use image::{auto_exposure, read_png, write_exr, write_png, write_png_to, Image};
 
 use crate::backend::{Backend, Progress, Seen};
 use crate::radiosity::{grid_of, Grid};
