@@ -30,11 +30,13 @@ enum Command {
     Render(render::RenderArgs),
     /// Pass-1 form factors between the scene's patches.
     FormFactors(form_factors::FormFactorsArgs),
-    /// Pass 1 and the solve: radiosity per patch.
+    /// Pass 1 and the solve: radiosity per patch (--ply, --gltf: the solution as meshes).
     Solve(solve::SolveArgs),
-    /// Irradiance at points read from stdin (`x y z dx dy dz` per line), printed `r g b`.
+    /// Irradiance at points read from stdin (`x y z dx dy dz` per line), printed `r g b` as
+    /// each line is read.
     Irradiance(irradiance::IrradianceArgs),
-    /// Nearest hit of rays read from stdin (`x y z dx dy dz`): `t patch u v` or `miss`.
+    /// Nearest hit of rays read from stdin (`x y z dx dy dz`): `t patch u v` or `miss`, as each
+    /// line is read.
     Trace(trace::TraceArgs),
     /// Benchmarks (speed is measured here, never asserted in tests).
     #[command(subcommand)]
