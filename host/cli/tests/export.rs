@@ -113,6 +113,10 @@ fn the_furnace_exported_as_ply_and_gltf_has_e_over_one_minus_rho_on_every_vertex
         }
     }
     assert_eq!(gltf.meshes().count(), 6);
+    // shared vertex views must state their stride (the Khronos validator's
+    // MESH_PRIMITIVE_ACCESSOR_WITHOUT_BYTESTRIDE); the index view must not
+    let strides: Vec<Option<usize>> = gltf.views().map(|v| v.stride()).collect();
+    assert_eq!(strides, [Some(12), Some(12), Some(12), None]);
     assert_eq!(seen, 6 * 25);
 }
 

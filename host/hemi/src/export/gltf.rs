@@ -90,15 +90,17 @@ fn document(meshes: &[&PatchMesh], views: &Views, bin: usize, exposure: f64) -> 
         vertex += n;
         index += 3 * m.triangles.len();
     }
+    // every patch's accessors share the vertex views, which glTF then requires to state their
+    // stride; the index view must not have one
     let buffer_views: Vec<Value> = (0..4)
         .map(|k| {
-            let target = if k == 3 {
-                ELEMENT_ARRAY_BUFFER
-            } else {
-                ARRAY_BUFFER
-            };
-            json!({"buffer": 0, "byteOffset": views.offsets[k], "byteLength": views.lengths[k],
-                "target": target})
+            let (o, n) = (views.offsets[k], views.lengths[k]);
+            match k {
+                3 => json!({"buffer": 0, "byteOffset": o, "byteLength": n,
+                    "target": ELEMENT_ARRAY_BUFFER}),
+                _ => json!({"buffer": 0, "byteOffset": o, "byteLength": n,
+                    "target": ARRAY_BUFFER, "byteStride": 12}),
+            }
         })
         .collect();
     let nodes: Vec<Value> = meshes
