@@ -1,5 +1,5 @@
 //! The solution as meshes for viewers: every patch's radiosity grid (paper §4.3) as a mesh with
-//! the radiosity B at each vertex, written as PLY ([`ply`]) or binary glTF ([`gltf`]).
+//! the radiosity B at each vertex, written as PLY ([`write_ply`]) or binary glTF ([`write_glb`]).
 //!
 //! The radiosity solution is view independent, so once it is solved it can be looked at from
 //! anywhere in Blender, MeshLab or a glTF viewer instead of only through pass 2's camera. A
