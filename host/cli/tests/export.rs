@@ -22,28 +22,10 @@ fn hemi(args: &[&str]) -> String {
     err
 }
 
-/// A closed unit box of six inward faces, all emitting `e` and reflecting `rho`: every point
-/// has B = E/(1−ρ).
+/// A closed unit box of six inward faces (`f0_0_0` … `f5_0_0`), all emitting `e` and
+/// reflecting `rho`: every point has B = E/(1−ρ).
 fn furnace(e: f64, rho: f64) -> String {
-    let mut src = format!(
-        "[[material]]\nname = \"m\"\ndiffuse = [{rho}, {rho}, {rho}]\nemission = [{e}, {e}, {e}]\n"
-    );
-    let faces = [
-        [[1, 0, 0], [1, 1, 0], [0, 1, 0], [0, 0, 0]],
-        [[0, 1, 1], [1, 1, 1], [1, 0, 1], [0, 0, 1]],
-        [[0, 0, 1], [1, 0, 1], [1, 0, 0], [0, 0, 0]],
-        [[1, 1, 0], [1, 1, 1], [0, 1, 1], [0, 1, 0]],
-        [[0, 1, 0], [0, 1, 1], [0, 0, 1], [0, 0, 0]],
-        [[1, 0, 1], [1, 1, 1], [1, 1, 0], [1, 0, 0]],
-    ];
-    for (i, f) in faces.iter().enumerate() {
-        let v: Vec<String> = f.iter().map(|p| format!("{p:?}")).collect();
-        src += &format!(
-            "[[quad]]\nname = \"f{i}\"\nmaterial = \"m\"\nvertices = [{}]\n",
-            v.join(", ")
-        );
-    }
-    src
+    hemi_tests::material("m", rho, e) + &hemi_tests::closed_box([1.0; 3], 1, "m")
 }
 
 /// The worst relative deviation of `values` from `want`, over every channel.
@@ -126,12 +108,13 @@ fn a_render_to_hdr_reads_back_as_the_exr_of_the_same_render() {
     let scene = d.join("box.toml");
     let camera = "[camera]\neye = [0.5, 0.5, 0.05]\nlook_at = [0.5, 0.5, 1.0]\nup = [0, 1, 0]\n\
                   fov_y_deg = 60\nwidth = 4\nheight = 4\n";
-    // the face behind the eye is the lamp, so the light varies over the picture
+    // the face behind the eye (z = 0) is the lamp, so the light varies over the picture
     let lit = furnace(0.0, 0.5).replacen(
-        "name = \"f0\"\nmaterial = \"m\"",
-        "name = \"f0\"\nmaterial = \"lamp\"",
+        "name = \"f4_0_0\"\nmaterial = \"m\"",
+        "name = \"f4_0_0\"\nmaterial = \"lamp\"",
         1,
     );
+    assert!(lit.contains("\"lamp\""));
     let lamp = "[[material]]\nname = \"lamp\"\ndiffuse = [0, 0, 0]\nemission = [5, 3, 1]\n";
     std::fs::write(&scene, format!("{lamp}{lit}{camera}")).unwrap();
     let (hdr, exr) = (d.join("box.hdr"), d.join("box.exr"));
