@@ -1,4 +1,4 @@
-//! Property tests of the wire decoders (spec §7 "fuzzed decoders"): whatever bytes arrive, the
+//! Property tests of the wire decoders (fuzzing): whatever bytes arrive, the
 //! frame decoder and the message codec never panic, a good frame after any garbage still
 //! decodes, and the board's server answers every delimited frame with one reply.
 

@@ -1,4 +1,4 @@
-//! Link faults (spec §7 "Reliability"): with bytes flipped, dropped and frames truncated between
+//! Link faults: with bytes flipped, dropped and frames truncated between
 //! host and QEMU, and with a QEMU killed in the middle of a run, pass 1 still returns every row
 //! exactly once and the same bits as the in-process model backend.
 //!

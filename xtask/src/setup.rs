@@ -8,7 +8,7 @@ use crate::util::{cargo, output, run, which};
 use crate::TARGET;
 use std::process::Command;
 
-/// The QEMU machine the firmware runs on (spec §4).
+/// The QEMU machine the firmware runs on (an MPS2+ AN386, a Cortex-M4 board QEMU emulates).
 const QEMU_MACHINE: &str = "mps2-an386";
 /// The rustup components the test suite uses.
 const COMPONENTS: [&str; 2] = ["rustfmt", "clippy"];

@@ -1,50 +1,242 @@
 //! Rays and query points read from stdin, `x y z dx dy dz` a line (Radiance's `rtrace`
 //! convention); blank lines and `#` comments are skipped.
+//!
+//! The commands that read them ([`serve`]) answer as they read, so that they can run as a
+//! co-process the way `rtrace` does: a reader thread parses lines into a bounded queue, and
+//! every answer to what is in the queue is written and flushed before the next line is waited
+//! for. Lines that arrive faster than they are answered are answered together (the backends
+//! work in batches), so throughput is kept without ever holding an answer back for more input.
+//! Memory is bounded by the queue and the longest line, whatever the input's length.
 
 use anyhow::{bail, Context, Result};
 use hemi_kernel::geometry::Vec3;
-use std::io::BufRead;
+use std::io::{BufRead, Read, Write};
+use std::sync::mpsc;
 
-/// The (origin, unit direction) of the lines of stdin up to the first bad one, and the error
-/// that stopped the reading, if any (the lines before it are still answered).
-pub fn rays_from_stdin() -> (Vec<(Vec3, Vec3)>, Option<anyhow::Error>) {
-    let mut rays = Vec::new();
-    for (n, line) in stdin_lines() {
-        match line
-            .map_err(anyhow::Error::from)
-            .and_then(|l| parse_ray_line(&l, n))
-        {
-            Ok(ray) => rays.push(ray),
-            Err(e) => return (rays, Some(e)),
+/// The longest input line read, in bytes (a line of six numbers is well under 200).
+const MAX_LINE: usize = 4096;
+/// The most records answered in one batch, and the queue's length.
+const MAX_BATCH: usize = 1024;
+/// How much of an offending line an error message quotes, in characters.
+const QUOTE_CHARS: usize = 80;
+
+/// One input line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Record {
+    /// An origin and a unit direction.
+    Ray(Vec3, Vec3),
+    /// A zero direction: rtrace's request for a blank record and a flush, answered as such
+    /// (not an error), so a co-process can use it to mark the end of a group of queries.
+    Flush,
+}
+
+/// Reads records from `input` on a thread of their own and answers them in batches as they
+/// come: `answer` gets each run of rays (at most [`MAX_BATCH`]) and writes one line per ray to
+/// `out`; a [`Record::Flush`] is answered with the line `blank`. `out` is flushed after every
+/// batch. The first bad line ends the run with its error, after every line before it has been
+/// answered.
+pub fn serve<W: Write>(
+    input: impl BufRead + Send + 'static,
+    out: &mut W,
+    blank: &str,
+    mut answer: impl FnMut(&[(Vec3, Vec3)], &mut W) -> Result<()>,
+) -> Result<()> {
+    let (tx, rx) = mpsc::sync_channel::<Result<Record>>(MAX_BATCH);
+    std::thread::spawn(move || {
+        let mut lines = Lines::new(input);
+        while let Some(r) = lines.next_record() {
+            let stop = r.is_err();
+            if tx.send(r).is_err() || stop {
+                break;
+            }
+        }
+    });
+    let mut rays = Vec::with_capacity(MAX_BATCH);
+    // blocks for the first record of a batch only, then takes what has already been read
+    while let Ok(first) = rx.recv() {
+        let mut next = Some(first);
+        let mut n = 0;
+        while let Some(record) = next.take() {
+            match record {
+                Ok(Record::Ray(o, d)) => rays.push((o, d)),
+                Ok(Record::Flush) => {
+                    answer_rays(&mut rays, out, &mut answer)?;
+                    writeln!(out, "{blank}")?;
+                }
+                Err(e) => {
+                    answer_rays(&mut rays, out, &mut answer)?;
+                    out.flush()?;
+                    return Err(e);
+                }
+            }
+            n += 1;
+            if n < MAX_BATCH {
+                next = rx.try_recv().ok();
+            }
+        }
+        answer_rays(&mut rays, out, &mut answer)?;
+        out.flush()?;
+    }
+    Ok(())
+}
+
+fn answer_rays<W: Write>(
+    rays: &mut Vec<(Vec3, Vec3)>,
+    out: &mut W,
+    answer: &mut impl FnMut(&[(Vec3, Vec3)], &mut W) -> Result<()>,
+) -> Result<()> {
+    if !rays.is_empty() {
+        answer(rays, out)?;
+        rays.clear();
+    }
+    Ok(())
+}
+
+/// Input lines, numbered, each read into one bounded buffer.
+struct Lines<R> {
+    input: R,
+    n: usize,
+    buf: Vec<u8>,
+}
+
+impl<R: BufRead> Lines<R> {
+    fn new(input: R) -> Lines<R> {
+        Lines {
+            input,
+            n: 0,
+            buf: Vec::with_capacity(256),
         }
     }
-    (rays, None)
+
+    /// The next record, skipping blank lines and comments; `None` at the end of the input.
+    fn next_record(&mut self) -> Option<Result<Record>> {
+        loop {
+            self.buf.clear();
+            self.n += 1;
+            let n = self.n;
+            let limit = (MAX_LINE + 1) as u64;
+            match (&mut self.input)
+                .take(limit)
+                .read_until(b'\n', &mut self.buf)
+            {
+                Ok(0) => return None,
+                Ok(_) => {}
+                Err(e) => return Some(Err(e).context(format!("line {n}: cannot read stdin"))),
+            }
+            if self.buf.len() > MAX_LINE {
+                let start = String::from_utf8_lossy(&self.buf[..QUOTE_CHARS]);
+                return Some(Err(anyhow::anyhow!(
+                    "line {n}: longer than {MAX_LINE} bytes (`{start}…`)"
+                )));
+            }
+            let Ok(line) = std::str::from_utf8(&self.buf) else {
+                return Some(Err(anyhow::anyhow!("line {n}: not UTF-8 text")));
+            };
+            let line = line.trim();
+            if !line.is_empty() && !line.starts_with('#') {
+                return Some(parse_record(line, n));
+            }
+        }
+    }
 }
 
-fn stdin_lines() -> impl Iterator<Item = (usize, std::io::Result<String>)> {
-    std::io::stdin()
-        .lock()
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l))
-        .filter(|(_, l)| {
-            l.as_ref()
-                .map(|s| !s.trim().is_empty() && !s.trim_start().starts_with('#'))
-                .unwrap_or(true)
-        })
+/// `line` quoted for an error message: at most [`QUOTE_CHARS`] characters, an ellipsis
+/// marking the cut.
+fn quote(line: &str) -> String {
+    match line.char_indices().nth(QUOTE_CHARS) {
+        Some((at, _)) => format!("`{}…`", &line[..at]),
+        None => format!("`{line}`"),
+    }
 }
 
-fn parse_ray_line(line: &str, n: usize) -> Result<(Vec3, Vec3)> {
+/// Parses one `x y z dx dy dz` line (line number `n`, for the error).
+fn parse_record(line: &str, n: usize) -> Result<Record> {
     let v: Vec<f32> = line
         .split_whitespace()
+        .take(7)
         .map(|t| t.parse::<f32>())
         .collect::<Result<_, _>>()
-        .with_context(|| format!("line {n}: expected `x y z dx dy dz`, got `{line}`"))?;
+        .with_context(|| format!("line {n}: expected `x y z dx dy dz`, got {}", quote(line)))?;
     if v.len() != 6 || v.iter().any(|x| !x.is_finite()) {
-        bail!("line {n}: expected 6 finite numbers `x y z dx dy dz`, got `{line}`");
+        bail!(
+            "line {n}: expected 6 finite numbers `x y z dx dy dz`, got {}",
+            quote(line)
+        );
     }
-    let dir = Vec3::new(v[3], v[4], v[5])
-        .try_normalize()
-        .with_context(|| format!("line {n}: zero direction"))?;
-    Ok((Vec3::new(v[0], v[1], v[2]), dir))
+    let origin = Vec3::new(v[0], v[1], v[2]);
+    let dir = Vec3::new(v[3], v[4], v[5]);
+    if dir == Vec3::ZERO {
+        return Ok(Record::Flush);
+    }
+    let dir = dir.try_normalize().with_context(|| {
+        format!(
+            "line {n}: the direction of {} cannot be normalised",
+            quote(line)
+        )
+    })?;
+    Ok(Record::Ray(origin, dir))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The records of `text` up to and including the first error, as [`serve`] reads them.
+    fn records(text: &str) -> Vec<Result<Record>> {
+        let mut lines = Lines::new(std::io::Cursor::new(text.as_bytes().to_vec()));
+        let mut stopped = false;
+        std::iter::from_fn(|| {
+            let r = lines.next_record().filter(|_| !stopped)?;
+            stopped = r.is_err();
+            Some(r)
+        })
+        .collect()
+    }
+
+    #[test]
+    fn comments_and_blank_lines_are_skipped_and_lines_numbered() {
+        let r = records("# points\n\n0 0 0 0 0 2\n0 0 0 0 0 0\n1 2 x 0 0 1\n");
+        assert_eq!(r.len(), 3);
+        let o = Vec3::ZERO;
+        assert_eq!(
+            r[0].as_ref().unwrap(),
+            &Record::Ray(o, Vec3::new(0.0, 0.0, 1.0))
+        );
+        assert_eq!(r[1].as_ref().unwrap(), &Record::Flush);
+        let e = r[2].as_ref().unwrap_err().to_string();
+        assert!(e.starts_with("line 5:"), "{e}");
+    }
+
+    #[test]
+    fn errors_quote_at_most_eighty_characters() {
+        let long = format!("1 2 3 4 5 6 {}", "7 ".repeat(200));
+        let e = records(&long)[0].as_ref().unwrap_err().to_string();
+        assert!(e.contains('…') && e.len() < 200, "{e}");
+        let huge = "9".repeat(MAX_LINE * 3);
+        let r = records(&huge);
+        assert_eq!(
+            r.len(),
+            1,
+            "the error comes first, not after parts of the line"
+        );
+        let e = r[0].as_ref().unwrap_err().to_string();
+        assert!(e.contains("longer than") && e.len() < 200, "{e}");
+    }
+
+    #[test]
+    fn serve_answers_runs_around_flushes_and_stops_at_a_bad_line() {
+        let input = std::io::Cursor::new(
+            b"0 0 0 1 0 0\n0 0 0 0 0 0\n0 0 0 0 1 0\nbad\n0 0 0 1 0 0\n".to_vec(),
+        );
+        let mut out = Vec::new();
+        let err = serve(input, &mut out, "blank", |rays, out| {
+            for (_, d) in rays {
+                writeln!(out, "{} {} {}", d.x, d.y, d.z)?;
+            }
+            Ok(())
+        })
+        .unwrap_err();
+        assert!(err.to_string().starts_with("line 4:"), "{err}");
+        assert_eq!(String::from_utf8(out).unwrap(), "1 0 0\nblank\n0 1 0\n");
+    }
 }

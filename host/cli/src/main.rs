@@ -1,9 +1,10 @@
-//! The `hemi` command line (spec §5): parses the command and dispatches to its module.
+//! The `hemi` command line: parses the command and dispatches to its module.
 
 mod commands;
 mod engine;
 mod input;
 mod options;
+mod output;
 mod pipeline;
 mod progress;
 
@@ -25,15 +26,17 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Both passes: writes the image (8-bit sRGB PNG, and linear EXR with --exr).
+    /// Both passes: writes the image (8-bit sRGB PNG, linear EXR or Radiance HDR, by extension).
     Render(render::RenderArgs),
     /// Pass-1 form factors between the scene's patches.
     FormFactors(form_factors::FormFactorsArgs),
-    /// Pass 1 and the solve: radiosity per patch.
+    /// Pass 1 and the solve: radiosity per patch (--ply, --gltf: the solution as meshes).
     Solve(solve::SolveArgs),
-    /// Irradiance at points read from stdin (`x y z dx dy dz` per line), printed `r g b`.
+    /// Irradiance at points read from stdin (`x y z dx dy dz` per line), printed `r g b` as
+    /// each line is read.
     Irradiance(irradiance::IrradianceArgs),
-    /// Nearest hit of rays read from stdin (`x y z dx dy dz`): `t patch u v` or `miss`.
+    /// Nearest hit of rays read from stdin (`x y z dx dy dz`): `t patch u v` or `miss`, as each
+    /// line is read.
     Trace(trace::TraceArgs),
     /// Benchmarks (speed is measured here, never asserted in tests).
     #[command(subcommand)]
@@ -52,7 +55,7 @@ fn main() -> Result<()> {
         .build_global();
     let mut out = std::io::BufWriter::new(std::io::stdout().lock());
     match cli.command {
-        Command::Render(args) => render::run(args)?,
+        Command::Render(args) => render::run(args, &mut out)?,
         Command::FormFactors(args) => form_factors::run(args, &mut out)?,
         Command::Solve(args) => solve::run(args, &mut out)?,
         Command::Irradiance(args) => irradiance::run(args, &mut out)?,
@@ -62,4 +65,33 @@ fn main() -> Result<()> {
     }
     out.flush()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Cli;
+    use clap::CommandFactory;
+
+    /// Every command says what it does and every argument what it means in `--help`.
+    #[test]
+    fn every_command_and_argument_is_described() {
+        fn walk(cmd: &clap::Command, path: &str, missing: &mut Vec<String>) {
+            if cmd.get_about().is_none() {
+                missing.push(format!("{path} (the command)"));
+            }
+            for a in cmd.get_arguments() {
+                if a.get_help().is_none() && !["help", "version"].contains(&a.get_id().as_str()) {
+                    missing.push(format!("{path} {}", a.get_id()));
+                }
+            }
+            for s in cmd.get_subcommands().filter(|s| s.get_name() != "help") {
+                walk(s, &format!("{path} {}", s.get_name()), missing);
+            }
+        }
+        let mut cmd = Cli::command();
+        cmd.build();
+        let mut missing = Vec::new();
+        walk(&cmd, "hemi", &mut missing);
+        assert!(missing.is_empty(), "undescribed: {missing:?}");
+    }
 }

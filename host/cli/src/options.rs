@@ -13,6 +13,7 @@ use hemi::settings::Pass1Settings;
 use hemi::solve::Solver;
 use hemi_boards::FirmwareLog;
 use hemi_hdl_model::ModelConfig;
+use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::DeltaRule;
 use std::path::PathBuf;
 
@@ -466,4 +467,95 @@ pub fn list<T: std::str::FromStr>(option: &str, s: &str) -> Result<Vec<T>> {
                 .map_err(|_| anyhow::anyhow!("{option}: bad number `{x}`"))
         })
         .collect()
+}
+
+/// The view of pass 2, overriding the scene's `[camera]` (rpict's `-vp`, `-vh`/`-vv`, `-x -y`;
+/// the direction is given by a point looked at, as in the scene file).
+#[derive(Args, Clone, Debug, Default)]
+pub struct ViewArgs {
+    /// Image size in pixels, `WIDTHxHEIGHT` (default: the scene's camera, else 512x512).
+    #[arg(long, value_name = "WxH")]
+    pub size: Option<String>,
+    /// Eye position `X,Y,Z`, in scene units (default: the scene's camera).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub eye: Option<String>,
+    /// The point looked at, `X,Y,Z` (default: the scene's camera).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    pub look_at: Option<String>,
+    /// Vertical field of view in degrees, as the scene's `fov_y_deg` (default: the scene's
+    /// camera, else 40).
+    #[arg(long, value_name = "DEG")]
+    pub fov: Option<f64>,
+}
+
+impl ViewArgs {
+    /// The scene's camera with the overrides applied; a scene without a `[camera]` needs
+    /// `--eye` and `--look-at` (up is then +y, or +z when looking along y).
+    pub fn camera(&self, scene: Option<&hemi::scene::Camera>) -> Result<hemi::scene::Camera> {
+        let point = |option: &str, s: &Option<String>| -> Result<Option<Vec3>> {
+            let Some(s) = s else { return Ok(None) };
+            let v: Vec<f32> = list(option, s)?;
+            if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
+                bail!("{option} {s}: expected three finite numbers X,Y,Z");
+            }
+            Ok(Some(Vec3::new(v[0], v[1], v[2])))
+        };
+        let (eye, look_at) = (
+            point("--eye", &self.eye)?,
+            point("--look-at", &self.look_at)?,
+        );
+        let size = self.size.as_deref().map(parse_size).transpose()?;
+        if let Some(fov) = self.fov {
+            if !(fov > 0.0 && fov < 180.0) {
+                bail!("--fov {fov}: the field of view must be between 0 and 180 degrees");
+            }
+        }
+        let mut camera = match (scene, eye, look_at) {
+            (Some(c), _, _) => c.clone(),
+            (None, Some(eye), Some(look_at)) => default_camera(eye, look_at),
+            (None, _, _) => bail!(
+                "the scene has no [camera] table: give --eye X,Y,Z and --look-at X,Y,Z (or add \
+                 one, docs/scene-format.md)"
+            ),
+        };
+        camera.eye = eye.unwrap_or(camera.eye);
+        camera.look_at = look_at.unwrap_or(camera.look_at);
+        camera.fov_y_deg = self.fov.unwrap_or(camera.fov_y_deg);
+        if let Some((w, h)) = size {
+            (camera.width, camera.height) = (w, h);
+        }
+        Ok(camera)
+    }
+}
+
+/// A camera for a scene without one: up +y (+z when looking along y), 40°, 512×512.
+fn default_camera(eye: Vec3, look_at: Vec3) -> hemi::scene::Camera {
+    let d = look_at - eye;
+    let along_y = d.y.abs() > 0.99 * d.length();
+    hemi::scene::Camera {
+        eye,
+        look_at,
+        up: if along_y {
+            Vec3::Z
+        } else {
+            Vec3::new(0.0, 1.0, 0.0)
+        },
+        fov_y_deg: 40.0,
+        width: 512,
+        height: 512,
+    }
+}
+
+/// `WIDTHxHEIGHT`, each 1..=16384.
+fn parse_size(s: &str) -> Result<(u32, u32)> {
+    let bad = || anyhow::anyhow!("--size {s}: expected WIDTHxHEIGHT, e.g. 640x480, each 1..=16384");
+    let (w, h) = s.split_once(['x', 'X']).ok_or_else(bad)?;
+    let (w, h): (u32, u32) = (
+        w.trim().parse().map_err(|_| bad())?,
+        h.trim().parse().map_err(|_| bad())?,
+    );
+    if !(1..=16384).contains(&w) || !(1..=16384).contains(&h) {
+        return Err(bad());
+    }
+    Ok((w, h))
 }

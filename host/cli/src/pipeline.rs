@@ -46,15 +46,15 @@ pub struct Prepared {
 
 impl RunArgs {
     /// Checks the options (the backend first), loads the scene, applies `--quality`, runs
-    /// `check` on the scene (a command's own checks, before boards are booted), and opens the
-    /// engine.
-    pub fn prepare(&self, check: impl FnOnce(&Scene) -> Result<()>) -> Result<Prepared> {
+    /// `check` on the scene (a command's own checks and changes, such as a view override, before
+    /// boards are booted), and opens the engine.
+    pub fn prepare(&self, check: impl FnOnce(&mut Scene) -> Result<()>) -> Result<Prepared> {
         let adaptive = self.adaptive.adaptive;
         let choice = self.engine.check()?;
         let checked = self.sampling.settings(adaptive)?;
-        let scene = hemi::scene::load(&self.scene)?;
+        let mut scene = hemi::scene::load(&self.scene)?;
         let settings = self.quality.for_scene(checked, &scene, adaptive);
-        check(&scene)?;
+        check(&mut scene)?;
         let engine = choice.open(&self.engine.model, &self.engine.boards)?;
         Ok(Prepared {
             scene,

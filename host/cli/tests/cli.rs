@@ -1,4 +1,4 @@
-//! The `hemi` command line as a user drives it: output shapes of spec §5, errors, and the
+//! The `hemi` command line as a user drives it: the output shapes of the README's command table, errors, and the
 //! irradiance query against a closed form.
 
 use std::io::Write;
@@ -316,4 +316,161 @@ fn the_model_backend_gives_the_soft_backends_form_factors_and_reports_cycles() {
             assert!((x - y).abs() < 1e-6, "soft {x} model {y}");
         }
     }
+}
+
+/// A running `hemi` with piped stdin and stdout, whose stdout lines arrive on a channel (so a
+/// test can wait for one with a deadline instead of hanging).
+struct CoProcess {
+    child: std::process::Child,
+    stdin: Option<std::process::ChildStdin>,
+    lines: std::sync::mpsc::Receiver<String>,
+}
+
+impl CoProcess {
+    fn start(args: &[&str]) -> CoProcess {
+        let mut child = hemi()
+            .args(args)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let stdout = child.stdout.take().unwrap();
+        let (tx, lines) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            use std::io::BufRead;
+            for l in std::io::BufReader::new(stdout).lines() {
+                if tx.send(l.unwrap()).is_err() {
+                    break;
+                }
+            }
+        });
+        let stdin = child.stdin.take();
+        CoProcess {
+            child,
+            stdin,
+            lines,
+        }
+    }
+
+    /// Writes `line` (stdin stays open) and waits for one answer line.
+    fn ask(&mut self, line: &str) -> String {
+        let stdin = self.stdin.as_mut().unwrap();
+        writeln!(stdin, "{line}").unwrap();
+        stdin.flush().unwrap();
+        self.lines
+            .recv_timeout(std::time::Duration::from_secs(120))
+            .unwrap_or_else(|e| panic!("no answer to `{line}` with stdin open: {e}"))
+    }
+
+    /// Closes stdin and waits for the exit status.
+    fn finish(mut self) -> bool {
+        drop(self.stdin.take());
+        self.child.wait().unwrap().success()
+    }
+}
+
+#[test]
+fn irradiance_answers_each_line_before_the_input_closes() {
+    let p = scene("stream.toml", TWO_SQUARES);
+    let args = ["irradiance", p.to_str().unwrap(), "--circles", "16"];
+    let mut co = CoProcess::start(&[&args[..], &["--samples", "2"]].concat());
+    // p1 at z = 0 faces +z towards the lamp p2 at z = 1 (blue exitance 4)
+    let first: Vec<f64> = co
+        .ask("0.5 0.5 0.001 0 0 1")
+        .split_whitespace()
+        .map(|x| x.parse().unwrap())
+        .collect();
+    // the point-to-square form factor is about 0.24: E = F·M, in the lamp's 2:3:4
+    assert!(first.len() == 3 && first[2] > 0.5, "{first:?}");
+    assert!((first[0] / first[2] - 0.5).abs() < 1e-3, "{first:?}");
+    // rtrace's convention: a zero direction is answered with a blank (zero) record at once
+    assert_eq!(co.ask("0 0 0 0 0 0"), "0.000000e0 0.000000e0 0.000000e0");
+    let again = co.ask("0.5 0.5 0.001 0 0 1");
+    assert_eq!(again.split_whitespace().count(), 3, "{again}");
+    assert!(co.finish());
+}
+
+#[test]
+fn trace_answers_each_line_before_the_input_closes() {
+    let p = scene("stream-trace.toml", TWO_SQUARES);
+    let mut co = CoProcess::start(&["trace", p.to_str().unwrap()]);
+    assert!(co.ask("0.25 0.75 0.5 0 0 1").contains(" p2 "));
+    assert_eq!(co.ask("0.25 0.75 0.5 0 0 0"), "miss");
+    assert!(co.ask("0.5 0.5 0.5 0 0 -1").contains(" p1 "));
+    assert!(co.finish());
+}
+
+#[test]
+fn render_refuses_bad_outputs_before_it_even_reads_the_scene() {
+    // the scene does not exist: each error below must come from the output check, before it
+    let missing = "/nonexistent/scene.toml";
+    let cases: [(&[&str], &str); 5] = [
+        (&["-o", "out.jpg"], "unknown image format"),
+        (&["-o", "/nonexistent/dir/out.png"], "cannot write there"),
+        (&["-o", "/tmp"], "unknown image format"),
+        (&["-o", "same.exr", "--exr", "./same.exr"], "both name"),
+        (
+            &["-o", "out.png", "--exr", "/nonexistent/dir/x.exr"],
+            "--exr",
+        ),
+    ];
+    for (args, want) in cases {
+        let (ok, _, err) = run(&[&["render", missing][..], args].concat(), "");
+        assert!(!ok && err.contains(want), "{args:?}: {err}");
+        assert!(
+            !err.contains("scene"),
+            "{args:?} was checked after the scene: {err}"
+        );
+    }
+    assert!(
+        !std::path::Path::new("same.exr").exists(),
+        "the check leaves no file behind"
+    );
+    let p = scene("view.toml", TWO_SQUARES);
+    let p = p.to_str().unwrap();
+    for (args, want) in [
+        (&["--size", "0x10"][..], "--size"),
+        (&["--size", "640"][..], "--size"),
+        (&["--fov", "180"][..], "--fov"),
+        (&["--eye", "1,2"][..], "--eye"),
+        (&[][..], "--eye X,Y,Z and --look-at"),
+    ] {
+        let out = std::env::temp_dir().join(format!("hemi-view-{}.png", std::process::id()));
+        let o = out.to_str().unwrap();
+        let (ok, _, err) = run(&[&["render", p, "-o", o][..], args].concat(), "");
+        assert!(!ok && err.contains(want), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn render_writes_png_to_stdout_at_the_size_and_view_given() {
+    // TWO_SQUARES has no camera: the view comes from the command line
+    let p = scene("stdout.toml", TWO_SQUARES);
+    let args = [
+        "render",
+        p.to_str().unwrap(),
+        "-o",
+        "-",
+        "--size",
+        "24x16",
+        "--eye",
+        "0.5,0.5,0.5",
+        "--look-at",
+        "0.5,0.5,1",
+        "--fov",
+        "90",
+        "--circles",
+        "8",
+        "--samples",
+        "2",
+    ];
+    let out = hemi().args(args).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{err}");
+    let png = out.stdout;
+    assert_eq!(&png[1..4], b"PNG", "{err}");
+    // the IHDR chunk: width and height, big endian, after the 8-byte signature and 8 bytes
+    let be = |at: usize| u32::from_be_bytes(png[at..at + 4].try_into().unwrap());
+    assert_eq!((be(16), be(20)), (24, 16));
 }

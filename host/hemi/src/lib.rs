@@ -4,13 +4,15 @@
 //! From the bottom up (no module imports one further down this list, and `cargo xtask layout`
 //! checks that the imports have no cycle): `scene`, `analytic`, `grid`, `transport`; `optics`, `method`,
 //! `settings`, `shots`; `backend`; `pass1`; `solve`; `radiosity`, `seams`; then the passes built on
-//! them: `direct`, `field`, `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay` (docs/ARCHITECTURE.md).
+//! them: `direct`, `field`, `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay`, and
+//! `export`, the solution as meshes for viewers (docs/ARCHITECTURE.md).
 #![forbid(unsafe_code)]
 
 pub mod adaptive;
 pub mod analytic;
 pub mod backend;
 pub mod direct;
+pub mod export;
 pub mod field;
 pub mod grid;
 pub mod irradiance;

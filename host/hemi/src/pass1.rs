@@ -1,4 +1,4 @@
-//! Pass 1 (spec §2 steps 1–2): place sample points, have the backend shoot a hemisphere from
+//! Pass 1: place sample points, have the backend shoot a hemisphere from
 //! each, and form patch form factors from the element rows by (4.3).
 
 use crate::backend::{shoot_checked, Backend, Progress};
@@ -14,7 +14,7 @@ pub struct FormFactors {
     /// Patch form factors F_ij (dense, patches × patches in scene order), from (4.3); the mean
     /// of the three channels when coloured mirrors make them differ. Rows and columns of pure
     /// specular patches are zero: the kernel's rows run over diffuse columns only, and the host
-    /// spreads them back to scene order for the solve and the JSON of spec §5.
+    /// spreads them back to scene order for the solve and the JSON of `hemi form-factors --json`.
     pub matrix: Vec<Vec<f64>>,
     /// Per-channel F_ij when some specular k is coloured (indirect form factors then differ by
     /// channel); `None` when every channel equals `matrix`.

@@ -48,14 +48,25 @@ pub enum BenchCommand {
     Rays(RaysBench),
 }
 
-/// Runs `hemi bench …`, writing the tables to `out`.
+/// Runs `hemi bench …`, writing the tables to `out`, with a spinner on stderr that shows the
+/// elapsed time and the table's last row.
 pub fn run(command: BenchCommand, out: &mut impl Write) -> Result<()> {
+    let mut out = crate::progress::Spinner::new(out, "bench");
+    let result = dispatch(command, &mut out);
+    out.finish();
+    result
+}
+
+fn dispatch(command: BenchCommand, out: &mut impl Write) -> Result<()> {
     match command {
         BenchCommand::Adaptive(b) => b.run(out),
         BenchCommand::Bezier(b) => {
-            hemi_bench::bezier_accuracy(&load(&b.scene)?, out, b.svg.as_deref())
+            let svg = chart(&b.svg_dir, "bezier-error.svg");
+            hemi_bench::bezier_accuracy(&load(&b.scene)?, out, svg.as_deref())
         }
-        BenchCommand::Cordic(b) => hemi_bench::cordic_pareto(out, b.svg.as_deref()),
+        BenchCommand::Cordic(b) => {
+            hemi_bench::cordic_pareto(out, chart(&b.svg_dir, "cordic-pareto.svg").as_deref())
+        }
         BenchCommand::Trace(b) => b.run(out),
         BenchCommand::Tessellation(b) => b.run(out),
         BenchCommand::FormFactors(b) => b.run(out),
@@ -71,6 +82,11 @@ pub fn run(command: BenchCommand, out: &mut impl Write) -> Result<()> {
         }
         BenchCommand::Rays(b) => b.run(out),
     }
+}
+
+/// The file `name` in the chart folder `dir`, if one was given.
+fn chart(dir: &Option<PathBuf>, name: &str) -> Option<PathBuf> {
+    dir.as_ref().map(|d| d.join(name))
 }
 
 /// Adaptive against uniform sampling: the error of the radiosity field B(u,v) against rows
@@ -105,9 +121,9 @@ pub struct AdaptiveBench {
         default_value = "surplus,spread"
     )]
     tests: Vec<TestArg>,
-    /// Also draw the chart (SVG).
-    #[arg(long)]
-    svg: Option<PathBuf>,
+    /// Write the chart adaptive-error.svg into this folder.
+    #[arg(long, value_name = "DIR")]
+    svg_dir: Option<PathBuf>,
     /// Keep the reference's grids in this file between runs (recomputed when the scene, K
     /// or R differ).
     #[arg(long)]
@@ -123,18 +139,19 @@ pub struct BezierBench {
     /// The scene file.
     #[arg(default_value = "scenes/teapot.toml")]
     scene: PathBuf,
-    /// Also draw the chart (SVG).
-    #[arg(long)]
-    svg: Option<PathBuf>,
+    /// Write the chart bezier-error.svg into this folder.
+    #[arg(long, value_name = "DIR")]
+    svg_dir: Option<PathBuf>,
 }
 
 /// The accelerator model's CORDIC error against iterations and word width, with latency and
 /// an area proxy: a markdown table with the Pareto front (docs/ACCURACY.md).
 #[derive(Args)]
 pub struct CordicBench {
-    /// Also draw the chart (SVG): error against latency, one line per word width.
-    #[arg(long)]
-    svg: Option<PathBuf>,
+    /// Write the chart cordic-pareto.svg (error against latency, one line per word width) into
+    /// this folder.
+    #[arg(long, value_name = "DIR")]
+    svg_dir: Option<PathBuf>,
 }
 
 /// Single rays through the soft engine with and without its BVH: rays/s and the ratio, on
@@ -176,9 +193,10 @@ pub struct FormFactorsBench {
     /// Comma-separated K values.
     #[arg(long, default_value = "4,8,16,32")]
     samples: String,
-    /// Also draw the chart (SVG): max error against rays, one line per K.
-    #[arg(long)]
-    svg: Option<PathBuf>,
+    /// Write the chart form-factor-error.svg (max error against rays, one line per K) into this
+    /// folder.
+    #[arg(long, value_name = "DIR")]
+    svg_dir: Option<PathBuf>,
 }
 
 /// The solvers' convergence (residual against work) on the Cornell box and a ρ = 0.99
@@ -289,7 +307,8 @@ impl AdaptiveBench {
             std::env::args().skip(1).collect::<Vec<_>>().join(" ")
         );
         let scene = load(&self.scene)?;
-        let svg = self.svg.as_deref();
+        let svg = chart(&self.svg_dir, "adaptive-error.svg");
+        let svg = svg.as_deref();
         hemi_bench::adaptive::adaptive_vs_uniform(&scene, &settings, &bench, out, svg, &command)?;
         Ok(())
     }
@@ -321,7 +340,8 @@ impl FormFactorsBench {
     fn run(self, out: &mut impl Write) -> Result<()> {
         let r = list("--circles", &self.circles)?;
         let k = list("--samples", &self.samples)?;
-        hemi_bench::form_factors::bench_form_factors(out, &r, &k, self.svg.as_deref())
+        let svg = chart(&self.svg_dir, "form-factor-error.svg");
+        hemi_bench::form_factors::bench_form_factors(out, &r, &k, svg.as_deref())
     }
 }
 

@@ -1,6 +1,6 @@
 //! `hemi irradiance`: the solved field gathered at points read from stdin.
 
-use crate::input::rays_from_stdin;
+use crate::input::serve;
 use crate::options::{FieldArgs, SolverArgs};
 use crate::pipeline::RunArgs;
 use anyhow::Result;
@@ -46,17 +46,12 @@ enum DirectArg {
     Hemisphere,
 }
 
-/// Runs `hemi irradiance`, writing to `out`.
+/// Runs `hemi irradiance`, writing to `out` each answer as soon as its line is read.
 pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
     let field = args.field.settings(args.run.on_boards())?;
     let run = args.run.prepare(|_| Ok(()))?;
     let backend = run.engine.backend(&run.scene, &run.settings)?;
     let solved = args.run.solve(&backend, &args.solver, Some(field))?;
-    let (rays, bad_line) = rays_from_stdin();
-    let queries: Vec<Query> = rays
-        .into_iter()
-        .map(|(point, normal)| Query { point, normal })
-        .collect();
     let direct = match args.direct {
         DirectArg::Exact if exact_direct_applies(backend.get()) => Direct::Exact,
         DirectArg::Exact => {
@@ -73,17 +68,30 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
         near_levels: args.near,
         near_cells: args.near_cells,
     };
-    for e in hemi::irradiance::irradiance(backend.get(), &solved.grids, &queries, &settings)? {
-        writeln!(out, "{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])?;
-    }
+    let stdin = std::io::BufReader::new(std::io::stdin());
+    // a zero direction is rtrace's request for a flush, answered with a zero record
+    let answered = serve(stdin, out, &rgb([0.0; 3]), |rays, out| {
+        let queries: Vec<Query> = rays
+            .iter()
+            .map(|&(point, normal)| Query { point, normal })
+            .collect();
+        let grids = &solved.grids;
+        for e in hemi::irradiance::irradiance(backend.get(), grids, &queries, &settings)? {
+            writeln!(out, "{}", rgb(e))?;
+        }
+        Ok(())
+    });
     backend.board_report(args.run.engine.boards.board_stats, "after the queries");
-    if let Some(e) = bad_line {
-        return Err(e);
-    }
+    answered?;
     backend.report_model(
         solved.hemispheres,
         args.run.engine.model.clock_mhz,
         "pass 1 and queries",
     );
     Ok(())
+}
+
+/// One answer line: `r g b`.
+fn rgb(e: [f64; 3]) -> String {
+    format!("{:.6e} {:.6e} {:.6e}", e[0], e[1], e[2])
 }

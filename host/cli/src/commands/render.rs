@@ -1,6 +1,7 @@
 //! `hemi render`: both passes, then the image files.
 
-use crate::options::{FieldArgs, SolverArgs};
+use crate::options::{FieldArgs, SolverArgs, ViewArgs};
+use crate::output::{ImageFormat, ImageTarget};
 use crate::pipeline::{RunArgs, Solved};
 use crate::progress::bar;
 use anyhow::Result;
@@ -9,19 +10,24 @@ use hemi::backend::SoftEngine;
 use hemi::render::{Image, Rendered};
 use hemi_kernel::camera::Camera;
 use hemi_kernel::specular::SpecularStats;
+use std::io::Write;
 use std::path::PathBuf;
 
-/// Both passes: writes the image (8-bit sRGB PNG, and linear EXR with --exr).
+/// Both passes: writes the image (8-bit sRGB PNG, linear EXR or Radiance HDR, by extension).
 #[derive(Args)]
 pub struct RenderArgs {
     #[command(flatten)]
     run: RunArgs,
-    /// Output PNG.
-    #[arg(short, long)]
+    /// The image, its format by extension: .png (8-bit sRGB at the exposure), .exr (linear
+    /// OpenEXR), .hdr or .pic (linear Radiance RGBE), or - for PNG on stdout. Checked before
+    /// pass 1.
+    #[arg(short, long, value_name = "OUT")]
     output: PathBuf,
-    /// Also write the linear radiances as OpenEXR.
-    #[arg(long)]
+    /// Also write the linear radiances as OpenEXR to this file (not the -o file).
+    #[arg(long, value_name = "OUT.exr")]
     exr: Option<PathBuf>,
+    #[command(flatten)]
+    view: ViewArgs,
     /// Eye rays per pixel (anti-aliasing).
     #[arg(long, default_value_t = 1)]
     spp: u32,
@@ -38,8 +44,8 @@ pub struct RenderArgs {
     field: FieldArgs,
 }
 
-/// Runs `hemi render`.
-pub fn run(args: RenderArgs) -> Result<()> {
+/// Runs `hemi render`, writing the image to `out` for `-o -`.
+pub fn run(args: RenderArgs, out: &mut impl Write) -> Result<()> {
     anyhow::ensure!(
         (1..=4096).contains(&args.spp),
         "--spp must be between 1 and 4096"
@@ -48,10 +54,15 @@ pub fn run(args: RenderArgs) -> Result<()> {
         !args.show_samples || args.run.adaptive.adaptive,
         "--show-samples draws the points of adaptive sampling: add --adaptive"
     );
+    let target = ImageTarget::of(&args.output, args.exr.as_deref())?;
+    if let Some(exr) = &args.exr {
+        crate::output::writable(exr, "--exr")?;
+    }
     let field = args.field.settings(args.run.on_boards())?;
-    let run = args
-        .run
-        .prepare(|scene| hemi::render::camera_of(scene).map(drop))?;
+    let run = args.run.prepare(|scene| {
+        scene.camera = Some(args.view.camera(scene.camera.as_ref())?);
+        hemi::render::camera_of(scene).map(drop)
+    })?;
     let (scene, settings) = (&run.scene, &run.settings);
     let camera = hemi::render::camera_of(scene)?;
     let backend = run.engine.backend(scene, settings)?;
@@ -67,7 +78,7 @@ pub fn run(args: RenderArgs) -> Result<()> {
     bar.finish_and_clear();
     backend.board_report(stats, "after pass 2");
     let pass2 = t2.elapsed().as_secs_f64();
-    let ev = write_images(&args, scene, &camera, &solved, image)?;
+    let ev = write_images(&args, &target, out, scene, &camera, &solved, image)?;
     eprintln!(
         "pass 1 {:.3} s ({} rays), solve {:.3} s ({}, {} sweeps), pass 2 {pass2:.3} s ({}x{}, {} \
          spp), exposure {ev:+.2} EV -> {}",
@@ -95,10 +106,12 @@ pub fn run(args: RenderArgs) -> Result<()> {
     Ok(())
 }
 
-/// The exposure (given or automatic), the sample overlay of `--show-samples`, and the PNG and
-/// EXR files; returns the exposure.
+/// The exposure (given or automatic), the sample overlay of `--show-samples`, and the image
+/// files (or the PNG on `out`); returns the exposure.
 fn write_images(
     args: &RenderArgs,
+    target: &ImageTarget,
+    out: &mut impl Write,
     scene: &hemi::scene::Scene,
     camera: &Camera,
     solved: &Solved,
@@ -115,7 +128,12 @@ fn write_images(
             hemi::overlay::draw_samples(&mut img, camera, &solved.sampled, &mut engine, ev, radius);
         eprintln!("--show-samples: {dots} visible sample points drawn");
     }
-    hemi::render::write_png(&img, ev, &args.output)?;
+    match target {
+        ImageTarget::Stdout => hemi::render::write_png_to(&img, ev, out)?,
+        ImageTarget::File(path, ImageFormat::Png) => hemi::render::write_png(&img, ev, path)?,
+        ImageTarget::File(path, ImageFormat::Exr) => hemi::render::write_exr(&img, path)?,
+        ImageTarget::File(path, ImageFormat::Hdr) => hemi::render::write_hdr(&img, path)?,
+    }
     if let Some(exr) = &args.exr {
         hemi::render::write_exr(&img, exr)?;
     }

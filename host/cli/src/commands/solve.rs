@@ -1,12 +1,15 @@
 //! `hemi solve`: pass 1 and the solve, the radiosity per patch.
 
-use crate::options::SolverArgs;
-use crate::pipeline::RunArgs;
+use crate::options::{FieldArgs, SolverArgs};
+use crate::output::export_path;
+use crate::pipeline::{RunArgs, Solved};
 use anyhow::Result;
 use clap::Args;
+use hemi::scene::Scene;
 use std::io::Write;
+use std::path::PathBuf;
 
-/// Pass 1 and the solve: radiosity per patch.
+/// Pass 1 and the solve: radiosity per patch, and the solution as meshes for viewers.
 #[derive(Args)]
 pub struct SolveArgs {
     #[command(flatten)]
@@ -16,14 +19,46 @@ pub struct SolveArgs {
     json: bool,
     #[command(flatten)]
     solver: SolverArgs,
+    /// Also write every patch's radiosity grid as a mesh to this PLY file: per vertex the
+    /// radiosity (float properties radiosity_r/g/b, W/m²) and an sRGB colour (MeshLab, Blender).
+    #[arg(long, value_name = "OUT.ply")]
+    ply: Option<PathBuf>,
+    /// Also write the meshes of --ply as binary glTF: per vertex COLOR_0 and the attribute
+    /// _RADIOSITY, an unlit material, one node per patch (Blender, any glTF viewer).
+    #[arg(long, value_name = "OUT.glb")]
+    gltf: Option<PathBuf>,
+    /// Exposure in stops of the exported vertex colours (default: automatic, as `render`).
+    #[arg(long, allow_hyphen_values = true)]
+    exposure: Option<f64>,
+    // the field exported with --ply/--gltf (the printed patch radiosities do not depend on it)
+    #[command(flatten)]
+    field: FieldArgs,
 }
 
 /// Runs `hemi solve`, writing to `out`.
 pub fn run(args: SolveArgs, out: &mut impl Write) -> Result<()> {
+    let export = args.ply.is_some() || args.gltf.is_some();
+    if let Some(p) = &args.ply {
+        export_path(p, "--ply", &["ply"])?;
+    }
+    if let Some(p) = &args.gltf {
+        export_path(p, "--gltf", &["glb"])?;
+    }
+    anyhow::ensure!(
+        args.exposure.is_none_or(f64::is_finite),
+        "--exposure must be a finite number of stops"
+    );
+    let field = match export {
+        true => Some(args.field.settings(args.run.on_boards())?),
+        false => None,
+    };
     let run = args.run.prepare(|_| Ok(()))?;
     let (scene, settings) = (&run.scene, &run.settings);
     let backend = run.engine.backend(scene, settings)?;
-    let solved = args.run.solve(&backend, &args.solver, None)?;
+    let solved = args.run.solve(&backend, &args.solver, field)?;
+    if export {
+        write_meshes(&args, scene, &solved)?;
+    }
     let sol = &solved.solution;
     if args.json {
         let patches: Vec<_> = scene
@@ -57,5 +92,31 @@ pub fn run(args: SolveArgs, out: &mut impl Write) -> Result<()> {
         args.run.engine.model.clock_mhz,
         "pass 1",
     );
+    Ok(())
+}
+
+/// The meshes of the solved field to the files of `--ply` and `--gltf`.
+fn write_meshes(args: &SolveArgs, scene: &Scene, solved: &Solved) -> Result<()> {
+    let meshes = hemi::export::meshes(scene, &solved.grids)?;
+    let ev = args
+        .exposure
+        .unwrap_or_else(|| hemi::export::auto_exposure(&meshes));
+    let vertices: usize = meshes.iter().map(|m| m.positions.len()).sum();
+    let triangles: usize = meshes.iter().map(|m| m.triangles.len()).sum();
+    let files = [
+        (&args.ply, hemi::export::write_ply as hemi::export::Writer),
+        (&args.gltf, hemi::export::write_glb),
+    ];
+    for (path, write) in files {
+        if let Some(path) = path {
+            hemi::export::write_file(path, &meshes, ev, write)?;
+            eprintln!(
+                "{} patches, {vertices} vertices, {triangles} triangles, colours at {ev:+.2} EV \
+                 -> {}",
+                meshes.len(),
+                path.display()
+            );
+        }
+    }
     Ok(())
 }

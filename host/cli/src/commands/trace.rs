@@ -1,6 +1,6 @@
 //! `hemi trace`: the nearest hit of rays read from stdin.
 
-use crate::input::rays_from_stdin;
+use crate::input::serve;
 use crate::options::InProcessArgs;
 use anyhow::Result;
 use clap::Args;
@@ -18,30 +18,30 @@ pub struct TraceArgs {
     engine: InProcessArgs,
 }
 
-/// Runs `hemi trace`, writing to `out`.
+/// Runs `hemi trace`, writing to `out` each answer as soon as its line is read.
 pub fn run(args: TraceArgs, out: &mut impl Write) -> Result<()> {
     let engine = args.engine.open()?;
     let scene = hemi::scene::load(&args.scene)?;
     // single rays need no hemisphere of the user's: the default one is only built
     let backend = engine.backend(&scene, &Pass1Settings::default())?;
-    let (rays, bad_line) = rays_from_stdin();
-    let rays: Vec<Ray> = rays
-        .into_iter()
-        .map(|(origin, dir)| Ray { origin, dir })
-        .collect();
-    for hit in backend.get().nearest(&rays)? {
-        match hit {
-            Some(h) => {
-                let name = &scene.patches[h.patch as usize].name;
-                writeln!(out, "{} {name} {} {}", h.t, h.u, h.v)?
+    let stdin = std::io::BufReader::new(std::io::stdin());
+    // a zero direction is rtrace's request for a flush: it has no hit
+    serve(stdin, out, "miss", |rays, out| {
+        let rays: Vec<Ray> = rays
+            .iter()
+            .map(|&(origin, dir)| Ray { origin, dir })
+            .collect();
+        for hit in backend.get().nearest(&rays)? {
+            match hit {
+                Some(h) => {
+                    let name = &scene.patches[h.patch as usize].name;
+                    writeln!(out, "{} {name} {} {}", h.t, h.u, h.v)?
+                }
+                None => writeln!(out, "miss")?,
             }
-            None => writeln!(out, "miss")?,
         }
-    }
-    out.flush()?;
-    if let Some(e) = bad_line {
-        return Err(e);
-    }
+        Ok(())
+    })?;
     backend.report_model(0, args.engine.model.clock_mhz, "trace");
     Ok(())
 }

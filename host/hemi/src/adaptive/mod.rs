@@ -1,4 +1,4 @@
-//! Adaptive patch sampling (paper §4; spec §2 step 3): sample points are added where the light
+//! Adaptive patch sampling (paper §4): sample points are added where the light
 //! changes across a patch and nowhere else, and the number of patches never grows.
 //!
 //! Every diffuse patch starts from an initial guess of K×K sample points (4×4 on a Bezier

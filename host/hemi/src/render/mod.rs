@@ -1,10 +1,12 @@
-//! Pass 2 (spec §2 step 4): eye rays through every pixel by the backend's pixel tracer, diffuse
-//! colour from the hit patch's vertex grid at the hit's (u,v) ([`shade`]), then exposure, tone
-//! map and the image files ([`image`]).
+//! Pass 2: eye rays through every pixel by the backend's pixel tracer, diffuse colour from the
+//! hit patch's vertex grid at the hit's (u,v) ([`shade`]), then exposure, tone map and the image
+//! files: PNG and EXR ([`image`]), Radiance's RGBE ([`hdr`]).
 
+pub mod hdr;
 pub mod image;
 
-pub use image::{auto_exposure, read_png, write_exr, write_png, Image};
+pub use hdr::write_hdr;
+pub use image::{auto_exposure, read_png, write_exr, write_png, write_png_to, Image};
 
 use crate::backend::{Backend, Progress, Seen};
 use crate::radiosity::{grid_of, Grid};
@@ -19,7 +21,7 @@ pub fn camera_of(scene: &Scene) -> Result<Camera> {
     let c = scene
         .camera
         .as_ref()
-        .context("the scene has no [camera] table: pass 2 needs one (spec §6)")?;
+        .context("the scene has no [camera] table: pass 2 needs one (docs/scene-format.md)")?;
     Camera::look_at(
         c.eye,
         c.look_at,

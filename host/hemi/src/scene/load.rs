@@ -1,4 +1,4 @@
-//! The TOML scene format of spec §6. Every error names the file, the line and the key.
+//! The TOML scene format of docs/scene-format.md. Every error names the file, the line and the key.
 
 use super::{Camera, Material, Scene, ScenePatch, Sides};
 use anyhow::{anyhow, bail, Context, Result};

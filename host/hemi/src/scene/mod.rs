@@ -12,7 +12,7 @@ use hemi_kernel::patch::Shape;
 /// RGB triple (linear).
 pub type Rgb = [f64; 3];
 
-/// A surface material (spec §6).
+/// A surface material (docs/scene-format.md).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Material {
     /// Name other entries refer to it by.

@@ -3,14 +3,30 @@
 //! It costs 2N³/3 flops per distinct matrix (one for grey scenes, three when coloured mirrors
 //! make F differ per channel) and N² f64 of memory, whatever ρ(ρF) is: the remedy for ρ near 1
 //! on small and medium scenes, and the reference the iterative solvers are charted against.
+//!
+//! The LU is faer's, behind the `faer` feature (on by default): faer is most of a first build's
+//! compile time, so a build can leave it out, and then [`AVAILABLE`] is false, auto never picks
+//! this solver and asking for it is an error.
 
-use super::{Solution, Solver, System};
+use super::{Solution, System};
 use anyhow::Result;
-use faer::prelude::*;
-use faer::Mat;
-use std::time::Instant;
+#[cfg(feature = "faer")]
+use {super::Solver, faer::prelude::*, faer::Mat, std::time::Instant};
+
+/// Whether this build has the dense LU (hemi's `faer` feature).
+pub const AVAILABLE: bool = cfg!(feature = "faer");
+
+/// Without the `faer` feature: the error that says how to get the dense LU.
+#[cfg(not(feature = "faer"))]
+pub fn solve(_: &System<'_>) -> Result<Solution> {
+    anyhow::bail!(
+        "--solver direct: this hemi was built without its dense LU (the `faer` feature); \
+         rebuild with default features, or choose another solver"
+    )
+}
 
 /// Solves `system` exactly (to rounding). `iterations` is 1: one factorisation.
+#[cfg(feature = "faer")]
 pub fn solve(system: &System<'_>) -> Result<Solution> {
     let t0 = Instant::now();
     let n = system.len();
@@ -52,7 +68,7 @@ pub fn solve(system: &System<'_>) -> Result<Solution> {
     })
 }
 
-#[cfg(test)]
+#[cfg(all(test, feature = "faer"))]
 mod tests {
     use super::super::grey;
     use super::*;
