@@ -333,9 +333,17 @@ impl QualityArgs {
 /// Adaptive patch sampling (paper §4).
 #[derive(Args, Clone, Debug)]
 pub struct AdaptiveArgs {
-    /// Adaptive patch sampling: refine each patch where the gradient test fails.
+    /// Adaptive patch sampling: refine each patch where the gradient test fails [default for
+    /// `render` and `irradiance` in-process, where the element field is solved].
     #[arg(long)]
     pub adaptive: bool,
+    /// Uniform K×K sampling on every patch (the paper's pass 1), where adaptive sampling is
+    /// the default.
+    #[arg(long, conflicts_with = "adaptive")]
+    pub uniform: bool,
+    /// Whether the command refines by default (set by the command, not an option).
+    #[arg(skip)]
+    pub by_default: bool,
     /// Gradient test margin (--adaptive): a 4-sample window fails when its luminances spread
     /// by more than this fraction of their mean.
     #[arg(long, default_value_t = 0.1)]
@@ -349,10 +357,16 @@ pub struct AdaptiveArgs {
 }
 
 impl AdaptiveArgs {
-    /// The settings with `--adaptive`, else `None` (uniform K×K); a `--quality` preset sets the
+    /// Whether pass 1 samples adaptively: `--adaptive`, or the command's default unless
+    /// `--uniform`.
+    pub fn on(&self) -> bool {
+        self.adaptive || (self.by_default && !self.uniform)
+    }
+
+    /// The settings when sampling adaptively ([`AdaptiveArgs::on`]), else `None` (uniform K×K); a `--quality` preset sets the
     /// margin and depth, as it sets R and K.
     pub fn settings(&self, quality: Option<QualityArg>) -> Result<Option<AdaptiveSettings>> {
-        if !self.adaptive {
+        if !self.on() {
             return Ok(None);
         }
         if !(self.margin >= 0.0 && self.margin.is_finite()) {
@@ -412,11 +426,12 @@ impl SolverArgs {
 pub struct FieldArgs {
     /// Element-level gather sweeps after the patch solve: each element gathers the radiosity
     /// field at its hemisphere's hits instead of patch averages (0: the paper's element values
-    /// (4.2) from the patch solution) [default: 3 in-process, 0 on boards, which cannot yet].
+    /// (4.2) from the patch solution); they stop at --gather-tolerance [default: 20 in-process, 0
+    /// on boards, which cannot yet].
     #[arg(long)]
     pub gather: Option<u32>,
     /// Stop the sweeps when no element value changes by more than this fraction of the largest.
-    #[arg(long, default_value_t = 1e-3)]
+    #[arg(long, default_value_t = 1e-4)]
     pub gather_tolerance: f64,
     /// Memory for the recorded element transport (MiB): what each element's hemisphere gathers
     /// from each grid vertex, cast once so the sweeps need no rays; past it every sweep
@@ -425,10 +440,10 @@ pub struct FieldArgs {
     pub field_mib: u64,
 }
 
-/// Gather sweeps by default: with the patch-level correction of each sweep, three bring the
-/// Cornell box's open points within 0.5 % of Radiance (docs/ACCURACY.md, "The field against
-/// Radiance 6.0a"); more change them by less than that.
-const DEFAULT_SWEEPS: u32 = 3;
+/// Gather sweeps at most, by default: with the recorded transport a sweep costs no rays, so
+/// the sweeps run to the tolerance (9 on the Cornell box; docs/ACCURACY.md, "The field against
+/// Radiance 6.0a").
+const DEFAULT_SWEEPS: u32 = 20;
 
 impl FieldArgs {
     /// The settings, checked; `boards` says whether the run is on boards (no sweeps by default).

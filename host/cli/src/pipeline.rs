@@ -49,7 +49,7 @@ impl RunArgs {
     /// `check` on the scene (a command's own checks and changes, such as a view override, before
     /// boards are booted), and opens the engine.
     pub fn prepare(&self, check: impl FnOnce(&mut Scene) -> Result<()>) -> Result<Prepared> {
-        let adaptive = self.adaptive.adaptive;
+        let adaptive = self.adaptive.on();
         let choice = self.engine.check()?;
         let checked = self.sampling.settings(adaptive)?;
         let mut scene = hemi::scene::load(&self.scene)?;
@@ -61,6 +61,13 @@ impl RunArgs {
             settings,
             engine,
         })
+    }
+
+    /// Makes adaptive sampling the default (unless `--uniform`) where the element field is
+    /// solved, in-process: the refinement the field's contact shadows and corners need. Boards
+    /// keep the paper's uniform pass 1, as they keep its field.
+    pub fn refine_by_default(&mut self) {
+        self.adaptive.by_default = !self.on_boards();
     }
 
     /// Whether the run is on boards.
@@ -210,7 +217,7 @@ pub fn solve(
                  pass 1): the paper's (4.2)"
             );
         }
-        return streaming(backend, adaptive.adaptive, solver, field.is_some());
+        return streaming(backend, adaptive.on(), solver, field.is_some());
     }
     let (ff, sampled) = sample(backend, adaptive.settings(quality)?, board_stats)?;
     let t1 = std::time::Instant::now();

@@ -47,7 +47,8 @@ enum DirectArg {
 }
 
 /// Runs `hemi irradiance`, writing to `out` each answer as soon as its line is read.
-pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
+pub fn run(mut args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
+    args.run.refine_by_default();
     let field = args.field.settings(args.run.on_boards())?;
     let run = args.run.prepare(|_| Ok(()))?;
     let backend = run.engine.backend(&run.scene, &run.settings)?;

@@ -55,7 +55,7 @@ impl Default for FieldSettings {
     fn default() -> Self {
         FieldSettings {
             sweeps: 0,
-            tolerance: 1e-3,
+            tolerance: 1e-4,
             direct: Direct::Exact,
             transport_bytes: 1 << 30,
         }
