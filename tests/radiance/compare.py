@@ -472,7 +472,8 @@ def table(points, rad_stats, hemi_vals, chans: str = "rgb"):
     return "\n".join(rows), summary, rms, worst
 
 
-def main(argv=None):
+def main_options(argv=None):
+    """compare.py's options, parsed (chart.py reuses them)."""
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
                                  formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scene", type=Path, default=ROOT / "scenes" / "cornell.toml")
@@ -509,8 +510,11 @@ def main(argv=None):
     ap.add_argument("--planar-tol", type=float, default=1e-4,
                     help="quads warped by more than this fraction of their size become two "
                          "triangles")
-    opts = ap.parse_args(argv)
+    return ap.parse_args(argv)
 
+
+def main(argv=None):
+    opts = main_options(argv)
     scene = opts.scene.resolve()
     try:
         conv = convert(scene, opts)
