@@ -23,12 +23,12 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import compare  # noqa: E402
 
 HEMI_RUNS = [
-    ("paper: uniform K = 16, patch field (4.2)", "--uniform --gather 0 --near 0 --direct hemisphere"),
-    ("uniform K = 16, element field", "--uniform --near 0"),
-    ("uniform K = 16, element field, near field", "--uniform"),
-    ("R = 32, adaptive, field, near field", "--circles 32"),
-    ("defaults (R = 64, adaptive, field, near field)", ""),
-    ("defaults, near field 6 cells", "--near-cells 6"),
+    ("paper: K = 16, patch field (4.2)", "--gather 0 --near 0 --direct hemisphere"),
+    ("K = 16, element field", "--near 0"),
+    ("defaults (K = 16, element field, near field)", ""),
+    ("R = 32, adaptive, field, near field", "--adaptive --circles 32"),
+    ("R = 64, adaptive, field, near field", "--adaptive"),
+    ("adaptive, near field 6 cells", "--adaptive --near-cells 6"),
 ]
 
 RADIANCE_RUNS = [(ad, n) for ad in (64, 256, 1024) for n in (1, 4, 16)]

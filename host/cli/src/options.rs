@@ -333,17 +333,9 @@ impl QualityArgs {
 /// Adaptive patch sampling (paper §4).
 #[derive(Args, Clone, Debug)]
 pub struct AdaptiveArgs {
-    /// Adaptive patch sampling: refine each patch where the gradient test fails [default for
-    /// `render` and `irradiance` in-process, where the element field is solved].
+    /// Adaptive patch sampling: refine each patch where the gradient test fails.
     #[arg(long)]
     pub adaptive: bool,
-    /// Uniform K×K sampling on every patch (the paper's pass 1), where adaptive sampling is
-    /// the default.
-    #[arg(long, conflicts_with = "adaptive")]
-    pub uniform: bool,
-    /// Whether the command refines by default (set by the command, not an option).
-    #[arg(skip)]
-    pub by_default: bool,
     /// Gradient test margin (--adaptive): a 4-sample window fails when its luminances spread
     /// by more than this fraction of their mean.
     #[arg(long, default_value_t = 0.1)]
@@ -357,10 +349,9 @@ pub struct AdaptiveArgs {
 }
 
 impl AdaptiveArgs {
-    /// Whether pass 1 samples adaptively: `--adaptive`, or the command's default unless
-    /// `--uniform`.
+    /// Whether pass 1 samples adaptively (`--adaptive`).
     pub fn on(&self) -> bool {
-        self.adaptive || (self.by_default && !self.uniform)
+        self.adaptive
     }
 
     /// The settings when sampling adaptively ([`AdaptiveArgs::on`]), else `None` (uniform K×K); a `--quality` preset sets the

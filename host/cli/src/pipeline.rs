@@ -63,13 +63,6 @@ impl RunArgs {
         })
     }
 
-    /// Makes adaptive sampling the default (unless `--uniform`) where the element field is
-    /// solved, in-process: the refinement the field's contact shadows and corners need. Boards
-    /// keep the paper's uniform pass 1, as they keep its field.
-    pub fn refine_by_default(&mut self) {
-        self.adaptive.by_default = !self.on_boards();
-    }
-
     /// Whether the run is on boards.
     pub fn on_boards(&self) -> bool {
         matches!(self.engine.check(), Ok(crate::engine::Choice::Boards(_)))

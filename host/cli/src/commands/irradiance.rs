@@ -47,8 +47,7 @@ enum DirectArg {
 }
 
 /// Runs `hemi irradiance`, writing to `out` each answer as soon as its line is read.
-pub fn run(mut args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
-    args.run.refine_by_default();
+pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
     let field = args.field.settings(args.run.on_boards())?;
     let run = args.run.prepare(|_| Ok(()))?;
     let backend = run.engine.backend(&run.scene, &run.settings)?;

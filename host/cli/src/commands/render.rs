@@ -45,15 +45,14 @@ pub struct RenderArgs {
 }
 
 /// Runs `hemi render`, writing the image to `out` for `-o -`.
-pub fn run(mut args: RenderArgs, out: &mut impl Write) -> Result<()> {
-    args.run.refine_by_default();
+pub fn run(args: RenderArgs, out: &mut impl Write) -> Result<()> {
     anyhow::ensure!(
         (1..=4096).contains(&args.spp),
         "--spp must be between 1 and 4096"
     );
     anyhow::ensure!(
         !args.show_samples || args.run.adaptive.on(),
-        "--show-samples draws the points of adaptive sampling: drop --uniform"
+        "--show-samples draws the points of adaptive sampling: add --adaptive"
     );
     let target = ImageTarget::of(&args.output, args.exr.as_deref())?;
     if let Some(exr) = &args.exr {
