@@ -5,5 +5,5 @@ mod polygon;
 mod vec3;
 
 pub use bezier::{Aabb, Bezier, BezierHit, Subdivision, MAX_DEPTH};
-pub use polygon::{Polygon, PolygonError};
+pub use polygon::{Polygon, PolygonError, UvFrame};
 pub use vec3::Vec3;

@@ -109,21 +109,62 @@ impl Polygon {
     /// The (u,v) of a point on (or near) the polygon: the inverse of [`Polygon::point`], clamped
     /// to the unit square.
     pub fn uv_of(&self, p: Vec3) -> (f32, f32) {
-        // Work in the plane's 2-D coordinates.
-        let e1 = match (self.v[1] - self.v[0]).try_normalize() {
-            Some(e) => e,
-            None => return (0.5, 0.5),
-        };
-        let e2 = self.normal.cross(e1);
-        let to2 = |q: Vec3| {
-            let d = q - self.v[0];
-            (d.dot(e1), d.dot(e2))
-        };
-        if self.sides == 3 {
-            return triangle_uv(to2(self.v[1]), to2(self.v[2]), to2(p));
+        match self.uv_frame() {
+            Some(frame) => frame.uv_of(p),
+            None => (0.5, 0.5),
         }
-        let (b, c, d, h) = (to2(self.v[1]), to2(self.v[2]), to2(self.v[3]), to2(p));
-        inverse_bilinear(b, c, d, h)
+    }
+
+    /// The plane frame [`Polygon::uv_of`] works in, for a caller that inverts many points of
+    /// one polygon (the same arithmetic, so the same bits); `None` if the first edge has no
+    /// length.
+    pub fn uv_frame(&self) -> Option<UvFrame> {
+        let e1 = (self.v[1] - self.v[0]).try_normalize()?;
+        let e2 = self.normal.cross(e1);
+        let mut frame = UvFrame {
+            origin: self.v[0],
+            e1,
+            e2,
+            sides: self.sides,
+            b: (0.0, 0.0),
+            c: (0.0, 0.0),
+            d: (0.0, 0.0),
+        };
+        (frame.b, frame.c, frame.d) = (
+            frame.to2(self.v[1]),
+            frame.to2(self.v[2]),
+            frame.to2(self.v[3]),
+        );
+        Some(frame)
+    }
+}
+
+/// A polygon's plane in 2-D: its first vertex, two unit axes and the other vertices in them,
+/// which is all [`Polygon::uv_of`] needs besides the point.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct UvFrame {
+    origin: Vec3,
+    e1: Vec3,
+    e2: Vec3,
+    sides: u8,
+    b: (f32, f32),
+    c: (f32, f32),
+    d: (f32, f32),
+}
+
+impl UvFrame {
+    fn to2(&self, q: Vec3) -> (f32, f32) {
+        let d = q - self.origin;
+        (d.dot(self.e1), d.dot(self.e2))
+    }
+
+    /// [`Polygon::uv_of`] of the polygon this frame is of.
+    pub fn uv_of(&self, p: Vec3) -> (f32, f32) {
+        let h = self.to2(p);
+        if self.sides == 3 {
+            return triangle_uv(self.b, self.c, h);
+        }
+        inverse_bilinear(self.b, self.c, self.d, h)
     }
 }
 
@@ -192,6 +233,27 @@ mod tests {
 
     fn q(p: [[f32; 3]; 4]) -> Result<Polygon, PolygonError> {
         Polygon::quad(p.map(Vec3::from_array))
+    }
+
+    #[test]
+    fn a_frame_inverts_points_to_the_same_bits_as_uv_of() {
+        // a trapezoid-like quad (not a parallelogram: the quadratic branch) and a triangle
+        let quad = q([[0., 0., 0.], [3., 0., 0.], [2.5, 1., 0.], [0.2, 1.2, 0.]]).unwrap();
+        let tri =
+            Polygon::triangle([[0., 0., 1.], [2., 0., 1.], [0.5, 1.5, 1.]].map(Vec3::from_array))
+                .unwrap();
+        for poly in [quad, tri] {
+            let frame = poly.uv_frame().unwrap();
+            for n in 0..50 {
+                let (u, v) = ((n % 7) as f32 / 6.0, (n / 7) as f32 / 7.0);
+                let p = poly.point(u, v) + Vec3::new(0.01, -0.02, 0.0) * (n as f32 / 50.0);
+                let (a, b) = (poly.uv_of(p), frame.uv_of(p));
+                assert_eq!(
+                    (a.0.to_bits(), a.1.to_bits()),
+                    (b.0.to_bits(), b.1.to_bits())
+                );
+            }
+        }
     }
 
     #[test]

@@ -5,7 +5,7 @@ use super::Engines;
 use hemi_kernel::accel::bvh::{self, Bvh, Node};
 use hemi_kernel::accel::soft::{LocalPatch, SoftAccelerator, SoftScratch};
 use hemi_kernel::accel::{Accelerator, Hit, Ray};
-use hemi_kernel::geometry::Vec3;
+use hemi_kernel::geometry::{UvFrame, Vec3};
 use hemi_kernel::hemisphere::{Hemisphere, MAX_CIRCLES};
 use hemi_kernel::patch::Patch;
 use hemi_kernel::rotation::Rotation;
@@ -39,6 +39,8 @@ pub struct SoftEngine<'p> {
     /// The BVH for single rays and `cast_from` bundles, built on the first query that uses it
     /// (see [`TREE_MIN_SINGLE`], [`TREE_MIN_BUNDLE`]; hemisphere shots never need it).
     tree: Option<(Vec<Node>, Vec<u32>)>,
+    /// Each patch's (u,v) frame (`Polygon::uv_frame`), so a hit's (u,v) does not rebuild it.
+    uv_frames: Vec<Option<UvFrame>>,
 }
 
 /// Patches from which single rays (`nearest_hit`: `trace`, frustum rays) go through the BVH:
@@ -62,6 +64,10 @@ impl<'p> SoftEngine<'p> {
             best_t: vec![0.0; max_ring],
             best_id: vec![0; max_ring],
             tree: None,
+            uv_frames: patches
+                .iter()
+                .map(|p| p.as_polygon().and_then(|poly| poly.uv_frame()))
+                .collect(),
         }
     }
 
@@ -85,6 +91,7 @@ impl<'p> SoftEngine<'p> {
         )
         .expect("scratch is sized for the patches and the largest ring");
         accel.set_origin_patch(origin_patch);
+        let accel = accel.with_uv_frames(&self.uv_frames);
         match &self.tree {
             Some((nodes, order)) if tree => accel.with_bvh(Bvh::from_parts(nodes, order)),
             _ => accel,
