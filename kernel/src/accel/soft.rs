@@ -23,7 +23,9 @@
 #[cfg(not(target_os = "none"))]
 use super::bvh::Bvh;
 use super::{Accelerator, Hit, Ray};
-use crate::geometry::{Bezier, Polygon, Subdivision, UvFrame, Vec3};
+#[cfg(not(target_os = "none"))]
+use crate::geometry::UvFrame;
+use crate::geometry::{Bezier, Polygon, Subdivision, Vec3};
 use crate::hemisphere::{Hemisphere, Ring};
 use crate::patch::{Patch, Shape};
 use crate::rotation::Rotation;
