@@ -1,6 +1,9 @@
 //! The `hemi` command line as a user drives it: the output shapes of the README's command table, errors, and the
 //! irradiance query against a closed form.
 
+mod common;
+
+use common::TWO_SQUARES;
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
@@ -40,27 +43,6 @@ fn run(args: &[&str], stdin: &str) -> (bool, String, String) {
         String::from_utf8(out.stderr).unwrap(),
     )
 }
-
-const TWO_SQUARES: &str = r#"
-[[material]]
-name = "m"
-diffuse = [0.5, 0.5, 0.5]
-
-[[material]]
-name = "lamp"
-diffuse = [0.0, 0.0, 0.0]
-emission = [2.0, 3.0, 4.0]
-
-[[quad]]
-name = "p1"
-material = "m"
-vertices = [[0,0,0],[1,0,0],[1,1,0],[0,1,0]]
-
-[[quad]]
-name = "p2"
-material = "lamp"
-vertices = [[0,0,1],[0,1,1],[1,1,1],[1,0,1]]
-"#;
 
 #[test]
 fn form_factors_json_has_the_spec_shape() {

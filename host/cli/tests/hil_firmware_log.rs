@@ -7,6 +7,9 @@
 //! Skips (passes with a printed notice) only when qemu-system-arm is missing and
 //! HEMI_REQUIRE_QEMU is unset; `cargo xtask test` sets it, making a missing QEMU a failure.
 
+mod common;
+
+use common::TWO_SQUARES;
 use std::path::PathBuf;
 use std::process::Command;
 use std::sync::OnceLock;
@@ -109,24 +112,3 @@ fn a_farm_run_writes_the_decoded_log_to_a_file() {
     assert!(boot_line(&text).is_some(), "log file:\n{text}");
     assert!(boot_line(&stderr).is_none(), "the log went to stderr too");
 }
-
-const TWO_SQUARES: &str = r#"
-[[material]]
-name = "m"
-diffuse = [0.5, 0.5, 0.5]
-
-[[material]]
-name = "lamp"
-diffuse = [0.0, 0.0, 0.0]
-emission = [1.0, 1.0, 1.0]
-
-[[quad]]
-name = "p1"
-material = "m"
-vertices = [[0,0,0],[1,0,0],[1,1,0],[0,1,0]]
-
-[[quad]]
-name = "p2"
-material = "lamp"
-vertices = [[0,0,1],[0,1,1],[1,1,1],[1,0,1]]
-"#;

@@ -77,8 +77,7 @@ impl Emitters {
                 }
             }
         }
-        let size = scene.extent();
-        let epsilon = if size.is_finite() { 1e-5 * size } else { 1e-5 };
+        let epsilon = scene.ray_offset();
         Emitters {
             list,
             handled,
@@ -178,14 +177,15 @@ impl Emitters {
     /// Every emitter cell in front of the point, with its exact form factor.
     fn cells(&self, point: Vec3, normal: Vec3) -> Vec<Cell> {
         let mut out = Vec::new();
-        for &(patch, poly) in &self.list {
+        for (emitter, &(patch, poly)) in self.list.iter().enumerate() {
             // emitters shine from their front only
             if (point - poly.v[0]).dot(poly.normal) <= 0.0 {
                 continue;
             }
             for b in 0..CELLS {
                 for a in 0..CELLS {
-                    out.extend(cell_of(&poly, patch, (a, b), CELLS).seen_from(point, normal));
+                    let cell = cell_of(&poly, (emitter, patch), (a, b), CELLS);
+                    out.extend(cell.seen_from(point, normal));
                 }
             }
         }
@@ -194,7 +194,7 @@ impl Emitters {
 
     /// The [`EDGE_SPLIT`]² cells `cell` is cut into, with their form factors from the point.
     fn split(&self, cell: &Cell, point: Vec3, normal: Vec3) -> Vec<Cell> {
-        let Some(&(_, poly)) = self.list.iter().find(|(p, _)| *p == cell.patch) else {
+        let Some(&(_, poly)) = self.list.get(cell.emitter) else {
             return Vec::new();
         };
         let n = cell.n * EDGE_SPLIT;
@@ -202,7 +202,7 @@ impl Emitters {
         (0..EDGE_SPLIT * EDGE_SPLIT)
             .filter_map(|k| {
                 let (a, b) = (a0 + k % EDGE_SPLIT, b0 + k / EDGE_SPLIT);
-                cell_of(&poly, cell.patch, (a, b), n).seen_from(point, normal)
+                cell_of(&poly, (cell.emitter, cell.patch), (a, b), n).seen_from(point, normal)
             })
             .collect()
     }
@@ -259,6 +259,8 @@ impl DirectPaths {
 /// One cell of an emitter: cell (a, b) of its n×n lattice in (u, v).
 #[derive(Clone, Copy, Debug)]
 struct Cell {
+    /// Index into [`Emitters`]' list, and the scene patch.
+    emitter: usize,
     patch: usize,
     a: u32,
     b: u32,
@@ -286,8 +288,8 @@ impl Cell {
 /// 1/([`CELLS`]·`EDGE_SPLIT`) of the emitter.
 pub const EDGE_SPLIT: u32 = 8;
 
-/// Cell (a, b) of the n×n lattice of `poly`'s (u,v) map.
-fn cell_of(poly: &Polygon, patch: usize, (a, b): (u32, u32), n: u32) -> Cell {
+/// Cell (a, b) of the n×n lattice of `poly`'s (u,v) map (emitter `emitter`, scene patch `patch`).
+fn cell_of(poly: &Polygon, (emitter, patch): (usize, usize), (a, b): (u32, u32), n: u32) -> Cell {
     let d = 1.0 / n as f32;
     let (u0, v0) = (a as f32 * d, b as f32 * d);
     let corners = [
@@ -298,6 +300,7 @@ fn cell_of(poly: &Polygon, patch: usize, (a, b): (u32, u32), n: u32) -> Cell {
     ];
     let (u, v) = (u0 + 0.5 * d, v0 + 0.5 * d);
     Cell {
+        emitter,
         patch,
         a,
         b,

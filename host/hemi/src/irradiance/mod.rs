@@ -140,8 +140,7 @@ impl Gather<'_> {
             return Ok(Vec::new());
         }
         let scene = self.backend.scene();
-        let size = scene.extent();
-        let lift = if size.is_finite() { 1e-5 * size } else { 1e-5 };
+        let lift = scene.ray_offset();
         let mut queries = Vec::with_capacity(points.len());
         for &(side, u, v) in points {
             let (p, n) = surface_at(scene, side, u, v);

@@ -25,7 +25,7 @@ use crate::backend::{Query, Seen};
 use crate::grid::Grid;
 use crate::scene::{Scene, Sides};
 use hemi_kernel::geometry::Vec3;
-use hemi_kernel::patch::Shape;
+use hemi_kernel::patch::{Patch, Shape};
 use std::collections::BTreeMap;
 
 /// A hit is in the near field by default when it is closer to the query point than this many
@@ -115,10 +115,13 @@ pub fn surface_at(scene: &Scene, side: usize, u: f32, v: f32) -> (Vec3, Vec3) {
         Sides::Back { front } => (front, true),
         _ => (side, false),
     };
-    let shape = &scene.patches[at].shape;
-    let (point, normal) = match shape {
-        Shape::Polygon(p) => (p.point(u, v), p.normal),
-        Shape::Bezier(b) => (b.point(u, v), b.normal_near(u, v).unwrap_or(Vec3::Z)),
+    let patch = Patch {
+        shape: scene.patches[at].shape,
     };
+    let point = match &patch.shape {
+        Shape::Polygon(p) => p.point(u, v),
+        Shape::Bezier(b) => b.point(u, v),
+    };
+    let normal = patch.normal_at(u, v);
     (point, if flip { -normal } else { normal })
 }

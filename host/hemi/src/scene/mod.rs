@@ -166,6 +166,16 @@ impl Scene {
         }
         (hi - lo).length()
     }
+    /// How far off a surface a ray that must not see it again starts (a shadow ray, a query
+    /// evaluated at a surface point): a hundred-thousandth of the scene.
+    pub fn ray_offset(&self) -> f32 {
+        let size = self.extent();
+        if size.is_finite() {
+            1e-5 * size
+        } else {
+            1e-5
+        }
+    }
     /// Number of front patches (all but the back sides, which come last).
     pub fn fronts(&self) -> usize {
         self.patches
