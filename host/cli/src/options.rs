@@ -429,12 +429,28 @@ pub struct FieldArgs {
     /// re-casts its hemispheres (said on stderr).
     #[arg(long, default_value_t = 1024, value_name = "MIB")]
     pub field_mib: u64,
+    /// Rounds of refinement by the field's own error: patches whose grid is estimated to miss
+    /// their light by more than --refine-tolerance are sampled twice as finely and the field
+    /// solved again (0: the field at pass 1's sampling) [default: 2 in-process, 0 on boards].
+    #[arg(long, value_name = "ROUNDS")]
+    pub refine: Option<u32>,
+    /// The grid error (a fraction of the light) refinement aims at.
+    #[arg(long, default_value_t = 0.01, value_name = "FRACTION")]
+    pub refine_tolerance: f64,
+    /// The most elements (sample points, all patches together) refinement may reach [default:
+    /// twice pass 1's, so refinement at most doubles the field's cost].
+    #[arg(long, value_name = "N")]
+    pub max_elements: Option<usize>,
 }
 
 /// Gather sweeps at most, by default: with the recorded transport a sweep costs no rays, so
 /// the sweeps run to the tolerance (9 on the Cornell box; docs/ACCURACY.md, "The field against
 /// Radiance 6.0a").
 const DEFAULT_SWEEPS: u32 = 20;
+
+/// Refinement rounds by default: from K = 16, two rounds let a patch reach 64 × 64 where its
+/// light needs it (docs/ACCURACY.md, "Refinement by the field's own error").
+const DEFAULT_REFINE_ROUNDS: u32 = 2;
 
 impl FieldArgs {
     /// The settings, checked; `boards` says whether the run is on boards (no sweeps by default).
@@ -460,6 +476,26 @@ impl FieldArgs {
             tolerance: self.gather_tolerance,
             direct: hemi::direct::Direct::Exact,
             transport_bytes: self.field_mib.saturating_mul(1 << 20),
+            refine: self.refine(boards)?,
+        })
+    }
+
+    /// The refinement settings, checked.
+    fn refine(&self, boards: bool) -> Result<hemi::field::refine::RefineSettings> {
+        let rounds = self
+            .refine
+            .unwrap_or(if boards { 0 } else { DEFAULT_REFINE_ROUNDS });
+        if rounds > 8 {
+            bail!("--refine must be at most 8 rounds (each quadruples a patch's elements)");
+        }
+        if !(self.refine_tolerance > 0.0 && self.refine_tolerance < 1.0) {
+            bail!("--refine-tolerance must be a fraction above 0 and below 1");
+        }
+        Ok(hemi::field::refine::RefineSettings {
+            rounds,
+            tolerance: self.refine_tolerance,
+            max_elements: self.max_elements,
+            ..Default::default()
         })
     }
 }

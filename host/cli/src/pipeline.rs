@@ -215,9 +215,9 @@ pub fn solve(
     let (ff, sampled) = sample(backend, adaptive.settings(quality)?, board_stats)?;
     let t1 = std::time::Instant::now();
     let solution = solve_scene(scene, &ff, solver.solver.into())?;
-    let grids = match field {
-        Some(f) => field_grids(backend, &ff, &solution, &f)?,
-        None => Vec::new(),
+    let (ff, solution, grids) = match field {
+        Some(f) => field_grids(backend, ff, solution, &f, solver.solver.into())?,
+        None => (ff, solution, Vec::new()),
     };
     Ok(Solved {
         solution,
@@ -232,40 +232,102 @@ pub fn solve(
 /// Bytes in a MiB, for messages.
 const MIB: f64 = (1u64 << 20) as f64;
 
-/// The field of the solved scene: the element values (4.2), then `field`'s gather sweeps (with a
-/// progress bar and a line on stderr when there are any).
+/// The field of the solved scene: the element values (4.2), then `field`'s gather sweeps and
+/// its refinement rounds (with a progress bar and lines on stderr when there are any); returns
+/// the pass-1 output and solve the refinement ended on, with the grids.
 fn field_grids(
     backend: &Running<'_>,
-    ff: &FormFactors,
-    solution: &Solution,
+    ff: FormFactors,
+    solution: Solution,
     field: &FieldSettings,
-) -> Result<Vec<Grid>> {
-    let bar = bar(u64::from(field.sweeps) * ff.elements.len() as u64, "gather");
+    solver: Solver,
+) -> Result<(FormFactors, Solution, Vec<Grid>)> {
+    let scene = backend.get().scene();
+    let bar = bar(u64::from(field.sweeps) * ff.elements.len() as u64, "field");
     let t0 = std::time::Instant::now();
-    let f = hemi::field::solve_field(backend.get(), ff, solution, field, &|n| bar.inc(n))?;
+    let quiet = |ff: &FormFactors| {
+        let parts = SceneParts::new(scene, ff.channels());
+        solve::solve(
+            &parts.system(ff.channels())?,
+            solver,
+            &SolveSettings::default(),
+            &mut |_| {},
+        )
+    };
+    let on = |n: u64| {
+        bar.inc(n);
+    };
+    let refined = hemi::field::refine::refine_field(
+        backend.get(),
+        ff,
+        solution,
+        field,
+        &field.refine,
+        &quiet,
+        &on,
+    )?;
     bar.finish_and_clear();
     if field.sweeps > 0 {
-        let how = match f.how {
-            Some(Sweeps::Recorded { bytes }) => {
-                format!("transport recorded in {:.1} MiB", bytes as f64 / MIB)
-            }
-            Some(Sweeps::OverBudget { estimate }) => format!(
-                "each sweep re-cast: the transport would need about {:.0} MiB \
-                 (> --field-mib {})",
-                estimate as f64 / MIB,
-                field.transport_bytes >> 20
+        report_field(scene, &refined, field, t0.elapsed().as_secs_f64());
+    }
+    let grids = refined.field.grids;
+    Ok((refined.form_factors, refined.solution, grids))
+}
+
+/// The field's lines on stderr: each refinement round, then the sweeps of the last field.
+fn report_field(
+    scene: &Scene,
+    refined: &hemi::field::refine::Refined,
+    field: &FieldSettings,
+    seconds: f64,
+) {
+    for (r, round) in refined.rounds.iter().enumerate() {
+        let names: Vec<String> = round
+            .refined
+            .iter()
+            .map(|&(i, k)| format!("{} {k}×{k}", scene.patches[i].name))
+            .collect();
+        let left = match round.left {
+            0 => String::new(),
+            n => format!(
+                "; {n} more over the tolerance did not fit --max-elements {}",
+                refined.budget
             ),
-            Some(Sweeps::Recast) | None => "each sweep re-cast".to_string(),
         };
         eprintln!(
-            "element field: {} gather sweeps of {} elements ({how}), last change {:.2e}, {:.3} s",
-            f.sweeps,
-            ff.elements.len(),
-            f.change,
-            t0.elapsed().as_secs_f64()
+            "field refinement round {}: {} elements{left} ({})",
+            r + 1,
+            round.elements,
+            names.join(", ")
         );
     }
-    Ok(f.grids)
+    let f = &refined.field;
+    let how = match f.how {
+        Some(Sweeps::Recorded { bytes }) => {
+            format!("transport recorded in {:.1} MiB", bytes as f64 / MIB)
+        }
+        Some(Sweeps::OverBudget { estimate }) => format!(
+            "each sweep re-cast: the transport would need about {:.0} MiB (> --field-mib {})",
+            estimate as f64 / MIB,
+            field.transport_bytes >> 20
+        ),
+        Some(Sweeps::Recast) | None => "each sweep re-cast".to_string(),
+    };
+    let worst = match refined.worst {
+        Some((i, e)) => format!(
+            ", worst estimated grid error {:.1} % ({})",
+            100.0 * e,
+            scene.patches[i].name
+        ),
+        None => String::new(),
+    };
+    eprintln!(
+        "element field: {} gather sweeps of {} elements ({how}), last change {:.2e}{worst}, \
+         {seconds:.3} s",
+        f.sweeps,
+        refined.form_factors.elements.len(),
+        f.change,
+    );
 }
 
 /// Progressive refinement with rows shot on demand (soft backend), and the grids from a second

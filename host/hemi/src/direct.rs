@@ -237,6 +237,27 @@ pub struct DirectPaths {
 }
 
 impl DirectPaths {
+    /// Points held.
+    pub fn len(&self) -> usize {
+        self.seen.len()
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.seen.is_empty()
+    }
+
+    /// The paths of points picked from `sources` in the order `picks` gives, as (source,
+    /// point): how a refined element list keeps the shadow rays of the elements it kept.
+    pub fn assemble(sources: &[&DirectPaths], picks: &[(usize, usize)]) -> DirectPaths {
+        DirectPaths {
+            seen: picks
+                .iter()
+                .map(|&(s, p)| sources[s].seen[p].clone())
+                .collect(),
+        }
+    }
+
     /// Each point's direct irradiance, `Σ_cells F_cell · B_emitter(u, v)` over the cells it
     /// sees, with the emitters' radiosity read off `grids`.
     pub fn irradiance(&self, grids: &[Grid]) -> anyhow::Result<Vec<[f64; 3]>> {

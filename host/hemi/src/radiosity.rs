@@ -33,15 +33,24 @@ pub fn element_value(
     twin: Option<&ElementRow>,
     radiosity: &[[f64; 3]],
 ) -> [f64; 3] {
-    let gathered = |row: &[(u32, [f32; 3])]| -> [f64; 3] {
-        [0, 1, 2].map(|c| {
-            row.iter()
-                .map(|&(j, f)| f[c] as f64 * radiosity[j as usize][c])
-                .sum()
-        })
-    };
+    let gathered = |row: &[(u32, [f32; 3])]| patch_gather(row, radiosity, &[]);
     let m = scene.material_of(e.patch);
     combine(m, gathered(&e.row), twin.map(|t| gathered(&t.row)))
+}
+
+/// What an element row gathers from the patch radiosities, `Σ_j F_iq,j B_j` per channel, the
+/// patches j whose `skip` entry is true left out (the lamps whose light
+/// [`crate::direct`] computes exactly).
+pub fn patch_gather(row: &[(u32, [f32; 3])], radiosity: &[[f64; 3]], skip: &[bool]) -> [f64; 3] {
+    let mut h = [0.0f64; 3];
+    for &(j, f) in row {
+        if !skip.get(j as usize).copied().unwrap_or(false) {
+            for c in 0..3 {
+                h[c] += f[c] as f64 * radiosity[j as usize][c];
+            }
+        }
+    }
+    h
 }
 
 /// The grid of patch `i` from its element values (k×k, v-major; K = √count: K×K on a polygon,

@@ -25,9 +25,10 @@
 //! largest reflected value, falls below the tolerance.
 
 mod fill;
+pub mod refine;
 
 use crate::backend::{Backend, Gathered, Progress};
-use crate::direct::{self, Direct, Emitters};
+use crate::direct::{self, Direct, DirectPaths, Emitters};
 use crate::grid::Grid;
 use crate::pass1::FormFactors;
 use crate::radiosity::{combine, ElementIndex};
@@ -49,6 +50,8 @@ pub struct FieldSettings {
     pub direct: Direct,
     /// The most memory the recorded element transport may take; past it the sweeps re-cast.
     pub transport_bytes: u64,
+    /// Refinement by the field's own error ([`refine`]; it needs sweeps).
+    pub refine: refine::RefineSettings,
 }
 
 impl Default for FieldSettings {
@@ -58,6 +61,7 @@ impl Default for FieldSettings {
             tolerance: 1e-4,
             direct: Direct::Exact,
             transport_bytes: 1 << 30,
+            refine: refine::RefineSettings::default(),
         }
     }
 }
@@ -92,6 +96,8 @@ pub struct Field {
     pub change: f64,
     /// How the sweeps gathered (`None` without sweeps).
     pub how: Option<Sweeps>,
+    /// The element values the grids were built from, in the order of the pass-1 elements.
+    pub values: Vec<[f64; 3]>,
 }
 
 /// The field of a solved scene: the element values (4.2) of `sol` over `ff`'s elements, then up
@@ -103,6 +109,20 @@ pub fn solve_field(
     settings: &FieldSettings,
     progress: &Progress<'_>,
 ) -> anyhow::Result<Field> {
+    solve_field_with(backend, ff, sol, settings, None, progress)
+}
+
+/// [`solve_field`] with the lamps' paths of `ff`'s elements given, when the caller has them
+/// ([`Emitters::paths`] at the elements' points, in their order; used only where exact direct
+/// light applies).
+pub fn solve_field_with(
+    backend: &dyn Backend,
+    ff: &FormFactors,
+    sol: &Solution,
+    settings: &FieldSettings,
+    paths: Option<&DirectPaths>,
+    progress: &Progress<'_>,
+) -> anyhow::Result<Field> {
     let scene = backend.scene();
     let index = ElementIndex::of(scene, &ff.elements);
     let mut values = index.values(scene, &ff.elements, &sol.radiosity);
@@ -111,8 +131,10 @@ pub fn solve_field(
         sweeps: 0,
         change: f64::INFINITY,
         how: None,
+        values: Vec::new(),
     };
     if settings.sweeps == 0 || ff.elements.is_empty() {
+        field.values = values;
         return Ok(field);
     }
     let shots = element_shots(&index, &ff.elements);
@@ -128,10 +150,16 @@ pub fn solve_field(
         .map(|s| (s.point.position, s.point.normal))
         .collect();
     // the cells each element sees of the lamps and their shadows: fixed over the sweeps
-    let direct = match &emitters {
-        Some(e) => Some(e.paths(backend, &points)?),
-        None => None,
+    let computed;
+    let direct = match (&emitters, paths) {
+        (Some(_), Some(p)) if p.len() == points.len() => Some(p),
+        (Some(e), _) => {
+            computed = e.paths(backend, &points)?;
+            Some(&computed)
+        }
+        (None, _) => None,
     };
+
     let layout = Layout::of(&field.grids)?;
     let per_sweep = &|n: u64| progress(n * u64::from(settings.sweeps));
     let (recorded, how) = record(backend, &shots, &layout, &skip, settings, per_sweep)?;
@@ -150,7 +178,7 @@ pub fn solve_field(
             None => backend.gather_field(&shots, &field.grids, &skip, progress)?,
         };
         let mut light: Vec<[f64; 3]> = gathered.iter().map(|g| g.light).collect();
-        if let Some(direct) = &direct {
+        if let Some(direct) = direct {
             for (h, d) in light.iter_mut().zip(direct.irradiance(&field.grids)?) {
                 for c in 0..3 {
                     h[c] += d[c];
@@ -169,6 +197,7 @@ pub fn solve_field(
         values = next;
         field.sweeps += 1;
     }
+    field.values = values;
     Ok(field)
 }
 
