@@ -118,7 +118,7 @@ impl Accumulator {
     pub fn take(&mut self, blocked: f32) -> TransportRow {
         self.touched.sort_unstable();
         self.touched.dedup();
-        let entries = self
+        let entries: Vec<(u32, [f32; 3])> = self
             .touched
             .drain(..)
             .map(|v| {
@@ -127,37 +127,78 @@ impl Accumulator {
             })
             .filter(|(_, w)| *w != [0.0; 3])
             .collect();
-        TransportRow { entries, blocked }
+        let grey = entries.iter().all(|(_, w)| w[0] == w[1] && w[1] == w[2]);
+        let weights = match grey {
+            true => {
+                // a fresh buffer: collecting in place would keep the coloured row's allocation
+                let mut grey = Vec::with_capacity(entries.len());
+                grey.extend(entries.iter().map(|&(v, w)| (v, w[0])));
+                Weights::Grey(grey)
+            }
+            false => Weights::Tinted(entries),
+        };
+        TransportRow { weights, blocked }
     }
 }
 
 /// One element's row of T.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct TransportRow {
-    /// (vertex, weight per channel), vertices ascending.
-    pub entries: Vec<(u32, [f32; 3])>,
+    weights: Weights,
     /// The fraction of the element's rays that met the back of an opaque patch first
     /// ([`crate::backend::Gathered::blocked`]).
     pub blocked: f32,
+}
+
+/// A row's (vertex, weight) entries, vertices ascending: one weight for all channels unless a
+/// coloured mirror on some ray's way made them differ, which halves the memory of the common
+/// row (the record is what bounds the field's element count, `--field-mib`).
+#[derive(Clone, Debug, PartialEq)]
+enum Weights {
+    Grey(Vec<(u32, f32)>),
+    Tinted(Vec<(u32, [f32; 3])>),
 }
 
 impl TransportRow {
     /// `H = Σ_v T_v B_v` per channel over the vertex values `vertices` ([`Layout::values`]).
     pub fn gather(&self, vertices: &[[f64; 3]]) -> [f64; 3] {
         let mut h = [0.0f64; 3];
-        for &(v, w) in &self.entries {
-            let b = vertices[v as usize];
-            for c in 0..3 {
-                h[c] += w[c] as f64 * b[c];
+        match &self.weights {
+            Weights::Grey(entries) => {
+                for &(v, w) in entries {
+                    let b = vertices[v as usize];
+                    for c in 0..3 {
+                        h[c] += w as f64 * b[c];
+                    }
+                }
+            }
+            Weights::Tinted(entries) => {
+                for &(v, w) in entries {
+                    let b = vertices[v as usize];
+                    for c in 0..3 {
+                        h[c] += w[c] as f64 * b[c];
+                    }
+                }
             }
         }
         h
     }
 
+    /// The vertices the row has weights on, ascending.
+    pub fn vertices(&self) -> Vec<u32> {
+        match &self.weights {
+            Weights::Grey(e) => e.iter().map(|&(v, _)| v).collect(),
+            Weights::Tinted(e) => e.iter().map(|&(v, _)| v).collect(),
+        }
+    }
+
     /// The memory the row holds.
     pub fn bytes(&self) -> usize {
         std::mem::size_of::<Self>()
-            + self.entries.capacity() * std::mem::size_of::<(u32, [f32; 3])>()
+            + match &self.weights {
+                Weights::Grey(e) => e.capacity() * std::mem::size_of::<(u32, f32)>(),
+                Weights::Tinted(e) => e.capacity() * std::mem::size_of::<(u32, [f32; 3])>(),
+            }
     }
 }
 
@@ -198,14 +239,26 @@ mod tests {
             }
         }
         let row = acc.take(0.0);
-        assert!(row.entries.windows(2).all(|w| w[0].0 < w[1].0));
+        assert!(row.vertices().windows(2).all(|w| w[0] < w[1]));
+        assert!(
+            matches!(row.weights, Weights::Tinted(_)),
+            "the rays' weights differ by channel"
+        );
         let got = row.gather(&layout.values(&grids));
         assert!(
             (0..3).all(|c| (got[c] - want[c]).abs() < 1e-6),
             "{got:?} vs {want:?}"
         );
         // the accumulator is empty again
-        assert!(acc.take(0.0).entries.is_empty());
+        assert!(acc.take(0.0).vertices().is_empty());
+        // grey rays make a grey row, which gathers the same
+        for &(side, uv, _) in &rays {
+            layout.add(&mut acc, side, uv, [0.5; 3]).unwrap();
+        }
+        let grey = acc.take(0.0);
+        assert!(matches!(grey.weights, Weights::Grey(_)));
+        let h = grey.gather(&layout.values(&grids));
+        assert!(h[0] > 0.0 && h[0] != h[1]);
         assert!(layout.add(&mut acc, 2, (0.5, 0.5), [1.0; 3]).is_err());
     }
 }
