@@ -419,6 +419,35 @@ fn the_teapots_field_is_continuous_across_its_patch_seams() {
     let (paper, welded) = (jump(0), jump(1));
     println!("teapot: largest relative jump across a seam, (4.2) {paper:.2e}, after a sweep {welded:.2e}");
     assert!(welded < 1e-2, "{welded}");
+    // refined patches beside unrefined ones: the finer edge's vertices between the coarser
+    // one's follow it, so there is no step at the T-junctions either
+    let refined = hemi::field::refine::refine_field(
+        &backend,
+        ff.clone(),
+        sol.clone(),
+        &FieldSettings {
+            sweeps: 1,
+            tolerance: 0.0,
+            direct: Direct::Exact,
+            ..FieldSettings::default()
+        },
+        &hemi::field::refine::RefineSettings {
+            rounds: 1,
+            ..Default::default()
+        },
+        &|ff| gauss_seidel_scene(&scene, ff.channels(), &Default::default()),
+        &|_| {},
+    )
+    .unwrap();
+    let sides: Vec<usize> = refined.field.grids.iter().map(|g| g.k()).collect();
+    let mixed = sides.contains(&8) && sides.contains(&4);
+    let jump = seam_jump(&scene, &refined.field.grids);
+    println!("teapot refined once (sides {sides:?}): largest relative jump {jump:.2e}");
+    assert!(
+        mixed,
+        "the test needs refined patches beside unrefined ones: {sides:?}"
+    );
+    assert!(jump < 1e-2, "{jump}");
 }
 
 /// The largest relative difference between two Bezier patches' grids at points of their shared

@@ -31,8 +31,56 @@ pub fn weld(scene: &Scene, grids: &mut [Grid]) {
             at.entry(key(v.position, tolerance)).or_default().push(v);
         }
     }
+    let mut partners: HashMap<(usize, usize, usize), Vec<usize>> = HashMap::new();
     for group in at.values() {
-        weld_group(scene, grids, group);
+        for (v, with) in weld_group(scene, grids, group) {
+            partners.insert((v.patch, v.i, v.j), with);
+        }
+    }
+    follow_coarser_edges(scene, grids, &partners);
+}
+
+/// Where a patch meets a coarser one (refinement doubles k patch by patch,
+/// `crate::field::refine`), only every other vertex of its edge has a partner; the ones between
+/// are made to follow the coarser edge, which is linear between its vertices, so the two edges
+/// are one line and there is no step at the T-junctions. `partners` holds, per welded vertex
+/// (patch, i, j), the patches it was welded with.
+fn follow_coarser_edges(
+    scene: &Scene,
+    grids: &mut [Grid],
+    partners: &HashMap<(usize, usize, usize), Vec<usize>>,
+) {
+    for (p, grid) in grids.iter_mut().enumerate() {
+        let k = grid.k();
+        if scene.patches[p].sides != Sides::Opaque || k < 2 {
+            continue;
+        }
+        let edges: [Vec<(usize, usize)>; 4] = [
+            (0..=k).map(|t| (t, 0)).collect(),
+            (0..=k).map(|t| (t, k)).collect(),
+            (0..=k).map(|t| (0, t)).collect(),
+            (0..=k).map(|t| (k, t)).collect(),
+        ];
+        for edge in &edges {
+            let anchors: Vec<usize> = (0..=k)
+                .filter(|&t| partners.contains_key(&(p, edge[t].0, edge[t].1)))
+                .collect();
+            for pair in anchors.windows(2) {
+                let (t0, t1) = (pair[0], pair[1]);
+                let (a, b) = (edge[t0], edge[t1]);
+                let shared = partners[&(p, a.0, a.1)]
+                    .iter()
+                    .any(|q| partners[&(p, b.0, b.1)].contains(q));
+                if t1 - t0 < 2 || !shared {
+                    continue;
+                }
+                let (va, vb) = (grid.vertex(a.0, a.1), grid.vertex(b.0, b.1));
+                for (t, &(i, j)) in edge.iter().enumerate().take(t1).skip(t0 + 1) {
+                    let f = (t - t0) as f64 / (t1 - t0) as f64;
+                    grid.set_vertex(i, j, [0, 1, 2].map(|c| va[c] + f * (vb[c] - va[c])));
+                }
+            }
+        }
     }
 }
 
@@ -79,10 +127,12 @@ fn boundary(scene: &Scene, i: usize, k: usize) -> Vec<Vertex> {
 }
 
 /// Averages one group of coincident vertices: each vertex with those of the other patches of
-/// its material whose normals agree with its own.
-fn weld_group(scene: &Scene, grids: &mut [Grid], group: &[Vertex]) {
+/// its material whose normals agree with its own. Returns the vertices welded, each with the
+/// patches it was welded with.
+fn weld_group(scene: &Scene, grids: &mut [Grid], group: &[Vertex]) -> Vec<(Vertex, Vec<usize>)> {
+    let mut welded = Vec::new();
     if group.len() < 2 {
-        return;
+        return welded;
     }
     let values: Vec<[f64; 3]> = group
         .iter()
@@ -90,7 +140,7 @@ fn weld_group(scene: &Scene, grids: &mut [Grid], group: &[Vertex]) {
         .collect();
     for (n, v) in group.iter().enumerate() {
         let material = scene.patches[v.patch].material;
-        let (mut sum, mut count) = (values[n], 1.0);
+        let (mut sum, mut count, mut with) = (values[n], 1.0, Vec::new());
         for (m, w) in group.iter().enumerate() {
             let same = scene.patches[w.patch].material == material;
             if m != n && w.patch != v.patch && same && v.normal.dot(w.normal) >= SMOOTH {
@@ -98,12 +148,15 @@ fn weld_group(scene: &Scene, grids: &mut [Grid], group: &[Vertex]) {
                     sum[c] += values[m][c];
                 }
                 count += 1.0;
+                with.push(w.patch);
             }
         }
         if count > 1.0 {
             grids[v.patch].set_vertex(v.i, v.j, sum.map(|s| s / count));
+            welded.push((*v, with));
         }
     }
+    welded
 }
 
 /// The position quantised to cells of `tolerance`: a seam's two vertices, which coincide to far
