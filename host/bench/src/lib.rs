@@ -9,6 +9,7 @@ pub mod paper;
 pub mod quality;
 pub mod rays;
 pub mod rng;
+pub mod scale;
 pub mod solvers;
 pub mod trace;
 

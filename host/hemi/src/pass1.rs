@@ -34,6 +34,24 @@ impl FormFactors {
         }
     }
 
+    /// Bytes the patch form factors take (the grey matrix and the tinted ones).
+    pub fn matrix_bytes(&self) -> usize {
+        let one = |m: &[Vec<f64>]| m.iter().map(|r| r.len() * 8).sum::<usize>();
+        one(&self.matrix)
+            + self
+                .tinted
+                .as_ref()
+                .map_or(0, |t| t.iter().map(|m| one(m)).sum())
+    }
+
+    /// Non-zero patch form factors F_ij (of the grey matrix).
+    pub fn nonzeros(&self) -> usize {
+        self.matrix
+            .iter()
+            .map(|r| r.iter().filter(|f| **f != 0.0).count())
+            .sum()
+    }
+
     /// F_ij of the three channels, as the solvers take them.
     pub fn channels(&self) -> [&[Vec<f64>]; 3] {
         [self.channel(0), self.channel(1), self.channel(2)]
