@@ -603,7 +603,7 @@ mod tests {
         let mut hits = 0;
         for (q, &(origin, normal, own)) in shots.iter().enumerate() {
             let rot = Rotation::onto_spun(normal, crate::rotation::spin_for_sample(q as u32));
-            let mut cast = |walk: Option<Option<Bvh<'_>>>, rings: core::ops::Range<usize>| {
+            let cast = |walk: Option<Option<Bvh<'_>>>, rings: core::ops::Range<usize>| {
                 let (mut l, mut t, mut i) = (
                     vec![LocalPatch::default(); n],
                     vec![0.0; rays],

@@ -142,6 +142,13 @@ impl LocalPatch {
         if h.abs().is_nan() || h.abs() <= 1e-6 * scale {
             return lp;
         }
+        // Nothing of the patch above the horizon: a hemisphere's rays (all rising) cannot reach
+        // it. This catches what the cone test below cannot: a neighbour sharing an edge or a
+        // vertex with the origin's patch, whose cone is too wide to bound (on a tessellated
+        // sphere, every hemisphere has a dozen).
+        if horizon && local.iter().take(sides).all(|l| l.z <= 0.0) {
+            return lp;
+        }
         let s = if h > 0.0 { 1.0 } else { -1.0 };
         for i in 0..sides {
             lp.edges[i] = local[i].cross(local[(i + 1) % sides]) * s;
@@ -269,6 +276,7 @@ impl LocalPatch {
     }
 }
 
+#[cfg(not(target_os = "none"))]
 impl LocalPatch {
     /// The rings of `rings` (of a table of `r_all` rings, θ_j = j·π/(2R)) whose
     /// [`LocalPatch::ring_interval`] is not empty: contiguous, since cos(θ_j − θ_c) ≥ cos α
@@ -307,6 +315,7 @@ impl LocalPatch {
 
 /// Where ring j's rays start in a whole-hemisphere buffer: the pole, then each ring's N_j
 /// (four quarters of `first`'s table).
+#[cfg(not(target_os = "none"))]
 #[inline]
 fn ring_offset(ring: &Ring, j: usize) -> usize {
     if j == 0 {
