@@ -2,8 +2,9 @@
 //! "Pass 1 at scale"): the Cornell box with every quad cut n × n (19 n² patches), and a closed
 //! room of 12 quads holding a tessellated sphere. Each scene is written as scene TOML, so
 //! `hemi form-factors` reads the very file the benchmark measured, and optionally as a ray file
-//! that the Embree comparison (`scripts/embree-bench/`) casts: the same geometry, the same
-//! sample points and frames, the same hemisphere directions.
+//! that the Embree comparison (`host/bench/embree/`) casts: the same geometry, the same sample
+//! points and frames, the same hemisphere directions. With `--embree` the benchmark runs that
+//! program on each scene right after hemi's pass 1, so both are measured in one run.
 
 use anyhow::{ensure, Result};
 use hemi::pass1::form_factors;
@@ -45,10 +46,13 @@ impl ScaleScene {
         }
     }
 
-    /// The scene as TOML; `base` is the scene the subdivided boxes cut.
-    pub fn toml(self, base: &Scene) -> Result<String> {
+    /// The scene as TOML; `base` is the scene the subdivided boxes cut (needed by those only).
+    pub fn toml(self, base: Option<&Scene>) -> Result<String> {
         match self {
-            ScaleScene::Subdivided(n) => subdivided(base, n),
+            ScaleScene::Subdivided(n) => subdivided(
+                base.ok_or_else(|| anyhow::anyhow!("no base scene to cut"))?,
+                n,
+            ),
             ScaleScene::Room(t) => Ok(room_with_sphere(t)),
         }
     }
@@ -341,6 +345,10 @@ pub struct ScaleRun {
     pub rays: u64,
     /// Wall time of pass 1 (form factors included), seconds.
     pub seconds: f64,
+    /// CPU time of the process over pass 1 (all threads), seconds, if the system says.
+    pub cpu_seconds: Option<f64>,
+    /// Rays that hit a patch (front or back).
+    pub hits: u64,
     /// Bytes the patch form factors take.
     pub matrix_bytes: usize,
     /// Non-zero form factors.
@@ -355,7 +363,7 @@ pub fn measure(
     progress: &hemi::backend::Progress<'_>,
 ) -> Result<ScaleRun> {
     let backend = hemi::backend::soft(scene, settings)?;
-    let t0 = Instant::now();
+    let (t0, cpu0) = (Instant::now(), cpu_seconds());
     let ff = form_factors(&backend, progress)?;
     let seconds = t0.elapsed().as_secs_f64();
     Ok(ScaleRun {
@@ -363,32 +371,87 @@ pub fn measure(
         hemispheres: ff.elements.len(),
         rays: ff.stats.rays as u64,
         seconds,
+        cpu_seconds: cpu_seconds().zip(cpu0).map(|(b, a)| b - a),
+        hits: (ff.stats.front_hits + ff.stats.back_hits) as u64,
         matrix_bytes: ff.matrix_bytes(),
         nonzeros: ff.nonzeros(),
     })
 }
 
-/// The table's header (markdown).
-pub fn header(out: &mut impl Write) -> Result<()> {
+/// What the Embree program measured on one ray file: its fastest mode.
+#[derive(Clone, Debug)]
+pub struct EmbreeRun {
+    /// single, packet8 or packet16.
+    pub mode: String,
+    /// Wall time of the fastest mode, seconds.
+    pub seconds: f64,
+    /// Rays that hit a patch.
+    pub hits: u64,
+}
+
+/// Runs the Embree program `program` (`host/bench/embree/hemi_embree.cpp`) on `rays` with
+/// `threads` threads and keeps its fastest mode.
+pub fn run_embree(program: &Path, rays: &Path, threads: usize) -> Result<EmbreeRun> {
+    let out = std::process::Command::new(program)
+        .arg(rays)
+        .arg(threads.to_string())
+        .output()
+        .map_err(|e| anyhow::anyhow!("--embree {}: {e}", program.display()))?;
+    ensure!(
+        out.status.success(),
+        "--embree {} failed: {}",
+        program.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let field = |line: &str, key: &str| -> Option<String> {
+        line.split_whitespace()
+            .find_map(|w| w.strip_prefix(key)?.strip_prefix('=').map(str::to_string))
+    };
+    let text = String::from_utf8_lossy(&out.stdout);
+    text.lines()
+        .filter_map(|l| {
+            Some(EmbreeRun {
+                mode: field(l, "mode")?,
+                seconds: field(l, "seconds")?.parse().ok()?,
+                hits: field(l, "hits")?.parse().ok()?,
+            })
+        })
+        .min_by(|a, b| a.seconds.total_cmp(&b.seconds))
+        .ok_or_else(|| anyhow::anyhow!("--embree {}: no result line", program.display()))
+}
+
+/// The table's header (markdown); with Embree's columns when `embree`.
+pub fn header(out: &mut impl Write, embree: bool) -> Result<()> {
+    let (extra, rule) = match embree {
+        true => (
+            " Embree s (fastest mode) | Embree Mrays/s | hemi / Embree (wall) | hits, hemi − Embree |",
+            "---|---|---|---|",
+        ),
+        false => ("", ""),
+    };
     writeln!(
         out,
-        "| scene | patches | R | K | hemispheres | rays | pass 1 s | Mrays/s | µs per hemisphere | F non-zeros | F MiB | peak RSS MiB |"
+        "| scene | patches | R | K | hemispheres | rays | pass 1 s | CPU s | Mrays/s | µs per hemisphere | F non-zeros | F MiB | peak RSS MiB |{extra}"
     )?;
-    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+    writeln!(
+        out,
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|{rule}"
+    )?;
     Ok(())
 }
 
-/// One row of the table for `run` of scene `name`.
+/// One row of the table for `run` of scene `name` (and Embree's run of the same rays).
 pub fn row(
     out: &mut impl Write,
     name: &str,
     settings: &Pass1Settings,
     run: &ScaleRun,
+    embree: Option<&EmbreeRun>,
 ) -> Result<()> {
     let peak = peak_rss_bytes().map_or("—".into(), |b| format!("{:.0}", b as f64 / MIB));
-    writeln!(
-        out,
-        "| {name} | {} | {} | {} | {} | {} | {:.3} | {:.2} | {:.1} | {} | {:.2} | {peak} |",
+    let cpu = run.cpu_seconds.map_or("—".into(), |c| format!("{c:.2}"));
+    let mut line = format!(
+        "| {name} | {} | {} | {} | {} | {} | {:.3} | {cpu} | {:.2} | {:.1} | {} | {:.2} | {peak} |",
         run.patches,
         settings.circles,
         settings.samples,
@@ -399,8 +462,74 @@ pub fn row(
         run.seconds / run.hemispheres.max(1) as f64 * 1e6,
         run.nonzeros,
         run.matrix_bytes as f64 / MIB,
-    )?;
+    );
+    if let Some(e) = embree {
+        line += &format!(
+            " {:.3} ({}) | {:.2} | {:.2} | {} |",
+            e.seconds,
+            e.mode,
+            run.rays as f64 / e.seconds / 1e6,
+            e.seconds / run.seconds,
+            run.hits as i64 - e.hits as i64
+        );
+    }
+    writeln!(out, "{line}")?;
     Ok(())
+}
+
+/// The log–log chart of one hemisphere's time against the patch count, for hemi and (when
+/// measured) Embree, each with the exponent of its least-squares line in the legend.
+pub fn chart(rows: &[(usize, f64, Option<f64>)]) -> String {
+    let mut series = Vec::new();
+    let hemi: Vec<(f64, f64)> = rows.iter().map(|r| (r.0 as f64, r.1)).collect();
+    let embree: Vec<(f64, f64)> = rows
+        .iter()
+        .filter_map(|r| Some((r.0 as f64, r.2?)))
+        .collect();
+    for (name, points) in [("hemi", hemi), ("Embree 3", embree)] {
+        if points.is_empty() {
+            continue;
+        }
+        let slope = fitted_exponent(&points);
+        series.push(crate::chart::Series {
+            name: format!("{name}: ∝ P^{slope:.2}"),
+            points,
+        });
+    }
+    crate::chart::log_log(
+        "One hemisphere's time against the patch count",
+        "patches P",
+        "µs per hemisphere (wall, 2 threads)",
+        "hemi bench scale --embree (docs/PERFORMANCE.md)",
+        &series,
+    )
+}
+
+/// The slope of the least-squares line through `points` on log–log axes.
+pub fn fitted_exponent(points: &[(f64, f64)]) -> f64 {
+    let logs: Vec<(f64, f64)> = points.iter().map(|(x, y)| (x.ln(), y.ln())).collect();
+    let n = logs.len() as f64;
+    let (mx, my) = logs
+        .iter()
+        .fold((0.0, 0.0), |(a, b), (x, y)| (a + x / n, b + y / n));
+    let sxy: f64 = logs.iter().map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = logs.iter().map(|(x, _)| (x - mx) * (x - mx)).sum();
+    if sxx > 0.0 {
+        sxy / sxx
+    } else {
+        0.0
+    }
+}
+
+/// This process's CPU time so far (user + system, all threads), from Linux's /proc.
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // the fields after the command name, which is in parentheses and may hold spaces
+    let rest = stat.rsplit_once(')')?.1;
+    let fields: Vec<&str> = rest.split_whitespace().collect();
+    let ticks: f64 = fields.get(11)?.parse::<f64>().ok()? + fields.get(12)?.parse::<f64>().ok()?;
+    // the kernel's USER_HZ, 100 on every Linux this runs on
+    Some(ticks / 100.0)
 }
 
 const MIB: f64 = 1024.0 * 1024.0;
@@ -423,6 +552,15 @@ mod tests {
             let (stacks, slices) = sphere_grid(t);
             assert_eq!(2 * slices * (stacks - 1), t, "{t}");
         }
+    }
+
+    #[test]
+    fn the_fitted_exponent_of_a_power_law_is_its_power() {
+        let points: Vec<(f64, f64)> = [10.0, 100.0, 1000.0]
+            .iter()
+            .map(|&x: &f64| (x, 3.0 * x.powf(0.5)))
+            .collect();
+        assert!((fitted_exponent(&points) - 0.5).abs() < 1e-12);
     }
 
     #[test]

@@ -414,6 +414,14 @@ pub struct ScaleBench {
     /// Only write the files; do not run pass 1.
     #[arg(long)]
     no_run: bool,
+    /// Also cast each scene's rays through this Embree program (built by
+    /// host/bench/embree/build.sh), right after hemi's pass 1, on as many threads.
+    #[arg(long, value_name = "PROGRAM")]
+    embree: Option<PathBuf>,
+    /// Write the chart scale-hemisphere.svg (one hemisphere's time against the patch count)
+    /// into this folder.
+    #[arg(long, value_name = "DIR")]
+    svg_dir: Option<PathBuf>,
 }
 
 impl ScaleBench {
@@ -445,13 +453,22 @@ impl ScaleBench {
                 && self.samples.is_none_or(|k| (1..=256).contains(&k)),
             "--circles must be between 2 and 1024 and --samples between 1 and 256"
         );
-        let base = load(&self.base)?;
+        let cuts = scenes
+            .iter()
+            .any(|s| matches!(s, ScaleScene::Subdivided(_)));
+        let base = if cuts { Some(load(&self.base)?) } else { None };
         if !self.no_run {
-            scale::header(out)?;
+            scale::header(out, self.embree.is_some())?;
         }
+        let rays_dir = match (&self.rays_dir, &self.embree) {
+            (Some(d), _) => Some(d.clone()),
+            (None, Some(_)) => Some(std::env::temp_dir().join("hemi-scale-rays")),
+            (None, None) => None,
+        };
+        let mut points = Vec::new();
         for s in scenes {
             let name = s.name();
-            let text = s.toml(&base)?;
+            let text = s.toml(base.as_ref())?;
             let file = format!("{name}.toml");
             if let Some(dir) = &self.write_dir {
                 std::fs::create_dir_all(dir)?;
@@ -463,9 +480,10 @@ impl ScaleBench {
                 samples: self.samples.unwrap_or(s.default_samples()),
                 ..Pass1Settings::default()
             };
-            if let Some(dir) = &self.rays_dir {
+            let rays_file = rays_dir.as_ref().map(|d| d.join(format!("{name}.rays")));
+            if let (Some(dir), Some(file)) = (&rays_dir, &rays_file) {
                 std::fs::create_dir_all(dir)?;
-                scale::write_rays(&scene, &settings, &dir.join(format!("{name}.rays")))?;
+                scale::write_rays(&scene, &settings, file)?;
             }
             if self.no_run {
                 continue;
@@ -477,7 +495,24 @@ impl ScaleBench {
             let bar = crate::progress::bar_of_rays(hemispheres as u64, &name, rays.into());
             let run = scale::measure(&scene, &settings, &|n| bar.inc(n))?;
             bar.finish_and_clear();
-            scale::row(out, &name, &settings, &run)?;
+            let embree = match (&self.embree, &rays_file) {
+                (Some(program), Some(file)) => {
+                    let threads = rayon::current_num_threads();
+                    Some(scale::run_embree(program, file, threads)?)
+                }
+                _ => None,
+            };
+            scale::row(out, &name, &settings, &run, embree.as_ref())?;
+            let per = |s: f64| s / run.hemispheres.max(1) as f64 * 1e6;
+            points.push((
+                run.patches,
+                per(run.seconds),
+                embree.map(|e| per(e.seconds)),
+            ));
+        }
+        if let (Some(dir), false) = (&self.svg_dir, points.is_empty()) {
+            std::fs::create_dir_all(dir)?;
+            std::fs::write(dir.join("scale-hemisphere.svg"), scale::chart(&points))?;
         }
         Ok(())
     }
