@@ -168,7 +168,7 @@ fn sphere_grid(triangles: usize) -> (usize, usize) {
     let half = (triangles / 2).max(2);
     let target = ((triangles as f64) / 4.0).sqrt();
     let bands = (1..=half)
-        .filter(|d| half % d == 0)
+        .filter(|d| half.is_multiple_of(*d))
         .min_by(|a, b| {
             let da = (*a as f64 - target).abs();
             let db = (*b as f64 - target).abs();

@@ -25,6 +25,10 @@ pub fn solve(system: &System<'_>, settings: &SolveSettings) -> Result<Solution> 
 /// `(E_i + ρ_i Σ_{j≠i} F_ij B_j) / (1 − ρ_i F_ii)` blended as `B_i ← (1−ω) B_i + ω·GS`.
 /// The sums run over each row's non-zeros, in column order as a dense row's would.
 #[inline]
+#[expect(
+    clippy::needless_range_loop,
+    reason = "B_i is read through the row and written in place"
+)]
 pub(crate) fn sweep(system: &System<'_>, omega: f64, b: &mut [[f64; 3]]) {
     for i in 0..b.len() {
         for c in 0..3 {

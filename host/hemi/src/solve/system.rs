@@ -112,6 +112,10 @@ impl<'a> System<'a> {
 
     /// max |B − E − ρFB| / max |B| over patches and channels (the stopping rule of every
     /// iterative solver here, so their residuals compare).
+    #[expect(
+        clippy::needless_range_loop,
+        reason = "B is read at the row's columns and at i"
+    )]
     pub fn residual(&self, b: &[[f64; 3]]) -> f64 {
         let mut worst = 0.0f64;
         let mut scale = 0.0f64;
