@@ -477,24 +477,45 @@ pub fn row(
     Ok(())
 }
 
-/// The log–log chart of one hemisphere's time against the patch count, for hemi and (when
-/// measured) Embree, each with the exponent of its least-squares line in the legend.
-pub fn chart(rows: &[(usize, f64, Option<f64>)]) -> String {
-    let mut series = Vec::new();
-    let hemi: Vec<(f64, f64)> = rows.iter().map(|r| (r.0 as f64, r.1)).collect();
-    let embree: Vec<(f64, f64)> = rows
-        .iter()
-        .filter_map(|r| Some((r.0 as f64, r.2?)))
-        .collect();
-    for (name, points) in [("hemi", hemi), ("Embree 3", embree)] {
-        if points.is_empty() {
-            continue;
+impl ScaleScene {
+    /// The family the chart draws the scene's point in (cut boxes and rooms grow differently).
+    pub fn family(self) -> &'static str {
+        match self {
+            ScaleScene::Subdivided(_) => "cut box",
+            ScaleScene::Room(_) => "room",
         }
-        let slope = fitted_exponent(&points);
-        series.push(crate::chart::Series {
-            name: format!("{name}: ∝ P^{slope:.2}"),
-            points,
-        });
+    }
+}
+
+/// The log–log chart of one hemisphere's time against the patch count, `(family, P, hemi µs,
+/// Embree µs)` per scene: a line per family for hemi and (when measured) for Embree, each with
+/// the exponent of its least-squares line in the legend.
+pub fn chart(rows: &[(&str, usize, f64, Option<f64>)]) -> String {
+    let mut families: Vec<&str> = rows.iter().map(|r| r.0).collect();
+    families.dedup();
+    let mut series = Vec::new();
+    for (engine, pick) in [
+        (
+            "hemi",
+            (|r| Some(r.2)) as fn(&(&str, usize, f64, Option<f64>)) -> Option<f64>,
+        ),
+        ("Embree", |r| r.3),
+    ] {
+        for family in &families {
+            let points: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|r| r.0 == *family)
+                .filter_map(|r| Some((r.1 as f64, pick(r)?)))
+                .collect();
+            if points.is_empty() {
+                continue;
+            }
+            let slope = fitted_exponent(&points);
+            series.push(crate::chart::Series {
+                name: format!("{engine}, {family}: P^{slope:.2}"),
+                points,
+            });
+        }
     }
     crate::chart::log_log(
         "One hemisphere's time against the patch count",

@@ -504,11 +504,8 @@ impl ScaleBench {
             };
             scale::row(out, &name, &settings, &run, embree.as_ref())?;
             let per = |s: f64| s / run.hemispheres.max(1) as f64 * 1e6;
-            points.push((
-                run.patches,
-                per(run.seconds),
-                embree.map(|e| per(e.seconds)),
-            ));
+            let embree_us = embree.map(|e| per(e.seconds));
+            points.push((s.family(), run.patches, per(run.seconds), embree_us));
         }
         if let (Some(dir), false) = (&self.svg_dir, points.is_empty()) {
             std::fs::create_dir_all(dir)?;
