@@ -26,6 +26,7 @@ fn ff(scene_src: &str, settings: &Pass1Settings) -> Vec<Vec<f64>> {
     form_factors(&soft(&scene, settings).unwrap(), &|_| {})
         .unwrap()
         .matrix
+        .to_dense()
 }
 
 fn rel(got: f64, want: f64) -> f64 {

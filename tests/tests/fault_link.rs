@@ -33,7 +33,7 @@ fn board_form_factors(
     pass1::form_factors(&boards, &|_| {})
 }
 
-fn bits(m: &[Vec<f64>]) -> Vec<Vec<u64>> {
+fn bits(m: &hemi::matrix::FormMatrix) -> Vec<Vec<u64>> {
     m.iter()
         .map(|r| r.iter().map(|x| x.to_bits()).collect())
         .collect()

@@ -53,7 +53,7 @@ fn solve(scene: &Scene, ff: &pass1::FormFactors) -> Vec<hemi::radiosity::Grid> {
 }
 
 /// Bit patterns, so that equality means identical, not merely close.
-fn bits(m: &[Vec<f64>]) -> Vec<Vec<u64>> {
+fn bits(m: &hemi::matrix::FormMatrix) -> Vec<Vec<u64>> {
     m.iter()
         .map(|r| r.iter().map(|x| x.to_bits()).collect())
         .collect()

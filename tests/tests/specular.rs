@@ -63,7 +63,7 @@ fn a_perfect_mirror_shows_the_image_form_factor() {
         // (analytic_form_factors.rs): the mirror adds no error of its own.
         assert!(e < 0.005, "error {e}");
         // The mirror has no column: its row and column stay empty.
-        assert!(ff.matrix[1].iter().all(|f| *f == 0.0));
+        assert!(ff.matrix[1].iter().all(|f| f == 0.0));
         assert_eq!(ff.matrix[0][1], 0.0);
         assert!(ff.elements.iter().all(|e| e.patch == 0));
     }

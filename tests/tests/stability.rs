@@ -106,6 +106,7 @@ fn oversampled_rows_with_rho_near_one_are_detected_and_scaled_back() {
         .collect();
     let rho = vec![[0.995; 3]; n];
     let e = vec![[1.0; 3]; n];
+    let f = hemi::matrix::FormMatrix::from(f);
     let sys = System::new(solve::grey(&f), &rho, &e).unwrap();
     let err = solve::gauss_seidel::solve(&sys, &SolveSettings::default()).unwrap_err();
     assert!(format!("{err}").contains("diverge"), "{err}");
@@ -198,7 +199,7 @@ fn grazing_rays_along_a_wall_neither_leak_nor_go_nan() {
                 .matrix
                 .iter()
                 .flatten()
-                .all(|f| f.is_finite() && *f >= 0.0));
+                .all(|f| f.is_finite() && f >= 0.0));
             let strip: f64 = ff.matrix[0].iter().sum();
             // half the strip's hemisphere is the wall beside it
             let wall = ff.matrix[0][2];

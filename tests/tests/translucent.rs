@@ -375,6 +375,7 @@ fn progressive_refinement_with_rows_on_demand_solves_the_coupled_sides() {
                 .collect()
         })
         .collect();
+    let reciprocal = hemi::matrix::FormMatrix::from(reciprocal);
     let k = hemi::solve::coupled(&scene, [&reciprocal, &reciprocal, &reciprocal])
         .expect("the scene is translucent");
     let e: Vec<[f64; 3]> = (0..n).map(|i| scene.material_of(i).emission).collect();

@@ -4,7 +4,7 @@
 
 use crate::engine::{Engine, Running};
 use crate::options::{AdaptiveArgs, EngineArgs, QualityArgs, SamplingArgs, SolverArgs};
-use crate::progress::bar;
+use crate::progress::{bar, bar_of_rays};
 use anyhow::Result;
 use clap::Args;
 use hemi::adaptive::{AdaptiveSettings, PatchReport, Progress};
@@ -109,7 +109,8 @@ pub fn sample(
         let elements: u64 = (0..scene.patches.len())
             .map(|i| hemi::shots::sample_count(scene, i, k) as u64)
             .sum();
-        let bar = bar(elements, "pass 1");
+        let rays = hemi_kernel::hemisphere::ray_count(backend.get().settings().circles);
+        let bar = bar_of_rays(elements, "pass 1", rays.into());
         let t0 = std::time::Instant::now();
         let ff = hemi::pass1::form_factors(backend.get(), &|n| bar.inc(n))?;
         bar.finish_and_clear();

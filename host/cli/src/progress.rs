@@ -2,12 +2,31 @@
 //! known length, and for benchmarks, whose length the CLI does not know, a spinner with the
 //! elapsed time and the last line of output they wrote.
 
-use indicatif::{ProgressBar, ProgressStyle};
-use std::io::{Result, Write};
-use std::time::Duration;
+use indicatif::{ProgressBar, ProgressStyle, WeakProgressBar};
+use std::io::{IsTerminal, Result, Write};
+use std::time::{Duration, Instant};
 
 /// A bar of `len` steps labelled `what`.
 pub fn bar(len: u64, what: &str) -> ProgressBar {
+    let bar = bar_quiet(len, what);
+    if !std::io::stderr().is_terminal() {
+        report_lines(bar.downgrade(), what.to_string(), None);
+    }
+    bar
+}
+
+/// A bar of `len` steps of `rays` rays each (hemispheres): off a terminal, its lines say the
+/// rays done too.
+pub fn bar_of_rays(len: u64, what: &str, rays: u64) -> ProgressBar {
+    let bar = bar_quiet(len, what);
+    if !std::io::stderr().is_terminal() {
+        report_lines(bar.downgrade(), what.to_string(), Some(rays));
+    }
+    bar
+}
+
+/// The bar alone (indicatif hides it off a terminal).
+fn bar_quiet(len: u64, what: &str) -> ProgressBar {
     let bar = ProgressBar::new(len);
     bar.set_style(
         ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} ({eta})")
@@ -16,6 +35,43 @@ pub fn bar(len: u64, what: &str) -> ProgressBar {
     );
     bar.set_message(what.to_string());
     bar
+}
+
+/// How often a bar off a terminal prints a line.
+const LINE_EVERY: Duration = Duration::from_secs(5);
+
+/// indicatif draws nothing when stderr is not a terminal (a log, CI, `2> file`), so a long pass
+/// would be silent there: a thread prints a line every [`LINE_EVERY`] with the work done (and
+/// the rays, when each step is `rays` rays) and an estimate of the rest, until the bar is
+/// finished or dropped. Runs shorter than that print nothing.
+fn report_lines(bar: WeakProgressBar, what: String, rays: Option<u64>) {
+    std::thread::spawn(move || {
+        let t0 = Instant::now();
+        loop {
+            std::thread::sleep(LINE_EVERY);
+            let Some(bar) = bar.upgrade() else { return };
+            if bar.is_finished() {
+                return;
+            }
+            let (done, len) = (bar.position(), bar.length().unwrap_or(0));
+            let secs = t0.elapsed().as_secs_f64();
+            let rest = match done {
+                0 => "no estimate yet".to_string(),
+                _ => format!(
+                    "about {:.0} s left",
+                    secs * len.saturating_sub(done) as f64 / done as f64
+                ),
+            };
+            let rays = rays.map_or(String::new(), |r| {
+                format!(
+                    " ({:.1} M of {:.1} M rays)",
+                    (done * r) as f64 / 1e6,
+                    (len * r) as f64 / 1e6
+                )
+            });
+            eprintln!("{what}: {done} of {len}{rays} after {secs:.0} s, {rest}");
+        }
+    });
 }
 
 /// The longest line of output a spinner repeats, in characters.

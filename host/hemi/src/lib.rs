@@ -3,7 +3,7 @@
 //!
 //! From the bottom up (no module imports one further down this list, and `cargo xtask layout`
 //! checks that the imports have no cycle): `scene`, `analytic`, `grid`, `transport`; `optics`, `method`,
-//! `settings`, `shots`; `backend`; `pass1`; `solve`; `radiosity`, `seams`; then the passes built on
+//! `settings`, `shots`, `matrix`; `backend`; `pass1`; `solve`; `radiosity`, `seams`; then the passes built on
 //! them: `direct`, `field`, `adaptive`, `on_demand`, `render`, `irradiance`, `quality`, `overlay`, and
 //! `export`, the solution as meshes for viewers (docs/ARCHITECTURE.md).
 #![forbid(unsafe_code)]
@@ -16,6 +16,7 @@ pub mod export;
 pub mod field;
 pub mod grid;
 pub mod irradiance;
+pub mod matrix;
 pub mod method;
 pub mod on_demand;
 pub mod optics;

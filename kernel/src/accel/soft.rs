@@ -142,6 +142,13 @@ impl LocalPatch {
         if h.abs().is_nan() || h.abs() <= 1e-6 * scale {
             return lp;
         }
+        // Nothing of the patch above the horizon: a hemisphere's rays (all rising) cannot reach
+        // it. This catches what the cone test below cannot: a neighbour sharing an edge or a
+        // vertex with the origin's patch, whose cone is too wide to bound (on a tessellated
+        // sphere, every hemisphere has a dozen).
+        if horizon && local.iter().take(sides).all(|l| l.z <= 0.0) {
+            return lp;
+        }
         let s = if h > 0.0 { 1.0 } else { -1.0 };
         for i in 0..sides {
             lp.edges[i] = local[i].cross(local[(i + 1) % sides]) * s;
@@ -269,6 +276,55 @@ impl LocalPatch {
     }
 }
 
+#[cfg(not(target_os = "none"))]
+impl LocalPatch {
+    /// The rings of `rings` (of a table of `r_all` rings, θ_j = j·π/(2R)) whose
+    /// [`LocalPatch::ring_interval`] is not empty: contiguous, since cos(θ_j − θ_c) ≥ cos α
+    /// holds on one interval of θ around the cone's axis θ_c. Found from the ring nearest the
+    /// axis outwards, so a patch costs the rings it spans, not all R.
+    fn ring_span(&self, table: &[Ring], rings: Range<usize>) -> Range<usize> {
+        let r_all = table.len();
+        if self.full || self.axis_rho < 1e-6 || r_all == 0 {
+            return rings;
+        }
+        let passes = |j: usize| {
+            table.get(j).is_some_and(|ring| {
+                ring.sin_theta * self.axis_rho + ring.cos_theta * self.axis.z >= self.cos_alpha
+            })
+        };
+        let dtheta = core::f32::consts::FRAC_PI_2 / r_all as f32;
+        let nearest = (fast_acos(self.axis.z.clamp(-1.0, 1.0)) / dtheta + 0.5) as usize;
+        let nearest = nearest.min(r_all - 1);
+        let seed = [nearest, nearest.wrapping_sub(1), nearest + 1]
+            .into_iter()
+            .find(|&j| passes(j));
+        let Some(seed) = seed else {
+            return 0..0;
+        };
+        let mut lo = seed;
+        while lo > 0 && passes(lo - 1) {
+            lo -= 1;
+        }
+        let mut hi = seed + 1;
+        while hi < r_all && passes(hi) {
+            hi += 1;
+        }
+        lo.max(rings.start)..hi.min(rings.end)
+    }
+}
+
+/// Where ring j's rays start in a whole-hemisphere buffer: the pole, then each ring's N_j
+/// (four quarters of `first`'s table).
+#[cfg(not(target_os = "none"))]
+#[inline]
+fn ring_offset(ring: &Ring, j: usize) -> usize {
+    if j == 0 {
+        0
+    } else {
+        1 + 4 * ring.first as usize
+    }
+}
+
 /// arccos by Abramowitz & Stegun 4.4.45, |error| ≤ 6.7·10⁻⁵ rad on [−1, 1]: the cone culling only
 /// needs a bound, and libm's correctly rounded `acosf` was a tenth of the pass-1 time.
 #[inline]
@@ -304,6 +360,55 @@ mod tests {
     }
 }
 
+/// Polygon `lp` (patch `id`) against the rays `start..start+len` (modulo N_j) of ring `j`,
+/// keeping the nearest hit per ray in `best_t`/`best_id` (the ring's N_j entries), ties to the
+/// lowest id. The interval is walked quarter by quarter: within quarter q a ray's direction is
+/// the stored (c, s) turned by q right angles, so each edge test folds into A·c + B·s + C ≥ 0
+/// with per-(patch, ring, quarter) coefficients and the loop runs branch-free over a contiguous
+/// slice of the quarter table. The one ring scan of both hemisphere walks.
+#[expect(
+    clippy::too_many_arguments,
+    reason = "one patch, one ring, one interval, the buffers"
+)]
+#[inline(always)]
+fn scan_ring(
+    lp: &LocalPatch,
+    id: u32,
+    hemi: &Hemisphere<'_>,
+    ring: &Ring,
+    j: usize,
+    (start, len): (i64, i64),
+    best_t: &mut [f32],
+    best_id: &mut [u32],
+) {
+    if j == 0 {
+        if let Some(t) = lp.hit(Vec3::Z) {
+            if t < best_t[0] || (t == best_t[0] && id < best_id[0]) {
+                best_t[0] = t;
+                best_id[0] = id;
+            }
+        }
+        return;
+    }
+    let quarter = hemi.quarter_of(ring);
+    let quarter_n = (ring.count / 4).max(1) as i64;
+    let mut remaining = len;
+    let mut q = start / quarter_n;
+    let mut r = start % quarter_n;
+    while remaining > 0 {
+        let seg = remaining.min(quarter_n - r);
+        let k0 = (q * quarter_n + r) as usize;
+        let co = lp.coefficients(ring, q as u32);
+        let dirs = &quarter[r as usize..(r + seg) as usize];
+        let bt = &mut best_t[k0..k0 + seg as usize];
+        let bi = &mut best_id[k0..k0 + seg as usize];
+        scan_segment(&co, lp.h, id, dirs, bt, bi);
+        remaining -= seg;
+        r = 0;
+        q = (q + 1) % 4;
+    }
+}
+
 #[inline(always)]
 fn scan_segment(
     co: &Coefficients,
@@ -322,7 +427,10 @@ fn scan_segment(
             & (e[2][0] * c + e[2][1] * s + e[2][2] >= 0.0)
             & (e[3][0] * c + e[3][1] * s + e[3][2] >= 0.0);
         let t = h / (n[0] * c + n[1] * s + n[2]);
-        let closer = inside & (t > 0.0) & (t < *bt);
+        // nearer, or as near and a lower id: the winner does not depend on the order in which
+        // patches are scanned (in id order, the second clause never fires)
+        let closer =
+            inside & (t > 0.0) & (t < f32::INFINITY) & ((t < *bt) | ((t == *bt) & (id < *bi)));
         *bt = if closer { t } else { *bt };
         *bi = if closer { id } else { *bi };
     }
@@ -354,6 +462,17 @@ pub struct SoftAccelerator<'p, 's> {
     /// instead of per hit: the same (u,v), bit for bit, for a fraction of the work.
     #[cfg(not(target_os = "none"))]
     uv_frames: Option<&'s [Option<UvFrame>]>,
+    /// Hemispheres patch by patch ([`SoftAccelerator::with_patch_major`]); hosts only.
+    #[cfg(not(target_os = "none"))]
+    patch_major: Option<PatchMajor<'s>>,
+}
+
+/// How a host casts hemispheres patch by patch: every patch's rays of the whole hemisphere
+/// at once, over the patches a tree says are above the horizon (or all of them).
+#[cfg(not(target_os = "none"))]
+#[derive(Clone, Copy, Debug)]
+struct PatchMajor<'s> {
+    tree: Option<Bvh<'s>>,
 }
 
 const NO_HIT: u32 = u32::MAX;
@@ -391,7 +510,24 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
             bvh: None,
             #[cfg(not(target_os = "none"))]
             uv_frames: None,
+            #[cfg(not(target_os = "none"))]
+            patch_major: None,
         })
+    }
+
+    /// Casts hemispheres patch by patch instead of ring by ring, when the scratch holds a whole
+    /// hemisphere (`best_t` of at least [`Hemisphere::ray_count`] entries; else the ring scan
+    /// runs as before): each patch is tested on the rings its cone spans only, and with `tree`
+    /// (a [`Bvh`] over these patches) only the patches above the hemisphere's horizon are set
+    /// up at all ([`Bvh::visit_above`]). Every ray keeps the nearest hit, ties to the lowest
+    /// id, so the hits are the ring scan's, bit for bit, whatever order the patches come in.
+    /// For patch memories without curved patches only (the caller checks): a curved patch's
+    /// subdivision is bounded by the best distance so far, which would then depend on the
+    /// order.
+    #[cfg(not(target_os = "none"))]
+    pub fn with_patch_major(mut self, tree: Option<Bvh<'s>>) -> Self {
+        self.patch_major = Some(PatchMajor { tree });
+        self
     }
 
     /// Answers single rays and `cast_from` bundles through `bvh`, a tree over these patches,
@@ -400,6 +536,12 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
     pub fn with_bvh(mut self, bvh: Bvh<'s>) -> Self {
         self.bvh = Some(bvh);
         self
+    }
+
+    /// The tree given by [`SoftAccelerator::with_bvh`], if any.
+    #[cfg(not(target_os = "none"))]
+    pub fn bvh(&self) -> Option<Bvh<'s>> {
+        self.bvh
     }
 
     /// The nearest hit of `origin + t dir` below `t_max` through the tree: per patch the same
@@ -684,6 +826,13 @@ impl SoftAccelerator<'_, '_> {
         want_uv: bool,
         sink: &mut F,
     ) {
+        #[cfg(not(target_os = "none"))]
+        if let Some(walk) = self.patch_major {
+            if self.scratch.best_t.len() >= hemi.ray_count() as usize {
+                self.scan_patch_major(walk, origin, rot, hemi, rings, want_uv, sink);
+                return;
+            }
+        }
         let n_patches = self.patches.len();
         for (id, (lp, p)) in self
             .scratch
@@ -724,7 +873,6 @@ impl SoftAccelerator<'_, '_> {
             let n = ring.count as usize;
             self.scratch.best_t[..n].fill(f32::INFINITY);
             self.scratch.best_id[..n].fill(NO_HIT);
-            let quarter_n = (ring.count / 4).max(1) as i64;
             for id in 0..n_patches {
                 let lp = self.scratch.local[id];
                 if !lp.active {
@@ -752,35 +900,16 @@ impl SoftAccelerator<'_, '_> {
                 }
                 let best_t = &mut self.scratch.best_t[..n];
                 let best_id = &mut self.scratch.best_id[..n];
-                if j == 0 {
-                    if let Some(t) = lp.hit(Vec3::Z) {
-                        if t < best_t[0] {
-                            best_t[0] = t;
-                            best_id[0] = id as u32;
-                        }
-                    }
-                    continue;
-                }
-                // The interval is walked quarter by quarter: within quarter q a ray's direction
-                // is the stored (c, s) turned by q right angles, so each edge test folds into
-                // A·c + B·s + C ≥ 0 with per-(patch, ring, quarter) coefficients and the loop runs
-                // branch-free over a contiguous slice of the quarter table.
-                let quarter = hemi.quarter_of(&ring);
-                let mut remaining = len;
-                let mut q = start / quarter_n;
-                let mut r = start % quarter_n;
-                while remaining > 0 {
-                    let seg = remaining.min(quarter_n - r);
-                    let k0 = (q * quarter_n + r) as usize;
-                    let co = lp.coefficients(&ring, q as u32);
-                    let dirs = &quarter[r as usize..(r + seg) as usize];
-                    let bt = &mut best_t[k0..k0 + seg as usize];
-                    let bi = &mut best_id[k0..k0 + seg as usize];
-                    scan_segment(&co, lp.h, id as u32, dirs, bt, bi);
-                    remaining -= seg;
-                    r = 0;
-                    q = (q + 1) % 4;
-                }
+                scan_ring(
+                    &lp,
+                    id as u32,
+                    hemi,
+                    &ring,
+                    j,
+                    (start, len),
+                    best_t,
+                    best_id,
+                );
             }
             for k in 0..n {
                 let id = self.scratch.best_id[k];
@@ -796,6 +925,95 @@ impl SoftAccelerator<'_, '_> {
                     sink(j, k as u32, Some(self.resolve(id, t, origin, dir, want_uv)));
                 }
             }
+        }
+    }
+}
+
+#[cfg(not(target_os = "none"))]
+impl SoftAccelerator<'_, '_> {
+    /// [`SoftAccelerator::with_patch_major`]'s hemisphere: every patch above the horizon is set
+    /// up once and scanned over the rings it spans into a whole-hemisphere buffer, then the rays
+    /// are reported ring by ring as the ring scan reports them.
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "cast_rings' arguments, and the walk"
+    )]
+    fn scan_patch_major<F: FnMut(usize, u32, Option<Hit>) + ?Sized>(
+        &mut self,
+        walk: PatchMajor<'_>,
+        origin: Vec3,
+        rot: &Rotation,
+        hemi: &Hemisphere<'_>,
+        rings: Range<usize>,
+        want_uv: bool,
+        sink: &mut F,
+    ) {
+        let table = hemi.rings();
+        let Some(last) = rings.end.checked_sub(1).filter(|_| rings.start < rings.end) else {
+            return;
+        };
+        let from = ring_offset(&table[rings.start], rings.start);
+        let to = ring_offset(&table[last], last) + table[last].count as usize;
+        self.scratch.best_t[from..to].fill(f32::INFINITY);
+        self.scratch.best_id[from..to].fill(NO_HIT);
+        match walk.tree {
+            Some(tree) => tree.visit_above(origin, rot.apply(Vec3::Z), |id| {
+                self.scan_patch(id, origin, rot, hemi, rings.clone())
+            }),
+            None => (0..self.patches.len() as u32)
+                .for_each(|id| self.scan_patch(id, origin, rot, hemi, rings.clone())),
+        }
+        for j in rings {
+            let ring = table[j];
+            let at = ring_offset(&ring, j);
+            for k in 0..ring.count as usize {
+                let id = self.scratch.best_id[at + k];
+                if id == NO_HIT {
+                    sink(j, k as u32, None);
+                    continue;
+                }
+                let t = self.scratch.best_t[at + k];
+                let dir = if want_uv {
+                    rot.apply(hemi.direction(j, k as u32))
+                } else {
+                    Vec3::ZERO
+                };
+                sink(j, k as u32, Some(self.resolve(id, t, origin, dir, want_uv)));
+            }
+        }
+    }
+
+    /// One polygon's rays over `rings`, kept where nearer than what the buffer holds.
+    fn scan_patch(
+        &mut self,
+        id: u32,
+        origin: Vec3,
+        rot: &Rotation,
+        hemi: &Hemisphere<'_>,
+        rings: Range<usize>,
+    ) {
+        if id == self.origin_patch {
+            return;
+        }
+        let Some(Shape::Polygon(poly)) = self.patches.get(id as usize).map(|p| &p.shape) else {
+            return;
+        };
+        let lp = LocalPatch::setup(poly, origin, rot);
+        self.scratch.local[id as usize] = lp;
+        if !lp.active {
+            return;
+        }
+        let table = hemi.rings();
+        for j in lp.ring_span(table, rings) {
+            let ring = table[j];
+            let Some((start, len)) = lp.ring_interval(&ring, j) else {
+                continue;
+            };
+            let at = ring_offset(&ring, j);
+            let n = ring.count as usize;
+            let best_t = &mut self.scratch.best_t[at..at + n];
+            let best_id = &mut self.scratch.best_id[at..at + n];
+            scan_ring(&lp, id, hemi, &ring, j, (start, len), best_t, best_id);
         }
     }
 }

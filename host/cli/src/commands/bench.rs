@@ -46,6 +46,10 @@ pub enum BenchCommand {
     /// Pass-1 hemisphere rays per second of the soft backend on SCENE, on 1 thread and on all,
     /// printed as one machine-readable line per run.
     Rays(RaysBench),
+    /// Pass 1 against the patch count: the Cornell box with its quads cut n × n and a closed
+    /// room holding a tessellated sphere, generated, written as scene files (--write-dir) and
+    /// ray files for the Embree comparison (--rays-dir), and timed: a markdown table.
+    Scale(ScaleBench),
 }
 
 /// Runs `hemi bench …`, writing the tables to `out`, with a spinner on stderr that shows the
@@ -81,6 +85,7 @@ fn dispatch(command: BenchCommand, out: &mut impl Write) -> Result<()> {
             hemi_bench::quality::bench_quality(&load(&b.scene)?, &label, out)
         }
         BenchCommand::Rays(b) => b.run(out),
+        BenchCommand::Scale(b) => b.run(out),
     }
 }
 
@@ -376,6 +381,135 @@ impl RaysBench {
         hemi_bench::rays::rays_per_second(&scene, &label, &settings, self.repeat, out)?;
         if self.per_ray {
             hemi_bench::rays::rays_per_second_per_ray(&scene, &label, &settings, out)?;
+        }
+        Ok(())
+    }
+}
+
+/// Pass 1 against the patch count on generated scenes (docs/PERFORMANCE.md, "Pass 1 at
+/// scale").
+#[derive(Args)]
+pub struct ScaleBench {
+    /// The scene whose quads are cut n × n.
+    #[arg(long, default_value = "scenes/cornell.toml")]
+    base: PathBuf,
+    /// Comma-separated n of the cut boxes (19 n² patches); empty for none.
+    #[arg(long, default_value = "1,2,4,8,16")]
+    cuts: String,
+    /// Comma-separated triangle counts of the spheres in the closed room; empty for none.
+    #[arg(long, default_value = "10000")]
+    rooms: String,
+    /// Hemisphere circles R.
+    #[arg(long, default_value_t = 64)]
+    circles: u32,
+    /// K for every scene [default: 8/n on the cut boxes, 1 in the room].
+    #[arg(long)]
+    samples: Option<u32>,
+    /// Write each scene's TOML into this folder.
+    #[arg(long, value_name = "DIR")]
+    write_dir: Option<PathBuf>,
+    /// Write each scene's ray file (`scripts/embree-bench/`) into this folder.
+    #[arg(long, value_name = "DIR")]
+    rays_dir: Option<PathBuf>,
+    /// Only write the files; do not run pass 1.
+    #[arg(long)]
+    no_run: bool,
+    /// Also cast each scene's rays through this Embree program (built by
+    /// host/bench/embree/build.sh), right after hemi's pass 1, on as many threads.
+    #[arg(long, value_name = "PROGRAM")]
+    embree: Option<PathBuf>,
+    /// Write the chart scale-hemisphere.svg (one hemisphere's time against the patch count)
+    /// into this folder.
+    #[arg(long, value_name = "DIR")]
+    svg_dir: Option<PathBuf>,
+}
+
+impl ScaleBench {
+    fn run(self, out: &mut impl Write) -> Result<()> {
+        use hemi_bench::scale::{self, ScaleScene};
+        let opt = |name: &str, s: &str| -> Result<Vec<usize>> {
+            if s.trim().is_empty() {
+                return Ok(Vec::new());
+            }
+            list(name, s)
+        };
+        let mut scenes: Vec<ScaleScene> = opt("--cuts", &self.cuts)?
+            .into_iter()
+            .map(ScaleScene::Subdivided)
+            .collect();
+        scenes.extend(
+            opt("--rooms", &self.rooms)?
+                .into_iter()
+                .map(ScaleScene::Room),
+        );
+        anyhow::ensure!(
+            scenes
+                .iter()
+                .all(|s| !matches!(s, ScaleScene::Room(t) if !(20..=2_000_000).contains(t))),
+            "--rooms: sphere triangle counts must be between 20 and 2000000"
+        );
+        anyhow::ensure!(
+            (2..=1024).contains(&self.circles)
+                && self.samples.is_none_or(|k| (1..=256).contains(&k)),
+            "--circles must be between 2 and 1024 and --samples between 1 and 256"
+        );
+        let cuts = scenes
+            .iter()
+            .any(|s| matches!(s, ScaleScene::Subdivided(_)));
+        let base = if cuts { Some(load(&self.base)?) } else { None };
+        if !self.no_run {
+            scale::header(out, self.embree.is_some())?;
+        }
+        let rays_dir = match (&self.rays_dir, &self.embree) {
+            (Some(d), _) => Some(d.clone()),
+            (None, Some(_)) => Some(std::env::temp_dir().join("hemi-scale-rays")),
+            (None, None) => None,
+        };
+        let mut points = Vec::new();
+        for s in scenes {
+            let name = s.name();
+            let text = s.toml(base.as_ref())?;
+            let file = format!("{name}.toml");
+            if let Some(dir) = &self.write_dir {
+                std::fs::create_dir_all(dir)?;
+                std::fs::write(dir.join(&file), &text)?;
+            }
+            let scene = hemi::scene::parse(&text, &file)?;
+            let settings = Pass1Settings {
+                circles: self.circles,
+                samples: self.samples.unwrap_or(s.default_samples()),
+                ..Pass1Settings::default()
+            };
+            let rays_file = rays_dir.as_ref().map(|d| d.join(format!("{name}.rays")));
+            if let (Some(dir), Some(file)) = (&rays_dir, &rays_file) {
+                std::fs::create_dir_all(dir)?;
+                scale::write_rays(&scene, &settings, file)?;
+            }
+            if self.no_run {
+                continue;
+            }
+            let hemispheres: usize = (0..scene.patches.len())
+                .map(|i| hemi::shots::sample_count(&scene, i, settings.samples))
+                .sum();
+            let rays = hemi_kernel::hemisphere::ray_count(settings.circles);
+            let bar = crate::progress::bar_of_rays(hemispheres as u64, &name, rays.into());
+            let run = scale::measure(&scene, &settings, &|n| bar.inc(n))?;
+            bar.finish_and_clear();
+            let embree = match (&self.embree, &rays_file) {
+                (Some(program), Some(file)) => {
+                    let threads = rayon::current_num_threads();
+                    Some(scale::run_embree(program, file, threads)?)
+                }
+                _ => None,
+            };
+            scale::row(out, &name, &settings, &run, embree.as_ref())?;
+            let per = |s: f64| s / run.hemispheres.max(1) as f64 * 1e6;
+            let embree_us = embree.map(|e| per(e.seconds));
+            points.push((s.family(), run.patches, per(run.seconds), embree_us));
+        }
+        if let (Some(dir), false) = (&self.svg_dir, points.is_empty()) {
+            std::fs::create_dir_all(dir)?;
+            std::fs::write(dir.join("scale-hemisphere.svg"), scale::chart(&points))?;
         }
         Ok(())
     }

@@ -29,9 +29,12 @@ pub fn run(args: FormFactorsArgs, out: &mut impl Write) -> Result<()> {
             .iter()
             .map(|p| serde_json::json!({"name": p.name, "area": p.area}))
             .collect();
-        let json = serde_json::json!({"patches": patches, "matrix": ff.matrix});
-        serde_json::to_writer(&mut *out, &json)?;
-        writeln!(out)?;
+        // {"matrix": […], "patches": […]}, the matrix streamed row by row (no dense copy)
+        write!(out, "{{\"matrix\":")?;
+        serde_json::to_writer(&mut *out, &ff.matrix)?;
+        write!(out, ",\"patches\":")?;
+        serde_json::to_writer(&mut *out, &patches)?;
+        writeln!(out, "}}")?;
     } else {
         for (i, p) in scene.patches.iter().enumerate() {
             let sum: f64 = ff.matrix[i].iter().sum();

@@ -319,8 +319,8 @@ impl<'a> Refinement<'a> {
         let rows = self.levels.iter().flatten().flat_map(|l| l.rows.iter());
         let matrix = patch_matrix(self.scene.patches.len(), rows);
         let channels: Channels<'_> = match &matrix.1 {
-            Some(t) => [&t[0][..], &t[1][..], &t[2][..]],
-            None => [&matrix.0[..]; 3],
+            Some(t) => [&t[0], &t[1], &t[2]],
+            None => [&matrix.0; 3],
         };
         let parts = SceneParts::new(self.scene, channels);
         let system = parts.system(channels)?;

@@ -14,6 +14,7 @@ use hemi_kernel::accel::{Accelerator, Hit, Ray};
 use hemi_kernel::camera::Camera;
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::OwnedHemisphere;
+use hemi_kernel::optics::Optics;
 use hemi_kernel::patch::Patch;
 use hemi_kernel::pixels::trace_pixels;
 use hemi_kernel::rotation::spin_for_sample;
@@ -78,9 +79,12 @@ impl<'s, E: Engines> InProcess<'s, E> {
     }
 
     /// One shot's row over the form-factor columns, sparse and in scene indices.
+    /// One shot's element row; `optics` is the view of `self.optics`, made once per request
+    /// (making it checks every patch's surface, which per shot was O(P) per hemisphere).
     fn shoot_one(
         &self,
         state: &mut (E::Engine<'_>, Vec<[f32; 3]>, Scratch, Shooter),
+        optics: &Optics<'_>,
         shot: &Shot,
     ) -> Result<(ElementRow, ShotStats)> {
         let (engine, row, scratch, shooter) = state;
@@ -88,7 +92,7 @@ impl<'s, E: Engines> InProcess<'s, E> {
         let stats = shooter.shoot(
             engine,
             &self.hemi.view(),
-            &self.optics.view(),
+            optics,
             &mut scratch.view(),
             &shot.point,
             shot.cell.q(),
@@ -242,7 +246,7 @@ impl<E: Engines> Backend for InProcess<'_, E> {
                     (self.engine(), vec![[0.0f32; 3]; cols], scratch, shooter)
                 },
                 |state, shot| {
-                    let out = self.shoot_one(state, shot)?;
+                    let out = self.shoot_one(state, &optics, shot)?;
                     done(1);
                     Ok(out)
                 },

@@ -51,7 +51,7 @@ pub fn row_sums(system: &System<'_>) -> Diagnosis {
     let mut above = vec![false; n];
     for c in 0..3 {
         for (i, row) in system.f[c].iter().enumerate() {
-            let s: f64 = row.iter().sum();
+            let s = row.sum();
             d.max_row_sum = d.max_row_sum.max(s);
             d.max_reflected = d.max_reflected.max(system.rho[i][c] * s);
             if s > 1.0 + ROW_SLACK {
@@ -83,12 +83,7 @@ pub fn diagnose(system: &System<'_>) -> Diagnosis {
     }
     for &c in channels {
         let m = |i: usize, x: &[f64]| -> f64 {
-            system.rho[i][c]
-                * system.f[c][i]
-                    .iter()
-                    .zip(x)
-                    .map(|(f, x)| f * x)
-                    .sum::<f64>()
+            system.rho[i][c] * system.f[c][i].entries().map(|(j, f)| f * x[j]).sum::<f64>()
         };
         let mut x = vec![1.0f64; n];
         let mut y = vec![0.0f64; n];
@@ -145,7 +140,7 @@ mod tests {
     #[test]
     fn bipartite_pair_converges() {
         // two opposed patches seeing each other by 0.2: eigenvalues ±ρ·0.2
-        let f = vec![vec![0.0, 0.2], vec![0.2, 0.0]];
+        let f = vec![vec![0.0, 0.2], vec![0.2, 0.0]].into();
         let rho = vec![[0.5; 3]; 2];
         let e = vec![[1.0; 3]; 2];
         let d = diagnose(&System::new(grey(&f), &rho, &e).unwrap());

@@ -41,10 +41,12 @@ pub fn solve(system: &System<'_>) -> Result<Solution> {
     };
     for cs in groups {
         let c0 = cs[0];
-        let a = Mat::<f64>::from_fn(n, n, |i, j| {
-            let d = if i == j { 1.0 } else { 0.0 };
-            d - system.rho[i][c0] * system.f[c0][i][j]
-        });
+        let mut a = Mat::<f64>::identity(n, n);
+        for (i, row) in system.f[c0].iter().enumerate() {
+            for (j, fij) in row.entries() {
+                a[(i, j)] -= system.rho[i][c0] * fij;
+            }
+        }
         let lu = a.partial_piv_lu();
         let mut rhs = Mat::<f64>::from_fn(n, cs.len(), |i, k| system.e[i][cs[k]]);
         lu.solve_in_place(&mut rhs);
@@ -75,7 +77,7 @@ mod tests {
 
     #[test]
     fn two_patch_closed_form_per_channel() {
-        let f = vec![vec![0.0, 0.4], vec![0.3, 0.0]];
+        let f = vec![vec![0.0, 0.4], vec![0.3, 0.0]].into();
         let rho = vec![[0.5, 0.6, 0.7], [0.8, 0.1, 0.2]];
         let e = vec![[1.0, 2.0, 0.5], [0.0; 3]];
         let s = solve(&System::new(grey(&f), &rho, &e).unwrap()).unwrap();

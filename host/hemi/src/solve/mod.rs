@@ -237,14 +237,15 @@ mod tests {
     use super::*;
 
     /// A closed "furnace" of n patches that all see each other equally: F_ij = 1/(n−1), j ≠ i.
-    pub(crate) fn furnace(n: usize, scale: f64) -> Vec<Vec<f64>> {
-        (0..n)
+    pub(crate) fn furnace(n: usize, scale: f64) -> crate::matrix::FormMatrix {
+        let dense: Vec<Vec<f64>> = (0..n)
             .map(|i| {
                 (0..n)
                     .map(|j| if i == j { 0.0 } else { scale / (n - 1) as f64 })
                     .collect()
             })
-            .collect()
+            .collect();
+        dense.into()
     }
 
     #[test]

@@ -157,7 +157,8 @@ mod tests {
             vec![0.0, 0.3, 0.2],
             vec![0.1, 0.0, 0.4],
             vec![0.25, 0.05, 0.0],
-        ];
+        ]
+        .into();
         let rho = vec![[0.7; 3], [0.5, 0.6, 0.4], [0.9; 3]];
         let e = vec![[1.0; 3], [0.0; 3], [0.2; 3]];
         let sys = System::new(grey(&f), &rho, &e).unwrap();

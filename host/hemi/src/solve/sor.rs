@@ -46,11 +46,9 @@ pub fn jacobi(system: &System<'_>, settings: &SolveSettings) -> Result<Solution>
             for c in 0..3 {
                 let row = &system.f[c][i];
                 let gathered: f64 = row
-                    .iter()
-                    .zip(&b)
-                    .enumerate()
+                    .entries()
                     .filter(|(j, _)| *j != i)
-                    .map(|(_, (f, bj))| f * bj[c])
+                    .map(|(j, f)| f * b[j][c])
                     .sum();
                 next[i][c] = (system.e[i][c] + system.rho[i][c] * gathered)
                     / (1.0 - system.rho[i][c] * row[i]);

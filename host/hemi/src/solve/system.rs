@@ -2,15 +2,17 @@
 //! one place ([`SceneParts`]), and the coupled form `B = E + K B` of a scene with translucent
 //! sheets, `K_s· = ρ_s F_s· + τ_s F_t·` with t the twin of side s (`scene::translucent`).
 
+use crate::matrix::{FormMatrix, Row};
 use crate::scene::{Material, Scene};
 use anyhow::Result;
 
-/// Form factors per channel: `f[c][i][j]`. Without coloured mirrors the three are one matrix
-/// ([`grey`]); with them, indirect form factors S_ij differ per channel (paper §3.3).
-pub type Channels<'a> = [&'a [Vec<f64>]; 3];
+/// Form factors per channel: `f[c][i][j]`, sparse rows ([`FormMatrix`]). Without coloured
+/// mirrors the three are one matrix ([`grey`]); with them, indirect form factors S_ij differ
+/// per channel (paper §3.3).
+pub type Channels<'a> = [&'a FormMatrix; 3];
 
 /// The same matrix for every channel.
-pub fn grey(f: &[Vec<f64>]) -> Channels<'_> {
+pub fn grey(f: &FormMatrix) -> Channels<'_> {
     [f, f, f]
 }
 
@@ -21,7 +23,7 @@ pub fn grey(f: &[Vec<f64>]) -> Channels<'_> {
 pub struct SceneParts {
     rho: Vec<[f64; 3]>,
     e: Vec<[f64; 3]>,
-    coupled: Option<[Vec<Vec<f64>>; 3]>,
+    coupled: Option<[FormMatrix; 3]>,
 }
 
 impl SceneParts {
@@ -39,7 +41,7 @@ impl SceneParts {
     /// parts were made with.
     pub fn system<'a>(&'a self, f: Channels<'a>) -> Result<System<'a>> {
         let f = match &self.coupled {
-            Some([r, g, b]) => [r.as_slice(), g.as_slice(), b.as_slice()],
+            Some([r, g, b]) => [r, g, b],
             None => f,
         };
         System::new(f, &self.rho, &self.e)
@@ -110,16 +112,16 @@ impl<'a> System<'a> {
 
     /// max |B − E − ρFB| / max |B| over patches and channels (the stopping rule of every
     /// iterative solver here, so their residuals compare).
+    #[expect(
+        clippy::needless_range_loop,
+        reason = "B is read at the row's columns and at i"
+    )]
     pub fn residual(&self, b: &[[f64; 3]]) -> f64 {
         let mut worst = 0.0f64;
         let mut scale = 0.0f64;
         for i in 0..b.len() {
             for c in 0..3 {
-                let gathered: f64 = self.f[c][i]
-                    .iter()
-                    .zip(b)
-                    .map(|(fij, bj)| fij * bj[c])
-                    .sum();
+                let gathered: f64 = self.f[c][i].entries().map(|(j, fij)| fij * b[j][c]).sum();
                 let r = b[i][c] - self.e[i][c] - self.rho[i][c] * gathered;
                 worst = worst.max(r.abs());
                 scale = scale.max(b[i][c].abs());
@@ -135,20 +137,22 @@ impl<'a> System<'a> {
     /// A copy of F (per channel) whose rows are scaled down to sum to at most 1, with the number
     /// of rows changed. A row of F is the fraction of the hemisphere that reaches something, so
     /// a sum above 1 is sampling error (pass 1's R and K), never light.
-    pub fn conserving(&self) -> ([Vec<Vec<f64>>; 3], usize) {
+    pub fn conserving(&self) -> ([FormMatrix; 3], usize) {
         let mut changed = 0;
         let out = self.f.map(|m| {
-            m.iter()
-                .map(|row| {
-                    let s: f64 = row.iter().sum();
-                    if s > 1.0 + ROW_SLACK {
-                        changed += 1;
-                        row.iter().map(|x| x / s).collect()
-                    } else {
-                        row.clone()
-                    }
-                })
-                .collect()
+            FormMatrix::from_rows(
+                m.iter()
+                    .map(|row| {
+                        let s = row.sum();
+                        if s > 1.0 + ROW_SLACK {
+                            changed += 1;
+                            row.map(|x| x / s)
+                        } else {
+                            row.clone()
+                        }
+                    })
+                    .collect(),
+            )
         });
         (out, changed)
     }
@@ -157,22 +161,37 @@ impl<'a> System<'a> {
 /// The coupled matrices `K_s· = ρ_s F_s· + τ_s F_twin(s)·` per channel, to be solved with a
 /// reflectance of 1 (see the module notes); `None` when no patch is translucent (the system is
 /// then the plain `B = E + ρFB`).
-pub fn coupled(scene: &Scene, f: Channels<'_>) -> Option<[Vec<Vec<f64>>; 3]> {
+pub fn coupled(scene: &Scene, f: Channels<'_>) -> Option<[FormMatrix; 3]> {
     if !scene.has_translucency() {
         return None;
     }
     let n = scene.patches.len();
     Some([0, 1, 2].map(|c| {
-        (0..n)
-            .map(|i| {
-                let m = scene.material_of(i);
-                let twin = scene.twin(i);
-                (0..n)
-                    .map(|j| coupled_entry(m, c, f[c][i][j], twin.map(|t| f[c][t][j])))
-                    .collect()
-            })
-            .collect()
+        FormMatrix::from_rows(
+            (0..n)
+                .map(|i| {
+                    let twin = scene.twin(i).map(|t| &f[c][t]);
+                    coupled_row(scene.material_of(i), c, &f[c][i], twin)
+                })
+                .collect(),
+        )
     }))
+}
+
+/// Row s of the coupled system in channel `c`: [`coupled_entry`] over every column that the
+/// side's own row or its twin's holds (elsewhere both are zero, and so is the entry).
+fn coupled_row(m: &Material, c: usize, own: &Row, twin: Option<&Row>) -> Row {
+    let mut cols: Vec<usize> = own.entries().map(|(j, _)| j).collect();
+    if let Some(t) = twin {
+        cols.extend(t.entries().map(|(j, _)| j));
+        cols.sort_unstable();
+        cols.dedup();
+    }
+    let entries = cols
+        .into_iter()
+        .map(|j| (j as u32, coupled_entry(m, c, own[j], twin.map(|t| t[j]))))
+        .collect();
+    Row::from_entries(own.len(), entries)
 }
 
 /// One entry of the coupled system in channel `c`, `K_sj = ρ_s F_sj + τ_s F_tj`, from side s's
