@@ -3,7 +3,7 @@
 //! progressive refinement with rows shot on demand.
 
 use crate::engine::{Engine, Running};
-use crate::options::{AdaptiveArgs, EngineArgs, QualityArgs, SamplingArgs, SolverArgs};
+use crate::options::{AdaptiveArgs, EngineArgs, LimitArgs, QualityArgs, SamplingArgs, SolverArgs};
 use crate::progress::bar;
 use anyhow::Result;
 use clap::Args;
@@ -32,6 +32,8 @@ pub struct RunArgs {
     pub quality: QualityArgs,
     #[command(flatten)]
     pub adaptive: AdaptiveArgs,
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 /// A run made ready: the scene loaded, the settings with `--quality` applied, the engine open.
@@ -52,8 +54,11 @@ impl RunArgs {
         let adaptive = self.adaptive.on();
         let choice = self.engine.check()?;
         let checked = self.sampling.settings(adaptive)?;
-        let mut scene = hemi::scene::load(&self.scene)?;
+        let mut scene = self.limits.load(&self.scene)?;
         let settings = self.quality.for_scene(checked, &scene, adaptive);
+        // the depth bound counts from the K that --quality chose
+        self.adaptive
+            .settings(self.quality.quality, settings.samples)?;
         check(&mut scene)?;
         let engine = choice.open(&self.engine.model, &self.engine.boards)?;
         Ok(Prepared {
@@ -203,7 +208,7 @@ pub fn solve(
 ) -> Result<Solved> {
     let scene = backend.get().scene();
     let t0 = std::time::Instant::now();
-    if solver.streaming(scene) {
+    if solver.streaming(scene)? {
         if field.is_some_and(|f| f.sweeps > 0) {
             eprintln!(
                 "element field: no gather sweeps with rows shot on demand (they sweep a stored \
@@ -212,7 +217,8 @@ pub fn solve(
         }
         return streaming(backend, adaptive.on(), solver, field.is_some());
     }
-    let (ff, sampled) = sample(backend, adaptive.settings(quality)?, board_stats)?;
+    let k = backend.get().settings().samples;
+    let (ff, sampled) = sample(backend, adaptive.settings(quality, k)?, board_stats)?;
     let t1 = std::time::Instant::now();
     let solution = solve_scene(scene, &ff, solver.solver.into())?;
     let grids = match field {
