@@ -280,9 +280,6 @@ pub struct QualityArgs {
     pub quality: Option<QualityArg>,
 }
 
-/// The deepest skeleton stack `--stack` may ask for (each entry is a frustum a worker keeps).
-const MAX_STACK: usize = 65536;
-
 /// Hemisphere, lattice, method and specular bounds: everything [`Pass1Settings`] holds.
 #[derive(Args, Clone, Debug)]
 pub struct SamplingArgs {
@@ -321,19 +318,6 @@ impl SamplingArgs {
         let samples = self.samples.unwrap_or(if adaptive { 2 } else { 16 });
         if !(1..=256).contains(&samples) {
             bail!("--samples must be between 1 and 256");
-        }
-        let threshold = self.specular_threshold;
-        if !(0.0..1.0).contains(&threshold) {
-            bail!(
-                "--specular-threshold {threshold}: must be a fraction of the primary ray, at least 0 \
-                 and below 1"
-            );
-        }
-        if !(1..=MAX_STACK).contains(&self.stack) {
-            bail!(
-                "--stack {}: the skeleton stack holds between 1 and {MAX_STACK} frustums",
-                self.stack
-            );
         }
         Ok(Pass1Settings {
             circles: self.circles,

@@ -274,6 +274,25 @@ fn field_grids(
     Ok(f.grids)
 }
 
+/// Says on stderr how many reflecting patches shooting left unlit ([`hemi::on_demand::unreached`]),
+/// and why, when any were.
+fn warn_unreached(scene: &Scene, solution: &Solution, shooter: &RowShooter<'_>) {
+    let missed = hemi::on_demand::unreached(scene, solution);
+    if missed == 0 {
+        return;
+    }
+    let reflecting = (0..scene.patches.len())
+        .filter(|&i| scene.material_of(i).diffuse.iter().any(|r| *r > 0.0))
+        .count();
+    eprintln!(
+        "warning: progressive refinement left {missed} of {reflecting} reflecting patches at exactly \
+         0: a shot spreads a patch's energy only over what its own rays hit ({} rays a shot \
+         here), so smaller receivers are missed and those hit get too much. Raise --circles or \
+         --samples, or solve with the matrix (--solver gauss-seidel), where every patch gathers.",
+        shooter.rays / shooter.shot.max(1)
+    );
+}
+
 /// Progressive refinement with rows shot on demand (soft backend), and the grids from a second
 /// shot of every patch: no N×N matrix and no stored element rows.
 fn streaming(
@@ -307,13 +326,14 @@ fn streaming(
     bar.finish_and_clear();
     eprintln!(
         "progressive refinement: {} shots, {} rows shot ({} cached), {} rays, unshot residual \
-         {:.2e}",
+         {:.2e} (of the energy the shooters' rows carry)",
         solution.iterations,
         shooter.shot,
         cache.min(n),
         shooter.rays,
         solution.residual
     );
+    warn_unreached(backend.get().scene(), &solution, &shooter);
     let grids = if with_grids {
         grids_streaming(&mut shooter, &solution)?
     } else {

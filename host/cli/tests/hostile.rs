@@ -95,16 +95,24 @@ fn options_out_of_range_are_refused_with_the_option_named() {
     refused(
         "threshold",
         &["solve", "--specular-threshold", "NaN"],
-        &["--specular-threshold NaN: must be a fraction"],
+        &["--specular-threshold must be in (0, 1)"],
     );
     refused(
         "stack",
         &["solve", "--stack", "18446744073709551615"],
-        &["--stack 18446744073709551615: the skeleton stack holds between 1 and 65536"],
+        &["--stack must be between 1 and 4096 frames"],
     );
     refused(
         "eye",
-        &["render", "--eye", "0,1e39,0", "--look-at", "0,0,0", "--output", out],
+        &[
+            "render",
+            "--eye",
+            "0,1e39,0",
+            "--look-at",
+            "0,0,0",
+            "--output",
+            out,
+        ],
         &["--eye 0,1e39,0: component 1: 1e39 is beyond f32's range"],
     );
 }
@@ -249,5 +257,103 @@ fn names_that_break_output_or_clash_with_generated_ones_and_wrong_counts_are_ref
         !ok && err.contains("`bpt.path`: ")
             && err.contains("declares 1 patches but goes on after them"),
         "{err}"
+    );
+}
+
+/// A unit box of lossless glossy mirrors around a diffuse lamp floor.
+fn mirror_box() -> String {
+    let faces = [
+        ("bottom", "[[0,0,0],[1,0,0],[1,1,0],[0,1,0]]"),
+        ("top", "[[0,0,1],[0,1,1],[1,1,1],[1,0,1]]"),
+        ("x0", "[[0,0,0],[0,1,0],[0,1,1],[0,0,1]]"),
+        ("x1", "[[1,0,0],[1,0,1],[1,1,1],[1,1,0]]"),
+        ("y0", "[[0,0,0],[0,0,1],[1,0,1],[1,0,0]]"),
+        ("y1", "[[0,1,0],[1,1,0],[1,1,1],[0,1,1]]"),
+    ];
+    let mut s = String::from(
+        "[[material]]\nname = \"lamp\"\ndiffuse = [0.5, 0.5, 0.5]\nemission = [1, 1, 1]\n\
+         [[material]]\nname = \"mirror\"\ndiffuse = [0, 0, 0]\nspecular = [1, 1, 1]\n\
+         phong = 5\nfrustum = 20\n",
+    );
+    for (name, v) in faces {
+        let m = if name == "bottom" { "lamp" } else { "mirror" };
+        s.push_str(&format!(
+            "[[quad]]\nname = \"{name}\"\nmaterial = \"{m}\"\nvertices = {v}\n"
+        ));
+    }
+    s
+}
+
+#[test]
+fn a_specular_tree_stops_at_its_work_budget_and_says_what_it_cut() {
+    // without the budget this runs for minutes (Δ = 1e-6 with k = 1 bounds nothing)
+    let p = files("budget", &[("box.toml", &mirror_box())]);
+    let args = [
+        "form-factors",
+        &p,
+        "--specular-threshold",
+        "1e-6",
+        "--circles",
+        "4",
+    ];
+    let (ok, _, err) = run(&[&args[..], &["--samples", "1"]].concat(), b"");
+    assert!(ok, "{err}");
+    let at = err.find("cut past the work budget of 4096 frustums a primary ray (");
+    let cut: u64 = at
+        .and_then(|i| err[i..].split(['(', ')']).nth(1))
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(0);
+    assert!(cut > 0, "no frustums cut by the budget: {err}");
+}
+
+#[test]
+fn progressive_refinement_says_when_its_shots_missed_patches() {
+    // a 32 × 32 tiled floor under a small lamp, shot with few rays: most tiles get nothing
+    let mut s = String::from(
+        "[[material]]\nname = \"m\"\ndiffuse = [0.5, 0.5, 0.5]\n[[material]]\nname = \"lamp\"\n\
+         diffuse = [0, 0, 0]\nemission = [1, 1, 1]\n",
+    );
+    let n = 32;
+    for i in 0..n {
+        for j in 0..n {
+            let (a, b, c, d) = (
+                i as f64 / 32.0,
+                j as f64 / 32.0,
+                (i + 1) as f64 / 32.0,
+                (j + 1) as f64 / 32.0,
+            );
+            s.push_str(&format!(
+                "[[quad]]\nname = \"t{i}_{j}\"\nmaterial = \"m\"\n\
+                 vertices = [[{a},0,{b}],[{a},0,{d}],[{c},0,{d}],[{c},0,{b}]]\n"
+            ));
+        }
+    }
+    s.push_str(
+        "[[quad]]\nname = \"lamp\"\nmaterial = \"lamp\"\nvertices = [[0.375,1,0.375],\
+         [0.625,1,0.375],[0.625,1,0.625],[0.375,1,0.625]]\n",
+    );
+    let p = files("progressive", &[("floor.toml", &s)]);
+    let args = [
+        "solve",
+        &p,
+        "--solver",
+        "progressive",
+        "--circles",
+        "4",
+        "--samples",
+        "2",
+    ];
+    let (ok, out, err) = run(&args, b"");
+    assert!(ok, "{err}");
+    let black = out
+        .lines()
+        .filter(|l| l.ends_with("0.000000 0.000000 0.000000"))
+        .count();
+    assert!(black > 0, "{out}");
+    assert!(
+        err.contains(&format!(
+            "warning: progressive refinement left {black} of 1024 reflecting patches at exactly 0"
+        )),
+        "{black} black tiles, but: {err}"
     );
 }
