@@ -13,6 +13,15 @@ use std::cell::RefCell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
+/// The MTL keywords tobj reads as exactly three numbers (it panics on fewer).
+const MTL_TRIPLES: &[&str] = &["Ka", "Kd", "Ks", "Ke"];
+
+/// `text` with every line trimmed: tobj slices lines at fixed byte offsets after their
+/// keyword, which leading white space (multi-byte white space especially) would break.
+fn trimmed(text: &str) -> String {
+    text.lines().map(str::trim).collect::<Vec<_>>().join("\n")
+}
+
 /// The keywords whose arguments are numbers, in OBJ and MTL files.
 const OBJ_NUMBERS: &[&str] = &["v", "vt", "vn", "vp"];
 const MTL_NUMBERS: &[&str] = &["Ka", "Kd", "Ks", "Ke", "Kt", "Tf", "Ns", "Ni", "d", "Tr"];
@@ -33,6 +42,10 @@ pub fn scan_numbers(
             continue;
         }
         let at = |msg: String| format!("{file}:{}: `{key}`: {msg}", i + 1);
+        let count = tokens.clone().count();
+        if MTL_TRIPLES.contains(&key) && count < 3 {
+            return Err(at(format!("expected 3 numbers, found {count}")));
+        }
         for t in tokens {
             let Ok(x) = t.parse::<f64>() else { continue };
             if let Some(why) = not_f32(x) {
@@ -73,7 +86,7 @@ impl MtlLog {
         match checked {
             Ok((text, w)) => {
                 self.warnings.borrow_mut().extend(w);
-                tobj::load_mtl_buf(&mut text.as_bytes())
+                tobj::load_mtl_buf(&mut trimmed(&text).as_bytes())
             }
             Err(e) => {
                 self.error.borrow_mut().get_or_insert(e);
@@ -99,16 +112,28 @@ fn read(cx: &Ctx, o: &RawObj) -> Result<(Vec<tobj::Model>, Vec<tobj::Material>, 
         error: RefCell::new(None),
         warnings: RefCell::new(Vec::new()),
     };
-    let (models, mtls) = tobj::load_obj_buf(
-        &mut text.as_bytes(),
-        &tobj::LoadOptions {
-            triangulate: true,
-            single_index: false,
-            ..Default::default()
-        },
-        |p| log.load(p),
-    )
-    .map_err(|e| fail(format!("cannot load {}: {e}", path.display())))?;
+    let text = trimmed(&text);
+    // tobj is checked by the fuzz targets (fuzz/), but it is not our code: a panic left in it
+    // is still an error about this file, never a crash
+    let loaded = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        tobj::load_obj_buf(
+            &mut text.as_bytes(),
+            &tobj::LoadOptions {
+                triangulate: true,
+                single_index: false,
+                ..Default::default()
+            },
+            |p| log.load(p),
+        )
+    }))
+    .map_err(|_| {
+        fail(format!(
+            "{}: the OBJ reader (tobj) failed on it",
+            path.display()
+        ))
+    })?;
+    let (models, mtls) =
+        loaded.map_err(|e| fail(format!("cannot load {}: {e}", path.display())))?;
     if let Some(e) = log.error.into_inner() {
         return Err(fail(e));
     }
@@ -267,6 +292,8 @@ mod tests {
         assert!(w.len() == 1 && w[0].contains("clamped"), "{w:?}");
         let e = scan_numbers("Ke 1e300 0 0\n", "m.mtl", MTL_NUMBERS).unwrap_err();
         assert!(e.contains("beyond f32"), "{e}");
+        let e = scan_numbers("newmtl a\nKd 0.7\n", "m.mtl", MTL_NUMBERS).unwrap_err();
+        assert_eq!(e, "m.mtl:2: `Kd`: expected 3 numbers, found 1");
         let e = scan_numbers("Ke 1e20 0 0\n", "m.mtl", MTL_NUMBERS).unwrap_err();
         assert!(e.contains("emission hemi takes"), "{e}");
     }
