@@ -94,8 +94,9 @@ fn answer_rays<W: Write>(
     Ok(())
 }
 
-/// Input lines, numbered, each read into one bounded buffer.
-struct Lines<R> {
+/// Input lines, numbered, each read into one bounded buffer (crate-visible for the fuzz target,
+/// which compiles this module in).
+pub(crate) struct Lines<R> {
     input: R,
     n: usize,
     buf: Vec<u8>,
@@ -103,7 +104,7 @@ struct Lines<R> {
 }
 
 impl<R: BufRead> Lines<R> {
-    fn new(input: R, reach: Option<Reach>) -> Lines<R> {
+    pub(crate) fn new(input: R, reach: Option<Reach>) -> Lines<R> {
         Lines {
             input,
             n: 0,
@@ -113,7 +114,7 @@ impl<R: BufRead> Lines<R> {
     }
 
     /// The next record, skipping blank lines and comments; `None` at the end of the input.
-    fn next_record(&mut self) -> Option<Result<Record>> {
+    pub(crate) fn next_record(&mut self) -> Option<Result<Record>> {
         loop {
             self.buf.clear();
             self.n += 1;
