@@ -1,15 +1,34 @@
 //! Bicubic Bezier patches: `[[bezier]]` entries and `[[bpt]]` files in the common `.bpt` text
 //! format (the number of patches, then per patch its degrees "3 3" and 16 points "x y z").
 
+use super::ctx::Ctx;
 use super::file::read_text;
-use super::load::{Ctx, RawBpt};
 use super::range::{coordinate, not_f32, show, too_small};
 use super::{ScenePatch, Sides};
 use anyhow::Result;
 use hemi_kernel::geometry::{Bezier, Vec3};
 use hemi_kernel::patch::Shape;
 use hemi_kernel::sampling::bezier_area;
+use serde::Deserialize;
 use std::collections::HashMap;
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawBpt {
+    /// Path of the .bpt file, relative to the scene file.
+    pub(super) path: Spanned<String>,
+    /// Patches are named `<name>/<index>`.
+    pub(super) name: Spanned<String>,
+    pub(super) material: Spanned<String>,
+    #[serde(default)]
+    pub(super) scale: Option<Spanned<f64>>,
+    #[serde(default)]
+    pub(super) translate: Option<Spanned<Vec<f64>>>,
+    /// Swap u and v, turning every patch's front side over (for files whose patches face inward).
+    #[serde(default)]
+    pub(super) flip: bool,
+}
 
 /// Why a Bezier patch was not made.
 pub enum Reject {

@@ -1,6 +1,7 @@
 //! Scenes: materials, patches and the camera, validated and ready for the kernel.
 
 mod bpt;
+mod ctx;
 mod file;
 mod load;
 mod obj;

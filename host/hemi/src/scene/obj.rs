@@ -2,16 +2,33 @@
 //! has first read within the size budget and scanned line by line, so that a bad number is
 //! refused with its file and line (tobj reports neither, and reads NaN as a colour).
 
+use super::ctx::Ctx;
 use super::file::read_text;
-use super::load::{Ctx, RawObj};
 use super::range::{coordinate, not_f32, safe_name, too_small, EMISSION_LIMIT};
 use super::{Material, ScenePatch, Sides};
 use anyhow::Result;
 use hemi_kernel::geometry::{Polygon, Vec3};
 use hemi_kernel::patch::Shape;
+use serde::Deserialize;
 use std::cell::RefCell;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use toml::Spanned;
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(super) struct RawObj {
+    /// Path of the .obj file, relative to the scene file.
+    pub(super) path: Spanned<String>,
+    /// A scene material for every face (else the MTL's materials).
+    #[serde(default)]
+    pub(super) material: Option<Spanned<String>>,
+    /// Uniform scale applied to the mesh, then `translate`.
+    #[serde(default)]
+    pub(super) scale: Option<Spanned<f64>>,
+    #[serde(default)]
+    pub(super) translate: Option<Spanned<Vec<f64>>>,
+}
 
 /// The MTL keywords tobj reads as exactly three numbers (it panics on fewer).
 const MTL_TRIPLES: &[&str] = &["Ka", "Kd", "Ks", "Ke"];
