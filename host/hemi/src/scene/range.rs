@@ -110,7 +110,9 @@ pub fn coordinate(x: f64) -> Result<f32, String> {
 /// Whether a patch `size` across, whose vertices reach `magnitude` from the origin, is too small
 /// for f32; the reason if so.
 pub fn too_small(size: f64, magnitude: f64) -> Option<String> {
-    if size < MIN_SIZE {
+    if size == 0.0 {
+        Some("is degenerate: zero area (all its points coincide)".into())
+    } else if size < MIN_SIZE {
         Some(format!(
             "is {size:.3e} across, below the {MIN_SIZE:e} hemi takes (its area and form factors \
              would underflow f32)"
@@ -187,6 +189,9 @@ mod tests {
             .starts_with("1e39 is beyond f32's range"));
         assert_eq!(coordinate(-2.5), Ok(-2.5));
         assert!(too_small(1e-12, 1.0).unwrap().contains("underflow"));
+        assert!(too_small(0.0, 1.0)
+            .unwrap()
+            .contains("degenerate: zero area"));
         assert!(too_small(1e-3, 1e4).unwrap().contains("millionth"));
         assert!(too_small(1.0, 1e4).is_none());
     }
