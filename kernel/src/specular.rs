@@ -20,6 +20,13 @@
 //! shot per primary ray, however the mirrors are arranged. A depth limit bounds the bounces of
 //! one path (§5), and the stack's capacity the frustums waiting; a frustum cut by either is
 //! counted with the weight it carried, never a panic.
+//!
+//! **The work budget.** With lossless mirrors (k = 1) that bound is infinite, and only the depth
+//! limit holds the tree to about max_bounces/Δ frustums: at Δ = 10⁻⁶ a box of glossy mirrors
+//! runs for minutes. So one primary ray's tree shoots at most [`TREE_BUDGET`] frustums; what is
+//! still waiting then is cut and counted (`over_budget`, with its weight) like any other cut.
+//! At the default Δ the bound is 24/0.01 = 2400 frustums, below the budget, so default runs are
+//! unchanged.
 
 use crate::accel::{Accelerator, Hit, Ray};
 use crate::geometry::Vec3;
@@ -31,6 +38,10 @@ use crate::skeleton::{Frame, Skeleton};
 /// Δ of §6.5 when the caller has no better idea: frustums carrying less than 1 % of their
 /// primary ray are not shot.
 pub const DEFAULT_THRESHOLD: f32 = 0.01;
+
+/// The most frustums one primary ray's tree may shoot (see the module's doc, "the work
+/// budget").
+pub const TREE_BUDGET: u32 = 4096;
 
 /// What the specular transport of a run did. Weights are in the caller's units (form factor in
 /// pass 1, pixel fraction in pass 2), summed over primary rays.
@@ -56,6 +67,10 @@ pub struct SpecularStats {
     pub absorbed_weight: f64,
     /// Weight of frustum rays that left the scene or were blocked by a back side.
     pub escaped_weight: f64,
+    /// Frustums cut because their primary ray's tree had shot [`TREE_BUDGET`] frustums.
+    pub over_budget: u32,
+    /// Weight lost with them.
+    pub over_budget_weight: f64,
     /// The deepest the skeleton stack has been.
     pub high_water: u32,
     /// Extra hemisphere casts because the tracer's park of primary specular hits was full (the
@@ -75,6 +90,8 @@ impl core::ops::AddAssign for SpecularStats {
         self.overflow_weight += o.overflow_weight;
         self.absorbed_weight += o.absorbed_weight;
         self.escaped_weight += o.escaped_weight;
+        self.over_budget += o.over_budget;
+        self.over_budget_weight += o.over_budget_weight;
         self.high_water = self.high_water.max(o.high_water);
         self.recasts += o.recasts;
     }
@@ -156,8 +173,15 @@ impl Walker<'_, '_> {
         sink: &mut S,
     ) {
         self.spawn(origin + dir * hit.t, dir, hit, [1.0; 3], 0, scale);
+        let mut shot = 0u32;
         while let Some(f) = self.skeleton.top_mut().copied() {
             self.skeleton.pop();
+            if shot >= TREE_BUDGET {
+                self.stats.over_budget += 1;
+                self.stats.over_budget_weight += (max3(f.weight) * scale) as f64;
+                continue;
+            }
+            shot += 1;
             let lobe = f.lobe;
             // the side the rays must leave towards, in the frustum's own frame: one test per ray
             // on the stored direction, no rotation

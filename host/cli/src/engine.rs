@@ -79,6 +79,7 @@ impl Choice {
                     quiet: boards.quiet_boards,
                     qemu: boards.qemu.options()?,
                 };
+                model.check_cordic()?;
                 let farm = Farm::connect(&specs, options)?;
                 farm.set_cordic(model.cordic_iterations, model.cordic_width)?;
                 let accel = match boards.board_accel {
@@ -107,10 +108,7 @@ impl InProcessArgs {
 impl ModelArgs {
     /// The modelled accelerator of the `--cordic-*`, `--bezier-*` options, checked.
     fn config(&self) -> Result<ModelConfig> {
-        anyhow::ensure!(
-            self.clock_mhz > 0.0 && self.clock_mhz.is_finite(),
-            "--clock-mhz must be positive"
-        );
+        self.check_cordic()?;
         let subdiv = SubdivConfig {
             depth: self.bezier_depth,
             coord_width: self.bezier_width,

@@ -9,6 +9,7 @@
 //! Memory is bounded by the queue and the longest line, whatever the input's length.
 
 use anyhow::{bail, Context, Result};
+use hemi::scene::range::{not_f32, show, Reach};
 use hemi_kernel::geometry::Vec3;
 use std::io::{BufRead, Read, Write};
 use std::sync::mpsc;
@@ -34,16 +35,17 @@ pub enum Record {
 /// come: `answer` gets each run of rays (at most [`MAX_BATCH`]) and writes one line per ray to
 /// `out`; a [`Record::Flush`] is answered with the line `blank`. `out` is flushed after every
 /// batch. The first bad line ends the run with its error, after every line before it has been
-/// answered.
+/// answered; a ray from outside the scene's `reach` is a bad line.
 pub fn serve<W: Write>(
     input: impl BufRead + Send + 'static,
     out: &mut W,
     blank: &str,
+    reach: Reach,
     mut answer: impl FnMut(&[(Vec3, Vec3)], &mut W) -> Result<()>,
 ) -> Result<()> {
     let (tx, rx) = mpsc::sync_channel::<Result<Record>>(MAX_BATCH);
     std::thread::spawn(move || {
-        let mut lines = Lines::new(input);
+        let mut lines = Lines::new(input, Some(reach));
         while let Some(r) = lines.next_record() {
             let stop = r.is_err();
             if tx.send(r).is_err() || stop {
@@ -92,24 +94,27 @@ fn answer_rays<W: Write>(
     Ok(())
 }
 
-/// Input lines, numbered, each read into one bounded buffer.
-struct Lines<R> {
+/// Input lines, numbered, each read into one bounded buffer (crate-visible for the fuzz target,
+/// which compiles this module in).
+pub(crate) struct Lines<R> {
     input: R,
     n: usize,
     buf: Vec<u8>,
+    reach: Option<Reach>,
 }
 
 impl<R: BufRead> Lines<R> {
-    fn new(input: R) -> Lines<R> {
+    pub(crate) fn new(input: R, reach: Option<Reach>) -> Lines<R> {
         Lines {
             input,
             n: 0,
             buf: Vec::with_capacity(256),
+            reach,
         }
     }
 
     /// The next record, skipping blank lines and comments; `None` at the end of the input.
-    fn next_record(&mut self) -> Option<Result<Record>> {
+    pub(crate) fn next_record(&mut self) -> Option<Result<Record>> {
         loop {
             self.buf.clear();
             self.n += 1;
@@ -134,9 +139,21 @@ impl<R: BufRead> Lines<R> {
             };
             let line = line.trim();
             if !line.is_empty() && !line.starts_with('#') {
-                return Some(parse_record(line, n));
+                return Some(parse_record(line, n).and_then(|r| self.within_reach(r, n)));
             }
         }
+    }
+}
+
+impl<R> Lines<R> {
+    /// `record`, refused (for line `n`) if its origin is out of the scene's reach.
+    fn within_reach(&self, record: Record, n: usize) -> Result<Record> {
+        if let (Record::Ray(o, _), Some(reach)) = (record, self.reach) {
+            if let Some(why) = reach.check(o) {
+                bail!("line {n}: {why}");
+            }
+        }
+        Ok(record)
     }
 }
 
@@ -151,18 +168,25 @@ fn quote(line: &str) -> String {
 
 /// Parses one `x y z dx dy dz` line (line number `n`, for the error).
 fn parse_record(line: &str, n: usize) -> Result<Record> {
-    let v: Vec<f32> = line
+    let v: Vec<f64> = line
         .split_whitespace()
         .take(7)
-        .map(|t| t.parse::<f32>())
+        .map(|t| t.parse::<f64>())
         .collect::<Result<_, _>>()
         .with_context(|| format!("line {n}: expected `x y z dx dy dz`, got {}", quote(line)))?;
-    if v.len() != 6 || v.iter().any(|x| !x.is_finite()) {
+    if v.len() != 6 {
         bail!(
-            "line {n}: expected 6 finite numbers `x y z dx dy dz`, got {}",
+            "line {n}: expected 6 numbers `x y z dx dy dz`, got {}",
             quote(line)
         );
     }
+    const NAMES: [&str; 6] = ["x", "y", "z", "dx", "dy", "dz"];
+    for (x, name) in v.iter().zip(NAMES) {
+        if let Some(why) = not_f32(*x) {
+            bail!("line {n}: {name} = {} {why}, in {}", show(*x), quote(line));
+        }
+    }
+    let v: Vec<f32> = v.iter().map(|x| *x as f32).collect();
     let origin = Vec3::new(v[0], v[1], v[2]);
     let dir = Vec3::new(v[3], v[4], v[5]);
     if dir == Vec3::ZERO {
@@ -183,7 +207,7 @@ mod tests {
 
     /// The records of `text` up to and including the first error, as [`serve`] reads them.
     fn records(text: &str) -> Vec<Result<Record>> {
-        let mut lines = Lines::new(std::io::Cursor::new(text.as_bytes().to_vec()));
+        let mut lines = Lines::new(std::io::Cursor::new(text.as_bytes().to_vec()), None);
         let mut stopped = false;
         std::iter::from_fn(|| {
             let r = lines.next_record().filter(|_| !stopped)?;
@@ -191,6 +215,40 @@ mod tests {
             Some(r)
         })
         .collect()
+    }
+
+    /// A scene one unit across.
+    fn unit_square() -> hemi::scene::Scene {
+        let src = "[[material]]\nname = \"m\"\ndiffuse = [0.5, 0.5, 0.5]\n[[quad]]\nname = \"q\"\n\
+                   material = \"m\"\nvertices = [[0,0,0],[1,0,0],[1,1,0],[0,1,0]]\n";
+        hemi::scene::parse(src, "t.toml").unwrap()
+    }
+
+    #[test]
+    fn numbers_beyond_f32_and_points_beyond_its_precision_are_named() {
+        let e = records("0 0 0 0 1e39 1\n")[0]
+            .as_ref()
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("line 1: dy = 1e39 is beyond f32's range"),
+            "{e}"
+        );
+        let e = records("0 nan 0 0 0 1\n")[0]
+            .as_ref()
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("line 1: y = NaN is NaN"), "{e}");
+        let mut lines = Lines::new(
+            std::io::Cursor::new(b"0 50 0 0 -1 0\n0 1e12 0 0 -1 0\n".to_vec()),
+            Some(Reach::of(&unit_square())),
+        );
+        assert!(lines.next_record().unwrap().is_ok());
+        let e = lines.next_record().unwrap().unwrap_err().to_string();
+        assert!(
+            e.starts_with("line 2: the point (0, 1000000000000, 0)") && e.contains("f32"),
+            "{e}"
+        );
     }
 
     #[test]
@@ -229,7 +287,8 @@ mod tests {
             b"0 0 0 1 0 0\n0 0 0 0 0 0\n0 0 0 0 1 0\nbad\n0 0 0 1 0 0\n".to_vec(),
         );
         let mut out = Vec::new();
-        let err = serve(input, &mut out, "blank", |rays, out| {
+        let reach = Reach::of(&unit_square());
+        let err = serve(input, &mut out, "blank", reach, |rays, out| {
             for (_, d) in rays {
                 writeln!(out, "{} {} {}", d.x, d.y, d.z)?;
             }

@@ -173,6 +173,33 @@ pub struct ModelArgs {
     pub bezier_width: u32,
 }
 
+impl ModelArgs {
+    /// Refuses CORDIC settings the accelerator cannot be built with (its CONFIG fields would
+    /// otherwise wrap), naming both options and their ranges.
+    pub fn check_cordic(&self) -> Result<()> {
+        use hemi_hdl_model::cordic::{
+            CordicConfig, MAX_ITERATIONS, MAX_WIDTH, MIN_ITERATIONS, MIN_WIDTH,
+        };
+        let c = CordicConfig {
+            iterations: self.cordic_iterations,
+            width: self.cordic_width,
+        };
+        if !c.is_valid() {
+            bail!(
+                "--cordic-iterations {} --cordic-width {}: the accelerator takes \
+                 {MIN_ITERATIONS}..={MAX_ITERATIONS} iterations, widths {MIN_WIDTH}..={MAX_WIDTH} \
+                 bits, and at most width − 2 iterations",
+                c.iterations,
+                c.width
+            );
+        }
+        if !(self.clock_mhz > 0.0 && self.clock_mhz.is_finite()) {
+            bail!("--clock-mhz {}: must be a positive number", self.clock_mhz);
+        }
+        Ok(())
+    }
+}
+
 /// How boards are booted and driven (the environment variables are read here only; a flag's
 /// variable counts as set unless it is empty, 0, false, no or off).
 #[derive(Args, Clone, Debug, Default)]
@@ -330,6 +357,28 @@ impl QualityArgs {
     }
 }
 
+/// The finest lattice side adaptive sampling may reach, K·2^depth (a 2×2 guess at depth 8).
+const MAX_LATTICE: u64 = 512;
+
+/// The budget of reading a scene's files.
+#[derive(Args, Clone, Debug)]
+pub struct LimitArgs {
+    /// The largest file a scene may read (the TOML, and each OBJ, MTL and .bpt file), in MiB:
+    /// parsing the TOML takes about a hundred times its size.
+    #[arg(long, default_value_t = hemi::scene::DEFAULT_FILE_MIB, value_name = "MIB")]
+    pub max_file_mib: u64,
+}
+
+impl LimitArgs {
+    /// The scene at `path`, read within the limits.
+    pub fn load(&self, path: &std::path::Path) -> Result<Scene> {
+        let limits = hemi::scene::Limits {
+            file_bytes: self.max_file_mib.saturating_mul(1 << 20),
+        };
+        hemi::scene::load_with(path, &limits)
+    }
+}
+
 /// Adaptive patch sampling (paper §4).
 #[derive(Args, Clone, Debug)]
 pub struct AdaptiveArgs {
@@ -356,19 +405,31 @@ impl AdaptiveArgs {
 
     /// The settings when sampling adaptively ([`AdaptiveArgs::on`]), else `None` (uniform K×K); a `--quality` preset sets the
     /// margin and depth, as it sets R and K.
-    pub fn settings(&self, quality: Option<QualityArg>) -> Result<Option<AdaptiveSettings>> {
+    /// `k` is the initial K of the lattice, which the depth bound counts from.
+    pub fn settings(
+        &self,
+        quality: Option<QualityArg>,
+        k: u32,
+    ) -> Result<Option<AdaptiveSettings>> {
         if !self.on() {
             return Ok(None);
         }
         if !(self.margin >= 0.0 && self.margin.is_finite()) {
             bail!("--margin must be a finite number ≥ 0");
         }
-        if self.max_depth > 8 {
-            bail!("--max-depth must be at most 8 (a 2×2 guess becomes 512×512)");
-        }
         let (margin, max_depth) = quality.map_or((self.margin, self.max_depth), |q| {
             Quality::from(q).adaptive()
         });
+        let finest = u64::from(k.max(1)) << max_depth.min(32);
+        if finest > MAX_LATTICE {
+            let deepest = (MAX_LATTICE / u64::from(k.max(1))).max(1).ilog2();
+            bail!(
+                "--max-depth {max_depth} from --samples {k}: a patch could be refined to \
+                 {finest}×{finest} points, past the {MAX_LATTICE}×{MAX_LATTICE} adaptive \
+                 sampling keeps (its rows grow with the square); at K = {k} the depth is at most \
+                 {deepest}"
+            );
+        }
         Ok(Some(AdaptiveSettings {
             margin,
             max_depth,
@@ -392,13 +453,15 @@ pub struct SolverArgs {
 
 impl SolverArgs {
     /// Whether this run solves without a matrix: `--solver progressive`, or `auto` on a scene
-    /// whose N×N matrices would exceed `--matrix-mib` (said on stderr).
-    pub fn streaming(&self, scene: &Scene) -> bool {
+    /// whose N×N matrices would exceed `--matrix-mib` (said on stderr). An explicit solver
+    /// that needs the matrix is refused past `--matrix-mib`, before pass 1 allocates it.
+    pub fn streaming(&self, scene: &Scene) -> Result<bool> {
         let n = scene.patches.len() as u64;
-        let bytes = 3 * 8 * n * n;
-        match self.solver {
+        let bytes = matrix_bytes(scene);
+        let over = bytes > self.matrix_mib.saturating_mul(1 << 20);
+        Ok(match self.solver {
             SolverArg::Progressive => true,
-            SolverArg::Auto if bytes > self.matrix_mib << 20 => {
+            SolverArg::Auto if over => {
                 eprintln!(
                     "solver auto: {n} patches need {:.1} MiB of form factors (> --matrix-mib {}): \
                      progressive refinement with rows shot on demand",
@@ -407,9 +470,38 @@ impl SolverArgs {
                 );
                 true
             }
-            _ => false,
-        }
+            SolverArg::Auto => false,
+            explicit => {
+                let name = explicit
+                    .to_possible_value()
+                    .map(|v| v.get_name().to_string());
+                let what = format!("--solver {}", name.unwrap_or_default());
+                check_matrix(scene, self.matrix_mib, &what, "or --solver progressive, ")?;
+                false
+            }
+        })
     }
+}
+
+/// The bytes of a scene's N×N form-factor matrices (three f64 channels).
+pub fn matrix_bytes(scene: &Scene) -> u64 {
+    let n = scene.patches.len() as u64;
+    3u64.saturating_mul(8).saturating_mul(n).saturating_mul(n)
+}
+
+/// Refuses a run (`what`) whose N×N matrices exceed `matrix_mib`, naming the figure and the
+/// options (`alternative`, then `--matrix-mib`) that avoid it.
+pub fn check_matrix(scene: &Scene, matrix_mib: u64, what: &str, alternative: &str) -> Result<()> {
+    let bytes = matrix_bytes(scene);
+    if bytes > matrix_mib.saturating_mul(1 << 20) {
+        bail!(
+            "{what}: {} patches need {:.1} MiB of form factors, more than --matrix-mib {matrix_mib} \
+             ({alternative}a larger --matrix-mib)",
+            scene.patches.len(),
+            bytes as f64 / (1 << 20) as f64
+        );
+    }
+    Ok(())
 }
 
 /// The field at the elements ([`hemi::field`]): gather sweeps after the patch solve.
@@ -536,11 +628,16 @@ impl ViewArgs {
     pub fn camera(&self, scene: Option<&hemi::scene::Camera>) -> Result<hemi::scene::Camera> {
         let point = |option: &str, s: &Option<String>| -> Result<Option<Vec3>> {
             let Some(s) = s else { return Ok(None) };
-            let v: Vec<f32> = list(option, s)?;
-            if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
-                bail!("{option} {s}: expected three finite numbers X,Y,Z");
+            let v: Vec<f64> = list(option, s)?;
+            if v.len() != 3 {
+                bail!("{option} {s}: expected three numbers X,Y,Z");
             }
-            Ok(Some(Vec3::new(v[0], v[1], v[2])))
+            let mut p = [0.0f32; 3];
+            for (k, x) in v.iter().enumerate() {
+                p[k] = hemi::scene::range::coordinate(*x)
+                    .map_err(|e| anyhow::anyhow!("{option} {s}: component {k}: {e}"))?;
+            }
+            Ok(Some(Vec3::new(p[0], p[1], p[2])))
         };
         let (eye, look_at) = (
             point("--eye", &self.eye)?,

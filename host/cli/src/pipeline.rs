@@ -3,7 +3,7 @@
 //! progressive refinement with rows shot on demand.
 
 use crate::engine::{Engine, Running};
-use crate::options::{AdaptiveArgs, EngineArgs, QualityArgs, SamplingArgs, SolverArgs};
+use crate::options::{AdaptiveArgs, EngineArgs, LimitArgs, QualityArgs, SamplingArgs, SolverArgs};
 use crate::progress::{bar, bar_of_rays};
 use anyhow::Result;
 use clap::Args;
@@ -32,6 +32,8 @@ pub struct RunArgs {
     pub quality: QualityArgs,
     #[command(flatten)]
     pub adaptive: AdaptiveArgs,
+    #[command(flatten)]
+    pub limits: LimitArgs,
 }
 
 /// A run made ready: the scene loaded, the settings with `--quality` applied, the engine open.
@@ -52,8 +54,11 @@ impl RunArgs {
         let adaptive = self.adaptive.on();
         let choice = self.engine.check()?;
         let checked = self.sampling.settings(adaptive)?;
-        let mut scene = hemi::scene::load(&self.scene)?;
+        let mut scene = self.limits.load(&self.scene)?;
         let settings = self.quality.for_scene(checked, &scene, adaptive);
+        // the depth bound counts from the K that --quality chose
+        self.adaptive
+            .settings(self.quality.quality, settings.samples)?;
         check(&mut scene)?;
         let engine = choice.open(&self.engine.model, &self.engine.boards)?;
         Ok(Prepared {
@@ -204,7 +209,7 @@ pub fn solve(
 ) -> Result<Solved> {
     let scene = backend.get().scene();
     let t0 = std::time::Instant::now();
-    if solver.streaming(scene) {
+    if solver.streaming(scene)? {
         if field.is_some_and(|f| f.sweeps > 0) {
             eprintln!(
                 "element field: no gather sweeps with rows shot on demand (they sweep a stored \
@@ -213,7 +218,8 @@ pub fn solve(
         }
         return streaming(backend, adaptive.on(), solver, field.is_some());
     }
-    let (ff, sampled) = sample(backend, adaptive.settings(quality)?, board_stats)?;
+    let k = backend.get().settings().samples;
+    let (ff, sampled) = sample(backend, adaptive.settings(quality, k)?, board_stats)?;
     let t1 = std::time::Instant::now();
     let solution = solve_scene(scene, &ff, solver.solver.into())?;
     let (ff, solution, grids) = match field {
@@ -331,6 +337,25 @@ fn report_field(
     );
 }
 
+/// Says on stderr how many reflecting patches shooting left unlit ([`hemi::on_demand::unreached`]),
+/// and why, when any were.
+fn warn_unreached(scene: &Scene, solution: &Solution, shooter: &RowShooter<'_>) {
+    let missed = hemi::on_demand::unreached(scene, solution);
+    if missed == 0 {
+        return;
+    }
+    let reflecting = (0..scene.patches.len())
+        .filter(|&i| scene.material_of(i).diffuse.iter().any(|r| *r > 0.0))
+        .count();
+    eprintln!(
+        "warning: progressive refinement left {missed} of {reflecting} reflecting patches at exactly \
+         0: a shot spreads a patch's energy only over what its own rays hit ({} rays a shot \
+         here), so smaller receivers are missed and those hit get too much. Raise --circles or \
+         --samples, or solve with the matrix (--solver gauss-seidel), where every patch gathers.",
+        shooter.rays / shooter.shot.max(1)
+    );
+}
+
 /// Progressive refinement with rows shot on demand (soft backend), and the grids from a second
 /// shot of every patch: no N×N matrix and no stored element rows.
 fn streaming(
@@ -364,13 +389,14 @@ fn streaming(
     bar.finish_and_clear();
     eprintln!(
         "progressive refinement: {} shots, {} rows shot ({} cached), {} rays, unshot residual \
-         {:.2e}",
+         {:.2e} (of the energy the shooters' rows carry)",
         solution.iterations,
         shooter.shot,
         cache.min(n),
         shooter.rays,
         solution.residual
     );
+    warn_unreached(backend.get().scene(), &solution, &shooter);
     let grids = if with_grids {
         grids_streaming(&mut shooter, &solution)?
     } else {

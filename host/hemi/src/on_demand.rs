@@ -118,6 +118,22 @@ pub fn solve_streaming(
     progressive(&rho, &e, &areas, column, settings, on_shot)
 }
 
+/// The patches that reflect (ρ > 0 in some channel), emit nothing and ended with B exactly 0:
+/// what shooting missed. A shot spreads a patch's energy over the patches its own hemisphere's
+/// rays hit (F_ji = F_ij A_i / A_j from the shooter's row), so a receiver smaller than the
+/// spacing of those rays gets nothing, and the receivers hit get more than their share; a
+/// gathering solve, where every receiver casts its own hemisphere, does not miss them.
+pub fn unreached(scene: &Scene, sol: &Solution) -> usize {
+    (0..scene.patches.len())
+        .filter(|&i| {
+            let m = scene.material_of(i);
+            m.diffuse.iter().any(|r| *r > 0.0)
+                && m.emission.iter().all(|e| *e == 0.0)
+                && sol.radiosity[i] == [0.0; 3]
+        })
+        .count()
+}
+
 /// The vertex grids of [`crate::radiosity::grids`] without stored element rows: every patch's
 /// sample points are shot again and their element values (4.2) formed at once. A side of a
 /// translucent sheet adds what comes through it, over its twin's element at the same point: the

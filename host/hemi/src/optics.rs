@@ -215,7 +215,8 @@ pub fn describe(
     format!(
         "{label}: {} frustums, {} frustum rays; stack high-water {}/{} frames; per primary ray: \
          {:.2e} cut below Δ = {} ({} frustums), {:.2e} cut at {} bounces ({}), {:.2e} lost to a \
-         full stack ({}), {:.2e} absorbed by lobes, {:.2e} escaped",
+         full stack ({}), {:.2e} cut past the work budget of {} frustums a primary ray ({}), \
+         {:.2e} absorbed by lobes, {:.2e} escaped",
         s.frustums,
         s.rays,
         s.high_water,
@@ -228,6 +229,9 @@ pub fn describe(
         s.too_deep,
         per(s.overflow_weight),
         s.overflows,
+        per(s.over_budget_weight),
+        hemi_kernel::specular::TREE_BUDGET,
+        s.over_budget,
         per(s.absorbed_weight),
         per(s.escaped_weight),
     )

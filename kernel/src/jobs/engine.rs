@@ -101,6 +101,8 @@ const NO_SPECULAR: SpecularStats = SpecularStats {
     overflow_weight: 0.0,
     absorbed_weight: 0.0,
     escaped_weight: 0.0,
+    over_budget: 0,
+    over_budget_weight: 0.0,
     high_water: 0,
     recasts: 0,
 };
@@ -172,7 +174,10 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             below_threshold: s.below_threshold,
             too_deep: s.too_deep,
             overflows: s.overflows,
-            cut_weight: (s.cut_weight + s.too_deep_weight + s.overflow_weight) as f32,
+            cut_weight: (s.cut_weight
+                + s.too_deep_weight
+                + s.overflow_weight
+                + s.over_budget_weight) as f32,
             recasts: s.recasts,
             stack_high_water: s.high_water as u16,
             stack_frames: self.tracing().stack,

@@ -13,15 +13,23 @@ pub struct FormFactorsArgs {
     /// Print JSON: `{"patches": [{"name", "area"}…], "matrix": [[F_ij…]…]}`.
     #[arg(long)]
     json: bool,
+    /// Largest N×N form-factor matrix pass 1 may form, in MiB (three f64 channels).
+    #[arg(long, default_value_t = 4096, value_name = "MIB")]
+    matrix_mib: u64,
 }
 
 /// Runs `hemi form-factors`, writing to `out`.
 pub fn run(args: FormFactorsArgs, out: &mut impl Write) -> Result<()> {
-    let run = args.run.prepare(|_| Ok(()))?;
+    let run = args.run.prepare(|scene| {
+        crate::options::check_matrix(scene, args.matrix_mib, "form-factors", "")
+    })?;
     let (scene, settings) = (&run.scene, &run.settings);
     let backend = run.engine.backend(scene, settings)?;
     let stats = args.run.engine.boards.board_stats;
-    let adaptive = args.run.adaptive.settings(args.run.quality.quality)?;
+    let adaptive = args
+        .run
+        .adaptive
+        .settings(args.run.quality.quality, settings.samples)?;
     let (ff, _) = pipeline::sample(&backend, adaptive, stats)?;
     if args.json {
         let patches: Vec<_> = scene

@@ -70,7 +70,8 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
     };
     let stdin = std::io::BufReader::new(std::io::stdin());
     // a zero direction is rtrace's request for a flush, answered with a zero record
-    let answered = serve(stdin, out, &rgb([0.0; 3]), |rays, out| {
+    let reach = hemi::scene::range::Reach::of(backend.get().scene());
+    let answered = serve(stdin, out, &rgb([0.0; 3]), reach, |rays, out| {
         let queries: Vec<Query> = rays
             .iter()
             .map(|&(point, normal)| Query { point, normal })

@@ -50,6 +50,13 @@ pub fn run(args: RenderArgs, out: &mut impl Write) -> Result<()> {
         (1..=4096).contains(&args.spp),
         "--spp must be between 1 and 4096"
     );
+    if let Some(ev) = args.exposure {
+        anyhow::ensure!(
+            ev.abs() <= MAX_STOPS,
+            "--exposure {ev}: must be a number of stops between -{MAX_STOPS} and {MAX_STOPS} \
+             (2^{MAX_STOPS} already takes any radiosity f32 holds to white or black)"
+        );
+    }
     anyhow::ensure!(
         !args.show_samples || args.run.adaptive.on(),
         "--show-samples draws the points of adaptive sampling: add --adaptive"
@@ -105,6 +112,9 @@ pub fn run(args: RenderArgs, out: &mut impl Write) -> Result<()> {
     }
     Ok(())
 }
+
+/// The largest `--exposure`, in stops either way.
+const MAX_STOPS: f64 = 128.0;
 
 /// The exposure (given or automatic), the sample overlay of `--show-samples`, and the image
 /// files (or the PNG on `out`); returns the exposure.

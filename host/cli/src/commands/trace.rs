@@ -1,7 +1,7 @@
 //! `hemi trace`: the nearest hit of rays read from stdin.
 
 use crate::input::serve;
-use crate::options::InProcessArgs;
+use crate::options::{InProcessArgs, LimitArgs};
 use anyhow::Result;
 use clap::Args;
 use hemi::settings::Pass1Settings;
@@ -16,17 +16,20 @@ pub struct TraceArgs {
     scene: PathBuf,
     #[command(flatten)]
     engine: InProcessArgs,
+    #[command(flatten)]
+    limits: LimitArgs,
 }
 
 /// Runs `hemi trace`, writing to `out` each answer as soon as its line is read.
 pub fn run(args: TraceArgs, out: &mut impl Write) -> Result<()> {
     let engine = args.engine.open()?;
-    let scene = hemi::scene::load(&args.scene)?;
+    let scene = args.limits.load(&args.scene)?;
     // single rays need no hemisphere of the user's: the default one is only built
     let backend = engine.backend(&scene, &Pass1Settings::default())?;
     let stdin = std::io::BufReader::new(std::io::stdin());
     // a zero direction is rtrace's request for a flush: it has no hit
-    serve(stdin, out, "miss", |rays, out| {
+    let reach = hemi::scene::range::Reach::of(&scene);
+    serve(stdin, out, "miss", reach, |rays, out| {
         let rays: Vec<Ray> = rays
             .iter()
             .map(|&(origin, dir)| Ray { origin, dir })

@@ -1,13 +1,16 @@
 //! The TOML scene format of docs/scene-format.md. Every error names the file, the line and the key.
 
+use super::bpt::{bezier_patch, load_bpt, RawBpt, Reject};
+use super::ctx::Ctx;
+use super::file::{read_text, Limits};
+use super::obj::{load_obj, RawObj};
+use super::range::{coordinate, not_f32, show, too_small};
 use super::{Camera, Material, Scene, ScenePatch, Sides};
-use anyhow::{anyhow, bail, Context, Result};
-use hemi_kernel::geometry::{Bezier, Polygon, PolygonError, Vec3};
+use anyhow::{anyhow, bail, Result};
+use hemi_kernel::geometry::{Polygon, PolygonError, Vec3};
 use hemi_kernel::patch::Shape;
-use hemi_kernel::sampling::bezier_area;
 use serde::Deserialize;
 use std::collections::HashMap;
-use std::ops::Range;
 use std::path::Path;
 use toml::Spanned;
 
@@ -66,38 +69,6 @@ struct RawBezier {
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct RawBpt {
-    /// Path of the .bpt file, relative to the scene file.
-    path: Spanned<String>,
-    /// Patches are named `<name>/<index>`.
-    name: Spanned<String>,
-    material: Spanned<String>,
-    #[serde(default)]
-    scale: Option<Spanned<f64>>,
-    #[serde(default)]
-    translate: Option<Spanned<Vec<f64>>>,
-    /// Swap u and v, turning every patch's front side over (for files whose patches face inward).
-    #[serde(default)]
-    flip: bool,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawObj {
-    /// Path of the .obj file, relative to the scene file.
-    path: Spanned<String>,
-    /// A scene material for every face (else the MTL's materials).
-    #[serde(default)]
-    material: Option<Spanned<String>>,
-    /// Uniform scale applied to the mesh, then `translate`.
-    #[serde(default)]
-    scale: Option<Spanned<f64>>,
-    #[serde(default)]
-    translate: Option<Spanned<Vec<f64>>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
 struct RawCamera {
     eye: Spanned<Vec<f64>>,
     look_at: Spanned<Vec<f64>>,
@@ -107,363 +78,37 @@ struct RawCamera {
     height: Spanned<u32>,
 }
 
-/// Reads and validates the scene file at `path`.
+/// Reads and validates the scene file at `path`, within the default [`Limits`].
 pub fn load(path: &Path) -> Result<Scene> {
-    let src = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read scene file {}", path.display()))?;
-    parse(&src, &path.display().to_string())
+    load_with(path, &Limits::default())
 }
 
-struct Ctx<'a> {
-    src: &'a str,
-    file: &'a str,
+/// Reads and validates the scene file at `path`, refusing any file past `limits`.
+pub fn load_with(path: &Path, limits: &Limits) -> Result<Scene> {
+    let src = read_text(path, limits).map_err(|e| anyhow!("cannot read scene file: {e}"))?;
+    parse_with(&src, &path.display().to_string(), limits)
 }
 
-impl Ctx<'_> {
-    fn line(&self, span: Range<usize>) -> usize {
-        self.src[..span.start.min(self.src.len())]
-            .matches('\n')
-            .count()
-            + 1
-    }
-    fn err(&self, span: Range<usize>, key: &str, msg: impl std::fmt::Display) -> anyhow::Error {
-        anyhow!("{}:{}: `{}`: {}", self.file, self.line(span), key, msg)
-    }
-    fn rgb(&self, v: &Spanned<Vec<f64>>, key: &str, max: Option<f64>) -> Result<[f64; 3]> {
-        let a = self.vec3(v, key)?;
-        for x in a {
-            if x < 0.0 {
-                return Err(self.err(v.span(), key, "components must not be negative"));
-            }
-            if let Some(m) = max {
-                if x >= m {
-                    return Err(self.err(
-                        v.span(),
-                        key,
-                        format!("components must be below {m} (a reflectance of 1 or more creates energy)"),
-                    ));
-                }
-            }
-        }
-        Ok(a)
-    }
-    /// The optional `scale` (positive, default 1) and `translate` (default 0) of an imported
-    /// file's entry `kind`.
-    fn placement(
-        &self,
-        scale: &Option<Spanned<f64>>,
-        translate: &Option<Spanned<Vec<f64>>>,
-        kind: &str,
-    ) -> Result<(f64, [f64; 3])> {
-        let scale = match scale {
-            Some(s) if s.get_ref().is_finite() && *s.get_ref() > 0.0 => *s.get_ref(),
-            Some(s) => {
-                return Err(self.err(
-                    s.span(),
-                    &format!("{kind}.scale"),
-                    "must be a positive number",
-                ))
-            }
-            None => 1.0,
-        };
-        let translate = match translate {
-            Some(t) => self.vec3(t, &format!("{kind}.translate"))?,
-            None => [0.0; 3],
-        };
-        Ok((scale, translate))
-    }
-
-    fn vec3(&self, v: &Spanned<Vec<f64>>, key: &str) -> Result<[f64; 3]> {
-        let a = v.get_ref();
-        if a.len() != 3 {
-            return Err(self.err(
-                v.span(),
-                key,
-                format!("expected 3 numbers, found {}", a.len()),
-            ));
-        }
-        if a.iter().any(|x| !x.is_finite()) {
-            return Err(self.err(v.span(), key, "NaN or infinite value"));
-        }
-        Ok([a[0], a[1], a[2]])
-    }
-}
-
-fn v3(a: [f64; 3]) -> Vec3 {
-    Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32)
-}
-
-/// A Bezier scene patch from 16 control points (row-major, c along u), transformed; `None` when
-/// degenerate (zero area). `flip` swaps u and v, which turns the front side over.
-fn bezier_patch(
-    name: String,
-    material: usize,
-    cp: &[[f64; 3]],
-    scale: f64,
-    translate: [f64; 3],
-    flip: bool,
-) -> Option<ScenePatch> {
-    let mut pts = [Vec3::ZERO; 16];
-    for r in 0..4 {
-        for c in 0..4 {
-            let p = cp[4 * r + c];
-            let q = v3([0, 1, 2].map(|k| p[k] * scale + translate[k]));
-            pts[if flip { 4 * c + r } else { 4 * r + c }] = q;
-        }
-    }
-    let bez = Bezier::new(pts)?;
-    let area = bezier_area(&bez);
-    let size = bez.bounds().size();
-    if !(area.is_finite() && area > 1e-8 * size * size) {
-        return None;
-    }
-    Some(ScenePatch {
-        name,
-        material,
-        shape: Shape::Bezier(bez),
-        area,
-        sides: Sides::Opaque,
-    })
-}
-
-/// Reads the common `.bpt` text format: the number of patches, then per patch its degrees
-/// ("3 3") and 16 lines "x y z", row by row.
-pub fn parse_bpt(text: &str) -> std::result::Result<Vec<Vec<[f64; 3]>>, String> {
-    let mut nums = text.split_whitespace().map(|t| {
-        t.parse::<f64>()
-            .map_err(|_| format!("`{t}` is not a number"))
-    });
-    let mut next = |what: &str| {
-        nums.next()
-            .ok_or_else(|| format!("file ends before {what}"))?
-    };
-    let n = next("the patch count")?;
-    if !(n >= 0.0 && n.fract() == 0.0 && n < 1e6) {
-        return Err(format!("bad patch count {n}"));
-    }
-    let mut out = Vec::new();
-    for i in 0..n as usize {
-        let (du, dv) = (next("the degrees")?, next("the degrees")?);
-        if du != 3.0 || dv != 3.0 {
-            return Err(format!(
-                "patch {i}: degrees {du} {dv}; only bicubic (3 3) patches are supported"
-            ));
-        }
-        let mut cp = Vec::with_capacity(16);
-        for _ in 0..16 {
-            let p = [
-                next("a control point")?,
-                next("a control point")?,
-                next("a control point")?,
-            ];
-            if p.iter().any(|x| !x.is_finite()) {
-                return Err(format!("patch {i}: non-finite control point"));
-            }
-            cp.push(p);
-        }
-        out.push(cp);
-    }
-    Ok(out)
-}
-
-fn load_bpt(
-    cx: &Ctx,
-    b: &RawBpt,
-    by_name: &HashMap<String, usize>,
-    patches: &mut Vec<ScenePatch>,
-    names: &mut HashMap<String, ()>,
-) -> Result<()> {
-    let base = Path::new(cx.file).parent().unwrap_or(Path::new("."));
-    let path = base.join(b.path.get_ref());
-    let text = std::fs::read_to_string(&path).map_err(|e| {
-        cx.err(
-            b.path.span(),
-            "bpt.path",
-            format!("cannot read {}: {e}", path.display()),
-        )
-    })?;
-    let list = parse_bpt(&text).map_err(|e| {
-        cx.err(
-            b.path.span(),
-            "bpt.path",
-            format!("{}: {e}", path.display()),
-        )
-    })?;
-    let material = *by_name.get(b.material.get_ref()).ok_or_else(|| {
-        cx.err(
-            b.material.span(),
-            "bpt.material",
-            format!("unknown material `{}`", b.material.get_ref()),
-        )
-    })?;
-    let (scale, translate) = cx.placement(&b.scale, &b.translate, "bpt")?;
-    let mut skipped = 0;
-    for (i, cp) in list.iter().enumerate() {
-        let name = format!("{}/{i}", b.name.get_ref());
-        if names.insert(name.clone(), ()).is_some() {
-            return Err(cx.err(
-                b.name.span(),
-                "bpt.name",
-                format!("patch `{name}` defined twice"),
-            ));
-        }
-        match bezier_patch(name, material, cp, scale, translate, b.flip) {
-            Some(p) => patches.push(p),
-            None => skipped += 1,
-        }
-    }
-    if skipped > 0 {
-        eprintln!(
-            "{}: {}: skipped {skipped} degenerate patch(es) (zero area)",
-            cx.file,
-            path.display()
-        );
-    }
-    Ok(())
-}
-
-/// Appends the triangles of an OBJ mesh (with its MTL materials unless the entry names one).
-fn load_obj(
-    cx: &Ctx,
-    o: &RawObj,
-    materials: &mut Vec<Material>,
-    by_name: &mut HashMap<String, usize>,
-    patches: &mut Vec<ScenePatch>,
-    names: &mut HashMap<String, ()>,
-) -> Result<()> {
-    let base = Path::new(cx.file).parent().unwrap_or(Path::new("."));
-    let path = base.join(o.path.get_ref());
-    let (models, mtls) = tobj::load_obj(
-        &path,
-        &tobj::LoadOptions {
-            triangulate: true,
-            single_index: false,
-            ..Default::default()
-        },
-    )
-    .map_err(|e| {
-        cx.err(
-            o.path.span(),
-            "obj.path",
-            format!("cannot load {}: {e}", path.display()),
-        )
-    })?;
-    let (scale, translate) = cx.placement(&o.scale, &o.translate, "obj")?;
-    let fixed = match &o.material {
-        Some(m) => Some(*by_name.get(m.get_ref()).ok_or_else(|| {
-            cx.err(
-                m.span(),
-                "obj.material",
-                format!("unknown material `{}`", m.get_ref()),
-            )
-        })?),
-        None => None,
-    };
-    // MTL materials become scene materials named "<mtl name>" unless the scene defines that name.
-    let mtls = mtls.unwrap_or_default();
-    let mut mtl_index = Vec::with_capacity(mtls.len());
-    for m in &mtls {
-        let idx = match by_name.get(&m.name) {
-            Some(&i) => i,
-            None => {
-                let kd = m
-                    .diffuse
-                    .unwrap_or([0.8, 0.8, 0.8])
-                    .map(|x| (x as f64).clamp(0.0, 0.999));
-                let ke = m
-                    .emissive
-                    .map(|e| e.map(|x| x as f64))
-                    .filter(|e| e.iter().all(|x| x.is_finite() && *x >= 0.0))
-                    .unwrap_or([0.0; 3]);
-                materials.push(Material {
-                    name: m.name.clone(),
-                    diffuse: kd,
-                    emission: ke,
-                    specular: [0.0; 3],
-                    transmission: [0.0; 3],
-                    translucency: [0.0; 3],
-                    phong: 0.0,
-                    frustum_deg: None,
-                });
-                by_name.insert(m.name.clone(), materials.len() - 1);
-                materials.len() - 1
-            }
-        };
-        mtl_index.push(idx);
-    }
-    let default_material = match fixed {
-        Some(i) => i,
-        None => match by_name.get("default") {
-            Some(&i) => i,
-            None => {
-                materials.push(Material {
-                    name: "default".into(),
-                    diffuse: [0.8; 3],
-                    emission: [0.0; 3],
-                    specular: [0.0; 3],
-                    transmission: [0.0; 3],
-                    translucency: [0.0; 3],
-                    phong: 0.0,
-                    frustum_deg: None,
-                });
-                by_name.insert("default".into(), materials.len() - 1);
-                materials.len() - 1
-            }
-        },
-    };
-    let mut skipped = 0usize;
-    for model in &models {
-        let mesh = &model.mesh;
-        let material = fixed.unwrap_or_else(|| {
-            mesh.material_id
-                .and_then(|i| mtl_index.get(i).copied())
-                .unwrap_or(default_material)
-        });
-        let vert = |i: u32| {
-            let i = i as usize * 3;
-            Vec3::new(
-                (mesh.positions[i] as f64 * scale + translate[0]) as f32,
-                (mesh.positions[i + 1] as f64 * scale + translate[1]) as f32,
-                (mesh.positions[i + 2] as f64 * scale + translate[2]) as f32,
-            )
-        };
-        for (f, tri) in mesh.indices.chunks_exact(3).enumerate() {
-            match Polygon::triangle([vert(tri[0]), vert(tri[1]), vert(tri[2])]) {
-                Ok(polygon) => {
-                    let mut name = format!("{}/{f}", model.name);
-                    while names.insert(name.clone(), ()).is_some() {
-                        name.push('\'');
-                    }
-                    patches.push(ScenePatch {
-                        name,
-                        material,
-                        area: polygon.area,
-                        shape: Shape::Polygon(polygon),
-                        sides: Sides::Opaque,
-                    });
-                }
-                Err(_) => skipped += 1,
-            }
-        }
-    }
-    if skipped > 0 {
-        eprintln!(
-            "{}: {}: skipped {skipped} degenerate triangle(s) (zero area or non-finite)",
-            cx.file,
-            path.display()
-        );
-    }
-    Ok(())
-}
-
-/// Parses and validates scene text; `file` names it in errors.
+/// Parses and validates scene text; `file` names it in errors (within the default [`Limits`]
+/// for the files it includes).
 pub fn parse(src: &str, file: &str) -> Result<Scene> {
+    parse_with(src, file, &Limits::default())
+}
+
+/// Parses and validates scene text; `file` names it in errors, and `limits` bounds the files it
+/// includes.
+pub fn parse_with(src: &str, file: &str, limits: &Limits) -> Result<Scene> {
     let raw = read_toml(src, file)?;
-    let cx = Ctx { src, file };
+    let cx = Ctx {
+        src,
+        file,
+        limits: *limits,
+    };
     let mut by_name = HashMap::new();
     let mut materials = Vec::new();
     for m in &raw.material {
         let name = m.get_ref().name.get_ref().clone();
+        cx.check_name(&m.get_ref().name, "material.name")?;
         if by_name.insert(name.clone(), materials.len()).is_some() {
             return Err(cx.err(
                 m.get_ref().name.span(),
@@ -631,6 +276,22 @@ fn patches(
     Ok(patches)
 }
 
+/// A user's patch name, checked ([`bad_name`]) and claimed: a second patch of that name is
+/// refused.
+fn claim_name(
+    cx: &Ctx<'_>,
+    name: &Spanned<String>,
+    key: &str,
+    names: &mut HashMap<String, ()>,
+) -> Result<String> {
+    cx.check_name(name, key)?;
+    let n = name.get_ref().clone();
+    if names.insert(n.clone(), ()).is_some() {
+        return Err(cx.err(name.span(), key, format!("patch `{n}` defined twice")));
+    }
+    Ok(n)
+}
+
 /// One `[[bezier]]` patch, checked.
 fn bezier(
     cx: &Ctx<'_>,
@@ -638,47 +299,35 @@ fn bezier(
     by_name: &HashMap<String, usize>,
     names: &mut HashMap<String, ()>,
 ) -> Result<ScenePatch> {
-    let name = r.name.get_ref().clone();
-    if names.insert(name.clone(), ()).is_some() {
-        return Err(cx.err(
-            r.name.span(),
-            "bezier.name",
-            format!("patch `{name}` defined twice"),
-        ));
-    }
-    let material = *by_name.get(r.material.get_ref()).ok_or_else(|| {
-        cx.err(
-            r.material.span(),
-            "bezier.material",
-            format!("unknown material `{}`", r.material.get_ref()),
-        )
-    })?;
+    let name = claim_name(cx, &r.name, "bezier.name", names)?;
+    let material = cx.material_named(by_name, &r.material, "bezier.material")?;
     let pts = r.control_points.get_ref();
     let key = "bezier.control_points";
-    if pts.len() != 16
-        || pts
-            .iter()
-            .any(|p| p.len() != 3 || p.iter().any(|x| !x.is_finite()))
-    {
+    let at = r.control_points.span();
+    if pts.len() != 16 {
         return Err(cx.err(
-            r.control_points.span(),
+            at,
             key,
-            format!(
-                "a Bezier patch has 16 points of 3 finite numbers, found {} points",
-                pts.len()
-            ),
+            format!("a Bezier patch has 16 points, found {}", pts.len()),
         ));
     }
-    let cp: Vec<[f64; 3]> = pts.iter().map(|p| [p[0], p[1], p[2]]).collect();
-    let patch =
-        bezier_patch(name.clone(), material, &cp, 1.0, [0.0; 3], false).ok_or_else(|| {
-            cx.err(
-                r.control_points.span(),
-                key,
-                format!("patch `{name}` is degenerate: zero area"),
-            )
-        })?;
-    Ok(patch)
+    let mut cp = Vec::with_capacity(16);
+    for (i, p) in pts.iter().enumerate() {
+        if p.len() != 3 {
+            let e = format!("point {i} has {} numbers, not 3", p.len());
+            return Err(cx.err(at, key, e));
+        }
+        for x in p {
+            if let Some(why) = not_f32(*x) {
+                return Err(cx.err(at, key, format!("point {i}: {} {why}", show(*x))));
+            }
+        }
+        cp.push([p[0], p[1], p[2]]);
+    }
+    bezier_patch(name.clone(), material, &cp, 1.0, [0.0; 3], false).map_err(|e| match e {
+        Reject::Range(e) => cx.err(at, key, format!("patch `{name}`: {e}")),
+        Reject::Degenerate(why) => cx.err(at, key, format!("patch `{name}` {why}")),
+    })
 }
 
 /// One `[[quad]]` (n = 4) or `[[triangle]]` (n = 3), checked.
@@ -690,40 +339,38 @@ fn polygon(
     by_name: &HashMap<String, usize>,
     names: &mut HashMap<String, ()>,
 ) -> Result<ScenePatch> {
-    let name = r.name.get_ref().clone();
-    if names.insert(name.clone(), ()).is_some() {
-        return Err(cx.err(
-            r.name.span(),
-            &format!("{kind}.name"),
-            format!("patch `{name}` defined twice"),
-        ));
-    }
-    let material = *by_name.get(r.material.get_ref()).ok_or_else(|| {
-        cx.err(
-            r.material.span(),
-            &format!("{kind}.material"),
-            format!("unknown material `{}`", r.material.get_ref()),
-        )
-    })?;
+    let name = claim_name(cx, &r.name, &format!("{kind}.name"), names)?;
+    let material = cx.material_named(by_name, &r.material, &format!("{kind}.material"))?;
     let key = format!("{kind}.vertices");
     let verts = r.vertices.get_ref();
+    let at = r.vertices.span();
     if verts.len() != n {
         return Err(cx.err(
-            r.vertices.span(),
+            at,
             &key,
             format!("a {kind} has {n} vertices, found {}", verts.len()),
         ));
     }
-    let mut pts = [Vec3::ZERO; 4];
+    let (mut pts, mut reach, mut size) = ([Vec3::ZERO; 4], 0.0f64, 0.0f64);
     for (i, v) in verts.iter().enumerate() {
-        if v.len() != 3 || v.iter().any(|x| !x.is_finite()) {
-            return Err(cx.err(
-                r.vertices.span(),
-                &key,
-                format!("vertex {i} must be 3 finite numbers"),
-            ));
+        if v.len() != 3 {
+            let e = format!("vertex {i} has {} numbers, not 3", v.len());
+            return Err(cx.err(at, &key, e));
         }
-        pts[i] = v3([v[0], v[1], v[2]]);
+        let mut c = [0.0f32; 3];
+        for k in 0..3 {
+            c[k] = coordinate(v[k])
+                .map_err(|e| cx.err(at.clone(), &key, format!("vertex {i}: {e}")))?;
+            reach = reach.max(v[k].abs());
+        }
+        pts[i] = Vec3::new(c[0], c[1], c[2]);
+        for w in &verts[..i] {
+            let d = (0..3).map(|k| (v[k] - w[k]).powi(2)).sum::<f64>().sqrt();
+            size = size.max(d);
+        }
+    }
+    if let Some(why) = too_small(size, reach) {
+        return Err(cx.err(at, &key, format!("patch `{name}` {why}")));
     }
     let polygon = if n == 4 {
         Polygon::quad(pts)
@@ -739,7 +386,7 @@ fn polygon(
             }
             PolygonError::NotConvex => "is not convex, or its vertices are not in order around it",
         };
-        cx.err(r.vertices.span(), &key, format!("patch `{name}` {why}"))
+        cx.err(at, &key, format!("patch `{name}` {why}"))
     })?;
     Ok(ScenePatch {
         name,
@@ -757,7 +404,7 @@ fn camera(cx: &Ctx<'_>, c: &RawCamera) -> Result<Camera> {
         return Err(cx.err(
             c.fov_y_deg.span(),
             "camera.fov_y_deg",
-            "must be between 0 and 180",
+            format!("{} is not between 0 and 180", show(fov)),
         ));
     }
     for (w, key) in [(&c.width, "camera.width"), (&c.height, "camera.height")] {
@@ -765,21 +412,22 @@ fn camera(cx: &Ctx<'_>, c: &RawCamera) -> Result<Camera> {
             return Err(cx.err(w.span(), key, "must be between 1 and 16384"));
         }
     }
-    let eye = v3(cx.vec3(&c.eye, "camera.eye")?);
-    let look_at = v3(cx.vec3(&c.look_at, "camera.look_at")?);
-    let up = v3(cx.vec3(&c.up, "camera.up")?);
+    let (eye, _) = cx.point(&c.eye, "camera.eye")?;
+    let (look_at, _) = cx.point(&c.look_at, "camera.look_at")?;
+    let (up, _) = cx.point(&c.up, "camera.up")?;
     let fwd = (look_at - eye).try_normalize().ok_or_else(|| {
-        cx.err(
-            c.look_at.span(),
-            "camera.look_at",
-            "equals the eye position",
-        )
+        let why = if look_at == eye {
+            "equals the eye position"
+        } else {
+            "is too close to the eye position for f32 to give a view direction"
+        };
+        cx.err(c.look_at.span(), "camera.look_at", why)
     })?;
     if fwd.cross(up).try_normalize().is_none() {
         return Err(cx.err(
             c.up.span(),
             "camera.up",
-            "is parallel to the view direction",
+            "is zero or parallel to the view direction",
         ));
     }
     Ok(Camera {
@@ -857,5 +505,178 @@ vertices = [[0,0,1],[0,1,1],[1,1,1],[1,0,1]]
         assert!(e.contains("bad.toml:1"), "{e}");
         let e = err(&GOOD.replace("[0.5, 0.5, 0.5]", "[1.5, 0.5, 0.5]"));
         assert!(e.contains("below 1"), "{e}");
+    }
+
+    #[test]
+    fn numbers_beyond_f32_are_named_as_such_not_as_nan() {
+        let quad = "[[0,0,1],[0,1,1],[1,1,1],[1,0,1]]";
+        let e = err(&GOOD.replace(quad, "[[0,0,1],[0,1e39,1],[1,1,1],[1,0,1]]"));
+        assert!(
+            e.contains("bad.toml:19: `quad.vertices`: vertex 1: 1e39 is beyond f32's range"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace(
+            quad,
+            "[[0,0,1e38],[0,1e38,1e38],[1e38,1e38,1e38],[1e38,0,1e38]]",
+        ));
+        assert!(
+            e.contains("vertex 0: 1e38 is beyond the ±1e9 coordinates"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace(quad, "[[0,0,1],[0,1e-12,1],[1e-12,1e-12,1],[1e-12,0,1]]"));
+        assert!(
+            e.contains("patch `q` is 1.414e-12 across") && e.contains("underflow"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace(quad, "[[0,0,1e8],[0,1,1e8],[1,1,1e8],[1,0,1e8]]"));
+        assert!(e.contains("a millionth of its distance"), "{e}");
+        let e = err(&GOOD.replace("[10.0, 10.0, 10.0]", "[1e300, 1, 1]"));
+        assert!(
+            e.contains("`material.emission`: component 0: 1e300 is beyond f32's range"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("[10.0, 10.0, 10.0]", "[1e20, 1, 1]"));
+        assert!(e.contains("1e20 is beyond the 1e12 W/m² emission"), "{e}");
+        let e = err(&GOOD.replace("[10.0, 10.0, 10.0]", "[nan, 1, 1]"));
+        assert!(e.contains("component 0: NaN is NaN"), "{e}");
+    }
+
+    #[test]
+    fn a_camera_far_away_is_out_of_range_not_at_the_eye() {
+        let cam = "\n[camera]\neye = [0, 0, -1e38]\nlook_at = [0, 0, 0]\nup = [0, 1, 0]\n\
+                   fov_y_deg = 40\nwidth = 8\nheight = 8\n";
+        let e = err(&format!("{GOOD}{cam}"));
+        assert!(
+            e.contains("`camera.eye`: component 2: -1e38 is beyond the ±1e9"),
+            "{e}"
+        );
+        let e = err(&format!("{GOOD}{}", cam.replace("-1e38", "1e-30")));
+        assert!(
+            e.contains("`camera.look_at`: is too close to the eye position"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn names_that_break_lines_or_clash_with_generated_ones_are_refused() {
+        let e = err(&GOOD.replace("name = \"q\"", "name = \"t:back\""));
+        assert!(
+            e.contains("`quad.name`: the name `t:back` contains `:`"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("name = \"q\"", "name = \"a b\""));
+        assert!(
+            e.contains("`quad.name`: the name `a b` contains ' '"),
+            "{e}"
+        );
+        let e = err(&GOOD.replace("name = \"white\"", "name = \"wh\\nite\""));
+        assert!(
+            e.contains("`material.name`: the name `wh\\nite` contains '\\n'"),
+            "{e}"
+        );
+    }
+
+    /// Writes `files` into a fresh folder and loads its `scene.toml`.
+    fn load_files(tag: &str, files: &[(&str, &str)], limits: &Limits) -> Result<Scene> {
+        let dir = std::env::temp_dir().join(format!("hemi-load-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for (name, text) in files {
+            std::fs::write(dir.join(name), text).unwrap();
+        }
+        load_with(&dir.join("scene.toml"), limits)
+    }
+
+    const OBJ_SCENE: &str = "[[obj]]\npath = \"m.obj\"\n";
+    const OBJ: &str = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl a\nf 1 2 3\n";
+
+    #[test]
+    fn obj_and_mtl_numbers_are_checked_with_their_file_and_line() {
+        let d = Limits::default();
+        let s = load_files(
+            "ok",
+            &[
+                ("scene.toml", OBJ_SCENE),
+                ("m.obj", OBJ),
+                ("m.mtl", "newmtl a\nKd 0.5 0.5 0.5\n"),
+            ],
+            &d,
+        )
+        .unwrap();
+        assert_eq!(s.material_of(0).diffuse, [0.5; 3]);
+        let mtl = "newmtl a\nKd 0.5 nan 0.5\n";
+        let e = format!(
+            "{:#}",
+            load_files(
+                "kd",
+                &[("scene.toml", OBJ_SCENE), ("m.obj", OBJ), ("m.mtl", mtl)],
+                &d
+            )
+            .unwrap_err()
+        );
+        assert!(
+            e.contains("scene.toml:2: `obj.path`: ") && e.contains("m.mtl:2: `Kd`: `nan` is NaN"),
+            "{e}"
+        );
+        let obj = OBJ.replace("v 1 0 0", "v 1e39 0 0");
+        let e = format!(
+            "{:#}",
+            load_files(
+                "v",
+                &[("scene.toml", OBJ_SCENE), ("m.obj", &obj), ("m.mtl", "")],
+                &d
+            )
+            .unwrap_err()
+        );
+        assert!(
+            e.contains("m.obj:3: `v`: `1e39` is beyond f32's range"),
+            "{e}"
+        );
+        let scaled = format!("{OBJ_SCENE}scale = 1e10\n");
+        let e = format!(
+            "{:#}",
+            load_files(
+                "s",
+                &[("scene.toml", &scaled), ("m.obj", OBJ), ("m.mtl", "")],
+                &d
+            )
+            .unwrap_err()
+        );
+        assert!(
+            e.contains("vertex 2 placed at 1e10 is beyond the ±1e9"),
+            "{e}"
+        );
+        let obj = OBJ.replace("usemtl a", "o my mesh:1\nusemtl a");
+        let s = load_files(
+            "o",
+            &[("scene.toml", OBJ_SCENE), ("m.obj", &obj), ("m.mtl", "")],
+            &d,
+        )
+        .unwrap();
+        assert_eq!(s.patches[0].name, "my_mesh_1/0");
+    }
+
+    #[test]
+    fn every_file_is_read_within_the_budget() {
+        let tiny = Limits { file_bytes: 64 };
+        let big = format!("{GOOD}{}", "#".repeat(100));
+        let e = format!(
+            "{:#}",
+            load_files("big", &[("scene.toml", &big)], &tiny).unwrap_err()
+        );
+        assert!(
+            e.contains("scene.toml is larger than 64 bytes") && e.contains("--max-file-mib"),
+            "{e}"
+        );
+        let obj = format!("{OBJ}{}", "#".repeat(100));
+        let e = format!(
+            "{:#}",
+            load_files(
+                "bigobj",
+                &[("scene.toml", OBJ_SCENE), ("m.obj", &obj)],
+                &tiny
+            )
+            .unwrap_err()
+        );
+        assert!(e.contains("m.obj is larger than"), "{e}");
     }
 }

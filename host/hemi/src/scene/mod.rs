@@ -1,9 +1,16 @@
 //! Scenes: materials, patches and the camera, validated and ready for the kernel.
 
+mod bpt;
+mod ctx;
+mod file;
 mod load;
+mod obj;
+pub mod range;
 pub mod translucent;
 
-pub use load::{load, parse};
+pub use bpt::parse_bpt;
+pub use file::{Limits, DEFAULT_FILE_MIB};
+pub use load::{load, load_with, parse, parse_with};
 
 use hemi_kernel::geometry::{Polygon, Vec3};
 use hemi_kernel::patch::Patch;
@@ -155,8 +162,8 @@ impl Scene {
             })
             .collect()
     }
-    /// The diagonal of the scene's bounding box: the length tolerances are relative to.
-    pub fn extent(&self) -> f32 {
+    /// The scene's bounding box, lowest and highest corner.
+    pub fn bounding_box(&self) -> (Vec3, Vec3) {
         let mut lo = Vec3::new(f32::MAX, f32::MAX, f32::MAX);
         let mut hi = Vec3::new(f32::MIN, f32::MIN, f32::MIN);
         for p in &self.patches {
@@ -164,6 +171,11 @@ impl Scene {
             lo = lo.min(b.min);
             hi = hi.max(b.max);
         }
+        (lo, hi)
+    }
+    /// The diagonal of the scene's bounding box: the length tolerances are relative to.
+    pub fn extent(&self) -> f32 {
+        let (lo, hi) = self.bounding_box();
         (hi - lo).length()
     }
     /// How far off a surface a ray that must not see it again starts (a shadow ray, a query

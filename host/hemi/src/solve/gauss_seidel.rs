@@ -5,6 +5,29 @@ use super::{Channels, Solution, SolveSettings, Solver, System};
 use anyhow::{bail, Result};
 use std::time::Instant;
 
+/// Why an iteration at relaxation `omega` diverged, as the rows of the system say: only rows
+/// with ρ·ΣF ≥ 1 are blamed if there are any; otherwise it is the over-relaxation.
+fn why_diverged(system: &System<'_>, omega: f64) -> String {
+    let d = super::diagnose::row_sums(system);
+    if d.max_reflected >= 1.0 {
+        format!(
+            "a row has ρ·ΣF = {:.4} ≥ 1, which makes the system unsolvable by iteration",
+            d.max_reflected
+        )
+    } else if omega > 1.0 {
+        format!(
+            "no row has ρ·ΣF ≥ 1 (the largest is {:.4}), so the over-relaxation ω = {omega:.3} \
+             is what diverges: --solver gauss-seidel or auto",
+            d.max_reflected
+        )
+    } else {
+        format!(
+            "no row has ρ·ΣF ≥ 1 (the largest is {:.4})",
+            d.max_reflected
+        )
+    }
+}
+
 /// Solves `B_i = E_i + ρ_i Σ_j F_ij B_j` for every channel by Gauss-Seidel sweeps, stopping on
 /// the relative residual. The existing entry point; [`solve`] takes a [`System`].
 pub fn gauss_seidel(
@@ -78,7 +101,10 @@ pub(crate) fn relaxed(
         let abs = r * scale.max(f64::MIN_POSITIVE);
         history.push((t0.elapsed().as_secs_f64(), r));
         if !r.is_finite() || !scale.is_finite() {
-            bail!("{name} diverged at sweep {it}: the residual is not finite (is ρ·ΣF ≥ 1 for some patch?)");
+            bail!(
+                "{name} diverged at sweep {it}: the residual is not finite; {}",
+                why_diverged(system, omega)
+            );
         }
         if r <= settings.tolerance {
             return Ok(Solution {
@@ -91,7 +117,11 @@ pub(crate) fn relaxed(
         }
         growing = if abs > last_abs { growing + 1 } else { 0 };
         if growing >= 20 {
-            bail!("{name} diverges: the residual grew for 20 sweeps in a row (now {abs:.3e}, radiosity {scale:.3e}); rows with ρ·ΣF ≥ 1 make the system unsolvable by iteration");
+            bail!(
+                "{name} diverges: the residual grew for 20 sweeps in a row (now {abs:.3e}, \
+                 radiosity {scale:.3e}); {}",
+                why_diverged(system, omega)
+            );
         }
         last = r;
         last_abs = abs;
@@ -147,5 +177,25 @@ mod tests {
         let e = vec![[1.0; 3], [0.0; 3]];
         let err = gauss_seidel(grey(&f), &rho, &e, &SolveSettings::default()).unwrap_err();
         assert!(format!("{err}").contains("diverge"), "{err}");
+        assert!(
+            format!("{err}").contains("a row has ρ·ΣF = 1.5000 ≥ 1"),
+            "{err}"
+        );
+    }
+
+    #[test]
+    fn over_relaxation_that_diverges_blames_omega_not_rows_that_are_fine() {
+        let f = vec![vec![0.0, 0.9], vec![0.9, 0.0]];
+        let rho = vec![[0.9; 3], [0.9; 3]];
+        let e = vec![[1.0; 3], [0.0; 3]];
+        let system = System::new(grey(&f), &rho, &e).unwrap();
+        let settings = SolveSettings::default();
+        let err = relaxed(&system, 2.5, &settings, Solver::Sor, "SOR").unwrap_err();
+        let err = format!("{err}");
+        assert!(
+            err.contains("no row has ρ·ΣF ≥ 1 (the largest is 0.8100)"),
+            "{err}"
+        );
+        assert!(err.contains("ω = 2.500 is what diverges"), "{err}");
     }
 }

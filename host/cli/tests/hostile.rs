@@ -1,0 +1,359 @@
+//! The `hemi` command line against hostile input: every bad number, budget and name is refused
+//! with a message that names the file, line and key or the option, and says what is wrong; what
+//! is accepted but changed is warned about. Each test asserts the message, not only the status.
+
+mod common;
+
+use common::TWO_SQUARES;
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+
+/// A fresh folder for one test's files.
+fn dir(test: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("hemi-hostile-{}-{test}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Writes `files` into the folder of `test` and returns the path of the first.
+fn files(test: &str, files: &[(&str, &str)]) -> String {
+    let d = dir(test);
+    for (name, text) in files {
+        std::fs::write(d.join(name), text).unwrap();
+    }
+    d.join(files[0].0).to_str().unwrap().to_string()
+}
+
+/// Runs hemi with `args`, feeding `stdin`; returns (success, stdout, stderr).
+fn run(args: &[&str], stdin: &[u8]) -> (bool, String, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_hemi"))
+        .args(args)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut input = child.stdin.take().unwrap();
+    let bytes = stdin.to_vec();
+    // written on a thread of its own: hemi may stop reading at the first bad line
+    let feeder = std::thread::spawn(move || {
+        let _ = input.write_all(&bytes);
+    });
+    let out = child.wait_with_output().unwrap();
+    feeder.join().unwrap();
+    (
+        out.status.success(),
+        String::from_utf8(out.stdout).unwrap(),
+        String::from_utf8(out.stderr).unwrap(),
+    )
+}
+
+/// `hemi ARGS` on the two squares must fail with a message containing every one of `want`.
+fn refused(test: &str, args: &[&str], want: &[&str]) {
+    let p = files(test, &[("two.toml", TWO_SQUARES)]);
+    let mut all = vec![args[0], p.as_str()];
+    all.extend(&args[1..]);
+    let (ok, _, err) = run(&all, b"");
+    assert!(!ok, "hemi {all:?} succeeded");
+    for w in want {
+        assert!(err.contains(w), "hemi {all:?}: {w:?} not in {err}");
+    }
+}
+
+#[test]
+fn options_out_of_range_are_refused_with_the_option_named() {
+    let out = "/tmp/hemi-hostile-unused.png";
+    for ev in ["NaN", "inf", "1000"] {
+        let args = [
+            "render",
+            "--exposure",
+            ev,
+            "--size",
+            "4x4",
+            "--eye",
+            "0.5,0.5,3",
+        ];
+        let mut args = args.to_vec();
+        args.extend(["--look-at", "0.5,0.5,0", "--output", out]);
+        refused(
+            "exposure",
+            &args,
+            &[&format!("--exposure {ev}: must be a number of stops")],
+        );
+    }
+    refused(
+        "cordic",
+        &["solve", "--backend", "model", "--cordic-iterations", "40"],
+        &["--cordic-iterations 40 --cordic-width 32: the accelerator takes 4..=30 iterations"],
+    );
+    refused(
+        "width",
+        &["solve", "--backend", "model", "--cordic-width", "64"],
+        &["--cordic-width 64", "widths 12..=32"],
+    );
+    refused(
+        "threshold",
+        &["solve", "--specular-threshold", "NaN"],
+        &["--specular-threshold must be in (0, 1)"],
+    );
+    refused(
+        "stack",
+        &["solve", "--stack", "18446744073709551615"],
+        &["--stack must be between 1 and 4096 frames"],
+    );
+    refused(
+        "eye",
+        &[
+            "render",
+            "--eye",
+            "0,1e39,0",
+            "--look-at",
+            "0,0,0",
+            "--output",
+            out,
+        ],
+        &["--eye 0,1e39,0: component 1: 1e39 is beyond f32's range"],
+    );
+}
+
+#[test]
+fn budgets_are_checked_before_the_memory_is_taken() {
+    refused(
+        "adaptive",
+        &["solve", "--adaptive", "--samples", "64", "--max-depth", "8"],
+        &[
+            "--max-depth 8 from --samples 64",
+            "16384×16384",
+            "at K = 64 the depth is at most 3",
+        ],
+    );
+    refused(
+        "matrix",
+        &["solve", "--solver", "gauss-seidel", "--matrix-mib", "0"],
+        &["--solver gauss-seidel: 2 patches need 0.0 MiB of form factors, more than --matrix-mib 0"],
+    );
+    refused(
+        "ff-matrix",
+        &["form-factors", "--matrix-mib", "0"],
+        &["form-factors: 2 patches need", "--matrix-mib 0"],
+    );
+    refused(
+        "file",
+        &["solve", "--max-file-mib", "0"],
+        &[
+            "cannot read scene file: ",
+            "two.toml is larger than 0 bytes",
+            "--max-file-mib raises it",
+        ],
+    );
+    let (ok, _, err) = run(&["solve", "/dev/zero", "--max-file-mib", "1"], b"");
+    assert!(
+        !ok && err.contains("/dev/zero is larger than 1 MiB"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_huge_stdin_line_is_refused_without_echoing_it() {
+    let p = files("huge", &[("two.toml", TWO_SQUARES)]);
+    let line = vec![b'7'; 120 << 20];
+    let (ok, _, err) = run(&["trace", &p], &line);
+    assert!(
+        !ok && err.contains("line 1: longer than 4096 bytes"),
+        "{err}"
+    );
+    let first = err.lines().next().unwrap_or("");
+    assert!(first.len() < 200, "the error echoes {} bytes", first.len());
+    assert!(!err.contains(&"7".repeat(100)), "the error echoes the line");
+}
+
+#[test]
+fn stdin_numbers_beyond_f32_and_points_beyond_its_precision_are_refused() {
+    let p = files("stdin", &[("two.toml", TWO_SQUARES)]);
+    let (ok, out, err) = run(&["trace", &p], b"0.5 0.5 0.5 0 0 -1\n0 0 0 1e39 0 0\n");
+    assert!(
+        !ok && err.contains("line 2: dx = 1e39 is beyond f32's range"),
+        "{err}"
+    );
+    assert_eq!(out.lines().count(), 1, "the good line is answered: {out}");
+    let (ok, _, err) = run(&["trace", &p], b"0.5 1e12 0.5 0 -1 0\n");
+    assert!(
+        !ok && err.contains("line 1: the point (0.5, 1000000000000, 0.5) is"),
+        "{err}"
+    );
+}
+
+const MTL_SCENE: &str = "[[obj]]\npath = \"m.obj\"\n";
+const OBJ: &str = "mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nv 1 0 1\nv 0 1 1\n\
+                   usemtl a\nf 1 2 3\nusemtl lamp\nf 4 6 5\n";
+
+#[test]
+fn scene_numbers_are_refused_with_file_line_and_key() {
+    let mtl = "newmtl a\nKd 0.5 nan 0.5\nnewmtl lamp\nKe 1 1 1\n";
+    let p = files(
+        "mtl",
+        &[("s.toml", MTL_SCENE), ("m.obj", OBJ), ("m.mtl", mtl)],
+    );
+    let (ok, _, err) = run(&["solve", &p], b"");
+    assert!(
+        !ok && err.contains("s.toml:2: `obj.path`: ")
+            && err.contains("m.mtl:2: `Kd`: `nan` is NaN"),
+        "{err}"
+    );
+    let mtl = "newmtl a\nKd 1.5 0.5 0.5\nnewmtl lamp\nKe 1 1 1\n";
+    let p = files(
+        "clamp",
+        &[("s.toml", MTL_SCENE), ("m.obj", OBJ), ("m.mtl", mtl)],
+    );
+    let (ok, _, err) = run(&["solve", &p, "--samples", "2", "--circles", "8"], b"");
+    assert!(
+        ok && err.contains("warning: ")
+            && err.contains("m.mtl:2: `Kd`: `1.5` is a reflectance of 1 or more, clamped to 0.999"),
+        "{err}"
+    );
+    let lamp = TWO_SQUARES.replace("[2.0, 3.0, 4.0]", "[1e300, 3.0, 4.0]");
+    let p = files("emission", &[("s.toml", &lamp)]);
+    let (ok, _, err) = run(&["solve", &p], b"");
+    assert!(
+        !ok && err
+            .contains("s.toml:9: `material.emission`: component 0: 1e300 is beyond f32's range"),
+        "{err}"
+    );
+    let far = TWO_SQUARES.replace("[[0,0,0],[1,0,0]", "[[0,0,0],[1e39,0,0]");
+    let p = files("far", &[("s.toml", &far)]);
+    let (ok, _, err) = run(&["solve", &p], b"");
+    assert!(
+        !ok && err.contains("`quad.vertices`: vertex 1: 1e39 is beyond f32's range (±3.4e38)"),
+        "{err}"
+    );
+}
+
+#[test]
+fn names_that_break_output_or_clash_with_generated_ones_and_wrong_counts_are_refused() {
+    for (name, want) in [("p1:back", "contains `:`"), ("p 1", "contains ' '")] {
+        let s = TWO_SQUARES.replace("name = \"p1\"", &format!("name = \"{name}\""));
+        let p = files("names", &[("s.toml", &s)]);
+        let (ok, _, err) = run(&["solve", &p], b"");
+        assert!(
+            !ok && err.contains(&format!("`quad.name`: the name `{name}` {want}")),
+            "{err}"
+        );
+    }
+    let mut bpt = String::from("1\n");
+    for _ in 0..2 {
+        bpt.push_str("3 3\n");
+        for r in 0..4 {
+            for c in 0..4 {
+                bpt.push_str(&format!("{c} {r} 0\n"));
+            }
+        }
+    }
+    let scene = "[[material]]\nname = \"m\"\ndiffuse = [0.5, 0.5, 0.5]\n[[bpt]]\nname = \"b\"\n\
+                 path = \"b.bpt\"\nmaterial = \"m\"\n";
+    let p = files("bpt", &[("s.toml", scene), ("b.bpt", &bpt)]);
+    let (ok, _, err) = run(&["solve", &p], b"");
+    assert!(
+        !ok && err.contains("`bpt.path`: ")
+            && err.contains("declares 1 patches but goes on after them"),
+        "{err}"
+    );
+}
+
+/// A unit box of lossless glossy mirrors around a diffuse lamp floor.
+fn mirror_box() -> String {
+    let faces = [
+        ("bottom", "[[0,0,0],[1,0,0],[1,1,0],[0,1,0]]"),
+        ("top", "[[0,0,1],[0,1,1],[1,1,1],[1,0,1]]"),
+        ("x0", "[[0,0,0],[0,1,0],[0,1,1],[0,0,1]]"),
+        ("x1", "[[1,0,0],[1,0,1],[1,1,1],[1,1,0]]"),
+        ("y0", "[[0,0,0],[0,0,1],[1,0,1],[1,0,0]]"),
+        ("y1", "[[0,1,0],[1,1,0],[1,1,1],[0,1,1]]"),
+    ];
+    let mut s = String::from(
+        "[[material]]\nname = \"lamp\"\ndiffuse = [0.5, 0.5, 0.5]\nemission = [1, 1, 1]\n\
+         [[material]]\nname = \"mirror\"\ndiffuse = [0, 0, 0]\nspecular = [1, 1, 1]\n\
+         phong = 5\nfrustum = 20\n",
+    );
+    for (name, v) in faces {
+        let m = if name == "bottom" { "lamp" } else { "mirror" };
+        s.push_str(&format!(
+            "[[quad]]\nname = \"{name}\"\nmaterial = \"{m}\"\nvertices = {v}\n"
+        ));
+    }
+    s
+}
+
+#[test]
+fn a_specular_tree_stops_at_its_work_budget_and_says_what_it_cut() {
+    // without the budget this runs for minutes (Δ = 1e-6 with k = 1 bounds nothing)
+    let p = files("budget", &[("box.toml", &mirror_box())]);
+    let args = [
+        "form-factors",
+        &p,
+        "--specular-threshold",
+        "1e-6",
+        "--circles",
+        "4",
+    ];
+    let (ok, _, err) = run(&[&args[..], &["--samples", "1"]].concat(), b"");
+    assert!(ok, "{err}");
+    let at = err.find("cut past the work budget of 4096 frustums a primary ray (");
+    let cut: u64 = at
+        .and_then(|i| err[i..].split(['(', ')']).nth(1))
+        .and_then(|n| n.parse().ok())
+        .unwrap_or(0);
+    assert!(cut > 0, "no frustums cut by the budget: {err}");
+}
+
+#[test]
+fn progressive_refinement_says_when_its_shots_missed_patches() {
+    // a 32 × 32 tiled floor under a small lamp, shot with few rays: most tiles get nothing
+    let mut s = String::from(
+        "[[material]]\nname = \"m\"\ndiffuse = [0.5, 0.5, 0.5]\n[[material]]\nname = \"lamp\"\n\
+         diffuse = [0, 0, 0]\nemission = [1, 1, 1]\n",
+    );
+    let n = 32;
+    for i in 0..n {
+        for j in 0..n {
+            let (a, b, c, d) = (
+                i as f64 / 32.0,
+                j as f64 / 32.0,
+                (i + 1) as f64 / 32.0,
+                (j + 1) as f64 / 32.0,
+            );
+            s.push_str(&format!(
+                "[[quad]]\nname = \"t{i}_{j}\"\nmaterial = \"m\"\n\
+                 vertices = [[{a},0,{b}],[{a},0,{d}],[{c},0,{d}],[{c},0,{b}]]\n"
+            ));
+        }
+    }
+    s.push_str(
+        "[[quad]]\nname = \"lamp\"\nmaterial = \"lamp\"\nvertices = [[0.375,1,0.375],\
+         [0.625,1,0.375],[0.625,1,0.625],[0.375,1,0.625]]\n",
+    );
+    let p = files("progressive", &[("floor.toml", &s)]);
+    let args = [
+        "solve",
+        &p,
+        "--solver",
+        "progressive",
+        "--circles",
+        "4",
+        "--samples",
+        "2",
+    ];
+    let (ok, out, err) = run(&args, b"");
+    assert!(ok, "{err}");
+    let black = out
+        .lines()
+        .filter(|l| l.ends_with("0.000000 0.000000 0.000000"))
+        .count();
+    assert!(black > 0, "{out}");
+    assert!(
+        err.contains(&format!(
+            "warning: progressive refinement left {black} of 1024 reflecting patches at exactly 0"
+        )),
+        "{black} black tiles, but: {err}"
+    );
+}
