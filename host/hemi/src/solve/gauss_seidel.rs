@@ -185,7 +185,7 @@ mod tests {
 
     #[test]
     fn over_relaxation_that_diverges_blames_omega_not_rows_that_are_fine() {
-        let f = vec![vec![0.0, 0.9], vec![0.9, 0.0]];
+        let f = vec![vec![0.0, 0.9], vec![0.9, 0.0]].into();
         let rho = vec![[0.9; 3], [0.9; 3]];
         let e = vec![[1.0; 3], [0.0; 3]];
         let system = System::new(grey(&f), &rho, &e).unwrap();
