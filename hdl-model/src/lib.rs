@@ -4,6 +4,7 @@
 //! - [`frame`]: the angle unit (normal → φ, θ by vectoring);
 //! - [`rotator`]: three rotation pipes that turn hemisphere rays onto the frame;
 //! - [`intersect`]: nearest hit over patch memory, with t and (u,v) (§6.1);
+//! - [`params`]: the build parameters (lanes, culling sectors, front-end width);
 //! - [`device`]: register file, FIFOs and control around them, one [`device::Device::tick`] per
 //!   clock;
 //! - [`regs`]: the register map (`docs/register-map.md`);
@@ -25,9 +26,11 @@ pub mod fifo;
 pub mod format;
 pub mod frame;
 pub mod intersect;
+pub mod params;
 pub mod pipe;
 pub mod regs;
 pub mod rotator;
 
 pub use accel::{ModelAccelerator, ModelConfig, ModelError, RegisterAccelerator};
-pub use driver::{Driver, DriverError, ModelBus, RegisterAccess};
+pub use driver::{Driver, DriverError, ModelBus, RegisterAccess, StreamPort};
+pub use params::Params;
