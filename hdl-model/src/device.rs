@@ -24,7 +24,7 @@ use crate::frame::{FrameRequest, FrameUnit};
 use crate::intersect::bezier::{
     BezierStats, SubdivConfig, BEZIER_ROWS, MAX_DEPTH, RECIP_LATENCY, STACK_ENTRIES,
 };
-use crate::intersect::patch_mem::{PatchMem, PATCH_CAPACITY, PATCH_WORDS};
+use crate::intersect::patch_mem::{PatchMem, PATCH_WORDS};
 use crate::intersect::{IntersectUnit, LaneStats, RayIn, RayOut};
 use crate::params::{Params, MAX_RAYS_PER_CLOCK};
 use crate::regs::{self, bz_config, config, ctrl, error, irq, mode, result, skip, status};
@@ -32,12 +32,15 @@ use crate::rotator::{RotIn, Rotator};
 
 /// Ray FIFO depth (entries).
 pub const RAY_FIFO_DEPTH: usize = 32;
-/// Result FIFO depth (results): more than the intersection unit's latency times the widest
-/// front end, so that its credits never throttle a full pipeline.
+/// Result FIFO depth (results), and the credits of the whole datapath: an entry leaves the ray
+/// FIFO only with a result slot reserved for it, so the rotators, the ray queue and the
+/// intersection unit never hold more than this together and no pipeline stalls mid-way. It
+/// bounds the rays in flight, so it is as deep as the CAPS field allows: with the rotators'
+/// 80 clocks and the unit's ~60 at the default CORDIC, 255 credits keep up to about 1.8 rays a
+/// clock in flight.
 pub const RESULT_FIFO_DEPTH: usize = crate::intersect::RAY_SLOTS;
-/// Ray queue between the rotators and the intersection unit, per ray of the front end's width.
-const QUEUE_PER_RAY: usize = 4;
-const QUEUE_DEPTH: usize = QUEUE_PER_RAY * MAX_RAYS_PER_CLOCK as usize;
+/// Ray queue between the rotators and the intersection unit (covered by the credits).
+const QUEUE_DEPTH: usize = RESULT_FIFO_DEPTH;
 
 /// The reset value of CONFIG: 24 iterations, 32-bit words, 16 (u,v) levels.
 pub const CONFIG_RESET: u32 = 24 | (32 << config::WIDTH_SHIFT) | (16 << config::DEPTH_SHIFT);
@@ -176,7 +179,7 @@ impl Device {
             rotators: core::array::from_fn(|_| Rotator::new(cfg)),
             queue: Fifo::default(),
             intersect: IntersectUnit::new(params, depth, subdiv, cfg.width),
-            mem: PatchMem::default(),
+            mem: PatchMem::new(params.capacity() as usize),
             patch_addr: 0,
             patch_count: 0,
             was_busy: false,
@@ -208,7 +211,7 @@ impl Device {
 
     fn soft_reset(&mut self) {
         // patch memory and the configuration in force survive; everything else is reset
-        let mem = core::mem::take(&mut self.mem);
+        let mem = core::mem::replace(&mut self.mem, PatchMem::new(0));
         let (config, bz, patch_count) =
             (self.config_active, self.bz_config_active, self.patch_count);
         let (cfg, depth) = decode_config(config).expect("active configuration is valid");
@@ -283,7 +286,7 @@ impl Device {
             regs::CAPS => {
                 RAY_FIFO_DEPTH as u32
                     | (RESULT_FIFO_DEPTH as u32) << 8
-                    | (PATCH_CAPACITY as u32) << 16
+                    | (self.mem.slots() as u32) << 16
             }
             regs::CTRL => self.enable as u32,
             regs::STATUS => self.status(),
@@ -442,7 +445,7 @@ impl Device {
             regs::PATCH_COUNT => {
                 if self.busy() {
                     self.raise(error::PATCH_BUSY);
-                } else if value as usize > PATCH_CAPACITY {
+                } else if value as usize > self.mem.slots() {
                     self.raise(error::PATCH_RANGE);
                 } else {
                     self.patch_count = value;
@@ -540,12 +543,11 @@ impl Device {
         }
     }
 
-    /// Up to `rays_per_clock` rays from the queue into the intersection unit, each with a
-    /// result credit.
+    /// Up to `rays_per_clock` rays from the queue into the intersection unit (each holds the
+    /// result credit it took at the ray FIFO).
     fn start_rays(&mut self) {
         for _ in 0..self.rays_per_clock() {
-            let credit = self.result_fifo.len() as u32 + self.intersect.in_flight();
-            if !self.intersect.ready() || credit as usize >= RESULT_FIFO_DEPTH {
+            if !self.intersect.ready() {
                 break;
             }
             let Some(r) = self.queue.pop() else {
@@ -566,7 +568,10 @@ impl Device {
         if !self.enable {
             return rot_in;
         }
-        let depth = QUEUE_PER_RAY * self.rays_per_clock();
+        let held = self.rotator_occupancy() as usize
+            + self.queue.len()
+            + self.intersect.in_flight() as usize
+            + self.result_fifo.len();
         for (taken, slot) in rot_in.iter_mut().take(self.rays_per_clock()).enumerate() {
             let Some(e) = self.ray_fifo.front() else {
                 break;
@@ -579,8 +584,7 @@ impl Device {
                 break;
             }
             let rotates = e.mode & mode::KIND_MASK != mode::TRACE;
-            let in_flight = self.rotator_occupancy() as usize + self.queue.len();
-            if in_flight + taken >= depth || (rotates && self.frame.busy()) {
+            if held + taken >= RESULT_FIFO_DEPTH || (rotates && self.frame.busy()) {
                 break;
             }
             let e = *e;

@@ -183,7 +183,7 @@ impl<B: RegisterAccess> Driver<B> {
         self.bus.write(regs::CTRL, ctrl::ENABLE);
         self.ray_depth = caps & 0xFF;
         self.patch_capacity = caps >> 16;
-        self.params = crate::params::Params::from_caps_word(lanes);
+        self.params = crate::params::Params::from_caps(lanes, self.patch_capacity);
         self.stream_port = lanes & (1 << 24) != 0;
         Ok(())
     }

@@ -7,6 +7,8 @@
 //! - `sectors`: the azimuth sectors of the hemisphere culling unit (0 turns culling off). Per
 //!   origin and frame, every planar patch gets the range of sectors in which its pyramid can be
 //!   met; a hemisphere ray in sector s is only handed the patches of that sector.
+//! - `bank_slots`: patch slots per bank, so the on-chip patch memory holds `lanes × bank_slots`
+//!   patches (a model without an allocator holds at most 256 whatever the build says).
 //! - `rays_per_clock`: the width of the front end (ray FIFO, rotators, ray queue, result FIFO
 //!   and the stream port): how many rays enter and leave per clock.
 
@@ -16,6 +18,8 @@ pub const MAX_LANES: u32 = 16;
 pub const MAX_SECTORS: u32 = 64;
 /// Widest front end.
 pub const MAX_RAYS_PER_CLOCK: u32 = 4;
+/// Most patch slots on chip (CAPS holds the count in 16 bits).
+pub const MAX_CAPACITY: u32 = 32768;
 
 /// The build parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -26,23 +30,33 @@ pub struct Params {
     pub sectors: u32,
     /// Rays entering and leaving per clock (1..=4).
     pub rays_per_clock: u32,
+    /// Patch slots per bank (lanes × bank_slots ≤ 32768).
+    pub bank_slots: u32,
 }
 
 impl Params {
-    /// The default build: 4 lanes, 32 sectors, 2 rays per clock (its area proxy fits an
-    /// ECP5-85k, see `area`).
+    /// The default build: 4 lanes of 512 slots, 32 sectors, 2 rays per clock (its area proxy
+    /// fits an ECP5-85k, see `area`).
     pub const DEFAULT: Params = Params {
         lanes: 4,
         sectors: 32,
         rays_per_clock: 2,
+        bank_slots: 512,
     };
 
-    /// The accelerator before this datapath: one lane, no culling, one ray per clock.
+    /// The accelerator before this datapath: one lane of 256 slots, no culling, one ray per
+    /// clock.
     pub const SINGLE: Params = Params {
         lanes: 1,
         sectors: 0,
         rays_per_clock: 1,
+        bank_slots: 256,
     };
+
+    /// Patch slots on chip.
+    pub fn capacity(&self) -> u32 {
+        self.lanes * self.bank_slots
+    }
 
     /// Whether the hardware can be built this way.
     pub fn is_valid(&self) -> bool {
@@ -50,6 +64,8 @@ impl Params {
             && (self.sectors == 0
                 || (self.sectors.is_power_of_two() && (8..=MAX_SECTORS).contains(&self.sectors)))
             && (1..=MAX_RAYS_PER_CLOCK).contains(&self.rays_per_clock)
+            && self.bank_slots >= 1
+            && self.bank_slots <= MAX_CAPACITY / self.lanes.max(1)
     }
 
     /// The CAPS_LANES word: lanes 7:0, rays per clock 15:8, sectors 23:16, bit 24 the stream
@@ -58,16 +74,21 @@ impl Params {
         self.lanes | self.rays_per_clock << 8 | self.sectors << 16 | 1 << 24
     }
 
-    /// Decodes a CAPS_LANES word (0, from a device before register map 1.3, is one lane without
-    /// culling or stream port).
-    pub fn from_caps_word(w: u32) -> Params {
+    /// Decodes a CAPS_LANES word with the patch capacity from CAPS (a CAPS_LANES of 0, from a
+    /// device before register map 1.3, is one lane without culling or stream port).
+    pub fn from_caps(w: u32, capacity: u32) -> Params {
         if w == 0 {
-            return Params::SINGLE;
+            return Params {
+                bank_slots: capacity,
+                ..Params::SINGLE
+            };
         }
+        let lanes = (w & 0xFF).max(1);
         Params {
-            lanes: w & 0xFF,
+            lanes,
             rays_per_clock: (w >> 8) & 0xFF,
             sectors: (w >> 16) & 0xFF,
+            bank_slots: capacity / lanes,
         }
     }
 }

@@ -14,14 +14,23 @@
 //!    frame; three dot products per corner);
 //! 2. **below the horizon** if every corner has f_i · ẑ < −|f_i|∞ 2^-10: a hemisphere ray
 //!    (d_ref · ẑ ≥ 0) cannot reach it;
-//! 3. **full** (every sector) if the pyramid contains the axis (all e_i · w of one sign), if an
-//!    edge plane nearly contains it (|e_i · w| ≤ |e_i|∞ 2^-10), or if a corner lies within
-//!    2^-6 of the axis, where its azimuth is ill-conditioned;
+//! 3. **full** (every sector) if the pyramid contains the axis or comes within 2^-10 of it (every
+//!    e_i · w > −|e_i|∞ 2^-10, or every one < |e_i|∞ 2^-10), or if a corner lies within 2^-6 of
+//!    the axis, where its azimuth is ill-conditioned;
 //! 4. otherwise the azimuths φ_i = atan2(f_i.y, f_i.x) (a vectoring CORDIC of the unit's own,
 //!    24 iterations on 32 bits), their smallest enclosing arc widened by [`MARGIN`] on each side,
 //!    and the sectors its ends fall in.
 //!
-//! A ray's sector comes from its reference direction by the same vectoring CORDIC (in parallel
+//! 5. **polar bands**: the corners' polar angles θ_i (a second vectoring, of (z, ρ)), and the
+//!    polygon's θ range bounded from its boundary (θ has no extremum inside the polygon but at
+//!    the pole): along an edge from p to q of length ℓ ≤ |θ_p − θ_q| + |φ_q − φ_p|, θ stays
+//!    within (θ_p + θ_q ∓ ℓ)/2, so within [min − |Δφ|/2, max + |Δφ|/2] of its ends; with the
+//!    pole inside, from 0. The range, widened by [`MARGIN`], gives the patch's bands among
+//!    [`BANDS`] equal bands of θ over [0, π/2].
+//!
+//! A lane is handed the patches whose sector range holds the ray's sector and whose band range
+//! holds its band (in hardware: a sector bitmap AND a band bitmap, walked by a priority
+//! encoder). A ray's sector and band come from its reference direction by the same vectoring CORDIC (in parallel
 //! with the rotator, so it adds no latency). Rays within 2^-5 of the pole (sin θ < 2^-5), rays
 //! below the horizon and rays not rotated by a frame (TRACE entries) are not culled: they are
 //! handed every active patch.
@@ -40,6 +49,8 @@ use crate::format::{Angle, Unit};
 pub const MARGIN: i64 = 1 << 20;
 /// π in Q3.29.
 const PI: i64 = 1_686_629_713;
+/// Polar bands of θ over [0, π/2].
+pub const BANDS: u32 = 16;
 /// Narrowest CORDIC word (CONFIG.WIDTH) with which the unit culls: below it, the rotator's own
 /// error would approach the margin, so every ray is handed every patch.
 pub const MIN_CULL_WIDTH: u32 = 24;
@@ -59,6 +70,26 @@ pub enum Wedge {
         /// Number of sectors.
         len: u8,
     },
+}
+
+/// Where a patch can be met: its wedge and its polar bands `lo..=hi`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Reach {
+    /// Azimuth sectors.
+    pub wedge: Wedge,
+    /// First polar band.
+    pub band_lo: u8,
+    /// Last polar band.
+    pub band_hi: u8,
+}
+
+impl Reach {
+    /// Every sector and band.
+    pub const ALL: Reach = Reach {
+        wedge: Wedge::Full,
+        band_lo: 0,
+        band_hi: BANDS as u8 - 1,
+    };
 }
 
 /// The culling unit's vectoring CORDIC (azimuths of corners and rays) and sector count.
@@ -82,8 +113,8 @@ impl CullUnit {
         self.sectors
     }
 
-    /// atan2(y, x) in Q3.29 bits, for x, y in 32-bit containers (any common scale).
-    fn azimuth(&self, x: i32, y: i32) -> i64 {
+    /// (atan2(y, x) in Q3.29 bits, |(x, y)|) for x, y in 32-bit containers (any common scale).
+    fn vector(&self, x: i32, y: i32) -> (i64, i32) {
         let s = self.vector.eval(CordicSlot {
             x: Unit::from_bits(x),
             y: Unit::from_bits(y),
@@ -91,7 +122,12 @@ impl CullUnit {
             zero: x == 0 && y == 0,
             payload: (),
         });
-        s.z.to_bits() as i64
+        (s.z.to_bits() as i64, s.x.to_bits())
+    }
+
+    /// The band of a polar angle (Q3.29 bits), clamped to the bands.
+    fn band_of(a: i64) -> u32 {
+        (a.max(0) * BANDS as i64 * 2 / PI).min(BANDS as i64 - 1) as u32
     }
 
     /// The sector of an angle (Q3.29 bits, any turn).
@@ -100,19 +136,22 @@ impl CullUnit {
         ((a * self.sectors as i64) / (2 * PI)).min(self.sectors as i64 - 1) as u32
     }
 
-    /// The sector of a hemisphere ray with reference direction `d` (Q2.30), if it is culled.
-    pub fn ray_sector(&self, d: [Unit; 3]) -> Option<u32> {
+    /// The sector and band of a hemisphere ray with reference direction `d` (Q2.30), if it is
+    /// culled.
+    pub fn ray_bin(&self, d: [Unit; 3]) -> Option<(u32, u32)> {
         let [x, y, z] = d.map(|c| c.to_bits());
         let rho = x.unsigned_abs().max(y.unsigned_abs());
         if self.sectors == 0 || z < 0 || rho < 1 << 25 {
             return None;
         }
-        Some(self.sector_of(self.azimuth(x, y)))
+        let (phi, r) = self.vector(x, y);
+        let (theta, _) = self.vector(z, r);
+        Some((self.sector_of(phi), Self::band_of(theta)))
     }
 
     /// The wedge of a planar patch with corner vectors `a` (Q8.24, relative to the origin) and
     /// edge normals `e` (inside iff d · e ≥ 0), in the frame with axes `axes` (u, v, w: Q2.30).
-    pub fn wedge(&self, a: &[[i64; 3]], e: &[[i64; 3]], axes: &[[Unit; 3]; 3]) -> Wedge {
+    pub fn reach(&self, a: &[[i64; 3]], e: &[[i64; 3]], axes: &[[Unit; 3]; 3]) -> Reach {
         let ax = axes.map(|v| v.map(|c| c.to_bits() as i128));
         let dot = |p: &[i64; 3], q: &[i128; 3]| -> i128 {
             (0..3).map(|c| p[c] as i128 * q[c]).sum::<i128>()
@@ -125,43 +164,54 @@ impl CullUnit {
         let f = &f[..a.len()];
         let norm = |v: &[i128; 3]| v.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
         if f.iter().all(|v| v[2] < -((norm(v) >> 10) as i128)) {
-            return Wedge::Below;
+            return Reach {
+                wedge: Wedge::Below,
+                ..Reach::ALL
+            };
         }
-        // the axis inside the pyramid, or nearly on an edge plane: every sector
+        // corners in spherical coordinates (a corner next to the axis: no useful bound)
+        let (mut phi, mut theta) = ([0i64; 4], [0i64; 4]);
+        for ((p, t), v) in phi.iter_mut().zip(theta.iter_mut()).zip(f) {
+            let rho = v[0].unsigned_abs().max(v[1].unsigned_abs());
+            if rho == 0 || rho < norm(v) >> 6 {
+                return Reach::ALL;
+            }
+            // block floating point: the largest component into 27 bits (the angles ignore the
+            // scale; the vectorings' gain of 1.65 on |v| ≤ √3 · 2^27 stays inside Q2.30)
+            let shift = (128 - norm(v).leading_zeros()).saturating_sub(27);
+            let (az, r) = self.vector((v[0] >> shift) as i32, (v[1] >> shift) as i32);
+            *p = az;
+            *t = self.vector((v[2] >> shift) as i32, r).0;
+        }
+        let (phi, theta) = (&phi[..f.len()], &theta[..f.len()]);
+        let (mut lo_t, mut hi_t) = (i64::MAX, i64::MIN);
+        for k in 0..f.len() {
+            let j = (k + 1) % f.len();
+            let bulge = wrap(phi[j] - phi[k]).abs() / 2;
+            lo_t = lo_t.min(theta[k].min(theta[j]) - bulge);
+            hi_t = hi_t.max(theta[k].max(theta[j]) + bulge);
+        }
+        // the axis (+z or −z) inside the pyramid, or within 2^-10 of it: every sector
         let (mut pos, mut neg) = (true, true);
         for ei in e {
             let s = dot(ei, &ax[2]);
-            let m = ei.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0) as i128;
-            if s.abs() <= m << 20 {
-                return Wedge::Full;
-            }
-            pos &= s > 0;
-            neg &= s < 0;
+            let m = (ei.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0) as i128) << 20;
+            pos &= s > -m;
+            neg &= s < m;
         }
-        if pos || neg {
-            return Wedge::Full;
+        if pos {
+            lo_t = 0;
         }
-        let mut phi = [0i64; 4];
-        for (p, v) in phi.iter_mut().zip(f) {
-            let rho = v[0].unsigned_abs().max(v[1].unsigned_abs());
-            if rho == 0 || rho < norm(v) >> 6 {
-                return Wedge::Full;
-            }
-            // block floating point: the larger of x, y into 29 bits (atan2 ignores the scale;
-            // the vectoring's gain of 1.65 then stays inside Q2.30)
-            let shift = (128 - rho.leading_zeros()).saturating_sub(29);
-            *p = self.azimuth((v[0] >> shift) as i32, (v[1] >> shift) as i32);
-        }
-        let phi = &phi[..f.len()];
-        let wrap = |d: i64| {
-            if d > PI {
-                d - 2 * PI
-            } else if d <= -PI {
-                d + 2 * PI
-            } else {
-                d
-            }
+        let band_lo = Self::band_of(lo_t - MARGIN) as u8;
+        let band_hi = Self::band_of(hi_t + MARGIN) as u8;
+        let full = Reach {
+            wedge: Wedge::Full,
+            band_lo,
+            band_hi,
         };
+        if pos || neg {
+            return full;
+        }
         let (mut lo, mut hi) = (0i64, 0i64);
         for p in &phi[1..] {
             let d = wrap(p - phi[0]);
@@ -169,14 +219,28 @@ impl CullUnit {
             hi = hi.max(d);
         }
         if hi - lo + 2 * MARGIN >= PI {
-            return Wedge::Full;
+            return full;
         }
         let s_lo = self.sector_of(phi[0] + lo - MARGIN);
         let s_hi = self.sector_of(phi[0] + hi + MARGIN);
         let len = (s_hi + self.sectors - s_lo) % self.sectors + 1;
-        Wedge::Sectors {
-            lo: s_lo as u8,
-            len: len as u8,
+        Reach {
+            wedge: Wedge::Sectors {
+                lo: s_lo as u8,
+                len: len as u8,
+            },
+            ..full
         }
+    }
+}
+
+/// An angle difference (Q3.29 bits) into (−π, π].
+fn wrap(d: i64) -> i64 {
+    if d > PI {
+        d - 2 * PI
+    } else if d <= -PI {
+        d + 2 * PI
+    } else {
+        d
     }
 }

@@ -57,8 +57,9 @@ pub mod uv;
 use crate::fifo::Fifo;
 use crate::format::{quotient, Angle, Coord, Coord64, PlaneDen, PlaneDist, Unit};
 use crate::params::{Params, MAX_LANES, MAX_SECTORS};
+use crate::table::Table;
 use bezier::{BezierEngine, BezierStats, Box3, Job, RaySetup, SubdivConfig, BEZIER_ROWS};
-use cull::{CullUnit, Wedge};
+use cull::{CullUnit, Reach, Wedge};
 use fixed::types::extra::U24;
 use patch_mem::{
     BezierSlot, PatchMem, PatchWords, KIND_BEZIER, KIND_EMPTY, KIND_QUAD, KIND_TRIANGLE,
@@ -140,7 +141,7 @@ pub struct RayOut<T: Copy + Default> {
 
 /// Rays in the unit at once (entered and not yet retired): the depth of each lane's descriptor
 /// FIFO and of the retirement buffer. The device's result credits keep it below this.
-pub const RAY_SLOTS: usize = 64;
+pub const RAY_SLOTS: usize = 255;
 
 /// A Bezier patch's answer, computed by the subdivision engine: t, u, v, side.
 #[derive(Clone, Copy, Debug, Default)]
@@ -256,28 +257,35 @@ type SetupKey = ([Coord; 3], Option<[Angle; 3]>);
 /// met in it; every active planar patch (unculled rays); every Bezier slot. In index order.
 #[derive(Clone, Debug)]
 struct Candidates {
-    sector: [u16; MAX_SECTORS as usize * PATCH_CAPACITY],
+    /// `slots` entries per sector
+    sector: Table<u16, { MAX_SECTORS as usize * PATCH_CAPACITY }>,
     sector_len: [u16; MAX_SECTORS as usize],
-    active: [u16; PATCH_CAPACITY],
+    slots: usize,
+    active: Table<u16, PATCH_CAPACITY>,
     active_len: usize,
-    bezier: [u16; PATCH_CAPACITY],
+    /// each slot's polar bands (first, last)
+    bands: Table<(u8, u8), PATCH_CAPACITY>,
+    bezier: Table<u16, PATCH_CAPACITY>,
     bezier_len: usize,
 }
 
-impl Default for Candidates {
-    fn default() -> Self {
+impl Candidates {
+    /// Lists for `slots` patch slots in `sectors` sectors.
+    fn new(slots: usize, sectors: u32) -> Self {
+        let active = Table::new(0, slots);
+        let slots = active.len();
         Candidates {
-            sector: [0; MAX_SECTORS as usize * PATCH_CAPACITY],
+            sector: Table::new(0, sectors as usize * slots),
             sector_len: [0; MAX_SECTORS as usize],
-            active: [0; PATCH_CAPACITY],
+            slots,
+            active,
             active_len: 0,
-            bezier: [0; PATCH_CAPACITY],
+            bands: Table::new((0, 0), slots),
+            bezier: Table::new(0, slots),
             bezier_len: 0,
         }
     }
-}
 
-impl Candidates {
     fn clear(&mut self) {
         self.sector_len = [0; MAX_SECTORS as usize];
         self.active_len = 0;
@@ -286,14 +294,15 @@ impl Candidates {
 
     fn add_to_sector(&mut self, s: u32, i: u16) {
         let n = &mut self.sector_len[s as usize];
-        self.sector[s as usize * PATCH_CAPACITY + *n as usize] = i;
+        self.sector[s as usize * self.slots + *n as usize] = i;
         *n += 1;
     }
 
-    fn add(&mut self, i: u16, wedge: Wedge, sectors: u32) {
+    fn add(&mut self, i: u16, reach: Reach, sectors: u32) {
         self.active[self.active_len] = i;
         self.active_len += 1;
-        match wedge {
+        self.bands[i as usize] = (reach.band_lo, reach.band_hi);
+        match reach.wedge {
             Wedge::Below => {}
             Wedge::Full => (0..sectors).for_each(|s| self.add_to_sector(s, i)),
             Wedge::Sectors { lo, len } => {
@@ -302,10 +311,16 @@ impl Candidates {
         }
     }
 
+    /// Whether slot `i` can be met in band `band`.
+    fn in_band(&self, i: u16, band: u32) -> bool {
+        let (lo, hi) = self.bands[i as usize];
+        (lo as u32..=hi as u32).contains(&band)
+    }
+
     fn list(&self, sector: Option<u32>) -> &[u16] {
         match sector {
             Some(s) => {
-                let base = s as usize * PATCH_CAPACITY;
+                let base = s as usize * self.slots;
                 &self.sector[base..base + self.sector_len[s as usize] as usize]
             }
             None => &self.active[..self.active_len],
@@ -316,7 +331,7 @@ impl Candidates {
 /// The unit.
 #[derive(Clone, Debug)]
 pub struct IntersectUnit<T: Copy + Default> {
-    local: [LocalPatch; PATCH_CAPACITY],
+    local: Table<LocalPatch, PATCH_CAPACITY>,
     key: Option<SetupKey>,
     candidates: Candidates,
     params: Params,
@@ -354,6 +369,13 @@ pub struct LaneStats {
     pub culled_rays: u64,
     /// Set-up passes.
     pub setups: u64,
+    /// Over the set-up passes that culled: active planar patches, those in every sector, and
+    /// the (sector, band) bins their reaches cover.
+    pub culled_patches: u64,
+    /// Patches whose reach was every sector.
+    pub full_patches: u64,
+    /// Bins covered, summed.
+    pub bins: u64,
 }
 
 /// Exclusive bound of a Bezier hit's t: the largest t of the result's Q8.24 plus one LSB.
@@ -365,9 +387,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
     /// if the rotator's words are `width` ≥ [`cull::MIN_CULL_WIDTH`] bits.
     pub fn new(params: Params, depth: u32, subdiv: SubdivConfig, width: u32) -> Self {
         IntersectUnit {
-            local: [LocalPatch::default(); PATCH_CAPACITY],
+            local: Table::new(LocalPatch::default(), params.capacity() as usize),
             key: None,
-            candidates: Candidates::default(),
+            candidates: Candidates::new(params.capacity() as usize, params.sectors),
             params,
             cull: CullUnit::new(params.sectors),
             cull_ok: width >= cull::MIN_CULL_WIDTH,
@@ -537,11 +559,26 @@ impl<T: Copy + Default> IntersectUnit<T> {
         lp.h = h;
         lp.active = true;
         self.local[i] = lp;
-        let wedge = match axes {
-            Some(ax) => self.cull.wedge(&a[..sides], &lp.e[..sides], ax),
-            None => Wedge::Full,
+        let reach = match axes {
+            Some(ax) => {
+                let r = self.cull.reach(&a[..sides], &lp.e[..sides], ax);
+                let st = &mut self.stats;
+                st.culled_patches += 1;
+                let bands = (r.band_hi - r.band_lo) as u64 + 1;
+                let sectors = match r.wedge {
+                    Wedge::Below => 0,
+                    Wedge::Full => {
+                        st.full_patches += 1;
+                        self.cull.sectors() as u64
+                    }
+                    Wedge::Sectors { len, .. } => len as u64,
+                };
+                st.bins += sectors * bands;
+                r
+            }
+            None => Reach::ALL,
         };
-        self.candidates.add(i as u16, wedge, self.cull.sectors());
+        self.candidates.add(i as u16, reach, self.cull.sectors());
     }
 
     /// Starts a ray (when [`IntersectUnit::ready`]) at clock `now`, over the first `count`
@@ -569,14 +606,14 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 self.setup_pass(mem, count, key, frame.map(axes), now);
             }
             let culled = self.key.is_some_and(|k| k.1.is_some()) && ray.frame.is_some();
-            let sector = if culled {
-                self.cull.ray_sector(ray.dir_ref)
+            let bin = if culled {
+                self.cull.ray_bin(ray.dir_ref)
             } else {
                 None
             };
             self.stats.rays += 1;
-            self.stats.culled_rays += sector.is_some() as u64;
-            let (planar, end) = self.lanes(&ray, sector, now);
+            self.stats.culled_rays += bin.is_some() as u64;
+            let (planar, end) = self.lanes(&ray, bin, now);
             let (curved, bez_end) = self.bezier_lane(mem, &ray, now);
             finish = end.max(bez_end);
             hit = nearer(planar, curved).map(|b| self.hit_out(mem, &ray, b));
@@ -590,12 +627,13 @@ impl<T: Copy + Default> IntersectUnit<T> {
 
     /// The planar lanes on one ray: its nearest planar hit and the clock its last lane is
     /// done.
-    fn lanes(&mut self, ray: &RayIn<T>, sector: Option<u32>, now: u64) -> (Option<Best>, u64) {
+    fn lanes(&mut self, ray: &RayIn<T>, bin: Option<(u32, u32)>, now: u64) -> (Option<Best>, u64) {
         let lanes = self.params.lanes as usize;
         let mut counts = [0u64; MAX_LANES as usize];
         let mut best: Option<Best> = None;
-        for &i in self.candidates.list(sector) {
-            if ray.skip == Some(i as u32) {
+        let c = &self.candidates;
+        for &i in c.list(bin.map(|b| b.0)) {
+            if ray.skip == Some(i as u32) || bin.is_some_and(|b| !c.in_band(i, b.1)) {
                 continue;
             }
             counts[i as usize % lanes] += 1;
