@@ -35,13 +35,15 @@ pub struct Params {
 }
 
 impl Params {
-    /// The default build: 4 lanes of 512 slots, 32 sectors, 2 rays per clock (its area proxy
-    /// fits an ECP5-85k, see `area`).
+    /// The default build: 8 lanes of 256 slots, 32 sectors (and the culling unit's 16 polar
+    /// bands), 2 rays per clock: the fewest lanes that cast the 1,216-patch Cornell box at
+    /// under 4 cycles a ray (docs/PERFORMANCE.md). Its area proxy does not fit an ECP5-85k
+    /// (`area`; nor does any build's, because of the fixed units).
     pub const DEFAULT: Params = Params {
-        lanes: 4,
+        lanes: 8,
         sectors: 32,
         rays_per_clock: 2,
-        bank_slots: 512,
+        bank_slots: 256,
     };
 
     /// The accelerator before this datapath: one lane of 256 slots, no culling, one ray per
