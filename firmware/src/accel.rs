@@ -263,6 +263,7 @@ fn why(e: &ModelError) -> &'static str {
         ModelError::TooManyPatches { .. } => "too many patches",
         ModelError::TooManyBezierPatches { .. } => "too many Bezier patches",
         ModelError::BadGeometry(_) => "bad geometry",
+        ModelError::BadParams => "bad build parameters",
         #[expect(unreachable_patterns, reason = "ModelError may grow")]
         _ => "model error",
     }

@@ -23,6 +23,7 @@ use crate::driver::{Driver, DriverError, ModelBus, RegisterAccess};
 use crate::format::{Coord, Unit};
 use crate::intersect::bezier::{BEZIER_ROWS, CP_WORDS};
 use crate::intersect::patch_mem::{BezierSlot, PatchWords, KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
+use crate::params::Params;
 use crate::regs::{mode, result};
 use hemi_kernel::accel::{Accelerator, Hit, Ray};
 use hemi_kernel::geometry::Vec3;
@@ -46,6 +47,9 @@ pub struct ModelConfig {
     /// Bezier flatness criterion as a fraction of each patch's size (0: always to the full
     /// depth), the kernel's `Subdivision::flatness`.
     pub flatness: f32,
+    /// Intersection lanes, culling sectors and front-end width of the modelled build
+    /// ([`Params`]; a board's accelerator reports its own in CAPS_LANES).
+    pub params: Params,
 }
 
 impl Default for ModelConfig {
@@ -60,6 +64,7 @@ impl Default for ModelConfig {
             subdivision_depth: 10,
             coord_width: 26,
             flatness: 1e-4,
+            params: Params::DEFAULT,
         }
     }
 }
@@ -89,6 +94,8 @@ pub enum ModelError {
     },
     /// A vertex or normal is not finite or out of the coordinate range.
     BadGeometry(usize),
+    /// Build parameters the model cannot be built with (lanes, sectors, front-end width).
+    BadParams,
 }
 
 impl From<DriverError> for ModelError {
@@ -129,13 +136,16 @@ pub type ModelAccelerator = RegisterAccelerator<ModelBus>;
 impl ModelAccelerator {
     /// Configures the model and loads `patches` into its patch memory through the driver.
     pub fn new(patches: &[Patch], config: ModelConfig) -> Result<Self, ModelError> {
+        if !config.params.is_valid() {
+            return Err(ModelError::BadParams);
+        }
         // Built in place and then configured through `&mut self`: the model is about 100 KB,
         // and every by-value move of it is a copy on the stack in unoptimised builds (rayon's
         // worker threads, with 2 MiB stacks, nest several of these).
         // (So the fields are spelled out here rather than built by a helper taking the driver
         // by value.)
         let mut acc = RegisterAccelerator {
-            driver: Driver::unattached(ModelBus::new()),
+            driver: Driver::unattached(ModelBus::with_params(config.params)),
             centre: [0.0; 3],
             scale: 1.0,
             frame: None,
@@ -158,6 +168,11 @@ impl ModelAccelerator {
     /// The Bezier unit's work counters: patch tests, subdivision steps, leaves, clocks.
     pub fn bezier_stats(&self) -> crate::intersect::bezier::BezierStats {
         self.driver.bus().device().bezier_stats()
+    }
+
+    /// The lanes' work counters: candidates tested, rays culled, set-up passes.
+    pub fn lane_stats(&self) -> crate::intersect::LaneStats {
+        self.driver.bus().device().lane_stats()
     }
 }
 

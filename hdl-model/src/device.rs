@@ -10,6 +10,12 @@
 //! Flow control is by credits, as in hardware: the rotator only takes an entry when the ray queue
 //! behind it will have room for everything in flight, and the intersection unit only starts a ray
 //! when the result FIFO will have room for it, so no pipeline ever stalls mid-way.
+//!
+//! The front end is `rays_per_clock` wide ([`Params`]): that many entries leave the ray FIFO,
+//! enter as many rotators, start in the intersection unit and retire into the result FIFO per
+//! clock. Besides the register window, rays can enter and results leave through the stream port
+//! ([`Device::stream_push`], [`Device::stream_pop`]): a DMA pair that moves `rays_per_clock`
+//! entries each way per clock between the MCU's memory and the FIFOs.
 
 use crate::cordic::CordicConfig;
 use crate::fifo::Fifo;
@@ -18,17 +24,23 @@ use crate::frame::{FrameRequest, FrameUnit};
 use crate::intersect::bezier::{
     BezierStats, SubdivConfig, BEZIER_ROWS, MAX_DEPTH, RECIP_LATENCY, STACK_ENTRIES,
 };
-use crate::intersect::patch_mem::{PatchMem, PATCH_CAPACITY, PATCH_WORDS};
-use crate::intersect::{IntersectUnit, RayIn, RayOut};
+use crate::intersect::patch_mem::{PatchMem, PATCH_WORDS};
+use crate::intersect::{IntersectUnit, LaneStats, RayIn, RayOut};
+use crate::params::{Params, MAX_RAYS_PER_CLOCK};
 use crate::regs::{self, bz_config, config, ctrl, error, irq, mode, result, skip, status};
 use crate::rotator::{RotIn, Rotator};
 
 /// Ray FIFO depth (entries).
 pub const RAY_FIFO_DEPTH: usize = 32;
-/// Result FIFO depth (results).
-pub const RESULT_FIFO_DEPTH: usize = 32;
-/// Ray queue between the rotator and the intersection unit.
-const QUEUE_DEPTH: usize = 4;
+/// Result FIFO depth (results), and the credits of the whole datapath: an entry leaves the ray
+/// FIFO only with a result slot reserved for it, so the rotators, the ray queue and the
+/// intersection unit never hold more than this together and no pipeline stalls mid-way. It
+/// bounds the rays in flight, so it is as deep as the CAPS field allows: with the rotators'
+/// 80 clocks and the unit's ~60 at the default CORDIC, 255 credits keep up to about 1.8 rays a
+/// clock in flight.
+pub const RESULT_FIFO_DEPTH: usize = crate::intersect::RAY_SLOTS;
+/// Ray queue between the rotators and the intersection unit (covered by the credits).
+const QUEUE_DEPTH: usize = RESULT_FIFO_DEPTH;
 
 /// The reset value of CONFIG: 24 iterations, 32-bit words, 16 (u,v) levels.
 pub const CONFIG_RESET: u32 = 24 | (32 << config::WIDTH_SHIFT) | (16 << config::DEPTH_SHIFT);
@@ -43,6 +55,9 @@ pub struct Info {
     error: bool,
     origin: [Coord; 3],
     skip: Option<u32>,
+    /// the frame a rotating entry was turned by, and its direction before the turn
+    frame: Option<[Angle; 3]>,
+    dir_ref: [Unit; 3],
 }
 
 /// A ray FIFO entry: a ray (with its latched mode and origin) or a frame command, kept in order.
@@ -105,7 +120,8 @@ pub struct Device {
     result_word: usize,
     frame: FrameUnit,
     frame_valid: bool,
-    rotator: Rotator<Info>,
+    params: Params,
+    rotators: [Rotator<Info>; MAX_RAYS_PER_CLOCK as usize],
     queue: Fifo<RayIn<Info>, QUEUE_DEPTH>,
     intersect: IntersectUnit<Info>,
     mem: PatchMem,
@@ -121,8 +137,14 @@ impl Default for Device {
 }
 
 impl Device {
-    /// The device after power-on reset (patch memory zero, CONFIG at [`CONFIG_RESET`]).
+    /// The default build after power-on reset (patch memory zero, CONFIG at [`CONFIG_RESET`]).
     pub fn new() -> Self {
+        Self::with_params(Params::DEFAULT)
+    }
+
+    /// A device built with `params` (which must be valid), after power-on reset.
+    pub fn with_params(params: Params) -> Self {
+        assert!(params.is_valid(), "invalid build parameters {params:?}");
         let (cfg, depth) = decode_config(CONFIG_RESET).expect("reset configuration is valid");
         let subdiv = decode_bz_config(BZ_CONFIG_RESET).expect("reset configuration is valid");
         Device {
@@ -153,10 +175,11 @@ impl Device {
             result_word: 0,
             frame: FrameUnit::new(cfg),
             frame_valid: false,
-            rotator: Rotator::new(cfg),
+            params,
+            rotators: core::array::from_fn(|_| Rotator::new(cfg)),
             queue: Fifo::default(),
-            intersect: IntersectUnit::new(depth, subdiv),
-            mem: PatchMem::default(),
+            intersect: IntersectUnit::new(params, depth, subdiv, cfg.width),
+            mem: PatchMem::new(params.capacity() as usize),
             patch_addr: 0,
             patch_count: 0,
             was_busy: false,
@@ -176,7 +199,7 @@ impl Device {
     fn busy(&self) -> bool {
         !self.ray_fifo.is_empty()
             || self.frame.busy()
-            || self.rotator.occupancy() > 0
+            || self.rotator_occupancy() > 0
             || !self.queue.is_empty()
             || self.intersect.in_flight() > 0
     }
@@ -188,21 +211,21 @@ impl Device {
 
     fn soft_reset(&mut self) {
         // patch memory and the configuration in force survive; everything else is reset
-        let mem = core::mem::take(&mut self.mem);
+        let mem = core::mem::replace(&mut self.mem, PatchMem::new(0));
         let (config, bz, patch_count) =
             (self.config_active, self.bz_config_active, self.patch_count);
         let (cfg, depth) = decode_config(config).expect("active configuration is valid");
         let subdiv = decode_bz_config(bz).expect("active configuration is valid");
-        *self = Device::new();
+        *self = Device::with_params(self.params);
         self.mem = mem;
         self.config_reg = config;
         self.config_active = config;
         self.bz_config_reg = bz;
         self.bz_config_active = bz;
         self.patch_count = patch_count;
-        self.rotator = Rotator::new(cfg);
+        self.rotators = core::array::from_fn(|_| Rotator::new(cfg));
         self.frame = FrameUnit::new(cfg);
-        self.intersect = IntersectUnit::new(depth, subdiv);
+        self.intersect = IntersectUnit::new(self.params, depth, subdiv, cfg.width);
     }
 
     fn apply_config(&mut self) {
@@ -217,10 +240,10 @@ impl Device {
             (Some((cfg, depth)), Some(subdiv)) => {
                 self.config_active = self.config_reg;
                 self.bz_config_active = self.bz_config_reg;
-                self.rotator = Rotator::new(cfg);
+                self.rotators = core::array::from_fn(|_| Rotator::new(cfg));
                 self.frame = FrameUnit::new(cfg);
                 self.frame_valid = false;
-                self.intersect.reconfigure(depth, subdiv);
+                self.intersect.reconfigure(depth, subdiv, cfg.width);
             }
             _ => self.raise(error::BAD_CONFIG),
         }
@@ -263,7 +286,7 @@ impl Device {
             regs::CAPS => {
                 RAY_FIFO_DEPTH as u32
                     | (RESULT_FIFO_DEPTH as u32) << 8
-                    | (PATCH_CAPACITY as u32) << 16
+                    | (self.mem.slots() as u32) << 16
             }
             regs::CTRL => self.enable as u32,
             regs::STATUS => self.status(),
@@ -332,6 +355,7 @@ impl Device {
                 BEZIER_ROWS as u32 | (STACK_ENTRIES as u32) << 16 | MAX_DEPTH << 24
             }
             regs::STACK_HIGH => self.intersect.stack_high_water() as u32,
+            regs::CAPS_LANES => self.params.caps_word(),
             _ => 0,
         }
     }
@@ -403,14 +427,7 @@ impl Device {
                 self.staged += 1;
                 if self.staged == 3 {
                     self.staged = 0;
-                    let e = Entry {
-                        frame: None,
-                        mode: self.mode,
-                        origin: self.origin,
-                        skip: (self.skip_reg & skip::ENABLE != 0)
-                            .then_some(self.skip_reg & result::PATCH_MASK),
-                        dir: self.staging,
-                    };
+                    let e = self.ray_entry(self.staging);
                     self.push_entry(e);
                 }
             }
@@ -428,7 +445,7 @@ impl Device {
             regs::PATCH_COUNT => {
                 if self.busy() {
                     self.raise(error::PATCH_BUSY);
-                } else if value as usize > PATCH_CAPACITY {
+                } else if value as usize > self.mem.slots() {
                     self.raise(error::PATCH_RANGE);
                 } else {
                     self.patch_count = value;
@@ -459,13 +476,59 @@ impl Device {
         }
     }
 
-    /// One clock.
-    pub fn tick(&mut self) {
-        // intersection unit → result FIFO (room was reserved when the ray started)
-        if let Some(r) = self
-            .intersect
-            .tick(&self.mem, self.patch_count, self.cycles)
-        {
+    /// A ray entry from `dir` with the per-entry registers latched (what the third RAY_IN write
+    /// and the stream port complete).
+    fn ray_entry(&self, dir: [Unit; 3]) -> Entry {
+        Entry {
+            frame: None,
+            mode: self.mode,
+            origin: self.origin,
+            skip: (self.skip_reg & skip::ENABLE != 0).then_some(self.skip_reg & result::PATCH_MASK),
+            dir,
+        }
+    }
+
+    /// The stream port's ray side: one entry (a direction, Q2.30 words) into the ray FIFO, as
+    /// three RAY_IN writes would make it; false (and nothing queued) if the FIFO is full.
+    pub fn stream_push(&mut self, dir: [u32; 3]) -> bool {
+        if self.ray_fifo.is_full() {
+            return false;
+        }
+        let e = self.ray_entry(dir.map(|w| Unit::from_bits(w as i32)));
+        self.push_entry(e);
+        true
+    }
+
+    /// The stream port's result side: the oldest whole result (four words; u, v are 0 in a
+    /// SHORT one), unless none is ready or RESULT_OUT has been read part-way into it.
+    pub fn stream_pop(&mut self) -> Option<[u32; 4]> {
+        if self.result_word != 0 {
+            return None;
+        }
+        self.result_fifo.pop()
+    }
+
+    /// Whether the ray FIFO is full.
+    pub fn ray_full(&self) -> bool {
+        self.ray_fifo.is_full()
+    }
+
+    /// The front end's width: rays per clock.
+    pub fn rays_per_clock(&self) -> usize {
+        self.params.rays_per_clock as usize
+    }
+
+    fn rotator_occupancy(&self) -> u32 {
+        self.rotators.iter().map(|r| r.occupancy()).sum()
+    }
+
+    /// Up to `rays_per_clock` rays from the intersection unit into the result FIFO (room was
+    /// reserved when each started).
+    fn retire(&mut self) {
+        for _ in 0..self.rays_per_clock() {
+            let Some(r) = self.intersect.take_done(self.cycles) else {
+                break;
+            };
             let words = Self::result_words(&r);
             let pushed = self.result_fifo.push(words);
             debug_assert!(pushed.is_ok(), "result credit accounting");
@@ -478,53 +541,85 @@ impl Device {
         if core::mem::take(&mut self.intersect.overflow) {
             self.raise(error::STACK_OVERFLOW);
         }
-        if self.intersect.ready() {
-            let credit = self.result_fifo.len() as u32 + self.intersect.in_flight();
-            if (credit as usize) < RESULT_FIFO_DEPTH {
-                if let Some(r) = self.queue.pop() {
-                    self.intersect.start(r);
-                }
+    }
+
+    /// Up to `rays_per_clock` rays from the queue into the intersection unit (each holds the
+    /// result credit it took at the ray FIFO).
+    fn start_rays(&mut self) {
+        for _ in 0..self.rays_per_clock() {
+            if !self.intersect.ready() {
+                break;
             }
+            let Some(r) = self.queue.pop() else {
+                break;
+            };
+            let rotator = &self.rotators[0];
+            self.intersect
+                .start(&self.mem, self.patch_count, r, self.cycles, |angles| {
+                    rotator.axes(angles)
+                });
         }
-        // ray FIFO → angle unit or rotator
-        let mut rot_in = None;
-        if self.enable {
-            if let Some(e) = self.ray_fifo.front() {
-                match e.frame {
-                    Some(req) => {
-                        if !self.frame.busy() {
-                            self.ray_fifo.pop();
-                            self.frame.start(req);
-                        }
-                    }
-                    None => {
-                        let rotates = e.mode & mode::KIND_MASK != mode::TRACE;
-                        let room =
-                            (self.rotator.occupancy() as usize + self.queue.len()) < QUEUE_DEPTH;
-                        if room && !(rotates && self.frame.busy()) {
-                            let e = *e;
-                            self.ray_fifo.pop();
-                            let no_frame = rotates && !self.frame_valid;
-                            if no_frame {
-                                self.raise(error::NO_FRAME);
-                            }
-                            rot_in = Some(RotIn {
-                                dir: e.dir,
-                                angles: self.frame.angles(),
-                                bypass: !rotates || no_frame,
-                                info: Info {
-                                    mode: e.mode,
-                                    error: no_frame,
-                                    origin: e.origin,
-                                    skip: e.skip,
-                                },
-                            });
-                        }
-                    }
+    }
+
+    /// Up to `rays_per_clock` entries from the ray FIFO: frames to the angle unit, rays to the
+    /// rotators (entry k of the clock to rotator k).
+    fn issue(&mut self) -> [Option<RotIn<Info>>; MAX_RAYS_PER_CLOCK as usize] {
+        let mut rot_in = [None; MAX_RAYS_PER_CLOCK as usize];
+        if !self.enable {
+            return rot_in;
+        }
+        let held = self.rotator_occupancy() as usize
+            + self.queue.len()
+            + self.intersect.in_flight() as usize
+            + self.result_fifo.len();
+        for (taken, slot) in rot_in.iter_mut().take(self.rays_per_clock()).enumerate() {
+            let Some(e) = self.ray_fifo.front() else {
+                break;
+            };
+            if let Some(req) = e.frame {
+                if !self.frame.busy() {
+                    self.ray_fifo.pop();
+                    self.frame.start(req);
                 }
+                break;
             }
+            let rotates = e.mode & mode::KIND_MASK != mode::TRACE;
+            if held + taken >= RESULT_FIFO_DEPTH || (rotates && self.frame.busy()) {
+                break;
+            }
+            let e = *e;
+            self.ray_fifo.pop();
+            let no_frame = rotates && !self.frame_valid;
+            if no_frame {
+                self.raise(error::NO_FRAME);
+            }
+            let angles = self.frame.angles();
+            *slot = Some(RotIn {
+                dir: e.dir,
+                angles,
+                bypass: !rotates || no_frame,
+                info: Info {
+                    mode: e.mode,
+                    error: no_frame,
+                    origin: e.origin,
+                    skip: e.skip,
+                    frame: (rotates && !no_frame).then_some(angles),
+                    dir_ref: e.dir,
+                },
+            });
         }
-        if let Some((dir, info)) = self.rotator.tick(rot_in) {
+        rot_in
+    }
+
+    /// One clock.
+    pub fn tick(&mut self) {
+        self.retire();
+        self.start_rays();
+        let rot_in = self.issue();
+        for (rotator, input) in self.rotators.iter_mut().zip(rot_in) {
+            let Some((dir, info)) = rotator.tick(input) else {
+                continue;
+            };
             // room was reserved when the entry left the FIFO
             // the reciprocal unit (1/d for the Bezier unit's slab tests) sits at the queue's
             // input: pipelined, its answer is ready RECIP_LATENCY clocks after the ray enters
@@ -535,6 +630,8 @@ impl Device {
                 uv: info.mode & mode::NO_UV == 0,
                 skip: info.skip,
                 recip_at: self.cycles + RECIP_LATENCY,
+                frame: info.frame,
+                dir_ref: info.dir_ref,
                 info,
             });
             debug_assert!(pushed.is_ok(), "queue credit accounting");
@@ -561,6 +658,16 @@ impl Device {
     /// The subdivision engine's work counters (for measurements).
     pub fn bezier_stats(&self) -> BezierStats {
         self.intersect.bezier_stats()
+    }
+
+    /// The lanes' work counters (for measurements).
+    pub fn lane_stats(&self) -> LaneStats {
+        self.intersect.lane_stats()
+    }
+
+    /// The build parameters.
+    pub fn params(&self) -> Params {
+        self.params
     }
 }
 

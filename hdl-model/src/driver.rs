@@ -13,7 +13,34 @@ pub trait RegisterAccess {
     fn read(&mut self, offset: u32) -> u32;
     /// Writes `value` to the register at `offset`.
     fn write(&mut self, offset: u32, value: u32);
+    /// The accelerator's stream port, if this bus reaches one (CAPS_LANES bit 24 says the
+    /// accelerator has it; a bus must also have the DMA behind it). Without one the driver
+    /// streams rays through RAY_IN and results through RESULT_OUT, which is what today's
+    /// boards' MMIO does.
+    fn stream_port(&mut self) -> Option<&mut dyn StreamPort> {
+        None
+    }
 }
+
+/// The stream port: a DMA pair between the MCU's memory and the accelerator's FIFOs, moving up
+/// to [`StreamPort::rays_per_clock`] ray entries in and as many results out per clock, beside the
+/// register bus.
+pub trait StreamPort {
+    /// Entries each way per clock.
+    fn rays_per_clock(&self) -> usize;
+    /// Whether the ray FIFO has room for an entry.
+    fn can_push(&self) -> bool;
+    /// One ray entry into the ray FIFO this clock (latched with MODE, ORIGIN, SKIP_PATCH as
+    /// RAY_IN latches them), if [`StreamPort::can_push`].
+    fn push(&mut self, dir: [u32; 3]);
+    /// One whole result out of the result FIFO this clock, if there is one.
+    fn pop(&mut self) -> Option<[u32; 4]>;
+    /// Ends the clock.
+    fn clock(&mut self);
+}
+
+/// Register writes that start the stream port's two channels (addresses and counts).
+const STREAM_DESCRIPTOR_WRITES: u64 = 4;
 
 /// The model behind a bus: every access takes one clock (the device ticks after it), as a
 /// single-cycle APB-style slave would.
@@ -23,9 +50,16 @@ pub struct ModelBus {
 }
 
 impl ModelBus {
-    /// A bus to a freshly reset model.
+    /// A bus to a freshly reset model of the default build.
     pub fn new() -> Self {
         ModelBus { dev: Device::new() }
+    }
+
+    /// A bus to a freshly reset model built with `params` (valid).
+    pub fn with_params(params: crate::params::Params) -> Self {
+        ModelBus {
+            dev: Device::with_params(params),
+        }
     }
 
     /// The model (read-only: for its clock and for white-box tests).
@@ -53,6 +87,30 @@ impl RegisterAccess for ModelBus {
     fn write(&mut self, offset: u32, value: u32) {
         self.dev.write(offset, value);
         self.dev.tick();
+    }
+
+    fn stream_port(&mut self) -> Option<&mut dyn StreamPort> {
+        Some(&mut self.dev)
+    }
+}
+
+/// The model's stream port: the device's own FIFO ends, one device clock per port clock.
+impl StreamPort for Device {
+    fn rays_per_clock(&self) -> usize {
+        Device::rays_per_clock(self)
+    }
+    fn can_push(&self) -> bool {
+        !self.ray_full()
+    }
+    fn push(&mut self, dir: [u32; 3]) {
+        let pushed = self.stream_push(dir);
+        debug_assert!(pushed, "pushed without room");
+    }
+    fn pop(&mut self) -> Option<[u32; 4]> {
+        self.stream_pop()
+    }
+    fn clock(&mut self) {
+        self.tick();
     }
 }
 
@@ -86,6 +144,9 @@ pub struct Driver<B: RegisterAccess> {
     bus: B,
     ray_depth: u32,
     patch_capacity: u32,
+    params: crate::params::Params,
+    /// CAPS_LANES bit 24: the accelerator has the stream port
+    stream_port: bool,
 }
 
 impl<B: RegisterAccess> Driver<B> {
@@ -103,6 +164,8 @@ impl<B: RegisterAccess> Driver<B> {
             bus,
             ray_depth: 0,
             patch_capacity: 0,
+            params: crate::params::Params::SINGLE,
+            stream_port: false,
         }
     }
 
@@ -115,10 +178,19 @@ impl<B: RegisterAccess> Driver<B> {
             return Err(DriverError::WrongDevice { id, version });
         }
         let caps = self.bus.read(regs::CAPS);
+        // 0 from a device before 1.3 (an unmapped offset): one lane, no culling
+        let lanes = self.bus.read(regs::CAPS_LANES);
         self.bus.write(regs::CTRL, ctrl::ENABLE);
         self.ray_depth = caps & 0xFF;
         self.patch_capacity = caps >> 16;
+        self.params = crate::params::Params::from_caps(lanes, self.patch_capacity);
+        self.stream_port = lanes & (1 << 24) != 0;
         Ok(())
+    }
+
+    /// The accelerator's build parameters (CAPS_LANES, read at attach).
+    pub fn params(&self) -> crate::params::Params {
+        self.params
     }
 
     /// The bus.
@@ -328,7 +400,26 @@ impl<B: RegisterAccess> Driver<B> {
     /// Streams `n` rays: pushes `dir(i)` as the ray FIFO has room and hands each result to
     /// `sink(i, words)` in order. One STATUS read per round tells both how much room there is
     /// and how many results wait.
+    /// Through the stream port when the bus has one and the accelerator reports it.
     pub fn stream(
+        &mut self,
+        n: usize,
+        dir: impl FnMut(usize) -> [u32; 3],
+        sink: impl FnMut(usize, [u32; 4]),
+    ) -> Result<(), DriverError> {
+        let has_port = self.stream_port;
+        match self.bus.stream_port() {
+            Some(port) if has_port => match stream_through(port, n, dir, sink) {
+                Ok(()) => Ok(()),
+                Err(StreamFault::Result) => Err(DriverError::Device(self.take_errors())),
+                Err(StreamFault::Stall) => Err(DriverError::Timeout(self.bus.read(regs::STATUS))),
+            },
+            _ => self.stream_registers(n, dir, sink),
+        }
+    }
+
+    /// [`Driver::stream`] through RAY_IN and RESULT_OUT.
+    fn stream_registers(
         &mut self,
         n: usize,
         mut dir: impl FnMut(usize) -> [u32; 3],
@@ -376,4 +467,57 @@ impl<B: RegisterAccess> Driver<B> {
         let lo = self.bus.read(regs::BUSY_LO) as u64;
         lo | (self.bus.read(regs::BUSY_HI) as u64) << 32
     }
+}
+
+/// Why a stream through the port stopped.
+enum StreamFault {
+    /// A result carried the ERROR flag.
+    Result,
+    /// No progress for [`STALL_LIMIT`] clocks.
+    Stall,
+}
+
+/// Streams `n` rays through the port: the descriptor writes, then per clock up to its width of
+/// entries in and of results out.
+fn stream_through(
+    port: &mut dyn StreamPort,
+    n: usize,
+    mut dir: impl FnMut(usize) -> [u32; 3],
+    mut sink: impl FnMut(usize, [u32; 4]),
+) -> Result<(), StreamFault> {
+    for _ in 0..STREAM_DESCRIPTOR_WRITES {
+        port.clock();
+    }
+    let width = port.rays_per_clock();
+    let (mut pushed, mut popped, mut stalls) = (0usize, 0usize, 0u32);
+    while popped < n {
+        let before = (pushed, popped);
+        for _ in 0..width {
+            if pushed == n || !port.can_push() {
+                break;
+            }
+            port.push(dir(pushed));
+            pushed += 1;
+        }
+        for _ in 0..width {
+            let Some(r) = port.pop() else {
+                break;
+            };
+            if r[0] & result::ERROR != 0 {
+                return Err(StreamFault::Result);
+            }
+            sink(popped, r);
+            popped += 1;
+        }
+        port.clock();
+        if (pushed, popped) == before {
+            stalls += 1;
+            if stalls > STALL_LIMIT {
+                return Err(StreamFault::Stall);
+            }
+        } else {
+            stalls = 0;
+        }
+    }
+    Ok(())
 }

@@ -4,6 +4,8 @@
 //! - [`frame`]: the angle unit (normal → φ, θ by vectoring);
 //! - [`rotator`]: three rotation pipes that turn hemisphere rays onto the frame;
 //! - [`intersect`]: nearest hit over patch memory, with t and (u,v) (§6.1);
+//! - `area` (hosts): the area proxy of a build and its mapping onto an ECP5;
+//! - [`params`]: the build parameters (lanes, culling sectors, front-end width);
 //! - [`device`]: register file, FIFOs and control around them, one [`device::Device::tick`] per
 //!   clock;
 //! - [`regs`]: the register map (`docs/register-map.md`);
@@ -18,6 +20,8 @@
 #![forbid(unsafe_code)]
 
 pub mod accel;
+#[cfg(feature = "alloc")]
+pub mod area;
 pub mod cordic;
 pub mod device;
 pub mod driver;
@@ -25,9 +29,12 @@ pub mod fifo;
 pub mod format;
 pub mod frame;
 pub mod intersect;
+pub mod params;
 pub mod pipe;
 pub mod regs;
 pub mod rotator;
+pub mod table;
 
 pub use accel::{ModelAccelerator, ModelConfig, ModelError, RegisterAccelerator};
-pub use driver::{Driver, DriverError, ModelBus, RegisterAccess};
+pub use driver::{Driver, DriverError, ModelBus, RegisterAccess, StreamPort};
+pub use params::Params;

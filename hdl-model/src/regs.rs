@@ -84,13 +84,17 @@ pub const BZ_CONFIG_ACTIVE: u32 = 0x0A4;
 pub const CAPS_BEZIER: u32 = 0x0A8;
 /// Most subdivision stack entries in use at once since reset or APPLY_CONFIG, read-only.
 pub const STACK_HIGH: u32 = 0x0AC;
+/// Build parameters, read-only (1.3): lanes 7:0, rays per clock 15:8, culling sectors 23:16
+/// (0: no culling), bit 24 the stream port.
+pub const CAPS_LANES: u32 = 0x0B0;
 
 /// ID register value.
 pub const ID_VALUE: u32 = 0x4845_4D49;
-/// VERSION register value: 1.2 (1.1 added the Bezier unit: BZ_CONFIG, SKIP_PATCH, the
-/// control-point memory; 1.2 added MODE.NO_UV and SHORT results. A 1.0 driver still works
-/// against it: it never sets the new bit, so it never sees a short result).
-pub const VERSION_VALUE: u32 = 0x0001_0002;
+/// VERSION register value: 1.3 (1.1 added the Bezier unit: BZ_CONFIG, SKIP_PATCH, the
+/// control-point memory; 1.2 added MODE.NO_UV and SHORT results; 1.3 added CAPS_LANES, the
+/// lanes, the culling unit and the stream port. A 1.0 driver still works against it: it never
+/// sets the new bit, so it never sees a short result, and it never needs the stream port).
+pub const VERSION_VALUE: u32 = 0x0001_0003;
 
 /// CTRL bits.
 pub mod ctrl {

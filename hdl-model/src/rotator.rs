@@ -105,6 +105,54 @@ impl<T: Copy + Default> Rotator<T> {
         self.in_flight = 0;
     }
 
+    /// The frame's axes x̂, ŷ, ẑ turned by `angles` (ψ, θ, φ) as this rotator turns
+    /// directions: what the culling unit's set-up needs of a frame (three entries through the
+    /// rotator, which the frame unit issues when a frame completes, ahead of its rays).
+    pub fn axes(&self, angles: [Angle; 3]) -> [[Unit; 3]; 3] {
+        let one = Unit::from_bits(1 << 30);
+        let e = [
+            [one, Unit::ZERO, Unit::ZERO],
+            [Unit::ZERO, one, Unit::ZERO],
+            [Unit::ZERO, Unit::ZERO, one],
+        ];
+        e.map(|d| self.turn(d, angles))
+    }
+
+    /// The three pipes' stages on one direction, as a combinational chain.
+    fn turn(&self, dir: [Unit; 3], angles: [Angle; 3]) -> [Unit; 3] {
+        let s = self.psi.eval(CordicSlot {
+            x: dir[0],
+            y: dir[1],
+            z: angles[0],
+            zero: false,
+            payload: Carry {
+                third: dir[2],
+                slot: 0,
+            },
+        });
+        let s = self.theta.eval(CordicSlot {
+            x: s.payload.third,
+            y: s.x,
+            z: angles[1],
+            zero: false,
+            payload: Carry {
+                third: s.y,
+                slot: 0,
+            },
+        });
+        let s = self.phi.eval(CordicSlot {
+            x: s.y,
+            y: s.payload.third,
+            z: angles[2],
+            zero: false,
+            payload: Carry {
+                third: s.x,
+                slot: 0,
+            },
+        });
+        [s.x, s.y, s.payload.third]
+    }
+
     /// One clock; returns the rotated direction leaving the φ pipe with its info.
     #[inline]
     pub fn tick(&mut self, input: Option<RotIn<T>>) -> Option<([Unit; 3], T)> {

@@ -389,9 +389,11 @@ fn the_accelerator_runs_over_any_register_access_with_the_models_answers() {
     });
     assert_eq!(a, b);
     assert!(a.iter().any(|(_, _, h)| h.is_some()));
-    // one clock per bus access: the counter (read before its own two accesses) says the same
+    // one clock per bus access: the counter (read before its own two accesses) says the same;
+    // a bus without the stream port (a board's MMIO) moves every ray and result through the
+    // register window, so it takes more clocks than the model's own bus, which has the port
     let clocks = foreign.device_cycles();
-    assert_eq!(clocks, model.cycles());
+    assert!(clocks > model.cycles(), "{clocks} {}", model.cycles());
     assert_eq!(foreign.driver_mut().bus().accesses, clocks + 2);
 }
 

@@ -1,19 +1,32 @@
-//! The intersection unit of paper §6.1 and fig. 7: the nearest hit of a ray over patch memory.
+//! The intersection unit of paper §6.1 and fig. 7: the nearest hit of a ray over patch memory,
+//! with several lanes working in parallel and the hemisphere culling of [`cull`].
 //!
-//! It keeps, per patch, the edge normals and plane distance seen from the current origin (its
-//! "local memory", like the soft engine's `LocalPatch`): when a ray arrives from a new origin,
-//! a set-up pass of one patch per clock fills it. Hemisphere rays share their origin, so the pass
-//! is paid once per hemisphere. Then one patch is tested per clock, through a pipeline:
+//! ```text
+//!            ┌─ set-up unit b (one per bank): edge normals, plane, wedge ─► local memory b, sector bitmaps
+//! ray ─► sector (vectoring CORDIC) ─► descriptor FIFO b ─► lane b: bitmap walk ─► edge stage ─► divider ─┐
+//!      └──────────────────────────► Bezier lane: root slab test ─► subdivision engine ─────────────────────┴─► min tree ─► (u,v) ─► in order out
+//! ```
+//!
+//! **Banks and lanes.** Patch memory and the per-origin "local memory" (like the soft engine's
+//! `LocalPatch`) are banked by patch index modulo the lane count. When a ray arrives from a new
+//! origin (or, with culling, in a new frame) the set-up units fill their banks in parallel, one
+//! patch per clock each, so the pass costs ⌈P / lanes⌉ clocks plus the set-up pipe's latency;
+//! hemisphere rays share their origin, so it is paid once per hemisphere. Each lane has a
+//! descriptor FIFO of rays (a ray's sector and slot): it walks that sector's bitmap of its
+//! bank, handing one candidate patch per clock to its edge stage, and a ray with no candidate in
+//! a bank costs that lane nothing. A ray is done when every lane has passed its last candidate;
+//! its answers go through a min tree (nearest t, ties to the lowest patch index, as the single
+//! scan kept them) and the (u,v) pipe, and rays leave in the order they came.
+//!
+//! The stages of a lane:
 //!
 //! 1. [`EdgeStage`]: the ray is inside the patch's pyramid iff d · e_i ≥ 0 for every edge
 //!    normal e_i = a_i × a_{i+1} (a_i = v_i − O, sign flipped to the side the origin is on), and
 //!    the denominator n · d is formed. Edge normals are exact integers, and neighbours that share
 //!    an edge hold exactly opposite ones, so a ray through an edge hits one of them (no leaks).
 //! 2. [`DivideStage`]: t = h / (n · d), a pipelined divider of [`DIV_LATENCY`] clocks (modelled
-//!    as one exact integer quotient followed by a delay line; a restoring divider gives the same
-//!    truncated quotient).
-//! 3. [`SelectStage`]: keeps the nearest positive t of the ray and emits it after the ray's last
-//!    patch.
+//!    as one exact integer quotient; a restoring divider gives the same truncated quotient).
+//! 3. the lane's running minimum, then the min tree over lanes (`merge_latency` clocks).
 //!
 //! Then the (u,v) pipe ([`uv`]) locates the hit point on the hit patch. Widths: coordinates Q8.24
 //! (32 bits), a_i 34 bits, e_i ≤ 62 bits (an origin-wide truncation keeps far origins in range),
@@ -21,23 +34,32 @@
 //! ([`PlaneDen`], Q.60) and t are `fixed` types, so the divider's alignment comes from their
 //! formats; the edge normals stay integers (their scale follows the origin).
 //!
-//! A Bezier slot is not pipelined: its clock in the issue stage slab-tests the ray against the
-//! patch's root box (computed in the set-up pass); a miss costs that one clock like a planar
-//! patch, a hit hands the patch to the subdivision engine ([`bezier`], paper §6.1 and §7) and
-//! the issue stage waits until the engine answers, then sends its t, (u,v) and side down the
-//! same pipeline (through the divider's delay line, unchanged, so tokens stay in order); the
-//! (u,v) pipe passes such a hit's (u,v) through instead of bisecting. The engine prunes with the
-//! ray's nearest Bezier hit so far (planar hits are still in the divider at that point).
+//! **How it is modelled.** The lanes are modelled at the level of their queues: when a ray
+//! enters, its answer is computed by the stages above over exactly the candidates its lanes
+//! would be handed, and the clock it leaves on follows from each lane's one-candidate-per-clock
+//! occupancy (`bank_free`), the pipelines' fixed latencies and in-order retirement. Nothing
+//! observable depends on a lane's registers between those clocks.
+//!
+//! **Bezier slots** are never culled and go to one Bezier lane, in index order: its first clock
+//! slab-tests the ray against the patch's root box (computed in the set-up pass); a miss costs
+//! that one clock, a hit runs the subdivision engine ([`bezier`], paper §6.1 and §7) to its
+//! answer, one engine clock per clock. The engine prunes with the ray's nearest Bezier hit so far
+//! (planar hits are in the other lanes at that point). A ray's Bezier lane starts once its
+//! reciprocals 1/d are ready (the reciprocal unit at the ray queue's input).
 //! Slots of unknown kinds, and Bezier slots naming a row outside control-point memory, are
 //! skipped and reported through the UNSUPPORTED_PATCH error.
 
 pub mod bezier;
+pub mod cull;
 pub mod patch_mem;
 pub mod uv;
 
-use crate::format::{quotient, Coord, Coord64, PlaneDen, PlaneDist, Unit};
-use crate::pipe::{Delay, Pipe};
+use crate::fifo::Fifo;
+use crate::format::{quotient, Angle, Coord, Coord64, PlaneDen, PlaneDist, Unit};
+use crate::params::{Params, MAX_LANES, MAX_SECTORS};
+use crate::table::Table;
 use bezier::{BezierEngine, BezierStats, Box3, Job, RaySetup, SubdivConfig, BEZIER_ROWS};
+use cull::{CullUnit, Reach, Wedge};
 use fixed::types::extra::U24;
 use patch_mem::{
     BezierSlot, PatchMem, PatchWords, KIND_BEZIER, KIND_EMPTY, KIND_QUAD, KIND_TRIANGLE,
@@ -84,6 +106,11 @@ pub struct RayIn<T: Copy + Default> {
     /// The clock from which its reciprocals 1/d are ready (the reciprocal unit at the ray
     /// queue's input); Bezier slots wait for it.
     pub recip_at: u64,
+    /// The frame a ROTATE_TRACE entry was turned by (ψ, θ, φ), and its direction before the
+    /// turn (the culling unit's input); `None` for entries traced as given.
+    pub frame: Option<[Angle; 3]>,
+    /// The direction as written, before the rotator.
+    pub dir_ref: [Unit; 3],
     /// Carried to the result.
     pub info: T,
 }
@@ -112,10 +139,9 @@ pub struct RayOut<T: Copy + Default> {
     pub hit: Option<HitOut>,
 }
 
-/// Ray slots: rays in flight are named by a slot index into the unit's ray table, which is what
-/// the pipeline registers carry (a 6-bit tag) instead of the ray itself. The unit is in order,
-/// so slots are handed out round-robin and one is free again once `in_flight` is below this.
-pub const RAY_SLOTS: usize = 64;
+/// Rays in the unit at once (entered and not yet retired): the depth of each lane's descriptor
+/// FIFO and of the retirement buffer. The device's result credits keep it below this.
+pub const RAY_SLOTS: usize = 255;
 
 /// A Bezier patch's answer, computed by the subdivision engine: t, u, v, side.
 #[derive(Clone, Copy, Debug, Default)]
@@ -127,48 +153,14 @@ struct Direct {
     front: bool,
 }
 
-/// The edge stage's output register.
+/// What the edge stage hands the divider for one (ray, patch).
 #[derive(Clone, Copy, Debug, Default)]
 struct Token {
-    slot: u8,
-    patch: u32,
-    first: bool,
-    last: bool,
     /// the ray is inside this patch's pyramid (edge stage result)
     inside: bool,
     h: PlaneDist,
     den: PlaneDen,
     front: bool,
-    /// a Bezier slot's finished answer (bypasses the divider's arithmetic)
-    direct: Option<Direct>,
-}
-
-/// What the divider hands on (its h and n · d inputs are consumed): a register of the delay
-/// line that models the divider's latency.
-#[derive(Clone, Copy, Debug, Default)]
-struct Quotient {
-    slot: u8,
-    patch: u32,
-    first: bool,
-    last: bool,
-    /// a positive, in-range t
-    hit: bool,
-    front: bool,
-    t: Coord64,
-    /// (u,v) already known (Bezier hits)
-    uv: Option<(Unit, Unit)>,
-}
-
-/// A (u,v) pipeline register: the cell, whether the ray hit, and its slot.
-#[derive(Clone, Copy, Debug, Default)]
-struct UvReg {
-    cell: Cell,
-    hit: bool,
-    slot: u8,
-    /// (u,v) known on entry: the stages pass it through
-    direct: Option<(Unit, Unit)>,
-    /// the stages are enabled (the ray wants (u,v) and its hit is planar)
-    bisect: bool,
 }
 
 /// Stage 1: edge tests and the denominator.
@@ -176,12 +168,12 @@ struct UvReg {
 pub struct EdgeStage;
 
 impl EdgeStage {
-    fn eval<T: Copy + Default>(&self, mut tok: Token, ray: &RayIn<T>, lp: &LocalPatch) -> Token {
-        if ray.bypass || !lp.active {
-            tok.inside = false;
+    fn eval(&self, dir: &[Unit; 3], lp: &LocalPatch) -> Token {
+        let mut tok = Token::default();
+        if !lp.active {
             return tok;
         }
-        let d = ray.dir.map(|c| c.to_bits() as i128);
+        let d = dir.map(|c| c.to_bits() as i128);
         let mut inside = true;
         for e in &lp.e[..lp.sides as usize] {
             let s = d[0] * e[0] as i128 + d[1] * e[1] as i128 + d[2] * e[2] as i128;
@@ -204,142 +196,223 @@ impl EdgeStage {
 pub struct DivideStage;
 
 impl DivideStage {
-    fn eval(&self, tok: Token) -> Quotient {
-        let mut out = Quotient {
-            slot: tok.slot,
-            patch: tok.patch,
-            first: tok.first,
-            last: tok.last,
-            hit: false,
-            front: tok.front,
-            t: Coord64::ZERO,
-            uv: None,
-        };
-        if let Some(d) = tok.direct {
-            out.hit = d.hit;
-            out.t = d.t;
-            out.front = d.front;
-            out.uv = Some((d.u, d.v));
-            return out;
-        }
+    fn eval(&self, tok: Token) -> Option<Coord64> {
         if !tok.inside {
-            return out;
+            return None;
         }
         // t in the Q8.24 of the result: positive and within its 32 bits
         match quotient::<U24, _, _>(tok.h, tok.den) {
             Some(q) if q.is_positive() && q.to_bits() <= i32::MAX as i128 => {
-                out.hit = true;
-                out.t = q.wrapping_to_num();
+                Some(q.wrapping_to_num())
             }
-            _ => {}
+            _ => None,
         }
-        out
     }
 }
 
-/// The best candidate of a ray so far: patch, t, front, (u,v) if already known.
-type Best = Option<(u32, Coord64, bool, Option<(Unit, Unit)>)>;
-
-/// Stage 3: the running minimum of one ray.
-#[derive(Clone, Copy, Debug, Default)]
-pub struct SelectStage {
-    best: Best,
+/// A candidate answer: patch, t, front, (u,v) if already known (Bezier).
+#[derive(Clone, Copy, Debug)]
+struct Best {
+    patch: u32,
+    t: Coord64,
+    front: bool,
+    uv: Option<(Unit, Unit)>,
 }
 
-impl SelectStage {
-    /// The ray's slot and its nearest hit after its last patch.
-    fn eval(&mut self, tok: Quotient) -> Option<(u8, Best)> {
-        if tok.first {
-            self.best = None;
+/// The min tree's rule, as the single scan's running minimum kept it: the nearest t, and of
+/// equal t the lowest patch index.
+fn nearer(a: Option<Best>, b: Option<Best>) -> Option<Best> {
+    match (a, b) {
+        (Some(x), Some(y)) => Some(if (y.t, y.patch) < (x.t, x.patch) {
+            y
+        } else {
+            x
+        }),
+        (x, None) => x,
+        (None, y) => y,
+    }
+}
+
+/// Clocks of the min tree over the lanes and the Bezier lane (one level per clock) and the
+/// final select.
+fn merge_latency(lanes: u32) -> u64 {
+    (32 - lanes.leading_zeros()) as u64 + 1
+}
+
+/// Latency of the set-up pipe after its last patch: the edge normals' products, and with
+/// culling the corners' dot products with the axes, the vectoring CORDIC and the sector
+/// compare.
+fn setup_latency(culling: bool) -> u64 {
+    if culling {
+        crate::cordic::CordicConfig::DEFAULT.latency() as u64 + 4
+    } else {
+        2
+    }
+}
+
+/// What the set-up pass was computed for: the origin, and the frame if it culled.
+type SetupKey = ([Coord; 3], Option<[Angle; 3]>);
+
+/// The candidate lists the lanes' bitmaps stand for: per sector, the planar patches that can be
+/// met in it; every active planar patch (unculled rays); every Bezier slot. In index order.
+#[derive(Clone, Debug)]
+struct Candidates {
+    /// `slots` entries per sector
+    sector: Table<u16, { MAX_SECTORS as usize * PATCH_CAPACITY }>,
+    sector_len: [u16; MAX_SECTORS as usize],
+    slots: usize,
+    active: Table<u16, PATCH_CAPACITY>,
+    active_len: usize,
+    /// each slot's polar bands (first, last)
+    bands: Table<(u8, u8), PATCH_CAPACITY>,
+    bezier: Table<u16, PATCH_CAPACITY>,
+    bezier_len: usize,
+}
+
+impl Candidates {
+    /// Lists for `slots` patch slots in `sectors` sectors.
+    fn new(slots: usize, sectors: u32) -> Self {
+        let active = Table::new(0, slots);
+        let slots = active.len();
+        Candidates {
+            sector: Table::new(0, sectors as usize * slots),
+            sector_len: [0; MAX_SECTORS as usize],
+            slots,
+            active,
+            active_len: 0,
+            bands: Table::new((0, 0), slots),
+            bezier: Table::new(0, slots),
+            bezier_len: 0,
         }
-        if tok.hit && self.best.is_none_or(|(_, t, _, _)| tok.t < t) {
-            self.best = Some((tok.patch, tok.t, tok.front, tok.uv));
+    }
+
+    fn clear(&mut self) {
+        self.sector_len = [0; MAX_SECTORS as usize];
+        self.active_len = 0;
+        self.bezier_len = 0;
+    }
+
+    fn add_to_sector(&mut self, s: u32, i: u16) {
+        let n = &mut self.sector_len[s as usize];
+        self.sector[s as usize * self.slots + *n as usize] = i;
+        *n += 1;
+    }
+
+    fn add(&mut self, i: u16, reach: Reach, sectors: u32) {
+        self.active[self.active_len] = i;
+        self.active_len += 1;
+        self.bands[i as usize] = (reach.band_lo, reach.band_hi);
+        match reach.wedge {
+            Wedge::Below => {}
+            Wedge::Full => (0..sectors).for_each(|s| self.add_to_sector(s, i)),
+            Wedge::Sectors { lo, len } => {
+                (0..len as u32).for_each(|k| self.add_to_sector((lo as u32 + k) % sectors, i))
+            }
         }
-        tok.last.then(|| (tok.slot, self.best.take()))
+    }
+
+    /// Whether slot `i` can be met in band `band`.
+    fn in_band(&self, i: u16, band: u32) -> bool {
+        let (lo, hi) = self.bands[i as usize];
+        (lo as u32..=hi as u32).contains(&band)
+    }
+
+    fn list(&self, sector: Option<u32>) -> &[u16] {
+        match sector {
+            Some(s) => {
+                let base = s as usize * self.slots;
+                &self.sector[base..base + self.sector_len[s as usize] as usize]
+            }
+            None => &self.active[..self.active_len],
+        }
     }
 }
 
 /// The unit.
 #[derive(Clone, Debug)]
 pub struct IntersectUnit<T: Copy + Default> {
-    local: [LocalPatch; PATCH_CAPACITY],
-    local_origin: Option<[Coord; 3]>,
-    /// the rays in flight, by slot
-    rays: [RayIn<T>; RAY_SLOTS],
-    /// and their nearest hit, from the select stage on
-    hits: [HitOut; RAY_SLOTS],
-    next_slot: u8,
-    /// slot of the ray being issued, the next patch to issue, and the set-up patch counter
-    current: Option<u8>,
-    next_patch: u32,
-    setup_next: Option<u32>,
-    /// The edge stage's output register, held as what the divider and the select stage make
-    /// of it: the divider's arithmetic depends on this register alone, and the select stage
-    /// sees the tokens in the same order whether it runs as they enter the divider's delay line
-    /// or as they leave it (the line never stalls, and nothing else reads the select stage), so
-    /// both are applied as the register is loaded. Only a ray's last token carries anything on:
-    /// the ray's slot and nearest hit, which reach the (u,v) pipe after the divider's latency,
-    /// on the clock they always did.
-    edge_reg: Option<(u8, Best)>,
-    divide: Delay<(u8, Best), DIV_LATENCY>,
-    select: SelectStage,
-    uv: Pipe<UvReg>,
+    local: Table<LocalPatch, PATCH_CAPACITY>,
+    key: Option<SetupKey>,
+    candidates: Candidates,
+    params: Params,
+    cull: CullUnit,
+    /// the CORDIC words are wide enough to cull (see [`cull::MIN_CULL_WIDTH`])
+    cull_ok: bool,
+    /// the clock from which each lane, and the Bezier lane, can take its next candidate
+    bank_free: [u64; MAX_LANES as usize],
+    bezier_free: u64,
+    /// rays in order with the clock they leave on
+    retire: Fifo<(u64, RayOut<T>), RAY_SLOTS>,
+    last_ready: u64,
     depth: u32,
-    in_flight: u32,
     /// set when a slot of an unsupported kind was scanned
     pub unsupported: bool,
     /// set when the subdivision stack overflowed (a subtree was dropped)
     pub overflow: bool,
-    /// the subdivision engine, and whether it is working on the slot at the issue stage
     engine: BezierEngine,
-    engine_on: bool,
     /// root boxes of the control-point rows, from the set-up pass
     bez_root: [Box3; BEZIER_ROWS],
-    /// the current ray with its reciprocals, and its nearest Bezier hit so far
-    ray_setup: RaySetup,
-    bez_best_t: Coord64,
+    /// work counters: (ray, patch) candidates handed to the lanes, rays, set-up passes
+    stats: LaneStats,
+}
+
+/// What the lanes did (for measurements): candidates tested, rays, set-up passes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct LaneStats {
+    /// (ray, planar patch) pairs handed to a lane.
+    pub candidates: u64,
+    /// (ray, Bezier slot) pairs handed to the Bezier lane.
+    pub bezier_candidates: u64,
+    /// Rays traced (bypassing rotations not counted).
+    pub rays: u64,
+    /// Rays handed their sector's list (the others got every active patch).
+    pub culled_rays: u64,
+    /// Set-up passes.
+    pub setups: u64,
+    /// Over the set-up passes that culled: active planar patches, those in every sector, and
+    /// the (sector, band) bins their reaches cover.
+    pub culled_patches: u64,
+    /// Patches whose reach was every sector.
+    pub full_patches: u64,
+    /// Bins covered, summed.
+    pub bins: u64,
 }
 
 /// Exclusive bound of a Bezier hit's t: the largest t of the result's Q8.24 plus one LSB.
 const T_LIMIT: Coord64 = Coord64::from_bits(i32::MAX as i64 + 1);
 
 impl<T: Copy + Default> IntersectUnit<T> {
-    /// An idle unit whose (u,v) pipe has `depth` levels (1..=24) and whose subdivision engine
-    /// runs `subdiv` (valid for [`bezier::STACK_ENTRIES`]).
-    pub fn new(depth: u32, subdiv: SubdivConfig) -> Self {
+    /// An idle unit built with `params`, whose (u,v) pipe has `depth` levels (1..=24), whose
+    /// subdivision engine runs `subdiv` (valid for [`bezier::STACK_ENTRIES`]), and which culls
+    /// if the rotator's words are `width` ≥ [`cull::MIN_CULL_WIDTH`] bits.
+    pub fn new(params: Params, depth: u32, subdiv: SubdivConfig, width: u32) -> Self {
         IntersectUnit {
-            local: [LocalPatch::default(); PATCH_CAPACITY],
-            local_origin: None,
-            rays: [RayIn::default(); RAY_SLOTS],
-            hits: [HitOut::default(); RAY_SLOTS],
-            next_slot: 0,
-            current: None,
-            next_patch: 0,
-            setup_next: None,
-            edge_reg: None,
-            divide: Delay::default(),
-            select: SelectStage::default(),
-            uv: Pipe::new(depth as usize + 1),
+            local: Table::new(LocalPatch::default(), params.capacity() as usize),
+            key: None,
+            candidates: Candidates::new(params.capacity() as usize, params.sectors),
+            params,
+            cull: CullUnit::new(params.sectors),
+            cull_ok: width >= cull::MIN_CULL_WIDTH,
+            bank_free: [0; MAX_LANES as usize],
+            bezier_free: 0,
+            retire: Fifo::default(),
+            last_ready: 0,
             depth,
-            in_flight: 0,
             unsupported: false,
             overflow: false,
             engine: BezierEngine::new(subdiv, bezier::STACK_ENTRIES),
-            engine_on: false,
             bez_root: [Box3::default(); BEZIER_ROWS],
-            ray_setup: RaySetup::default(),
-            bez_best_t: T_LIMIT,
+            stats: LaneStats::default(),
         }
     }
 
     /// Rebuilt for a new configuration, in place: everything in flight and the set-up are
     /// dropped (the per-slot tables are large, so they are not rebuilt by value).
-    pub fn reconfigure(&mut self, depth: u32, subdiv: SubdivConfig) {
+    pub fn reconfigure(&mut self, depth: u32, subdiv: SubdivConfig, width: u32) {
         self.flush();
         self.depth = depth;
-        self.uv = Pipe::new(depth as usize + 1);
+        self.cull_ok = width >= cull::MIN_CULL_WIDTH;
         self.engine = BezierEngine::new(subdiv, bezier::STACK_ENTRIES);
-        self.select = SelectStage::default();
         self.unsupported = false;
         self.overflow = false;
     }
@@ -349,6 +422,11 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.engine.stats()
     }
 
+    /// The lanes' work counters.
+    pub fn lane_stats(&self) -> LaneStats {
+        self.stats
+    }
+
     /// Most subdivision stack entries in use at once.
     pub fn stack_high_water(&self) -> usize {
         self.engine.stack_high_water()
@@ -356,52 +434,68 @@ impl<T: Copy + Default> IntersectUnit<T> {
 
     /// Whether a new ray can be started this clock.
     pub fn ready(&self) -> bool {
-        self.current.is_none()
+        self.retire.len() < RAY_SLOTS
     }
 
-    /// Rays started and not yet out of the (u,v) pipe.
+    /// Rays started and not yet out.
     pub fn in_flight(&self) -> u32 {
-        self.in_flight
-    }
-
-    /// Starts a ray (when [`IntersectUnit::ready`]).
-    pub fn start(&mut self, ray: RayIn<T>) {
-        debug_assert!(self.ready());
-        // in order: the oldest ray in flight holds slot next_slot − in_flight
-        assert!((self.in_flight as usize) < RAY_SLOTS, "ray slots exhausted");
-        self.in_flight += 1;
-        self.next_patch = 0;
-        if !ray.bypass && self.local_origin != Some(ray.origin) {
-            self.setup_next = Some(0);
-        }
-        let slot = self.next_slot;
-        self.next_slot = (slot + 1) % RAY_SLOTS as u8;
-        self.ray_setup = RaySetup::new(ray.origin, ray.dir);
-        self.bez_best_t = T_LIMIT;
-        self.rays[slot as usize] = ray;
-        self.current = Some(slot);
+        self.retire.len() as u32
     }
 
     /// Forgets the set-up (patch memory was written).
     pub fn invalidate(&mut self) {
-        self.local_origin = None;
+        self.key = None;
     }
 
     /// Drops everything in flight.
     pub fn flush(&mut self) {
-        self.current = None;
-        self.setup_next = None;
-        self.edge_reg = None;
-        self.divide.flush();
-        self.select = SelectStage::default();
-        self.uv.flush();
+        self.retire.clear();
+        self.bank_free = [0; MAX_LANES as usize];
+        self.bezier_free = 0;
+        self.last_ready = 0;
         self.engine.flush();
-        self.engine_on = false;
-        self.in_flight = 0;
-        self.local_origin = None;
+        self.key = None;
     }
 
-    fn setup(&mut self, mem: &PatchMem, i: usize, origin: [Coord; 3]) {
+    /// Whether rays in a frame are culled by this unit as configured.
+    fn culls(&self) -> bool {
+        self.cull_ok && self.cull.sectors() > 0
+    }
+
+    /// The set-up pass for `key` over the first `count` slots, starting once every lane is
+    /// idle (one local memory per bank), ⌈count / lanes⌉ clocks and the set-up pipe's latency.
+    fn setup_pass(
+        &mut self,
+        mem: &PatchMem,
+        count: u32,
+        key: SetupKey,
+        axes: Option<[[Unit; 3]; 3]>,
+        now: u64,
+    ) {
+        self.candidates.clear();
+        for i in 0..count as usize {
+            self.setup(mem, i, key.0, axes.as_ref());
+        }
+        let lanes = self.params.lanes as usize;
+        let busy = self.bank_free[..lanes]
+            .iter()
+            .copied()
+            .fold(self.bezier_free, u64::max);
+        let end =
+            now.max(busy) + (count as u64).div_ceil(lanes as u64) + setup_latency(axes.is_some());
+        self.bank_free[..lanes].fill(end);
+        self.bezier_free = end;
+        self.key = Some(key);
+        self.stats.setups += 1;
+    }
+
+    fn setup(
+        &mut self,
+        mem: &PatchMem,
+        i: usize,
+        origin: [Coord; 3],
+        axes: Option<&[[Unit; 3]; 3]>,
+    ) {
         let mut lp = LocalPatch::default();
         if mem.kind(i) == KIND_BEZIER {
             // the root box of its control points (a wide row read and three min/max trees)
@@ -410,6 +504,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 Some(words) => {
                     self.bez_root[row as usize] = Box3::of(&self.engine.load(words));
                     lp.bezier = true;
+                    let c = &mut self.candidates;
+                    c.bezier[c.bezier_len] = i as u16;
+                    c.bezier_len += 1;
                 }
                 None => self.unsupported = true,
             }
@@ -462,193 +559,230 @@ impl<T: Copy + Default> IntersectUnit<T> {
         lp.h = h;
         lp.active = true;
         self.local[i] = lp;
-    }
-
-    /// One clock (the device's clock `now`) over the first `count` slots of `mem`; returns the
-    /// ray leaving the (u,v) pipe.
-    pub fn tick(&mut self, mem: &PatchMem, count: u32, now: u64) -> Option<RayOut<T>> {
-        // (u,v) pipe, fed by the select stage
-        let depth = self.depth;
-        // its `depth` bisection levels are applied as the register leaves (`Pipe::shift`)
-        if let Some(mut reg) = self.uv.shift(None) {
-            if reg.hit && reg.direct.is_none() && reg.bisect {
-                for _ in 0..depth {
-                    UvStage.apply(&mut reg.cell);
-                }
+        let reach = match axes {
+            Some(ax) => {
+                let r = self.cull.reach(&a[..sides], &lp.e[..sides], ax);
+                let st = &mut self.stats;
+                st.culled_patches += 1;
+                let bands = (r.band_hi - r.band_lo) as u64 + 1;
+                let sectors = match r.wedge {
+                    Wedge::Below => 0,
+                    Wedge::Full => {
+                        st.full_patches += 1;
+                        self.cull.sectors() as u64
+                    }
+                    Wedge::Sectors { len, .. } => len as u64,
+                };
+                st.bins += sectors * bands;
+                r
             }
-            let ray = self.rays[reg.slot as usize];
-            let hit = reg.hit.then(|| {
-                let mut h = self.hits[reg.slot as usize];
-                match reg.direct {
-                    Some((u, v)) => {
-                        h.u = u;
-                        h.v = v;
-                    }
-                    None if reg.bisect => {
-                        h.u = uv::centre(reg.cell.iu, depth);
-                        h.v = uv::centre(reg.cell.iv, depth);
-                    }
-                    None => {}
-                }
-                h
-            });
-            self.in_flight -= 1;
-            return self.finish_tick(mem, count, now, Some(RayOut { ray, hit }));
-        }
-        self.finish_tick(mem, count, now, None)
+            None => Reach::ALL,
+        };
+        self.candidates.add(i as u16, reach, self.cull.sectors());
     }
 
-    fn finish_tick(
+    /// Starts a ray (when [`IntersectUnit::ready`]) at clock `now`, over the first `count`
+    /// slots of `mem`. `axes` turns a frame's x̂, ŷ, ẑ through the rotator, for the culling
+    /// unit's set-up.
+    pub fn start(
         &mut self,
         mem: &PatchMem,
         count: u32,
+        ray: RayIn<T>,
         now: u64,
-        out: Option<RayOut<T>>,
-    ) -> Option<RayOut<T>> {
-        // divider (and select) output → (u,v) pipe entry
-        if let Some((slot, best)) = self.divide.tick(self.edge_reg.take()) {
-            let mut entry = UvReg {
-                cell: Cell::default(),
-                hit: false,
-                slot,
-                direct: None,
-                bisect: false,
+        axes: impl FnOnce([Angle; 3]) -> [[Unit; 3]; 3],
+    ) {
+        debug_assert!(self.ready());
+        let mut hit = None;
+        let mut finish = now + 1;
+        if !ray.bypass {
+            let frame = ray.frame.filter(|_| self.culls());
+            let stale = match self.key {
+                None => true,
+                Some((o, f)) => o != ray.origin || (frame.is_some() && f != frame),
             };
-            if let Some((patch, t, front, direct)) = best {
-                self.hits[slot as usize] = HitOut {
-                    patch,
-                    t: t.wrapping_to_num(),
-                    u: Unit::ZERO,
-                    v: Unit::ZERO,
-                    front,
-                };
-                entry.hit = true;
-                entry.direct = direct;
-                // a planar hit whose ray wants (u,v): the bisection starts from the whole patch
-                let ray = &self.rays[slot as usize];
-                if direct.is_none() && ray.uv {
-                    let p = mem.patch(patch as usize);
-                    // P = O + t d, the product truncated to the origin's Q8.24 (t < 128, so it
-                    // is the 32-bit Q8.24 it left the divider as)
-                    let t: Coord = t.wrapping_to_num();
-                    let hp: [i64; 3] = core::array::from_fn(|c| {
-                        let td: Coord64 = t.wide_mul(ray.dir[c]).wrapping_to_num();
-                        (Coord64::from(ray.origin[c]) + td).to_bits()
-                    });
-                    entry.cell = Cell::project(
-                        p.v.map(|v| v.map(|c| c.to_bits() as i64)),
-                        hp,
-                        p.n.map(|c| c.to_bits() as i64),
-                    );
-                    entry.bisect = true;
-                }
+            if stale {
+                let key = (ray.origin, frame);
+                self.setup_pass(mem, count, key, frame.map(axes), now);
             }
-            // the first (u,v) stage is this register; the pipe's other stages bisect
-            self.uv.load_first(entry);
-        }
-        // set-up pass (one patch per clock) or issue (one patch per clock) into the edge stage
-        if let Some(i) = self.setup_next {
-            let origin = self
-                .current
-                .map(|s| self.rays[s as usize].origin)
-                .unwrap_or_default();
-            if i < count {
-                self.setup(mem, i as usize, origin);
-            }
-            if i + 1 >= count {
-                self.setup_next = None;
-                self.local_origin = Some(origin);
+            let culled = self.key.is_some_and(|k| k.1.is_some()) && ray.frame.is_some();
+            let bin = if culled {
+                self.cull.ray_bin(ray.dir_ref)
             } else {
-                self.setup_next = Some(i + 1);
-            }
-        } else if let Some(slot) = self.current {
-            let ray = &self.rays[slot as usize];
-            let p = self.next_patch;
-            let pi = (p as usize).min(PATCH_CAPACITY - 1);
-            let last = ray.bypass || count == 0 || p + 1 >= count;
-            let mut tok = Token {
-                slot,
-                patch: p,
-                first: p == 0,
-                last,
-                ..Token::default()
+                None
             };
-            let skip = ray.skip == Some(p);
-            if self.local[pi].bezier && !ray.bypass && count > 0 && !skip {
-                let recip_at = ray.recip_at;
-                match self.bezier_issue(mem, pi, recip_at, now) {
-                    Some(d) => tok.direct = Some(d),
-                    // waiting for the reciprocals or for the engine: the issue stage stalls
-                    None => return out,
-                }
-            } else {
-                tok = EdgeStage.eval(tok, ray, &self.local[pi]);
-                if ray.bypass || count == 0 || skip {
-                    tok.inside = false;
-                }
-            }
-            self.edge_reg = self.select.eval(DivideStage.eval(tok));
-            self.next_patch += 1;
-            if last {
-                self.current = None;
-            }
+            self.stats.rays += 1;
+            self.stats.culled_rays += bin.is_some() as u64;
+            let (planar, end) = self.lanes(&ray, bin, now);
+            let (curved, bez_end) = self.bezier_lane(mem, &ray, now);
+            finish = end.max(bez_end);
+            hit = nearer(planar, curved).map(|b| self.hit_out(mem, &ray, b));
         }
-        out
+        let lat = merge_latency(self.params.lanes) + DIV_LATENCY as u64 + self.depth as u64 + 1;
+        let ready = (finish + lat).max(self.last_ready);
+        self.last_ready = ready;
+        let pushed = self.retire.push((ready, RayOut { ray, hit }));
+        debug_assert!(pushed.is_ok(), "ray slots");
     }
 
-    /// The issue stage on Bezier slot `i`: the root slab test on its first clock, then one
-    /// engine clock per clock until the engine answers. `None` while the stage must stall.
-    fn bezier_issue(
+    /// The planar lanes on one ray: its nearest planar hit and the clock its last lane is
+    /// done.
+    fn lanes(&mut self, ray: &RayIn<T>, bin: Option<(u32, u32)>, now: u64) -> (Option<Best>, u64) {
+        let lanes = self.params.lanes as usize;
+        let mut counts = [0u64; MAX_LANES as usize];
+        let mut best: Option<Best> = None;
+        let c = &self.candidates;
+        for &i in c.list(bin.map(|b| b.0)) {
+            if ray.skip == Some(i as u32) || bin.is_some_and(|b| !c.in_band(i, b.1)) {
+                continue;
+            }
+            counts[i as usize % lanes] += 1;
+            let lp = &self.local[i as usize];
+            let tok = EdgeStage.eval(&ray.dir, lp);
+            if let Some(t) = DivideStage.eval(tok) {
+                if best.is_none_or(|b| t < b.t) {
+                    best = Some(Best {
+                        patch: i as u32,
+                        t,
+                        front: tok.front,
+                        uv: None,
+                    });
+                }
+            }
+        }
+        self.stats.candidates += counts.iter().sum::<u64>();
+        let mut end = now + 1;
+        for (free, &n) in self.bank_free[..lanes].iter_mut().zip(&counts) {
+            if n > 0 {
+                let start = (*free).max(now + 1);
+                *free = start + n;
+                end = end.max(*free);
+            }
+        }
+        (best, end)
+    }
+
+    /// The Bezier lane on one ray: its nearest Bezier hit and the clock the lane is done.
+    fn bezier_lane(&mut self, mem: &PatchMem, ray: &RayIn<T>, now: u64) -> (Option<Best>, u64) {
+        let n = self.candidates.bezier_len;
+        if n == 0 {
+            return (None, now + 1);
+        }
+        let setup = RaySetup::new(ray.origin, ray.dir);
+        let mut best_t = T_LIMIT;
+        let mut best = None;
+        let mut clocks = 0u64;
+        for k in 0..n {
+            let i = self.candidates.bezier[k] as usize;
+            if ray.skip == Some(i as u32) {
+                continue;
+            }
+            self.stats.bezier_candidates += 1;
+            let (d, c) = self.bezier_slot(mem, i, &setup, best_t);
+            clocks += c;
+            if d.hit {
+                best_t = d.t;
+                best = Some(Best {
+                    patch: i as u32,
+                    t: d.t,
+                    front: d.front,
+                    uv: Some((d.u, d.v)),
+                });
+            }
+        }
+        let start = self.bezier_free.max(now + 1).max(ray.recip_at);
+        self.bezier_free = start + clocks;
+        (best, self.bezier_free)
+    }
+
+    /// One Bezier slot: the root slab test, then the engine to its answer; the answer and
+    /// the clocks it took.
+    fn bezier_slot(
         &mut self,
         mem: &PatchMem,
         i: usize,
-        recip_at: u64,
-        now: u64,
-    ) -> Option<Direct> {
-        if self.engine_on {
-            let r = self.engine.tick()?;
-            self.engine_on = false;
-            self.overflow |= r.overflow;
-            return Some(match r.hit {
-                Some((t, u, v, front)) => {
-                    self.bez_best_t = t;
-                    Direct {
+        ray: &RaySetup,
+        t_max: Coord64,
+    ) -> (Direct, u64) {
+        let slot = BezierSlot::decode(mem.slot(i));
+        let t_min = Coord64::from(slot.t_min);
+        let root = self.bez_root[slot.row as usize];
+        let Some(enter) = root.slab(ray, t_min, t_max) else {
+            return (Direct::default(), 1);
+        };
+        let words = mem
+            .cp_row(slot.row)
+            .expect("row checked in the set-up pass");
+        let cp = self.engine.load(words);
+        let job = Job {
+            ray: *ray,
+            t_min,
+            t_max,
+            tol: Coord64::from(slot.tol),
+        };
+        self.engine.start(cp, enter, job);
+        let mut clocks = 1;
+        loop {
+            clocks += 1;
+            if let Some(r) = self.engine.tick() {
+                self.overflow |= r.overflow;
+                let d = match r.hit {
+                    Some((t, u, v, front)) => Direct {
                         hit: true,
                         t,
                         u,
                         v,
                         front,
-                    }
-                }
-                None => Direct::default(),
-            });
-        }
-        if now < recip_at {
-            return None;
-        }
-        let slot = BezierSlot::decode(mem.slot(i));
-        let t_min = Coord64::from(slot.t_min);
-        let root = self.bez_root[slot.row as usize];
-        match root.slab(&self.ray_setup, t_min, self.bez_best_t) {
-            None => Some(Direct::default()),
-            Some(enter) => {
-                let words = mem
-                    .cp_row(slot.row)
-                    .expect("row checked in the set-up pass");
-                let cp = self.engine.load(words);
-                self.engine.start(
-                    cp,
-                    enter,
-                    Job {
-                        ray: self.ray_setup,
-                        t_min,
-                        t_max: self.bez_best_t,
-                        tol: Coord64::from(slot.tol),
                     },
-                );
-                self.engine_on = true;
-                None
+                    None => Direct::default(),
+                };
+                return (d, clocks);
             }
+        }
+    }
+
+    /// The result of a ray's nearest candidate, with (u,v) by the bisection pipe if the ray
+    /// wants it and the hit is planar.
+    fn hit_out(&self, mem: &PatchMem, ray: &RayIn<T>, b: Best) -> HitOut {
+        let t: Coord = b.t.wrapping_to_num();
+        let mut out = HitOut {
+            patch: b.patch,
+            t,
+            u: Unit::ZERO,
+            v: Unit::ZERO,
+            front: b.front,
+        };
+        match b.uv {
+            Some((u, v)) => (out.u, out.v) = (u, v),
+            None if ray.uv => {
+                let p = mem.patch(b.patch as usize);
+                // P = O + t d, the product truncated to the origin's Q8.24 (t < 128, so it is
+                // the 32-bit Q8.24 it left the divider as)
+                let hp: [i64; 3] = core::array::from_fn(|c| {
+                    let td: Coord64 = t.wide_mul(ray.dir[c]).wrapping_to_num();
+                    (Coord64::from(ray.origin[c]) + td).to_bits()
+                });
+                let mut cell = Cell::project(
+                    p.v.map(|v| v.map(|c| c.to_bits() as i64)),
+                    hp,
+                    p.n.map(|c| c.to_bits() as i64),
+                );
+                for _ in 0..self.depth {
+                    UvStage.apply(&mut cell);
+                }
+                out.u = uv::centre(cell.iu, self.depth);
+                out.v = uv::centre(cell.iv, self.depth);
+            }
+            None => {}
+        }
+        out
+    }
+
+    /// The oldest ray, if it leaves on or before clock `now`.
+    pub fn take_done(&mut self, now: u64) -> Option<RayOut<T>> {
+        match self.retire.front() {
+            Some((ready, _)) if *ready <= now => self.retire.pop().map(|(_, r)| r),
+            _ => None,
         }
     }
 }

@@ -26,11 +26,13 @@
 
 use super::bezier::{BEZIER_ROWS, CP_WORDS};
 use crate::format::{Coord, Unit};
+use crate::table::Table;
 
 /// Words per patch slot.
 pub const PATCH_WORDS: usize = 16;
-/// Patches the memory holds (the model lives on the stack of every worker thread and of the
-/// firmware, without an allocator, so the memory is kept small).
+/// Patch slots the model holds without an allocator (the model lives on the stack of the
+/// firmware, so its memories are kept small there); with the `alloc` feature a build holds
+/// `lanes × bank_slots` ([`crate::params::Params::capacity`]).
 pub const PATCH_CAPACITY: usize = 256;
 /// Unused slot (never hit).
 pub const KIND_EMPTY: u32 = 0;
@@ -121,23 +123,27 @@ impl PatchWords {
     }
 }
 
-/// The memory: [`PATCH_CAPACITY`] slots and [`BEZIER_ROWS`] control-point rows.
+/// The memory: its slots and [`BEZIER_ROWS`] control-point rows.
 #[derive(Clone, Debug)]
 pub struct PatchMem {
-    words: [u32; PATCH_CAPACITY * PATCH_WORDS],
+    words: Table<u32, { PATCH_CAPACITY * PATCH_WORDS }>,
     cp: [u32; BEZIER_ROWS * CP_WORDS],
 }
 
-impl Default for PatchMem {
-    fn default() -> Self {
+impl PatchMem {
+    /// A zeroed memory of `slots` slots (as many as the build can hold).
+    pub fn new(slots: usize) -> Self {
         PatchMem {
-            words: [0; PATCH_CAPACITY * PATCH_WORDS],
+            words: Table::new(0, slots.saturating_mul(PATCH_WORDS)),
             cp: [0; BEZIER_ROWS * CP_WORDS],
         }
     }
-}
 
-impl PatchMem {
+    /// Slots it holds.
+    pub fn slots(&self) -> usize {
+        self.words.len() / PATCH_WORDS
+    }
+
     fn word_mut(&mut self, addr: u32) -> Option<&mut u32> {
         match addr.checked_sub(CP_BASE) {
             Some(a) => self.cp.get_mut(a as usize),

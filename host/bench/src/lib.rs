@@ -4,6 +4,7 @@
 pub mod adaptive;
 pub mod chart;
 pub mod form_factors;
+pub mod lanes;
 pub mod methods;
 pub mod paper;
 pub mod quality;

@@ -12,7 +12,7 @@ use hemi::settings::Pass1Settings;
 use hemi_boards::farm::{parse_boards, BoardSpec, FarmOptions};
 use hemi_boards::{Boards, Farm};
 use hemi_hdl_model::intersect::bezier::{SubdivConfig, STACK_ENTRIES};
-use hemi_hdl_model::ModelConfig;
+use hemi_hdl_model::{ModelConfig, Params};
 use hemi_kernel::link::AccelKind;
 
 /// A checked `--backend`, not yet opened.
@@ -119,11 +119,26 @@ impl ModelArgs {
             self.bezier_depth,
             self.bezier_width
         );
+        let params = Params {
+            lanes: self.lanes,
+            sectors: self.sectors,
+            rays_per_clock: self.rays_per_clock,
+            bank_slots: self.bank_slots,
+        };
+        anyhow::ensure!(
+            params.is_valid(),
+            "--lanes {} --sectors {} --rays-per-clock {} --bank-slots {}: the model takes 1..=16 lanes, 0 or 8, 16, 32, 64 sectors, 1..=4 rays per clock and up to 32768 slots in all",
+            self.lanes,
+            self.sectors,
+            self.rays_per_clock,
+            self.bank_slots
+        );
         Ok(ModelConfig {
             iterations: self.cordic_iterations,
             width: self.cordic_width,
             subdivision_depth: self.bezier_depth,
             coord_width: self.bezier_width,
+            params,
             ..ModelConfig::default()
         })
     }
@@ -187,11 +202,16 @@ impl Running<'_> {
         let (Some((cycles, rays)), Some(cfg)) = (self.model_counts(), self.model_config()) else {
             return;
         };
+        let p = cfg.params;
         eprintln!(
-            "model ({} CORDIC iterations, {}-bit words): {what}: {cycles} cycles for {rays} rays = \
-             {:.1} cycles/ray, {:.0} cycles/hemisphere; {:.3} s at {clock_mhz} MHz",
+            "model ({} CORDIC iterations, {}-bit words; {} lanes, {} sectors, {} rays/clock): \
+             {what}: {cycles} cycles for {rays} rays = {:.2} cycles/ray, {:.0} cycles/hemisphere; \
+             {:.3} s at {clock_mhz} MHz",
             cfg.iterations,
             cfg.width,
+            p.lanes,
+            p.sectors,
+            p.rays_per_clock,
             cycles as f64 / rays.max(1) as f64,
             cycles as f64 / hemispheres.max(1) as f64,
             cycles as f64 / (clock_mhz * 1e6)

@@ -12,7 +12,7 @@ use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
 use hemi::solve::Solver;
 use hemi_boards::FirmwareLog;
-use hemi_hdl_model::ModelConfig;
+use hemi_hdl_model::{ModelConfig, Params};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::DeltaRule;
 use std::path::PathBuf;
@@ -171,6 +171,19 @@ pub struct ModelArgs {
     /// (`--backend model`; 12..=26).
     #[arg(long, default_value_t = ModelConfig::default().coord_width)]
     pub bezier_width: u32,
+    /// Intersection lanes of the modelled accelerator (`--backend model`; 1..=16).
+    #[arg(long, default_value_t = Params::DEFAULT.lanes)]
+    pub lanes: u32,
+    /// Azimuth sectors of its hemisphere culling (`--backend model`; 0 for none, or 8, 16, 32, 64).
+    #[arg(long, default_value_t = Params::DEFAULT.sectors)]
+    pub sectors: u32,
+    /// Rays its front end takes and returns per clock (`--backend model`; 1..=4).
+    #[arg(long, default_value_t = Params::DEFAULT.rays_per_clock)]
+    pub rays_per_clock: u32,
+    /// Patch slots per lane's bank of its on-chip patch memory (`--backend model`; lanes ×
+    /// slots ≤ 32768).
+    #[arg(long, default_value_t = Params::DEFAULT.bank_slots)]
+    pub bank_slots: u32,
 }
 
 impl ModelArgs {

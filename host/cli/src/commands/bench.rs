@@ -50,6 +50,11 @@ pub enum BenchCommand {
     /// room holding a tessellated sphere, generated, written as scene files (--write-dir) and
     /// ray files for the Embree comparison (--rays-dir), and timed: a markdown table.
     Scale(ScaleBench),
+    /// The modelled accelerator's lanes and hemisphere culling on SCENE's quads subdivided
+    /// n × n: cycles per ray against lanes and patch count, the simulation's speed and the area
+    /// proxy of each build (docs/PERFORMANCE.md); with --svg-dir the chart lanes-cycles.svg.
+    /// With --write-scene FILE, writes SCENE subdivided by the first --subdivide instead.
+    Lanes(LanesBench),
 }
 
 /// Runs `hemi bench …`, writing the tables to `out`, with a spinner on stderr that shows the
@@ -86,6 +91,7 @@ fn dispatch(command: BenchCommand, out: &mut impl Write) -> Result<()> {
         }
         BenchCommand::Rays(b) => b.run(out),
         BenchCommand::Scale(b) => b.run(out),
+        BenchCommand::Lanes(b) => b.run(out),
     }
 }
 
@@ -288,6 +294,66 @@ pub struct RaysBench {
     /// shared-origin casting of the soft engine buys.
     #[arg(long)]
     per_ray: bool,
+}
+
+/// The modelled accelerator's lanes and culling (see [`BenchCommand::Lanes`]).
+#[derive(Args)]
+pub struct LanesBench {
+    /// The scene file (diffuse quads and triangles).
+    #[arg(default_value = "scenes/cornell.toml")]
+    scene: PathBuf,
+    /// Comma-separated n: each quad cut into n × n.
+    #[arg(long, default_value = "1,2,4,8")]
+    subdivide: String,
+    /// Comma-separated lane counts.
+    #[arg(long, default_value = "1,2,4,8,16")]
+    lanes: String,
+    /// Hemisphere circles R.
+    #[arg(long, default_value_t = 16)]
+    circles: u32,
+    /// Sample points K × K per patch.
+    #[arg(long, default_value_t = 2)]
+    samples: u32,
+    /// Write the chart lanes-cycles.svg into this folder.
+    #[arg(long, value_name = "DIR")]
+    svg_dir: Option<PathBuf>,
+    /// Write the scene subdivided by the first --subdivide to this file and stop.
+    #[arg(long, value_name = "FILE")]
+    write_scene: Option<PathBuf>,
+}
+
+impl LanesBench {
+    fn run(self, out: &mut impl Write) -> Result<()> {
+        let scene = load(&self.scene)?;
+        let subdivide: Vec<u32> = list("--subdivide", &self.subdivide)?;
+        let lanes: Vec<u32> = list("--lanes", &self.lanes)?;
+        anyhow::ensure!(
+            subdivide.iter().all(|n| (1..=64).contains(n)),
+            "--subdivide takes 1..=64"
+        );
+        anyhow::ensure!(
+            lanes.iter().all(|l| (1..=16).contains(l)),
+            "--lanes takes 1..=16"
+        );
+        anyhow::ensure!(
+            (1..=256).contains(&self.circles) && (1..=64).contains(&self.samples),
+            "--circles takes 1..=256 and --samples 1..=64"
+        );
+        if let Some(path) = &self.write_scene {
+            let n = subdivide.first().copied().unwrap_or(1);
+            std::fs::write(path, hemi_bench::lanes::subdivided(&scene, n)?)?;
+            return Ok(());
+        }
+        hemi_bench::lanes::bench(
+            &scene,
+            &subdivide,
+            &lanes,
+            self.circles,
+            self.samples,
+            self.svg_dir.as_deref(),
+            out,
+        )
+    }
 }
 
 impl AdaptiveBench {

@@ -1,0 +1,235 @@
+//! An area proxy per build: adders, multipliers, register bits and RAM bits counted unit by unit
+//! from the widths the model uses, and their mapping onto a Lattice ECP5 (LUT4s, 18×18 DSP
+//! tiles, 18 kbit block RAMs). A proxy, not synthesis: issue 20 (the RTL) replaces it with
+//! Yosys/nextpnr figures.
+//!
+//! The mapping, stated once:
+//! - an adder, subtractor or comparator of w bits is w LUT4s (ECP5's carry chain: two bits per
+//!   slice of two LUTs);
+//! - an a×b multiplier takes ⌈a/18⌉·⌈b/18⌉ DSP tiles while the part has tiles left (the
+//!   datapath's multipliers first, in the order they are listed), else a·b LUT4s (an array
+//!   multiplier: one full adder per partial-product bit);
+//! - a register bit is a flip-flop;
+//! - a memory of depth d and width w is ⌈w/36⌉·⌈d/512⌉ block RAMs (512 × 36 per EBR), or
+//!   ⌈d·w/16⌉ LUT4s of distributed RAM when it holds under 2 kbit;
+//! - 10 % of the LUTs again for control and multiplexers.
+//!
+//! Two parts are counted: the **ray datapath** this crate's [`Params`] change (front end,
+//! culling, set-up units, lanes, min tree and their memories) and the **fixed units** every
+//! build has (the angle unit, the unrolled (u,v) pipe, the Bezier subdivision engine), so that
+//! what does not fit is named. (Hosts only: the `alloc` feature.)
+
+extern crate alloc;
+
+use crate::cordic::CordicConfig;
+use crate::params::Params;
+use alloc::vec::Vec;
+
+/// Resources of one ECP5-85k (LFE5U-85F).
+pub const ECP5_85K: Fpga = Fpga {
+    luts: 83_640,
+    ffs: 83_640,
+    dsps: 156,
+    brams: 208,
+};
+
+/// An FPGA's resources, or what a design needs of them.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Fpga {
+    /// LUT4s.
+    pub luts: u64,
+    /// Flip-flops.
+    pub ffs: u64,
+    /// 18×18 multiplier tiles.
+    pub dsps: u64,
+    /// 18 kbit block RAMs.
+    pub brams: u64,
+}
+
+impl Fpga {
+    /// Whether `self` (a need) fits `part`.
+    pub fn fits(&self, part: &Fpga) -> bool {
+        self.luts <= part.luts
+            && self.ffs <= part.ffs
+            && self.dsps <= part.dsps
+            && self.brams <= part.brams
+    }
+}
+
+/// The counted resources of a design.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Proxy {
+    /// Adders, subtractors and comparators, and their bits in all.
+    pub adders: u64,
+    /// Adder bits.
+    pub adder_bits: u64,
+    /// Multipliers (a, b widths), in mapping order.
+    pub multipliers: Vec<(u32, u32)>,
+    /// Register bits.
+    pub register_bits: u64,
+    /// Memories (depth, width).
+    pub memories: Vec<(u64, u64)>,
+}
+
+impl Proxy {
+    fn add(&mut self, count: u64, bits: u64) {
+        self.adders += count;
+        self.adder_bits += count * bits;
+    }
+
+    fn mul(&mut self, count: u32, a: u32, b: u32) {
+        self.multipliers
+            .extend(core::iter::repeat_n((a, b), count as usize));
+    }
+
+    fn reg(&mut self, bits: u64) {
+        self.register_bits += bits;
+    }
+
+    fn mem(&mut self, depth: u64, width: u64) {
+        self.memories.push((depth, width));
+    }
+
+    /// A pipelined CORDIC of `cfg` (quadrant stage, micro-rotations, gain multipliers).
+    fn cordic(&mut self, cfg: CordicConfig, count: u64) {
+        let (n, w) = (cfg.iterations as u64, cfg.width as u64);
+        self.add(count * 3 * (n + 1), w);
+        self.mul(2 * count as u32, cfg.width, cfg.width);
+        self.reg(count * (n + 2) * 3 * w);
+    }
+
+    /// Multiplier bits: Σ a·b.
+    pub fn multiplier_bits(&self) -> u64 {
+        self.multipliers
+            .iter()
+            .map(|&(a, b)| a as u64 * b as u64)
+            .sum()
+    }
+
+    /// RAM bits.
+    pub fn ram_bits(&self) -> u64 {
+        self.memories.iter().map(|&(d, w)| d * w).sum()
+    }
+
+    /// Its mapping onto a part with `dsps_free` DSP tiles left (see the module doc).
+    pub fn ecp5(&self, dsps_free: u64) -> Fpga {
+        let mut out = Fpga::default();
+        let mut luts = self.adder_bits;
+        for &(a, b) in &self.multipliers {
+            let tiles = (a as u64).div_ceil(18) * (b as u64).div_ceil(18);
+            if out.dsps + tiles <= dsps_free {
+                out.dsps += tiles;
+            } else {
+                luts += a as u64 * b as u64;
+            }
+        }
+        for &(d, w) in &self.memories {
+            if d * w < 2048 {
+                luts += (d * w).div_ceil(16);
+            } else {
+                out.brams += w.div_ceil(36) * d.div_ceil(512);
+            }
+        }
+        out.luts = luts + luts / 10;
+        out.ffs = self.register_bits;
+        out
+    }
+}
+
+/// Width of a lane's local-memory word: four edge normals (3 × 62 bits), the normal (3 × 32),
+/// h (98) and the flags.
+const LOCAL_WORD: u64 = 4 * 3 * 62 + 3 * 32 + 98 + 4;
+
+/// The ray datapath of `params` at CORDIC `cfg` (the part the build parameters change).
+pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
+    let mut p = Proxy::default();
+    let (g, l) = (params.rays_per_clock as u64, params.lanes as u64);
+    let slots = params.capacity() as u64;
+    // lanes: edge stage (4 edges · 3 products of 32 × 62, n · d), divider, running minimum
+    for _ in 0..l {
+        p.mul(12, 32, 62);
+        p.mul(3, 32, 32);
+    }
+    p.add(l * (4 * 2 + 2), 94);
+    p.add(l * crate::intersect::DIV_LATENCY as u64, 98);
+    p.reg(l * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
+    p.add(l, 64);
+    p.reg(l * (4 * 94 + 64 + 64));
+    // set-up units, one per bank, a corner per clock: a × b (6 products of 34 × 34), h, and with
+    // culling the corner's three dot products with the axes and a vectoring CORDIC
+    for _ in 0..l {
+        p.mul(6, 34, 34);
+        p.mul(3, 32, 34);
+    }
+    p.add(l * 6, 68);
+    p.reg(l * 1024);
+    if params.sectors > 0 {
+        for _ in 0..l {
+            p.mul(9, 34, 32);
+        }
+        p.cordic(CordicConfig::DEFAULT, l);
+        p.add(l * 8, 32);
+        p.cordic(CordicConfig::DEFAULT, g);
+    }
+    // front end: rotators (three pipes each), reciprocal units (three radix-2 dividers of 33
+    // stages on 64 bits)
+    p.cordic(cfg, 3 * g);
+    p.add(g * 3 * 33, 64);
+    p.reg(g * 3 * 33 * 128);
+    // min tree
+    p.add(l, 64 + 16);
+    p.reg(l * 80);
+    // memories: local memory (one bank per lane, a whole word per clock), patch memory, sector
+    // bitmaps, descriptor FIFOs, the ray table, ray queue, result FIFO and ray FIFO
+    for _ in 0..l {
+        p.mem(params.bank_slots as u64, LOCAL_WORD);
+    }
+    p.mem(slots * 16, 32);
+    if params.sectors > 0 {
+        for _ in 0..l {
+            p.mem(params.sectors as u64, params.bank_slots as u64);
+        }
+    }
+    let slots_in_flight = crate::intersect::RAY_SLOTS as u64;
+    for _ in 0..l {
+        p.mem(slots_in_flight, 8 + 6);
+    }
+    p.mem(slots_in_flight, 3 * 32 + 3 * 32 + 32);
+    p.mem(slots_in_flight, 3 * 32 + 3 * 32 + 3 * 32);
+    p.mem(slots_in_flight, 4 * 32);
+    p.mem(crate::device::RAY_FIFO_DEPTH as u64, 3 * 32 + 3 * 32 + 40);
+    p
+}
+
+/// The units every build has: the angle unit (a vectoring and a rotation CORDIC), the (u,v)
+/// pipe of `uv_depth` unrolled levels (two 2D side tests of 34 × 34 products each, midpoints) and
+/// the Bezier subdivision engine (the de Casteljau network on 26-bit control points, four child
+/// boxes and slab tests per step, the leaf's products and three dividers, the node stack and
+/// control-point memory).
+pub fn fixed_units(cfg: CordicConfig, uv_depth: u32) -> Proxy {
+    let mut p = Proxy::default();
+    p.cordic(cfg, 2);
+    let d = uv_depth as u64;
+    p.mul(4 * uv_depth, 34, 34);
+    p.add(d * 12, 34);
+    p.reg(d * (4 * 2 * 34 + 2 * 34 + 48));
+    // Bezier engine
+    p.add(3 * 66, 26);
+    p.add(4 * 3 * 2 * 15, 26);
+    p.mul(24, 26, 64);
+    p.add(24, 64);
+    p.mul(18, 34, 34);
+    p.add(3 * 32, 64);
+    p.reg(3 * 32 * 128 + 2 * 1300);
+    p.mem(40, 1300);
+    p.mem(64 * 48, 32);
+    p
+}
+
+/// The whole build on an ECP5-85k: the ray datapath mapped first (its multipliers get the DSP
+/// tiles), then the fixed units with the tiles left. Returns (ray datapath, fixed units).
+pub fn on_ecp5(params: &Params, cfg: CordicConfig, uv_depth: u32) -> (Fpga, Fpga) {
+    let ray = ray_datapath(params, cfg).ecp5(ECP5_85K.dsps);
+    let fixed = fixed_units(cfg, uv_depth).ecp5(ECP5_85K.dsps - ray.dsps);
+    (ray, fixed)
+}

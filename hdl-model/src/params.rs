@@ -1,0 +1,102 @@
+//! The accelerator's build parameters: what is fixed when the hardware is synthesised (unlike
+//! CONFIG, which software changes at run time), reported by the CAPS and CAPS_LANES registers.
+//!
+//! - `lanes`: planar intersection lanes. Patch memory and the per-origin set-up are banked by
+//!   patch index modulo `lanes`, one bank per lane, each with its own set-up unit, edge unit and
+//!   divider, so a ray's candidates in different banks are tested in the same clock.
+//! - `sectors`: the azimuth sectors of the hemisphere culling unit (0 turns culling off). Per
+//!   origin and frame, every planar patch gets the range of sectors in which its pyramid can be
+//!   met; a hemisphere ray in sector s is only handed the patches of that sector.
+//! - `bank_slots`: patch slots per bank, so the on-chip patch memory holds `lanes × bank_slots`
+//!   patches (a model without an allocator holds at most 256 whatever the build says).
+//! - `rays_per_clock`: the width of the front end (ray FIFO, rotators, ray queue, result FIFO
+//!   and the stream port): how many rays enter and leave per clock.
+
+/// Most lanes a configuration may have.
+pub const MAX_LANES: u32 = 16;
+/// Most azimuth sectors.
+pub const MAX_SECTORS: u32 = 64;
+/// Widest front end.
+pub const MAX_RAYS_PER_CLOCK: u32 = 4;
+/// Most patch slots on chip (CAPS holds the count in 16 bits).
+pub const MAX_CAPACITY: u32 = 32768;
+
+/// The build parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Params {
+    /// Intersection lanes (1..=16).
+    pub lanes: u32,
+    /// Azimuth sectors of the culling unit: 0 (off) or a power of two in 8..=64.
+    pub sectors: u32,
+    /// Rays entering and leaving per clock (1..=4).
+    pub rays_per_clock: u32,
+    /// Patch slots per bank (lanes × bank_slots ≤ 32768).
+    pub bank_slots: u32,
+}
+
+impl Params {
+    /// The default build: 8 lanes of 256 slots, 32 sectors (and the culling unit's 16 polar
+    /// bands), 2 rays per clock: the fewest lanes that cast the 1,216-patch Cornell box at
+    /// under 4 cycles a ray (docs/PERFORMANCE.md). Its area proxy does not fit an ECP5-85k
+    /// (`area`; nor does any build's, because of the fixed units).
+    pub const DEFAULT: Params = Params {
+        lanes: 8,
+        sectors: 32,
+        rays_per_clock: 2,
+        bank_slots: 256,
+    };
+
+    /// The accelerator before this datapath: one lane of 256 slots, no culling, one ray per
+    /// clock.
+    pub const SINGLE: Params = Params {
+        lanes: 1,
+        sectors: 0,
+        rays_per_clock: 1,
+        bank_slots: 256,
+    };
+
+    /// Patch slots on chip.
+    pub fn capacity(&self) -> u32 {
+        self.lanes * self.bank_slots
+    }
+
+    /// Whether the hardware can be built this way.
+    pub fn is_valid(&self) -> bool {
+        (1..=MAX_LANES).contains(&self.lanes)
+            && (self.sectors == 0
+                || (self.sectors.is_power_of_two() && (8..=MAX_SECTORS).contains(&self.sectors)))
+            && (1..=MAX_RAYS_PER_CLOCK).contains(&self.rays_per_clock)
+            && self.bank_slots >= 1
+            && self.bank_slots <= MAX_CAPACITY / self.lanes.max(1)
+    }
+
+    /// The CAPS_LANES word: lanes 7:0, rays per clock 15:8, sectors 23:16, bit 24 the stream
+    /// port.
+    pub fn caps_word(&self) -> u32 {
+        self.lanes | self.rays_per_clock << 8 | self.sectors << 16 | 1 << 24
+    }
+
+    /// Decodes a CAPS_LANES word with the patch capacity from CAPS (a CAPS_LANES of 0, from a
+    /// device before register map 1.3, is one lane without culling or stream port).
+    pub fn from_caps(w: u32, capacity: u32) -> Params {
+        if w == 0 {
+            return Params {
+                bank_slots: capacity,
+                ..Params::SINGLE
+            };
+        }
+        let lanes = (w & 0xFF).max(1);
+        Params {
+            lanes,
+            rays_per_clock: (w >> 8) & 0xFF,
+            sectors: (w >> 16) & 0xFF,
+            bank_slots: capacity / lanes,
+        }
+    }
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params::DEFAULT
+    }
+}
