@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::TWO_SQUARES;
+use common::{run, TWO_SQUARES};
 use std::io::Write;
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
@@ -19,29 +19,6 @@ fn scene(name: &str, text: &str) -> PathBuf {
     let p = dir.join(name);
     std::fs::write(&p, text).unwrap();
     p
-}
-
-/// Runs hemi with `args`, feeding `stdin`; returns (success, stdout, stderr).
-fn run(args: &[&str], stdin: &str) -> (bool, String, String) {
-    let mut child = hemi()
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    child
-        .stdin
-        .take()
-        .unwrap()
-        .write_all(stdin.as_bytes())
-        .unwrap();
-    let out = child.wait_with_output().unwrap();
-    (
-        out.status.success(),
-        String::from_utf8(out.stdout).unwrap(),
-        String::from_utf8(out.stderr).unwrap(),
-    )
 }
 
 #[test]

@@ -4,10 +4,8 @@
 
 mod common;
 
-use common::TWO_SQUARES;
-use std::io::Write;
+use common::{run, TWO_SQUARES};
 use std::path::PathBuf;
-use std::process::{Command, Stdio};
 
 /// A fresh folder for one test's files.
 fn dir(test: &str) -> PathBuf {
@@ -23,30 +21,6 @@ fn files(test: &str, files: &[(&str, &str)]) -> String {
         std::fs::write(d.join(name), text).unwrap();
     }
     d.join(files[0].0).to_str().unwrap().to_string()
-}
-
-/// Runs hemi with `args`, feeding `stdin`; returns (success, stdout, stderr).
-fn run(args: &[&str], stdin: &[u8]) -> (bool, String, String) {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_hemi"))
-        .args(args)
-        .stdin(Stdio::piped())
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut input = child.stdin.take().unwrap();
-    let bytes = stdin.to_vec();
-    // written on a thread of its own: hemi may stop reading at the first bad line
-    let feeder = std::thread::spawn(move || {
-        let _ = input.write_all(&bytes);
-    });
-    let out = child.wait_with_output().unwrap();
-    feeder.join().unwrap();
-    (
-        out.status.success(),
-        String::from_utf8(out.stdout).unwrap(),
-        String::from_utf8(out.stderr).unwrap(),
-    )
 }
 
 /// `hemi ARGS` on the two squares must fail with a message containing every one of `want`.
