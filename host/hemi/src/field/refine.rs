@@ -132,7 +132,6 @@ pub fn refine_field(
         if chosen.is_empty() {
             break;
         }
-        let kept = ff.elements.len();
         ff = subdivide(backend, ff, &index, &chosen, progress)?;
         if let (Some(e), Some(old)) = (&emitters, &paths) {
             paths = Some(carry_paths(backend, e, old, &index, &chosen, &ff.elements)?);
@@ -143,7 +142,6 @@ pub fn refine_field(
             left,
             elements: ff.elements.len(),
         });
-        debug_assert!(ff.elements.len() >= kept);
     }
     let field = solve_field_with(backend, &ff, &sol, settings, paths.as_ref(), progress)?;
     let index = ElementIndex::of(scene, &ff.elements);
@@ -211,12 +209,12 @@ fn carry_paths(
     elements: &[ElementRow],
 ) -> anyhow::Result<DirectPaths> {
     let refined = |i: usize| chosen.iter().any(|&(c, _)| c == i);
-    let fresh: Vec<ElementRow> = elements
+    let fresh: Vec<(Vec3, Vec3)> = elements
         .iter()
         .filter(|e| refined(e.patch))
-        .cloned()
+        .map(|e| (e.point.position, e.point.normal))
         .collect();
-    let new = emitters.paths(backend, &points(&fresh))?;
+    let new = emitters.paths(backend, &fresh)?;
     let mut picks = Vec::with_capacity(elements.len());
     let (mut next_new, mut seen) = (0, vec![0usize; backend.scene().patches.len()]);
     for e in elements {
