@@ -486,13 +486,21 @@ mod tests {
             .collect()
     }
 
-    /// The soft engine's answers with and without the tree, on `rays` rays.
-    fn compare(patches: &[Patch], rays: &[Ray], origin_patch: Option<u32>) -> usize {
+    /// The nodes and leaf order of the tree over `patches` (the storage [`Bvh::from_parts`]
+    /// borrows).
+    fn tree_parts(patches: &[Patch]) -> (Vec<Node>, Vec<u32>) {
         let n = patches.len();
         let mut nodes = vec![Node::default(); nodes_for(n)];
         let mut order = vec![0u32; n];
         let mut boxes: Vec<Aabb> = patches.iter().map(|p| p.bounds()).collect();
         build(patches, &mut nodes, &mut order, &mut boxes).unwrap();
+        (nodes, order)
+    }
+
+    /// The soft engine's answers with and without the tree, on `rays` rays.
+    fn compare(patches: &[Patch], rays: &[Ray], origin_patch: Option<u32>) -> usize {
+        let n = patches.len();
+        let (nodes, order) = tree_parts(patches);
         let tree = Bvh::from_parts(&nodes, &order);
         let (mut l1, mut t1, mut i1) = (vec![LocalPatch::default(); n], vec![0.0; 8], vec![0; 8]);
         let (mut l2, mut t2, mut i2) = (vec![LocalPatch::default(); n], vec![0.0; 8], vec![0; 8]);
@@ -592,10 +600,7 @@ mod tests {
         use crate::hemisphere::{DeltaRule, OwnedHemisphere};
         use crate::rotation::Rotation;
         let n = patches.len();
-        let mut nodes = vec![Node::default(); nodes_for(n)];
-        let mut order = vec![0u32; n];
-        let mut boxes: Vec<Aabb> = patches.iter().map(|p| p.bounds()).collect();
-        build(patches, &mut nodes, &mut order, &mut boxes).unwrap();
+        let (nodes, order) = tree_parts(patches);
         let tree = Bvh::from_parts(&nodes, &order);
         let hemi = OwnedHemisphere::new(24, DeltaRule::Band).unwrap();
         let hemi = hemi.view();
