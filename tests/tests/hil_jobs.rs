@@ -10,7 +10,7 @@
 //! HEMI_REQUIRE_QEMU is unset.
 
 use hemi::backend::{Backend, Query};
-use hemi::irradiance::{Direct, QuerySettings};
+use hemi::irradiance::{Direct, Light, QuerySettings};
 use hemi::pass1::{self, form_factors};
 use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
@@ -139,7 +139,7 @@ fn assert_same_irradiance(
 ) -> [f64; 3] {
     let query = [Query { point, normal }];
     let gather = |b: &dyn Backend| {
-        hemi::irradiance::irradiance(b, grids, &query, &HEMISPHERE_ONLY).unwrap()[0]
+        hemi::irradiance::irradiance(b, Light::of(grids), &query, &HEMISPHERE_ONLY).unwrap()[0]
     };
     let want = gather(&model(scene, settings, config));
     let got = gather(&boards(farm, scene, settings));
@@ -323,7 +323,7 @@ fn run_mirror() {
     };
     let away = hemi::irradiance::irradiance(
         &boards(&farm, &scene, &settings),
-        &grids,
+        Light::of(&grids),
         &[away],
         &HEMISPHERE_ONLY,
     )

@@ -164,7 +164,7 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
     };
     let e = hemi::irradiance::irradiance(
         &backend,
-        &grids,
+        hemi::irradiance::Light::of(&grids),
         &[query],
         &hemi::irradiance::QuerySettings {
             direct: hemi::irradiance::Direct::Hemisphere,
@@ -197,7 +197,7 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
     flat[3] = hemi::radiosity::Grid::from_samples(1, &[[1.0; 3]]);
     let e1 = hemi::irradiance::irradiance(
         &backend,
-        &flat,
+        hemi::irradiance::Light::of(&flat),
         &[query],
         &hemi::irradiance::QuerySettings {
             direct: hemi::irradiance::Direct::Hemisphere,

@@ -8,7 +8,7 @@ use crate::progress::{bar, bar_of_rays};
 use anyhow::Result;
 use clap::Args;
 use hemi::adaptive::{AdaptiveSettings, PatchReport, Progress};
-use hemi::field::{FieldSettings, Sweeps};
+use hemi::field::{FieldSettings, Reflected, Sweeps};
 use hemi::on_demand::{grids_streaming, solve_streaming, RowShooter};
 use hemi::pass1::FormFactors;
 use hemi::radiosity::Grid;
@@ -92,6 +92,8 @@ pub struct Solved {
     pub solution: Solution,
     /// The radiosity field (vertex grids per patch), when asked for.
     pub grids: Vec<Grid>,
+    /// The field's reflected direct light, where it has it (`Field::direct`).
+    pub direct: Option<Reflected>,
     /// Pass 1's counters (empty when rows were shot on demand).
     pub stats: ShotStats,
     /// Hemispheres shot by pass 1 (the elements).
@@ -222,13 +224,14 @@ pub fn solve(
     let (ff, sampled) = sample(backend, adaptive.settings(quality, k)?, board_stats)?;
     let t1 = std::time::Instant::now();
     let solution = solve_scene(scene, &ff, solver.solver.into())?;
-    let (ff, solution, grids) = match field {
+    let (ff, solution, grids, direct) = match field {
         Some(f) => field_grids(backend, ff, solution, &f, solver.solver.into())?,
-        None => (ff, solution, Vec::new()),
+        None => (ff, solution, Vec::new(), None),
     };
     Ok(Solved {
         solution,
         grids,
+        direct,
         stats: ff.stats,
         hemispheres: ff.elements.len() as u64,
         sampled,
@@ -248,7 +251,7 @@ fn field_grids(
     solution: Solution,
     field: &FieldSettings,
     solver: Solver,
-) -> Result<(FormFactors, Solution, Vec<Grid>)> {
+) -> Result<(FormFactors, Solution, Vec<Grid>, Option<Reflected>)> {
     let scene = backend.get().scene();
     let bar = bar(u64::from(field.sweeps) * ff.elements.len() as u64, "field");
     let t0 = std::time::Instant::now();
@@ -277,8 +280,13 @@ fn field_grids(
     if field.sweeps > 0 {
         report_field(scene, &refined, field, t0.elapsed().as_secs_f64());
     }
-    let grids = refined.field.grids;
-    Ok((refined.form_factors, refined.solution, grids))
+    let field = refined.field;
+    Ok((
+        refined.form_factors,
+        refined.solution,
+        field.grids,
+        field.direct,
+    ))
 }
 
 /// The field's lines on stderr: each refinement round, then the sweeps of the last field.
@@ -405,6 +413,7 @@ fn streaming(
     Ok(Solved {
         solution,
         grids,
+        direct: None,
         stats: ShotStats::default(),
         hemispheres: 0,
         sampled: Vec::new(),

@@ -108,6 +108,39 @@ pub fn corners(k: usize, u: f32, v: f32) -> [((usize, usize), f64); 4] {
     ]
 }
 
+/// How far `grid` misses its own k×k `samples` (v-major, as [`Grid::from_samples`] takes
+/// them), per cell and channel, the largest over the cell and its eight neighbours: the grid
+/// reproduces a linear field exactly and a curved one to O(h²), so a large miss marks light it
+/// cannot carry — a shadow's edge, a kink — in or next to the cell, where a smooth gradient,
+/// however steep, shows none.
+pub fn misses(grid: &Grid, samples: &[[f64; 3]]) -> Vec<[f32; 3]> {
+    let k = grid.k();
+    if samples.len() != k * k {
+        return vec![[0.0; 3]; k * k];
+    }
+    let centre = |i: usize| (i as f32 + 0.5) / k as f32;
+    let own: Vec<[f64; 3]> = (0..k * k)
+        .map(|q| {
+            let at = grid.at(centre(q % k), centre(q / k));
+            [0, 1, 2].map(|c| (samples[q][c] - at[c]).abs())
+        })
+        .collect();
+    (0..k * k)
+        .map(|q| {
+            let (a, b) = (q % k, q / k);
+            let mut m = [0.0f32; 3];
+            for j in b.saturating_sub(1)..(b + 2).min(k) {
+                for i in a.saturating_sub(1)..(a + 2).min(k) {
+                    for c in 0..3 {
+                        m[c] = m[c].max(own[j * k + i][c] as f32);
+                    }
+                }
+            }
+            m
+        })
+        .collect()
+}
+
 /// The grid of scene patch `side`, or an error naming what a backend got wrong.
 pub fn grid_of(grids: &[Grid], side: usize) -> anyhow::Result<&Grid> {
     grids
@@ -147,6 +180,34 @@ mod tests {
                 "{sum:?} vs {at:?}"
             );
         }
+    }
+
+    #[test]
+    fn a_grid_misses_a_step_and_not_a_slope() {
+        let k = 8;
+        let field = |step: bool| -> Vec<[f64; 3]> {
+            (0..k * k)
+                .map(|q| {
+                    let a = q % k;
+                    let x = if step {
+                        f64::from(u8::from(a >= 4))
+                    } else {
+                        1.0 + a as f64
+                    };
+                    [x; 3]
+                })
+                .collect()
+        };
+        let slope = field(false);
+        let m = misses(&Grid::from_samples(k, &slope), &slope);
+        assert!(m.iter().flatten().all(|&x| x < 1e-6), "{m:?}");
+        let step = field(true);
+        let m = misses(&Grid::from_samples(k, &step), &step);
+        // next to the step (cells 2..=5 along u) the grid misses by a quarter, far from it not
+        assert!(
+            m[3][0] > 0.2 && m[4][0] > 0.2 && m[0][0] < 1e-6 && m[7][0] < 1e-6,
+            "{m:?}"
+        );
     }
 
     #[test]

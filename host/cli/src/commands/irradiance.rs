@@ -7,7 +7,7 @@ use anyhow::Result;
 use clap::Args;
 use hemi::backend::Query;
 use hemi::direct::{applies as exact_direct_applies, Direct};
-use hemi::irradiance::QuerySettings;
+use hemi::irradiance::{Light, QuerySettings};
 use std::io::Write;
 
 /// Irradiance at points read from stdin (`x y z dx dy dz` per line, the convention of
@@ -76,8 +76,11 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
             .iter()
             .map(|&(point, normal)| Query { point, normal })
             .collect();
-        let grids = &solved.grids;
-        for e in hemi::irradiance::irradiance(backend.get(), grids, &queries, &settings)? {
+        let light = Light {
+            grids: &solved.grids,
+            direct: solved.direct.as_ref(),
+        };
+        for e in hemi::irradiance::irradiance(backend.get(), light, &queries, &settings)? {
             writeln!(out, "{}", rgb(e))?;
         }
         Ok(())

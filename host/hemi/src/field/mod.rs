@@ -98,6 +98,21 @@ pub struct Field {
     pub how: Option<Sweeps>,
     /// The element values the grids were built from, in the order of the pass-1 elements.
     pub values: Vec<[f64; 3]>,
+    /// Where the emitters' direct light is exact: the part of the radiosity that is that light
+    /// reflected once.
+    pub direct: Option<Reflected>,
+}
+
+/// The part of each patch's radiosity that is the emitters' direct light reflected once (ρD),
+/// and where its grid cannot carry it: there (a shadow's edge) point queries evaluate it afresh
+/// at the hit instead ([`crate::irradiance::relight`]).
+#[derive(Clone, Debug)]
+pub struct Reflected {
+    /// Per scene patch, the grid of ρD, built as [`Field::grids`] is.
+    pub grids: Vec<Grid>,
+    /// Per scene patch and cell, how far that grid misses its own samples
+    /// ([`crate::grid::misses`]).
+    pub misses: Vec<Vec<[f32; 3]>>,
 }
 
 /// The field of a solved scene: the element values (4.2) of `sol` over `ff`'s elements, then up
@@ -132,6 +147,7 @@ pub fn solve_field_with(
         change: f64::INFINITY,
         how: None,
         values: Vec::new(),
+        direct: None,
     };
     if settings.sweeps == 0 || ff.elements.is_empty() {
         field.values = values;
@@ -164,6 +180,7 @@ pub fn solve_field_with(
     let per_sweep = &|n: u64| progress(n * u64::from(settings.sweeps));
     let (recorded, how) = record(backend, &shots, &layout, &skip, settings, per_sweep)?;
     field.how = Some(how);
+    let mut buried = vec![false; shots.len()];
     while field.sweeps < settings.sweeps && field.change > settings.tolerance {
         let gathered = match &recorded {
             Some(rows) => {
@@ -187,7 +204,7 @@ pub fn solve_field_with(
         }
         let mut next = swept_values(scene, &index, &ff.elements, &light);
         // fill first: the residual the correction spreads must not hold the buried values
-        let buried: Vec<bool> = gathered.iter().map(|g| g.blocked > BURIED).collect();
+        buried = gathered.iter().map(|g| g.blocked > BURIED).collect();
         fill_buried(scene, &index, &mut next, &buried);
         coarse_correction(&system, &ff.elements, &values, &mut next)?;
         field.change = relative_change(scene, &ff.elements, &values, &next);
@@ -197,8 +214,45 @@ pub fn solve_field_with(
         values = next;
         field.sweeps += 1;
     }
+    if let Some(direct) = direct {
+        let lit = reflected(scene, &ff.elements, &direct.irradiance(&field.grids)?);
+        field.direct = Some(reflected_grids(scene, &index, lit, &buried));
+    }
     field.values = values;
     Ok(field)
+}
+
+/// The part of each element's value that is the emitters' direct light `d` reflected once,
+/// `ρ_i D_q` (exact direct light applies only without translucent sheets, so there is no
+/// twin's share).
+fn reflected(scene: &Scene, elements: &[ElementRow], d: &[[f64; 3]]) -> Vec<[f64; 3]> {
+    elements
+        .iter()
+        .zip(d)
+        .map(|(e, d)| {
+            let rho = scene.material_of(e.patch).diffuse;
+            [0, 1, 2].map(|c| rho[c] * d[c])
+        })
+        .collect()
+}
+
+/// The grids of the reflected direct light `values` as the sweeps build theirs (buried
+/// elements filled, seams welded), and where they miss their samples.
+fn reflected_grids(
+    scene: &Scene,
+    index: &ElementIndex,
+    mut values: Vec<[f64; 3]>,
+    buried: &[bool],
+) -> Reflected {
+    fill_buried(scene, index, &mut values, buried);
+    let mut grids = index.grids(scene, &values);
+    crate::seams::weld(scene, &mut grids);
+    let misses = grids
+        .iter()
+        .enumerate()
+        .map(|(i, g)| crate::grid::misses(g, &values[index.range(i)]))
+        .collect();
+    Reflected { grids, misses }
 }
 
 /// Elements whose transport is recorded in one request: enough to keep every core busy, and

@@ -7,15 +7,20 @@
 //! are left out of that sum and their light is taken from exact form factors with shadow rays
 //! instead ([`crate::direct`]): a small lamp is then not quantised by the hemisphere's rays.
 //! The surfaces right next to the point are not read off the grids but evaluated afresh
-//! ([`near`]), so corners and contact shadows are as sharp as the light in them.
+//! ([`near`]), so corners and contact shadows are as sharp as the light in them. Farther out,
+//! the hits in a cell that holds a shadow's edge take the lamps' light exact at the hit and the
+//! rest of their light off the grid ([`relight`]).
 
 pub mod near;
+pub mod relight;
 
 use crate::backend::{Backend, Query, Seen};
 pub use crate::direct::Direct;
 use crate::direct::{applies, Emitters};
+use crate::field::Reflected;
 use crate::radiosity::{combine, Grid};
 use near::{surface_at, NearField};
+use relight::Relit;
 
 /// How point queries gather.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -38,12 +43,32 @@ impl Default for QuerySettings {
     }
 }
 
+/// The solved light a query reads.
+#[derive(Clone, Copy, Debug)]
+pub struct Light<'a> {
+    /// The radiosity grid of every scene patch (the back sides of translucent sheets included).
+    pub grids: &'a [Grid],
+    /// The field's reflected direct light ([`crate::field::Field::direct`]), where it has it:
+    /// hits on a shadow's edge are then relit ([`relight`]).
+    pub direct: Option<&'a Reflected>,
+}
+
+impl<'a> Light<'a> {
+    /// The radiosity grids alone (no relighting).
+    pub fn of(grids: &'a [Grid]) -> Light<'a> {
+        Light {
+            grids,
+            direct: None,
+        }
+    }
+}
+
 /// Irradiance (W/m² per channel) at each query, emitters included, from the radiosity field
-/// `grids` (per scene patch, the back sides of translucent sheets included), the emitters'
-/// direct light and the near field as `settings` say, where the scene and the backend allow.
+/// `light`, the emitters' direct light and the near field as `settings` say, where the scene
+/// and the backend allow.
 pub fn irradiance(
     backend: &dyn Backend,
-    grids: &[Grid],
+    light: Light<'_>,
     queries: &[Query],
     settings: &QuerySettings,
 ) -> anyhow::Result<Vec<[f64; 3]>> {
@@ -51,11 +76,24 @@ pub fn irradiance(
         .then(|| Emitters::of(backend.scene()));
     let gather = Gather {
         backend,
-        grids,
+        grids: light.grids,
+        direct: light.direct.filter(|_| emitters.is_some()),
         emitters: emitters.as_ref(),
         near_cells: settings.near_cells,
+        levels: settings.near_levels,
     };
     gather.at(queries, settings.near_levels)
+}
+
+/// Where the radiosity at one hit comes from.
+#[derive(Clone, Copy, Debug)]
+enum Fresh {
+    /// Read off its grid.
+    Grid,
+    /// Read off its grid, plus a correction of its direct light ([`relight`]).
+    Corrected([f64; 3]),
+    /// Evaluated afresh by the near field.
+    Value([f64; 3]),
 }
 
 /// Queries one request to the backend carries: enough to keep every core busy, few enough that
@@ -66,8 +104,11 @@ const QUERIES_PER_REQUEST: usize = 64;
 struct Gather<'a> {
     backend: &'a dyn Backend,
     grids: &'a [Grid],
+    direct: Option<&'a Reflected>,
     emitters: Option<&'a Emitters>,
     near_cells: f32,
+    /// The near field's levels of the queries asked (their own hemispheres are at this level).
+    levels: u32,
 }
 
 impl Gather<'_> {
@@ -97,11 +138,17 @@ impl Gather<'_> {
             _ => NearField::of(scene, self.grids, chunk, &seen, self.near_cells, handled),
         };
         let values = self.radiosity(&near.points, levels.saturating_sub(1))?;
+        let (relit, corrections) = self.relight(&seen, &near, &direct, levels == self.levels)?;
         let mut out = Vec::with_capacity(chunk.len());
         for (k, (seen, d)) in seen.iter().zip(direct).enumerate() {
-            let mut fresh = vec![None; seen.len()];
+            let mut fresh = vec![Fresh::Grid; seen.len()];
+            for &(r, n) in relit.hits.get(k).map_or(&[][..], |h| &h[..]) {
+                if let Some(d) = corrections[n] {
+                    fresh[r] = Fresh::Corrected(d);
+                }
+            }
             for &(r, n) in near.hits.get(k).map_or(&[][..], |h| &h[..]) {
-                fresh[r] = Some(values[n]);
+                fresh[r] = Fresh::Value(values[n]);
             }
             let e = self.sum(seen, &fresh)?;
             out.push([0, 1, 2].map(|c| e[c] + d[c]));
@@ -109,18 +156,64 @@ impl Gather<'_> {
         Ok(out)
     }
 
+    /// The hits of one request's queries on a shadow's edge beyond their near fields, and the
+    /// correction each of their evaluations adds to the grid ([`relight`]).
+    fn relight(
+        &self,
+        seen: &[Vec<Seen>],
+        near: &NearField,
+        direct_light: &[[f64; 3]],
+        top: bool,
+    ) -> anyhow::Result<(Relit, Vec<Option<[f64; 3]>>)> {
+        let (Some(direct), Some(em)) = (self.direct, self.emitters) else {
+            return Ok((Relit::default(), Vec::new()));
+        };
+        let in_near: Vec<std::collections::HashSet<usize>> = (0..seen.len())
+            .map(|k| {
+                near.hits
+                    .get(k)
+                    .map_or_else(Default::default, |h| h.iter().map(|&(r, _)| r).collect())
+            })
+            .collect();
+        let mut scale = Vec::with_capacity(seen.len());
+        for (s, d) in seen.iter().zip(direct_light) {
+            let e = self.sum(s, &vec![Fresh::Grid; s.len()])?;
+            scale.push([0, 1, 2].map(|c| e[c] + d[c]));
+        }
+        let scene = self.backend.scene();
+        let budget = if top {
+            relight::BUDGET
+        } else {
+            relight::NEAR_BUDGET
+        };
+        let relit = Relit::of(
+            scene,
+            self.grids,
+            direct,
+            seen,
+            &scale,
+            budget,
+            |k, r, s| em.handles(s.side) || in_near[k].contains(&r),
+        );
+        let corrections = relit.corrections(self.backend, em, self.grids, direct)?;
+        Ok((relit, corrections))
+    }
+
     /// `E = Σ w · B(hit)` over one query's reports, in the order the tracer made them, leaving
-    /// out the emitters whose direct light is computed exactly; B is `fresh` where the near
-    /// field evaluated it, else read off the grids.
-    fn sum(&self, seen: &[Seen], fresh: &[Option<[f64; 3]>]) -> anyhow::Result<[f64; 3]> {
+    /// out the emitters whose direct light is computed exactly; B is as `fresh` says.
+    fn sum(&self, seen: &[Seen], fresh: &[Fresh]) -> anyhow::Result<[f64; 3]> {
         let mut e = [0.0f64; 3];
         for (s, f) in seen.iter().zip(fresh) {
             if self.emitters.is_some_and(|em| em.handles(s.side)) {
                 continue;
             }
             let l = match f {
-                Some(b) => [0, 1, 2].map(|c| s.weight[c] as f64 * b[c]),
-                None => s.light(self.grids)?,
+                Fresh::Value(b) => [0, 1, 2].map(|c| s.weight[c] as f64 * b[c]),
+                Fresh::Grid => s.light(self.grids)?,
+                Fresh::Corrected(d) => {
+                    let b = crate::grid::grid_of(self.grids, s.side)?.at(s.u, s.v);
+                    [0, 1, 2].map(|c| s.weight[c] as f64 * (b[c] + d[c]).max(0.0))
+                }
             };
             for c in 0..3 {
                 e[c] += l[c];

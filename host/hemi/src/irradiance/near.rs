@@ -102,7 +102,7 @@ fn is_near(scene: &Scene, k: usize, s: &Seen, point: Vec3, near: f32) -> bool {
 }
 
 /// The index of the sub-cell of a k×k grid that (u, v) falls in ([`SPLIT`] per cell side).
-fn sub_cell(k: usize, u: f32, v: f32) -> u32 {
+pub(crate) fn sub_cell(k: usize, u: f32, v: f32) -> u32 {
     let n = k as u32 * SPLIT;
     let at = |t: f32| ((t.clamp(0.0, 1.0) * n as f32) as u32).min(n - 1);
     at(v) * n + at(u)
