@@ -108,7 +108,8 @@ fn assert_same_small_render(
         c.height = height;
     }
     let camera = hemi::render::camera_of(&small).unwrap();
-    let render = |b: &dyn Backend| hemi::render::render(b, grids, &camera, 2, &|_| {}).unwrap();
+    let render =
+        |b: &dyn Backend| hemi::render::render(b, Light::of(grids), &camera, 2, &|_| {}).unwrap();
     let want = render(&model(&small, settings, config));
     let got = render(&boards(farm, scene, settings));
     assert_eq!((got.image.width, got.image.height), (width, height));

@@ -27,9 +27,15 @@ fn solve_and_render(scene: &Scene, settings: &Pass1Settings, spp: u32) -> Image 
     let sol = hemi::solve::gauss_seidel_scene(scene, ff.channels(), &Default::default()).unwrap();
     let g = grids(scene, &ff, &sol);
     let backend = soft(scene, settings).unwrap();
-    render(&backend, &g, &camera_of(scene).unwrap(), spp, &|_| {})
-        .unwrap()
-        .image
+    render(
+        &backend,
+        hemi::irradiance::Light::of(&g),
+        &camera_of(scene).unwrap(),
+        spp,
+        &|_| {},
+    )
+    .unwrap()
+    .image
 }
 
 fn camera_toml(eye: [f64; 3], look: [f64; 3], w: u32, h: u32) -> String {

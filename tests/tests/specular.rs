@@ -294,7 +294,7 @@ fn pass_2_sees_a_light_in_a_mirror_at_k_r_times_its_radiance() {
     let camera = hemi::render::camera_of(&scene).unwrap();
     let out = hemi::render::render(
         &soft(&scene, &settings).unwrap(),
-        &grids,
+        hemi::irradiance::Light::of(&grids),
         &camera,
         1,
         &|_| {},

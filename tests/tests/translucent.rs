@@ -144,7 +144,7 @@ fn light_through_the_sheet_is_tau_of_what_its_front_gathers() {
     let camera = hemi::render::camera_of(&scene).unwrap();
     let out = hemi::render::render(
         &soft(&scene, &settings).unwrap(),
-        &grids,
+        hemi::irradiance::Light::of(&grids),
         &camera,
         1,
         &|_| {},

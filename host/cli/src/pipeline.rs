@@ -253,7 +253,18 @@ fn field_grids(
     solver: Solver,
 ) -> Result<(FormFactors, Solution, Vec<Grid>, Option<Reflected>)> {
     let scene = backend.get().scene();
-    let bar = bar(u64::from(field.sweeps) * ff.elements.len() as u64, "field");
+    // refinement shoots up to its budget's new elements, and the sweeps' record counts each
+    // element as `sweeps` sweeps: the bar's total is the most both can reach
+    let now = ff.elements.len() as u64;
+    let most = match field.refine.rounds {
+        0 => now,
+        _ => field
+            .refine
+            .max_elements
+            .map_or(2 * now, |m| m as u64)
+            .max(now),
+    };
+    let bar = bar(most - now + u64::from(field.sweeps) * most, "field");
     let t0 = std::time::Instant::now();
     let quiet = |ff: &FormFactors| {
         let parts = SceneParts::new(scene, ff.channels());

@@ -25,6 +25,7 @@ use crate::scene::Scene;
 use hemi_kernel::accel::Ray;
 use hemi_kernel::geometry::{Polygon, Vec3};
 use hemi_kernel::patch::Shape;
+use rayon::prelude::*;
 
 /// Where the emitters' direct light comes from, at a point query and in the field's sweeps.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
@@ -112,24 +113,15 @@ impl Emitters {
     /// A cell whose shadow ray disagrees with a neighbour's holds a shadow's edge, and one ray
     /// would count it all in or all out: it is cut into [`EDGE_SPLIT`]² cells with a ray each.
     pub fn paths(&self, backend: &dyn Backend, at: &[(Vec3, Vec3)]) -> anyhow::Result<DirectPaths> {
-        let cells: Vec<Vec<Cell>> = at.iter().map(|&(p, n)| self.cells(p, n)).collect();
+        // the cells' form factors are most of the work for a small lamp: every core takes a share
+        let cells: Vec<Vec<Cell>> = at.par_iter().map(|&(p, n)| self.cells(p, n)).collect();
         let visible = self.shadow_rays(backend, at, &cells)?;
-        let mut edges: Vec<Vec<Cell>> = Vec::with_capacity(at.len());
-        let mut seen: Vec<Vec<Cell>> = Vec::with_capacity(at.len());
-        for ((&(p, n), cells), visible) in at.iter().zip(&cells).zip(&visible) {
-            let edge = on_shadow_edge(cells, visible);
-            let mut finer = Vec::new();
-            let mut kept = Vec::new();
-            for ((cell, &v), &e) in cells.iter().zip(visible).zip(&edge) {
-                match (e, v) {
-                    (true, _) => finer.extend(self.split(cell, p, n)),
-                    (false, true) => kept.push(*cell),
-                    (false, false) => {}
-                }
-            }
-            edges.push(finer);
-            seen.push(kept);
-        }
+        let (edges, mut seen): (Vec<Vec<Cell>>, Vec<Vec<Cell>>) = at
+            .par_iter()
+            .zip(&cells)
+            .zip(&visible)
+            .map(|((&(p, n), cells), visible)| self.sort_cells(cells, visible, p, n))
+            .unzip();
         let visible = self.shadow_rays(backend, at, &edges)?;
         for ((kept, finer), visible) in seen.iter_mut().zip(edges).zip(visible) {
             kept.extend(
@@ -141,6 +133,28 @@ impl Emitters {
             );
         }
         Ok(DirectPaths { seen })
+    }
+
+    /// One point's cells after their shadow rays: (the finer cells of those on a shadow's edge,
+    /// to be cast again; the seen cells off any edge).
+    fn sort_cells(
+        &self,
+        cells: &[Cell],
+        visible: &[bool],
+        p: Vec3,
+        n: Vec3,
+    ) -> (Vec<Cell>, Vec<Cell>) {
+        let edge = on_shadow_edge(cells, visible);
+        let mut finer = Vec::new();
+        let mut kept = Vec::new();
+        for ((cell, &v), &e) in cells.iter().zip(visible).zip(&edge) {
+            match (e, v) {
+                (true, _) => finer.extend(self.split(cell, p, n)),
+                (false, true) => kept.push(*cell),
+                (false, false) => {}
+            }
+        }
+        (finer, kept)
     }
 
     /// Casts one shadow ray from each point to the centre of each of its cells (all points in

@@ -78,10 +78,12 @@ pub fn run(args: RenderArgs, out: &mut impl Write) -> Result<()> {
     let pass1_counts = backend.model_counts();
     let t2 = std::time::Instant::now();
     let bar = bar(u64::from(camera.height), "pass 2");
+    let light = hemi::irradiance::Light {
+        grids: &solved.grids,
+        direct: solved.direct.as_ref(),
+    };
     let Rendered { image, specular } =
-        hemi::render::render(backend.get(), &solved.grids, &camera, args.spp, &|n| {
-            bar.inc(n)
-        })?;
+        hemi::render::render(backend.get(), light, &camera, args.spp, &|n| bar.inc(n))?;
     bar.finish_and_clear();
     backend.board_report(stats, "after pass 2");
     let pass2 = t2.elapsed().as_secs_f64();

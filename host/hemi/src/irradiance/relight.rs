@@ -90,7 +90,7 @@ impl Relit {
                 let Some(b) = grids.get(s.side) else {
                     continue;
                 };
-                let Some(miss) = miss_at(b, direct, s) else {
+                let Some(miss) = miss_at(b, direct, s, MISS) else {
                     continue;
                 };
                 let g = groups
@@ -230,8 +230,9 @@ fn sub_cell_centre(k: usize, index: u32) -> (f32, f32) {
 }
 
 /// How far the grid of the reflected direct light misses its samples around the cell of `b`
-/// that `s` lands in (per channel), if that is more than [`MISS`] of the cell's radiosity.
-fn miss_at(b: &Grid, direct: &Reflected, s: &Seen) -> Option<[f64; 3]> {
+/// that `s` lands in (per channel), if that is more than `threshold` ([`MISS`] for queries) of
+/// the cell's radiosity.
+pub fn miss_at(b: &Grid, direct: &Reflected, s: &Seen, threshold: f64) -> Option<[f64; 3]> {
     let (Some(d), Some(misses)) = (direct.grids.get(s.side), direct.misses.get(s.side)) else {
         return None;
     };
@@ -245,5 +246,5 @@ fn miss_at(b: &Grid, direct: &Reflected, s: &Seen) -> Option<[f64; 3]> {
         .iter()
         .flat_map(|&((i, j), _)| b.vertex(i, j))
         .fold(0.0f64, f64::max);
-    (miss.iter().fold(0.0f64, |a, &x| a.max(x)) > MISS * top).then_some(miss)
+    (miss.iter().fold(0.0f64, |a, &x| a.max(x)) > threshold * top).then_some(miss)
 }

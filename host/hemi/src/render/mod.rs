@@ -1,14 +1,18 @@
 //! Pass 2: eye rays through every pixel by the backend's pixel tracer, diffuse colour from the
-//! hit patch's vertex grid at the hit's (u,v) ([`shade`]), then exposure, tone map and the image
+//! hit patch's vertex grid at the hit's (u,v) ([`shade`]) — with the lamps' light exact on the
+//! shadows' edges the grid cannot carry ([`relit`]) — then exposure, tone map and the image
 //! files: PNG and EXR ([`image`]), Radiance's RGBE ([`hdr`]).
 
 pub mod hdr;
 pub mod image;
+pub mod relit;
 
 pub use hdr::write_hdr;
 pub use image::{auto_exposure, read_png, write_exr, write_png, write_png_to, Image};
 
 use crate::backend::{Backend, Progress, Seen};
+use crate::direct::{applies, Emitters};
+use crate::irradiance::Light;
 use crate::radiosity::{grid_of, Grid};
 use crate::scene::Scene;
 use anyhow::{Context, Result};
@@ -55,22 +59,40 @@ pub fn shade(px: &mut [f32; 3], weight: [f32; 3], b: [f64; 3], spp: u32) {
 /// diffuse patch's front side sees its radiance B(u,v)/π (emitters included, so a light shows
 /// its radiance); a ray on a specular patch adds what its frustums see, weighted by k and the
 /// lobe (§5); back sides and misses are black. Frustums are cut from the backend's hemisphere
-/// and bounded by its specular settings, as in pass 1. `progress` gets the rows finished.
+/// and bounded by its specular settings, as in pass 1. Where `light` has the field's reflected
+/// direct light and exact direct light applies, the hits on shadows' edges are relit
+/// ([`relit`]). `progress` gets the rows finished.
 pub fn render(
     backend: &dyn Backend,
-    grids: &[Grid],
+    light: Light<'_>,
     camera: &Camera,
     spp: u32,
     progress: &Progress<'_>,
 ) -> Result<Rendered> {
     let (w, h) = (camera.width, camera.height);
     let spp = spp.max(1);
+    let grids = light.grids;
     let rows: Vec<Mutex<Vec<[f32; 3]>>> = (0..h)
         .map(|_| Mutex::new(vec![[0.0f32; 3]; w as usize]))
         .collect();
     let failed: Mutex<Option<anyhow::Error>> = Mutex::new(None);
+    // the shadows' edges are relit after the trace ([`relit`]), where exact direct light applies
+    let emitters = light
+        .direct
+        .filter(|_| applies(backend))
+        .map(|d| (d, Emitters::of(backend.scene())));
+    let to_relight: Mutex<Vec<relit::Hit>> = Mutex::new(Vec::new());
     let sink = |y: u32, seen: &[(u32, Seen)]| {
-        if let Err(e) = shade_row(&rows, grids, y, w, seen, spp) {
+        let shaded = shade_row(&rows, grids, y, w, seen, spp);
+        if let (Ok(()), Some((direct, em))) = (&shaded, &emitters) {
+            let mine = seen.iter().enumerate().filter_map(|(n, (p, s))| {
+                relit::wants(grids, direct, em, s).then_some((*p, n as u32, *s))
+            });
+            if let Ok(mut all) = to_relight.lock() {
+                all.extend(mine);
+            }
+        }
+        if let Err(e) = shaded {
             if let Ok(mut f) = failed.lock() {
                 f.get_or_insert(e);
             }
@@ -86,6 +108,19 @@ pub fn render(
             row.into_inner()
                 .map_err(|_| anyhow::anyhow!("a row was poisoned"))?,
         );
+    }
+    if let Some((direct, em)) = &emitters {
+        let mut hits = to_relight
+            .into_inner()
+            .map_err(|_| anyhow::anyhow!("the relit hits were poisoned"))?;
+        // rows arrive in any order: the pixels' sums must not depend on it
+        hits.sort_by_key(|&(p, n, _)| (p, n));
+        let add = relit::corrections(backend, em, grids, direct, &hits)?;
+        for ((p, _, s), d) in hits.iter().zip(add) {
+            if let Some(px) = pixels.get_mut(*p as usize) {
+                shade(px, s.weight, d, spp);
+            }
+        }
     }
     let image = Image {
         width: w,
