@@ -253,8 +253,9 @@ fn field_grids(
     solver: Solver,
 ) -> Result<(FormFactors, Solution, Vec<Grid>, Option<Reflected>)> {
     let scene = backend.get().scene();
-    // refinement shoots up to its budget's new elements, and the sweeps' record counts each
-    // element as `sweeps` sweeps: the bar's total is the most both can reach
+    // the bar counts hemispheres: refinement shoots up to its budget's new elements, and the
+    // transport's record casts each element once (re-cast sweeps, past the record's budget,
+    // cast them once a sweep and run past the total)
     let now = ff.elements.len() as u64;
     let most = match field.refine.rounds {
         0 => now,
@@ -264,7 +265,7 @@ fn field_grids(
             .map_or(2 * now, |m| m as u64)
             .max(now),
     };
-    let bar = bar(most - now + u64::from(field.sweeps) * most, "field");
+    let bar = bar(2 * most - now, "field");
     let t0 = std::time::Instant::now();
     let quiet = |ff: &FormFactors| {
         let parts = SceneParts::new(scene, ff.channels());

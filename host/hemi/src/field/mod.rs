@@ -177,8 +177,9 @@ pub fn solve_field_with(
     };
 
     let layout = Layout::of(&field.grids)?;
-    let per_sweep = &|n: u64| progress(n * u64::from(settings.sweeps));
-    let (recorded, how) = record(backend, &shots, &layout, &skip, settings, per_sweep)?;
+    // progress counts hemispheres cast: one per element to record, or one per element and
+    // sweep re-cast
+    let (recorded, how) = record(backend, &shots, &layout, &skip, settings, progress)?;
     field.how = Some(how);
     let mut buried = vec![false; shots.len()];
     while field.sweeps < settings.sweeps && field.change > settings.tolerance {
