@@ -343,9 +343,18 @@ pub fn stream(work: &Workload, depth: u32, rng: &mut XorShift) -> (String, u64) 
                 "T {now} {} {} {} {} {} {} {} {skip_en} {skip:x} {}",
                 o[0], o[1], o[2], d[0], d[1], d[2], r.uv as u8, r.bypass as u8
             );
+            let before = u.lane_stats();
             u.start(&mem, count, ray_in(r, next as u32), now, |_| {
                 unreachable!("no culling: the unit never asks for a frame's axes")
             });
+            let after = u.lane_stats();
+            // for reading a mismatch: the candidates the lane was handed, the set-up passes
+            let _ = writeln!(
+                out,
+                "# n={} setup={}",
+                after.candidates - before.candidates,
+                after.setups - before.setups
+            );
             next += 1;
             arrive = now
                 + if rng.bits() % 8 == 0 {
