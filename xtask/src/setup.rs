@@ -233,6 +233,23 @@ fn apt_plan(package: &str, what: &str, present: bool, root: bool, has_apt: bool)
     Plan::Install(vec![apt(&["update"]), apt(&["install", "-y", package])])
 }
 
+/// Installs a Debian package as root with apt-get, or says why it cannot.
+pub fn apt_install(package: &str) -> Result<(), String> {
+    let mut manual = Vec::new();
+    let plan = apt_plan(
+        package,
+        package,
+        false,
+        is_root(),
+        which("apt-get").is_some(),
+    );
+    apply(package, plan, &mut manual)?;
+    match manual.first() {
+        Some(m) => Err(format!("{package} is missing: {m}")),
+        None => Ok(()),
+    }
+}
+
 /// Verilator, which builds the accelerator's RTL for the co-simulation against the model
 /// (`cargo xtask rtl`, the suite's `rtl-cosim` step): Debian's `verilator` package.
 pub fn verilator() -> Result<(), String> {

@@ -256,7 +256,7 @@ fn random_dir(rng: &mut XorShift, slots: &[[u32; PATCH_WORDS]]) -> [i32; 3] {
     }
 }
 
-/// `patches` random slots and `rays` random rays against them.
+/// `patches` random slots (at least one) and `rays` random rays against them.
 pub fn random(rng: &mut XorShift, patches: usize, rays: usize) -> Workload {
     let slots: Vec<_> = (0..patches).map(|_| random_slot(rng)).collect();
     let mut origin = random_origin(rng, &slots);
@@ -303,9 +303,9 @@ fn ray_in(r: &PlaneRay, seq: u32) -> RayIn<u32> {
     }
 }
 
-/// Runs `work` through the model, rays arriving with random gaps; returns the file text and
-/// the clocks it took.
-pub fn stream(work: &Workload, depth: u32, rng: &mut XorShift) -> (String, u64) {
+/// Runs `work` through the model, rays arriving with random gaps; returns the file text (empty
+/// unless `record`: the model's own speed is timed without it) and the clocks it took.
+pub fn stream(work: &Workload, depth: u32, rng: &mut XorShift, record: bool) -> (String, u64) {
     let mut out = String::new();
     let mut mem = PatchMem::new(SLOTS);
     for (i, w) in work.slots.iter().enumerate() {
@@ -320,7 +320,7 @@ pub fn stream(work: &Workload, depth: u32, rng: &mut XorShift) -> (String, u64) 
     let mut u = unit(depth);
     let (mut next, mut arrive, mut now) = (0usize, 2u64, 0u64);
     while next < work.rays.len() || u.in_flight() > 0 {
-        if let Some(r) = u.take_done(now) {
+        if let Some(r) = u.take_done(now).filter(|_| record) {
             let h = r.hit.unwrap_or_default();
             let _ = writeln!(
                 out,
@@ -335,6 +335,7 @@ pub fn stream(work: &Workload, depth: u32, rng: &mut XorShift) -> (String, u64) 
         }
         if next < work.rays.len() && arrive <= now && u.ready() {
             let r = &work.rays[next];
+            let (before, at) = (u.lane_stats(), out.len());
             let o = r.origin.map(|c| format!("{:08x}", c as u32));
             let d = r.dir.map(|c| format!("{:08x}", c as u32));
             let (skip_en, skip) = (r.skip.is_some() as u8, r.skip.unwrap_or(0));
@@ -343,7 +344,6 @@ pub fn stream(work: &Workload, depth: u32, rng: &mut XorShift) -> (String, u64) 
                 "T {now} {} {} {} {} {} {} {} {skip_en} {skip:x} {}",
                 o[0], o[1], o[2], d[0], d[1], d[2], r.uv as u8, r.bypass as u8
             );
-            let before = u.lane_stats();
             u.start(&mem, count, ray_in(r, next as u32), now, |_| {
                 unreachable!("no culling: the unit never asks for a frame's axes")
             });
@@ -355,6 +355,9 @@ pub fn stream(work: &Workload, depth: u32, rng: &mut XorShift) -> (String, u64) 
                 after.candidates - before.candidates,
                 after.setups - before.setups
             );
+            if !record {
+                out.truncate(at);
+            }
             next += 1;
             arrive = now
                 + if rng.bits() % 8 == 0 {
@@ -376,7 +379,7 @@ mod tests {
     fn every_ray_gets_one_result() {
         let mut rng = XorShift::new(0x5851_f42d_4c95_7f2d);
         let work = random(&mut rng, 40, 300);
-        let (text, _) = stream(&work, 8, &mut rng);
+        let (text, _) = stream(&work, 8, &mut rng, true);
         let n = |tag: &str| text.lines().filter(|l| l.starts_with(tag)).count();
         assert_eq!((n("T "), n("H "), n("P ")), (300, 300, 40));
         let hits = text
