@@ -293,6 +293,7 @@ mod tests {
                 "clippy-firmware",
                 "host-tests",
                 "firmware-tests",
+                "rtl-cosim",
                 "doc"
             ]
         );

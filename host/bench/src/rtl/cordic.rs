@@ -130,7 +130,7 @@ fn edge_word(rng: &mut XorShift) -> i32 {
 pub fn random_entries(rng: &mut XorShift, n: usize) -> Vec<RotEntry> {
     (0..n)
         .map(|_| {
-            let edge = rng.bits() % 8 == 0;
+            let edge = rng.bits().is_multiple_of(8);
             let word = |rng: &mut XorShift| {
                 if edge {
                     edge_word(rng)
@@ -141,7 +141,7 @@ pub fn random_entries(rng: &mut XorShift, n: usize) -> Vec<RotEntry> {
             RotEntry {
                 dir: [word(rng), word(rng), word(rng)],
                 angles: [word(rng), word(rng), word(rng)],
-                bypass: rng.bits() % 16 == 0,
+                bypass: rng.bits().is_multiple_of(16),
             }
         })
         .collect()
@@ -152,7 +152,7 @@ pub fn random_entries(rng: &mut XorShift, n: usize) -> Vec<RotEntry> {
 pub fn random_vectors(rng: &mut XorShift, n: usize) -> Vec<[i32; 3]> {
     (0..n)
         .map(|_| {
-            if rng.bits() % 4 == 0 {
+            if rng.bits().is_multiple_of(4) {
                 [edge_word(rng), edge_word(rng), edge_word(rng)]
             } else {
                 [rng.bits() as i32, rng.bits() as i32, rng.bits() as i32]

@@ -262,15 +262,15 @@ pub fn random(rng: &mut XorShift, patches: usize, rays: usize) -> Workload {
     let mut origin = random_origin(rng, &slots);
     let rays = (0..rays)
         .map(|_| {
-            if rng.bits() % 24 == 0 {
+            if rng.bits().is_multiple_of(24) {
                 origin = random_origin(rng, &slots);
             }
             PlaneRay {
                 origin,
                 dir: random_dir(rng, &slots),
-                uv: rng.bits() % 4 != 0,
-                skip: (rng.bits() % 3 == 0).then(|| (rng.bits() % patches as u64) as u32),
-                bypass: rng.bits() % 32 == 0,
+                uv: !rng.bits().is_multiple_of(4),
+                skip: (rng.bits().is_multiple_of(3)).then(|| (rng.bits() % patches as u64) as u32),
+                bypass: rng.bits().is_multiple_of(32),
             }
         })
         .collect();
@@ -360,7 +360,7 @@ pub fn stream(work: &Workload, depth: u32, rng: &mut XorShift, record: bool) -> 
             }
             next += 1;
             arrive = now
-                + if rng.bits() % 8 == 0 {
+                + if rng.bits().is_multiple_of(8) {
                     rng.bits() % 300
                 } else {
                     0
