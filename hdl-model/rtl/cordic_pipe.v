@@ -24,7 +24,10 @@ module cordic_pipe #(
     output wire signed [W-1:0] out_x,
     output wire signed [W-1:0] out_y,
     output wire signed [W-1:0] out_z,
-    output wire       [PW-1:0] out_payload
+    output wire       [PW-1:0] out_payload,
+    // the payload one clock before it leaves (a unit that reads a memory by it gets the word
+    // on the clock the vector leaves, without the read in the next stage's path)
+    output wire       [PW-1:0] early_payload
 );
 `include "cordic_rom.vh"
 
@@ -114,4 +117,5 @@ module cordic_pipe #(
     assign out_y = y[L-1];
     assign out_z = z[L-1];
     assign out_payload = pay[L-1];
+    assign early_payload = pay[L-2];
 endmodule

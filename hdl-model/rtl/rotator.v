@@ -55,12 +55,21 @@ module rotator #(
     wire signed [W-1:0] a_x, a_y, a_z;
     /* verilator lint_on UNUSEDSIGNAL */
     wire [PW-1:0] a_p;
+    /* verilator lint_off UNUSEDSIGNAL */ // only the early tag is read
+    wire [PW-1:0] a_early, b_early, c_early;
+    /* verilator lint_on UNUSEDSIGNAL */
     cordic_pipe #(.MODE(0), .ITER(ITER), .W(W), .PW(PW)) psi (
         .clk(clk), .rst(rst), .in_valid(in_valid),
         .in_x(in_dx[31 -: W]), .in_y(in_dy[31 -: W]),
         .in_z(in_bypass ? {W{1'b0}} : in_psi[31 -: W]),
         .in_payload({next_slot, in_dz[31 -: W]}),
-        .out_valid(a_v), .out_x(a_x), .out_y(a_y), .out_z(a_z), .out_payload(a_p));
+        .out_valid(a_v), .out_x(a_x), .out_y(a_y), .out_z(a_z), .out_payload(a_p),
+        .early_payload(a_early));
+
+    // theta is read from the side table by the tag one clock before it leaves pipe 1, so the
+    // block RAM's output is registered on its own and not in the next pipe's quadrant stage
+    reg [W-1:0] theta_q;
+    always @(posedge clk) theta_q <= side_theta[a_early[PW-1:W]][31 -: W];
 
     // register between pipes 1 and 2: (z, x) to turn by theta, y carried
     reg ab_v;
@@ -71,7 +80,7 @@ module rotator #(
         else ab_v <= a_v;
         ab_x <= a_p[W-1:0];
         ab_y <= a_x;
-        ab_z <= side_theta[a_p[PW-1:W]][31 -: W];
+        ab_z <= theta_q;
         ab_p <= {a_p[PW-1:W], a_y};
     end
 
@@ -84,7 +93,11 @@ module rotator #(
     cordic_pipe #(.MODE(0), .ITER(ITER), .W(W), .PW(PW)) theta (
         .clk(clk), .rst(rst), .in_valid(ab_v), .in_x(ab_x), .in_y(ab_y), .in_z(ab_z),
         .in_payload(ab_p),
-        .out_valid(b_v), .out_x(b_x), .out_y(b_y), .out_z(b_z), .out_payload(b_p));
+        .out_valid(b_v), .out_x(b_x), .out_y(b_y), .out_z(b_z), .out_payload(b_p),
+        .early_payload(b_early));
+
+    reg [W-1:0] phi_q;
+    always @(posedge clk) phi_q <= side_phi[b_early[PW-1:W]][31 -: W];
 
     // register between pipes 2 and 3: (x1, y) to turn by phi, z1 carried
     reg bc_v;
@@ -95,7 +108,7 @@ module rotator #(
         else bc_v <= b_v;
         bc_x <= b_y;
         bc_y <= b_p[W-1:0];
-        bc_z <= side_phi[b_p[PW-1:W]][31 -: W];
+        bc_z <= phi_q;
         bc_p <= {b_p[PW-1:W], b_x};
     end
 
@@ -108,7 +121,8 @@ module rotator #(
     cordic_pipe #(.MODE(0), .ITER(ITER), .W(W), .PW(PW)) phi (
         .clk(clk), .rst(rst), .in_valid(bc_v), .in_x(bc_x), .in_y(bc_y), .in_z(bc_z),
         .in_payload(bc_p),
-        .out_valid(c_v), .out_x(c_x), .out_y(c_y), .out_z(c_z), .out_payload(c_p));
+        .out_valid(c_v), .out_x(c_x), .out_y(c_y), .out_z(c_z), .out_payload(c_p),
+        .early_payload(c_early));
 
     wire [6:0] tag = c_p[PW-1:W];
     wire [95:0] orig = side_dir[tag];
