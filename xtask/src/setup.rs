@@ -1,4 +1,5 @@
-//! `cargo xtask setup`: make a fresh machine able to run the whole test suite.
+//! `cargo xtask setup`: make a fresh machine able to run the whole test suite (the firmware's
+//! target, qemu-system-arm, defmt-print, Verilator, rustfmt and clippy).
 //!
 //! Idempotent: every check comes first, and only what is missing is installed. Everything it does
 //! is said on stderr. What it cannot do (not root, no apt-get, no rustup) is collected and reported
@@ -81,7 +82,12 @@ pub fn setup() -> Result<(), String> {
         say(format!("defmt-print: {version} at {}", path.display()));
     }
 
-    // (4) rustfmt and clippy.
+    // (4) Verilator, for the co-simulation of the RTL against the model.
+    if let Err(e) = verilator() {
+        manual.push(e);
+    }
+
+    // (5) rustfmt and clippy.
     let missing = if has_rustup {
         missing_components()
     } else {
@@ -196,30 +202,74 @@ fn target_plan(has_rustup: bool, installed: Option<Vec<String>>) -> Plan {
 }
 
 fn qemu_plan(present: bool, root: bool, has_apt: bool) -> Plan {
+    apt_plan(
+        "qemu-system-arm",
+        "QEMU's Arm system emulator (qemu-system-arm, 6.0 or newer)",
+        present,
+        root,
+        has_apt,
+    )
+}
+
+/// A tool Debian packages under its own name: installed with apt-get as root, else the user is
+/// told the command (or, without apt-get, what to install).
+fn apt_plan(package: &str, what: &str, present: bool, root: bool, has_apt: bool) -> Plan {
     if present {
         return Plan::Present;
     }
     if !has_apt {
-        return Plan::Manual(
-            "install QEMU's Arm system emulator (qemu-system-arm, 6.0 or newer) with your \
-             system's package manager"
-                .to_string(),
-        );
+        return Plan::Manual(format!("install {what} with your system's package manager"));
     }
     if !root {
-        return Plan::Manual(
-            "run: sudo apt-get update && sudo apt-get install -y qemu-system-arm".to_string(),
-        );
+        return Plan::Manual(format!(
+            "run: sudo apt-get update && sudo apt-get install -y {package}"
+        ));
     }
     let apt = |args: &[&str]| {
         let mut c = Command::new("apt-get");
         c.args(args).env("DEBIAN_FRONTEND", "noninteractive");
         c
     };
-    Plan::Install(vec![
-        apt(&["update"]),
-        apt(&["install", "-y", "qemu-system-arm"]),
-    ])
+    Plan::Install(vec![apt(&["update"]), apt(&["install", "-y", package])])
+}
+
+/// Installs a Debian package as root with apt-get, or says why it cannot.
+pub fn apt_install(package: &str) -> Result<(), String> {
+    let mut manual = Vec::new();
+    let plan = apt_plan(
+        package,
+        package,
+        false,
+        is_root(),
+        which("apt-get").is_some(),
+    );
+    apply(package, plan, &mut manual)?;
+    match manual.first() {
+        Some(m) => Err(format!("{package} is missing: {m}")),
+        None => Ok(()),
+    }
+}
+
+/// Verilator, which builds the accelerator's RTL for the co-simulation against the model
+/// (`cargo xtask rtl`, the suite's `rtl-cosim` step): Debian's `verilator` package.
+pub fn verilator() -> Result<(), String> {
+    let mut manual = Vec::new();
+    let plan = apt_plan(
+        "verilator",
+        "Verilator (5.x)",
+        which("verilator").is_some(),
+        is_root(),
+        which("apt-get").is_some(),
+    );
+    apply("verilator", plan, &mut manual)?;
+    if let Some(m) = manual.first() {
+        return Err(format!("verilator is missing: {m}"));
+    }
+    match output(cmd("verilator", ["--version"])) {
+        Some(v) => say(format!("verilator: {}", v.trim())),
+        None => return Err("setup: verilator is still not on PATH after installing it".into()),
+    }
+    Ok(())
 }
 
 fn defmt_print_plan(present: bool) -> Plan {
@@ -293,6 +343,10 @@ mod tests {
             "run: sudo apt-get update && sudo apt-get install -y qemu-system-arm"
         );
         assert!(manual(qemu_plan(false, true, false)).contains("package manager"));
+        assert_eq!(
+            commands(apt_plan("verilator", "Verilator", false, true, true))[1],
+            "DEBIAN_FRONTEND=noninteractive apt-get install -y verilator"
+        );
     }
 
     #[test]

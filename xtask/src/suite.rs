@@ -32,7 +32,7 @@ fn steps() -> Vec<Step> {
     vec![
         Step {
             name: "setup",
-            what: "set-up of this machine (target, QEMU, defmt-print, rustfmt, clippy)",
+            what: "set-up of this machine (target, QEMU, defmt-print, Verilator, rustfmt, clippy)",
             kind: Kind::Setup,
         },
         Step {
@@ -114,6 +114,14 @@ fn steps() -> Vec<Step> {
             name: "firmware-tests",
             what: "firmware unit tests on the target, under QEMU",
             kind: Kind::Commands(|| vec![cargo(["test", "-p", FIRMWARE, "--target", TARGET])]),
+        },
+        Step {
+            name: "rtl-cosim",
+            what: "the accelerator's RTL (hdl-model/rtl/) Verilated and co-simulated against the \
+                   model on Cornell-box hemispheres and random rays, answers and clocks bit for \
+                   bit, and a one-bit mutant of the RTL shown to be caught (cargo xtask rtl is the \
+                   full form, with synthesis)",
+            kind: Kind::Check(crate::rtl::ci),
         },
         Step {
             name: "doc",
@@ -285,6 +293,7 @@ mod tests {
                 "clippy-firmware",
                 "host-tests",
                 "firmware-tests",
+                "rtl-cosim",
                 "doc"
             ]
         );

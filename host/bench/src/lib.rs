@@ -10,6 +10,7 @@ pub mod paper;
 pub mod quality;
 pub mod rays;
 pub mod rng;
+pub mod rtl;
 pub mod scale;
 pub mod solvers;
 pub mod trace;

@@ -1,0 +1,121 @@
+// A fully pipelined CORDIC (paper §3.4), the RTL of hdl-model/src/cordic/stage.rs: a coarse
+// quadrant stage, ITER micro-rotation stages and a gain stage, one register after each, so a
+// vector entering on one clock edge is at the output ITER + 2 edges later (CordicConfig::latency).
+//
+// Words are W bits with the model's binary points: x and y Q2.(W-2), z Q3.(W-3). The model keeps
+// the top W bits of 32-bit containers; a W-bit datapath computes exactly those bits, so the
+// co-simulation compares word << (32 - W) with the model's containers.
+// MODE 0 turns (x, y) by z; MODE 1 turns (x, y) onto +x and accumulates z = atan2(y, x).
+// PW bits of payload ride along unchanged (the rotator's carried component and tag).
+module cordic_pipe #(
+    parameter integer MODE = 0,
+    parameter integer ITER = 24,
+    parameter integer W = 32,
+    parameter integer PW = 1
+) (
+    input  wire                clk,
+    input  wire                rst,
+    input  wire                in_valid,
+    input  wire signed [W-1:0] in_x,
+    input  wire signed [W-1:0] in_y,
+    input  wire signed [W-1:0] in_z,
+    input  wire       [PW-1:0] in_payload,
+    output wire                out_valid,
+    output wire signed [W-1:0] out_x,
+    output wire signed [W-1:0] out_y,
+    output wire signed [W-1:0] out_z,
+    output wire       [PW-1:0] out_payload,
+    // the payload one clock before it leaves (a unit that reads a memory by it gets the word
+    // on the clock the vector leaves, without the read in the next stage's path)
+    output wire       [PW-1:0] early_payload
+);
+`include "cordic_rom.vh"
+
+    localparam [63:0] HALF_PI_R = rom_round(HALF_PI_Q62, W - 3);
+    localparam [63:0] INV_GAIN_R = rom_round(inv_gain_q62(ITER), W - 2);
+    localparam [W-1:0] HALF_PI = HALF_PI_R[W-1:0];
+    localparam [W-1:0] INV_GAIN = INV_GAIN_R[W-1:0];
+    localparam integer L = ITER + 2;
+
+    // register k holds the vector after stage k (0: quadrant, 1..ITER: micro, ITER+1: gain)
+    reg signed [W-1:0] x [0:L-1];
+    reg signed [W-1:0] y [0:L-1];
+    reg signed [W-1:0] z [0:L-1];
+    reg        [PW-1:0] pay [0:L-1];
+    reg                 zero [0:L-1];
+    reg                 v [0:L-1];
+
+    // quadrant stage: bring the vector (or the angle) within the micro-rotations' reach
+    reg signed [W-1:0] qx, qy, qz;
+    reg qzero;
+    always @* begin
+        qx = in_x;
+        qy = in_y;
+        qz = in_z;
+        qzero = 1'b0;
+        if (MODE == 0) begin
+            if ($signed(in_z) > $signed(HALF_PI)) begin
+                qx = -in_y; qy = in_x; qz = in_z - HALF_PI;
+            end else if ($signed(in_z) < -$signed(HALF_PI)) begin
+                qx = in_y; qy = -in_x; qz = in_z + HALF_PI;
+            end
+        end else begin
+            qzero = (in_x == 0) && (in_y == 0);
+            if (in_x < 0) begin
+                if (in_y >= 0) begin
+                    qx = in_y; qy = -in_x; qz = in_z + HALF_PI;
+                end else begin
+                    qx = -in_y; qy = in_x; qz = in_z - HALF_PI;
+                end
+            end
+        end
+    end
+
+    always @(posedge clk) begin
+        if (rst) v[0] <= 1'b0;
+        else v[0] <= in_valid;
+        x[0] <= qx; y[0] <= qy; z[0] <= qz; zero[0] <= qzero; pay[0] <= in_payload;
+    end
+
+    genvar i;
+    generate
+        for (i = 0; i < ITER; i = i + 1) begin : micro
+            localparam [63:0] ATAN_R = rom_round(atan_q62(i), W - 3);
+            localparam [W-1:0] ATAN = ATAN_R[W-1:0];
+            wire ccw = (MODE == 0) ? (z[i] >= 0) : (y[i] < 0);
+            wire signed [W-1:0] dx = x[i] >>> i;
+            wire signed [W-1:0] dy = y[i] >>> i;
+            always @(posedge clk) begin
+                if (rst) v[i+1] <= 1'b0;
+                else v[i+1] <= v[i];
+                x[i+1] <= ccw ? x[i] - dy : x[i] + dy;
+                y[i+1] <= ccw ? y[i] + dx : y[i] - dx;
+                z[i+1] <= ccw ? z[i] - ATAN : z[i] + ATAN;
+                zero[i+1] <= zero[i];
+                pay[i+1] <= pay[i];
+            end
+        end
+    endgenerate
+
+    // gain stage: each component times 1/K_n, truncated back to Q2.(W-2)
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire signed [2*W-1:0] gx = x[ITER] * $signed(INV_GAIN);
+    wire signed [2*W-1:0] gy = y[ITER] * $signed(INV_GAIN);
+    /* verilator lint_on UNUSEDSIGNAL */
+    always @(posedge clk) begin
+        if (rst) v[L-1] <= 1'b0;
+        else v[L-1] <= v[L-2];
+        x[L-1] <= gx[2*W-3 -: W];
+        y[L-1] <= gy[2*W-3 -: W];
+        z[L-1] <= (MODE == 1 && zero[L-2]) ? {W{1'b0}} : z[L-2];
+        zero[L-1] <= zero[L-2];
+        pay[L-1] <= pay[L-2];
+    end
+
+    assign out_valid = v[L-1];
+    assign out_x = x[L-1];
+    assign out_y = y[L-1];
+    assign out_z = z[L-1];
+    assign out_payload = pay[L-1];
+    assign early_payload = pay[L-2];
+endmodule

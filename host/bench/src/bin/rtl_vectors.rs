@@ -1,0 +1,143 @@
+//! `rtl-vectors OUT [options]`: writes the co-simulation vectors of the accelerator's RTL
+//! (`hemi_bench::rtl`) and prints what they hold, for `cargo xtask rtl` and the test suite's
+//! `rtl-cosim` step.
+//!
+//! - CORDIC units (`--iterations N --width W`): pass 1's hemispheres on `--scene` (`--circles
+//!   R`, `--samples K`) through the angle unit and the rotator, and `--random N` random rays and
+//!   vectors;
+//! - with `--plane OUT2 --depth D`: the planar intersection unit on the same scene's
+//!   hemispheres (`--plane-samples K`) and on `--plane-random N` random rays against
+//!   `--plane-patches P` random patches. The model's own speed on the same streams (without
+//!   writing them) is printed as modelled clocks per host second.
+
+use anyhow::{bail, Context, Result};
+use hemi_bench::rng::XorShift;
+use hemi_bench::rtl::{cordic, plane};
+use hemi_hdl_model::cordic::CordicConfig;
+use std::time::Instant;
+
+struct Args {
+    out: String,
+    cfg: CordicConfig,
+    scene: Option<String>,
+    circles: u32,
+    samples: u32,
+    random: usize,
+    plane: Option<String>,
+    depth: u32,
+    plane_samples: u32,
+    plane_random: usize,
+    plane_patches: usize,
+    seed: u64,
+}
+
+fn parse() -> Result<Args> {
+    let mut a = Args {
+        out: String::new(),
+        cfg: CordicConfig::DEFAULT,
+        scene: None,
+        circles: 16,
+        samples: 2,
+        random: 10_000,
+        plane: None,
+        depth: 16,
+        plane_samples: 1,
+        plane_random: 10_000,
+        plane_patches: 48,
+        seed: 0x2545_f491_4f6c_dd1d,
+    };
+    let mut it = std::env::args().skip(1);
+    while let Some(arg) = it.next() {
+        let mut value = || it.next().with_context(|| format!("{arg} needs a value"));
+        match arg.as_str() {
+            "--iterations" => a.cfg.iterations = value()?.parse()?,
+            "--width" => a.cfg.width = value()?.parse()?,
+            "--scene" => a.scene = Some(value()?),
+            "--circles" => a.circles = value()?.parse()?,
+            "--samples" => a.samples = value()?.parse()?,
+            "--random" => a.random = value()?.parse()?,
+            "--plane" => a.plane = Some(value()?),
+            "--depth" => a.depth = value()?.parse()?,
+            "--plane-samples" => a.plane_samples = value()?.parse()?,
+            "--plane-random" => a.plane_random = value()?.parse()?,
+            "--plane-patches" => a.plane_patches = value()?.parse::<usize>()?.clamp(1, 256),
+            "--seed" => a.seed = value()?.parse()?,
+            s if !s.starts_with('-') && a.out.is_empty() => a.out = s.to_string(),
+            s => bail!("unknown argument `{s}`"),
+        }
+    }
+    if a.out.is_empty() || !a.cfg.is_valid() || !(1..=24).contains(&a.depth) {
+        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--seed S]");
+    }
+    Ok(a)
+}
+
+fn main() -> Result<()> {
+    let a = parse()?;
+    let scene = match &a.scene {
+        Some(path) => Some(
+            hemi::scene::load(std::path::Path::new(path))
+                .with_context(|| format!("loading {path}"))?,
+        ),
+        None => None,
+    };
+    let hemisphere = match &scene {
+        Some(s) => cordic::hemisphere_entries(s, a.circles, a.samples, a.cfg)?,
+        None => Vec::new(),
+    };
+    let t0 = Instant::now();
+    let (text, counts) = cordic::vectors(a.cfg, &hemisphere, a.random, a.random, a.seed);
+    let secs = t0.elapsed().as_secs_f64();
+    std::fs::write(&a.out, text).with_context(|| format!("writing {}", a.out))?;
+    println!(
+        "rtl-vectors: ITER={} W={} hemisphere_rays={} rays={} vectors={} clocks={} model_seconds={secs:.3}",
+        a.cfg.iterations,
+        a.cfg.width,
+        hemisphere.len(),
+        counts.rays,
+        counts.vectors,
+        counts.clocks
+    );
+    if let Some(out) = &a.plane {
+        plane_vectors(&a, scene.as_ref(), out)?;
+    }
+    Ok(())
+}
+
+/// The planar unit's file: the scene's hemispheres, then random patches and rays, one stream
+/// after the other (the second reloads patch memory).
+fn plane_vectors(a: &Args, scene: Option<&hemi::scene::Scene>, out: &str) -> Result<()> {
+    let mut rng = XorShift::new(a.seed ^ 0x9e37_79b9_7f4a_7c15);
+    let mut works = Vec::new();
+    if let Some(s) = scene {
+        let slots = plane::loaded_slots(&s.kernel_patches())?;
+        let rays = plane::hemispheres(&slots, a.circles, a.plane_samples)?;
+        works.push(plane::Workload { slots, rays });
+    }
+    if a.plane_random > 0 {
+        works.push(plane::random(&mut rng, a.plane_patches, a.plane_random));
+    }
+    let mut text = String::new();
+    let (mut rays, mut clocks) = (0, 0);
+    for w in &works {
+        let (t, c) = plane::stream(w, a.depth, &mut rng.clone(), true);
+        rays += w.rays.len();
+        clocks += c;
+        text.push_str(&t);
+        text.push_str("E\n");
+    }
+    std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
+    // the same streams again, timed, without the text
+    let t0 = Instant::now();
+    for w in &works {
+        plane::stream(w, a.depth, &mut rng.clone(), false);
+    }
+    let secs = t0.elapsed().as_secs_f64();
+    println!(
+        "rtl-vectors: plane DEPTH={} rays={rays} clocks={clocks} model_seconds={secs:.3} \
+         model_clocks_per_second={:.0}",
+        a.depth,
+        clocks as f64 / secs
+    );
+    Ok(())
+}

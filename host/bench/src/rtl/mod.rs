@@ -1,0 +1,10 @@
+//! Co-simulation vectors for the accelerator's RTL (`hdl-model/rtl/`): the model's units driven
+//! clock by clock, every input and output written with its clock, for the Verilator testbenches
+//! (`hdl-model/rtl/tb/`) to drive the RTL with the same inputs at the same clocks and compare
+//! its outputs bit for bit and clock for clock (`cargo xtask rtl`).
+//!
+//! - [`cordic`]: the rotator and the angle unit's vectoring pipe;
+//! - [`plane`]: the planar intersection unit with (u,v) (one lane, no culling).
+
+pub mod cordic;
+pub mod plane;

