@@ -110,16 +110,42 @@ impl Aabb {
     /// dividing: the ray is then inside the slab or misses it.
     #[inline]
     pub fn slab(&self, o: Vec3, d: Vec3, t_min: f32, t_max: f32) -> Option<f32> {
+        SlabRay::new(o, d).enter(self, t_min, t_max)
+    }
+}
+
+/// A ray made ready for many slab tests: its inverse direction, computed once per ray instead
+/// of once per box (the same quotients, so the same entry distances bit for bit).
+#[derive(Clone, Copy, Debug)]
+struct SlabRay {
+    o: Vec3,
+    d: Vec3,
+    inv: [f32; 3],
+}
+
+impl SlabRay {
+    #[inline]
+    fn new(o: Vec3, d: Vec3) -> SlabRay {
+        SlabRay {
+            o,
+            d,
+            inv: [1.0 / d.x, 1.0 / d.y, 1.0 / d.z],
+        }
+    }
+
+    /// [`Aabb::slab`] of this ray.
+    #[inline]
+    fn enter(&self, b: &Aabb, t_min: f32, t_max: f32) -> Option<f32> {
         let mut enter = f32::NEG_INFINITY;
         let mut exit = f32::INFINITY;
         for k in 0..3 {
-            let (ok, dk, lo, hi) = (o[k], d[k], self.min[k], self.max[k]);
+            let (ok, dk, lo, hi) = (self.o[k], self.d[k], b.min[k], b.max[k]);
             if dk == 0.0 {
                 if ok < lo || ok > hi {
                     return None;
                 }
             } else {
-                let inv = 1.0 / dk;
+                let inv = self.inv[k];
                 let (a, b) = ((lo - ok) * inv, (hi - ok) * inv);
                 let (a, b) = if a < b { (a, b) } else { (b, a) };
                 enter = enter.max(a);
@@ -145,9 +171,13 @@ pub struct BezierHit {
     pub v: f32,
 }
 
+/// A sub-patch waiting on the intersection's stack. Its control points are either a node of
+/// the patch's [`BezierTree`] (`at`) or, below what the tree stores, on the stack of owned
+/// control points beside it (both stacks are popped in the same order).
 #[derive(Clone, Copy)]
 struct Node {
-    cp: [Vec3; 16],
+    /// Index in the tree, or [`OWNED`].
+    at: u32,
     u0: f32,
     v0: f32,
     size: f32,
@@ -155,6 +185,74 @@ struct Node {
     enter: f32,
     /// Largest side of this node's control-point box (computed once, in the parent's slab test).
     extent: f32,
+}
+
+/// A [`Node`] whose control points are on the owned stack.
+const OWNED: u32 = u32::MAX;
+
+/// One stored sub-patch of a [`BezierTree`].
+#[derive(Clone, Copy, Debug)]
+pub struct TreeNode {
+    cp: [Vec3; 16],
+    bounds: Aabb,
+    /// The intersection stops here ([`Subdivision`]'s depth, size or flatness).
+    leaf: bool,
+    /// Index of the first of the four children (stored consecutively), or 0 when the storage
+    /// ended before them: they are then subdivided per ray, as without a tree.
+    children: u32,
+}
+
+impl Default for TreeNode {
+    fn default() -> Self {
+        TreeNode {
+            cp: [Vec3::ZERO; 16],
+            bounds: Aabb {
+                min: Vec3::ZERO,
+                max: Vec3::ZERO,
+            },
+            leaf: true,
+            children: 0,
+        }
+    }
+}
+
+/// A patch's first subdivision levels, computed once instead of once per ray: every ray that
+/// reaches a patch descends from the same root through the same sub-patches, and splitting
+/// them (de Casteljau, boxes, flatness) was most of a ray's cost. The sub-patches do not
+/// depend on the ray, so the tree holds exactly the control points, boxes and leaf decisions
+/// the per-ray subdivision computes: the hits are the same bits. Its storage is the caller's
+/// (no allocation in the kernel); levels that do not fit are subdivided per ray.
+#[derive(Clone, Copy, Debug)]
+pub struct BezierTree<'s> {
+    nodes: &'s [TreeNode],
+    sub: Subdivision,
+}
+
+impl<'s> BezierTree<'s> {
+    /// The tree in `nodes`, as [`Bezier::build_tree`] stored them for `sub` (for storage that
+    /// outlives the build, as a host's shared by threads).
+    pub fn from_nodes(nodes: &'s [TreeNode], sub: Subdivision) -> BezierTree<'s> {
+        BezierTree { nodes, sub }
+    }
+
+    /// The stored nodes (the root first, then level by level).
+    pub fn nodes(&self) -> &'s [TreeNode] {
+        self.nodes
+    }
+
+    /// The subdivision the tree was built for; intersections with another ignore the tree.
+    pub fn subdivision(&self) -> Subdivision {
+        self.sub
+    }
+}
+
+/// Whether the subdivision stops at a sub-patch: at the depth or size limit, or where it is
+/// flat to `flat_tol` (no sub-patch above depth 2 is flat enough to matter: not tested there).
+#[inline]
+fn is_leaf(cp: &[Vec3; 16], depth: u32, extent: f32, sub: &Subdivision, flat_tol: f32) -> bool {
+    depth >= sub.max_depth.min(MAX_DEPTH)
+        || extent <= sub.min_box
+        || (depth >= 2 && flatness(cp) <= flat_tol)
 }
 
 impl Bezier {
@@ -259,15 +357,35 @@ impl Bezier {
         t_max: f32,
         sub: &Subdivision,
     ) -> Option<BezierHit> {
-        let max_depth = sub.max_depth.min(MAX_DEPTH);
-        let root = self.bounds();
+        self.intersect_in(None, o, d, t_min, t_max, sub)
+    }
+
+    /// [`Bezier::intersect`] starting from `tree`, this patch's precomputed subdivision
+    /// ([`Bezier::build_tree`]; ignored if built for another `sub`): the same hit, without
+    /// splitting the stored levels again.
+    pub fn intersect_in(
+        &self,
+        tree: Option<&BezierTree<'_>>,
+        o: Vec3,
+        d: Vec3,
+        t_min: f32,
+        t_max: f32,
+        sub: &Subdivision,
+    ) -> Option<BezierHit> {
+        let tree = tree.filter(|t| t.sub == *sub && !t.nodes.is_empty());
+        let ray = SlabRay::new(o, d);
+        let root = tree.map_or_else(|| self.bounds(), |t| t.nodes[0].bounds);
         let flat_tol = sub.flatness * root.size();
-        let enter = root.slab(o, d, t_min, t_max)?;
+        let enter = ray.enter(&root, t_min, t_max)?;
         // heapless: nothing is initialised up front (an array of STACK nodes would copy 11 KiB
         // per ray)
         let mut stack: heapless::Vec<Node, STACK> = heapless::Vec::new();
+        let mut owned: heapless::Vec<[Vec3; 16], STACK> = heapless::Vec::new();
+        if tree.is_none() {
+            let _ = owned.push(self.cp);
+        }
         let _ = stack.push(Node {
-            cp: self.cp,
+            at: if tree.is_some() { 0 } else { OWNED },
             u0: 0.0,
             v0: 0.0,
             size: 1.0,
@@ -275,18 +393,23 @@ impl Bezier {
             enter,
             extent: root.size(),
         });
+        let nodes = tree.map_or(&[][..], |t| t.nodes);
         let mut best: Option<BezierHit> = None;
         let mut best_t = t_max;
         while let Some(node) = stack.pop() {
+            let cp = match nodes.get(node.at as usize) {
+                Some(stored) => stored.cp,
+                None => owned.pop().unwrap_or(self.cp),
+            };
             if node.enter >= best_t {
                 continue;
             }
-            // (no sub-patch above depth 2 is flat enough to matter: skip the test there)
-            if node.depth >= max_depth
-                || node.extent <= sub.min_box
-                || (node.depth >= 2 && flatness(&node.cp) <= flat_tol)
-            {
-                if let Some((t, s, r)) = leaf_hit(&node.cp, o, d, t_min, best_t) {
+            let leaf = match nodes.get(node.at as usize) {
+                Some(stored) => stored.leaf,
+                None => is_leaf(&cp, node.depth, node.extent, sub, flat_tol),
+            };
+            if leaf {
+                if let Some((t, s, r)) = leaf_hit(&cp, o, d, t_min, best_t) {
                     best_t = t;
                     best = Some(BezierHit {
                         t,
@@ -297,17 +420,22 @@ impl Bezier {
                 continue;
             }
             // four children, pushed far-to-near so the nearest is examined first
-            let mut children: [(f32, Node); 4] = [(0.0, node); 4];
+            let first = nodes.get(node.at as usize).map_or(0, |n| n.children);
+            let split = (first == 0).then(|| quarter(&cp));
+            let mut children: [(f32, Node, usize); 4] = [(0.0, node, 0); 4];
             let mut n = 0;
             let half = node.size * 0.5;
-            for (k, child) in quarter(&node.cp).iter().enumerate() {
+            for k in 0..4 {
                 let (cu, cv) = ((k & 1) as f32, (k >> 1) as f32);
-                let child_box = Aabb::of(child);
-                if let Some(e) = child_box.slab(o, d, t_min, best_t) {
+                let (at, child_box) = match &split {
+                    Some(q) => (OWNED, Aabb::of(&q[k])),
+                    None => (first + k as u32, nodes[(first + k as u32) as usize].bounds),
+                };
+                if let Some(e) = ray.enter(&child_box, t_min, best_t) {
                     children[n] = (
                         e,
                         Node {
-                            cp: *child,
+                            at,
                             u0: node.u0 + cu * half,
                             v0: node.v0 + cv * half,
                             size: half,
@@ -315,18 +443,67 @@ impl Bezier {
                             enter: e,
                             extent: child_box.size(),
                         },
+                        k,
                     );
                     n += 1;
                 }
             }
             let children = &mut children[..n];
             children.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
-            for (_, c) in children.iter() {
+            for (_, c, k) in children.iter() {
                 // depth-first with at most 3 siblings pending per level: STACK is never exceeded
+                if let Some(q) = &split {
+                    let _ = owned.push(q[*k]);
+                }
                 let _ = stack.push(*c);
             }
         }
         best
+    }
+
+    /// Stores this patch's subdivision for `sub` in `nodes`, level by level, as far as they
+    /// hold (a node's four children are stored together or not at all): see [`BezierTree`].
+    pub fn build_tree<'s>(&self, sub: &Subdivision, nodes: &'s mut [TreeNode]) -> BezierTree<'s> {
+        let root = self.bounds();
+        let flat_tol = sub.flatness * root.size();
+        let mut len = 0usize;
+        if let Some(first) = nodes.first_mut() {
+            *first = TreeNode {
+                cp: self.cp,
+                bounds: root,
+                leaf: is_leaf(&self.cp, 0, root.size(), sub, flat_tol),
+                children: 0,
+            };
+            len = 1;
+        }
+        // level by level: the depth of node i is found again from the level sizes
+        let (mut level_end, mut level) = (len, 0u32);
+        let mut i = 0;
+        while i < len {
+            if i == level_end {
+                level += 1;
+                level_end = len;
+            }
+            let node = nodes[i];
+            if !node.leaf && len + 4 <= nodes.len() && len + 4 <= u32::MAX as usize {
+                nodes[i].children = len as u32;
+                for child in quarter(&node.cp) {
+                    let bounds = Aabb::of(&child);
+                    nodes[len] = TreeNode {
+                        cp: child,
+                        bounds,
+                        leaf: is_leaf(&child, level + 1, bounds.size(), sub, flat_tol),
+                        children: 0,
+                    };
+                    len += 1;
+                }
+            }
+            i += 1;
+        }
+        BezierTree {
+            nodes: &nodes[..len],
+            sub: *sub,
+        }
     }
 }
 
@@ -489,5 +666,64 @@ mod tests {
         for (a, b) in q[3].iter().zip(&want.cp) {
             assert!((*a - *b).length() < 1e-6);
         }
+    }
+
+    /// A curved patch: a bump with twisted corners, so that boxes overlap and rays descend
+    /// into several children.
+    fn bumpy() -> Bezier {
+        let mut b = flat();
+        b.cp[5].z = 0.9;
+        b.cp[6].z = -0.5;
+        b.cp[9].z = 0.4;
+        b.cp[10].z = 1.1;
+        b.cp[3].z = 0.3;
+        b.cp[12].z = -0.2;
+        b
+    }
+
+    #[test]
+    fn a_stored_tree_gives_the_hits_of_per_ray_subdivision_bit_for_bit() {
+        let b = bumpy();
+        let sub = Subdivision::default();
+        let mut state = 0x9e37_79b9_u32;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state as f32 / u32::MAX as f32
+        };
+        // trees cut short at every level, down to the whole tree
+        for cap in [1usize, 3, 5, 21, 85, 341, 1365, 5461] {
+            let mut storage = std::vec![TreeNode::default(); 5461];
+            let tree = b.build_tree(&sub, &mut storage[..cap]);
+            assert!(tree.nodes().len() <= cap && (cap < 5 || tree.nodes().len() >= 5));
+            let mut hits = 0;
+            for _ in 0..400 {
+                let o = Vec3::new(next() * 2.0 - 0.5, next() * 2.0 - 0.5, 2.0 + next());
+                let target = Vec3::new(next(), next(), next() * 0.6 - 0.1);
+                let d = (target - o).try_normalize().unwrap();
+                let want = b.intersect(o, d, 0.0, f32::INFINITY, &sub);
+                let got = b.intersect_in(Some(&tree), o, d, 0.0, f32::INFINITY, &sub);
+                assert_eq!(
+                    want.map(|h| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits())),
+                    got.map(|h| (h.t.to_bits(), h.u.to_bits(), h.v.to_bits())),
+                    "{cap} nodes, ray {o:?} {d:?}"
+                );
+                hits += want.is_some() as usize;
+            }
+            assert!(hits > 200, "{hits} of 400 rays hit");
+        }
+        // a tree built for another subdivision is not used (the hits are those of `sub`)
+        let coarse = Subdivision {
+            max_depth: 3,
+            ..sub
+        };
+        let mut storage = [TreeNode::default(); 85];
+        let tree = b.build_tree(&coarse, &mut storage);
+        let (o, d) = (Vec3::new(0.4, 0.6, 3.0), Vec3::new(0.0, 0.0, -1.0));
+        assert_eq!(
+            b.intersect_in(Some(&tree), o, d, 0.0, f32::INFINITY, &sub),
+            b.intersect(o, d, 0.0, f32::INFINITY, &sub)
+        );
     }
 }

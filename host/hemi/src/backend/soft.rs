@@ -5,15 +5,28 @@ use super::Engines;
 use hemi_kernel::accel::bvh::{self, Bvh, Node};
 use hemi_kernel::accel::soft::{LocalPatch, SoftAccelerator, SoftScratch};
 use hemi_kernel::accel::{Accelerator, Hit, Ray};
-use hemi_kernel::geometry::{UvFrame, Vec3};
+use hemi_kernel::geometry::{Bezier, BezierTree, Subdivision, TreeNode, UvFrame, Vec3};
 use hemi_kernel::hemisphere::{Hemisphere, MAX_CIRCLES};
-use hemi_kernel::patch::Patch;
+use hemi_kernel::patch::{Patch, Shape};
 use hemi_kernel::rotation::Rotation;
 use std::ops::Range;
+use std::sync::OnceLock;
 
-/// The in-process engines of the soft backend ([`super::InProcess`]`<Soft>`).
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Soft;
+/// The in-process engines of the soft backend ([`super::InProcess`]`<Soft>`). Holds the
+/// curved patches' subdivision trees, built once on the first engine and shared by all.
+#[derive(Debug, Default)]
+pub struct Soft {
+    trees: OnceLock<BezierTrees>,
+}
+
+impl Soft {
+    /// The soft backend's engines (no tree built yet).
+    pub const fn new() -> Soft {
+        Soft {
+            trees: OnceLock::new(),
+        }
+    }
+}
 
 impl Engines for Soft {
     type Engine<'p> = SoftEngine<'p>;
@@ -23,7 +36,77 @@ impl Engines for Soft {
     }
 
     fn engine<'p>(&'p self, patches: &'p [Patch]) -> SoftEngine<'p> {
-        SoftEngine::new(patches)
+        let trees = self.trees.get_or_init(|| BezierTrees::new(patches));
+        // another patch memory than the first (a backend is made per scene, so never in
+        // practice): its curved patches are subdivided per ray, the same hits
+        let trees = trees.fits(patches).then_some(trees);
+        SoftEngine::new(patches).with_bezier_trees(trees)
+    }
+}
+
+/// Sub-patches stored per curved patch ([`Bezier::build_tree`]): the first five levels
+/// (1 + 4 + … + 4⁵), 305 KiB a patch, 9.5 MiB for the teapot's 32.
+pub const TREE_NODES_PER_PATCH: usize = 1365;
+
+/// The subdivision trees of a patch memory's curved patches, in one allocation.
+#[derive(Debug)]
+struct BezierTrees {
+    /// The curved patches they were built from, with their ids.
+    curved: Vec<(usize, Bezier)>,
+    nodes: Vec<TreeNode>,
+    /// Each curved patch's nodes in `nodes`, in the order of `curved`.
+    spans: Vec<Range<usize>>,
+}
+
+impl BezierTrees {
+    fn new(patches: &[Patch]) -> BezierTrees {
+        let curved: Vec<(usize, Bezier)> = patches
+            .iter()
+            .enumerate()
+            .filter_map(|(id, p)| match p.shape {
+                Shape::Bezier(b) => Some((id, b)),
+                Shape::Polygon(_) => None,
+            })
+            .collect();
+        let mut nodes = vec![TreeNode::default(); curved.len() * TREE_NODES_PER_PATCH];
+        let mut spans = Vec::with_capacity(curved.len());
+        for ((_, b), storage) in curved
+            .iter()
+            .zip(nodes.chunks_exact_mut(TREE_NODES_PER_PATCH))
+        {
+            let used = b.build_tree(&Subdivision::default(), storage).nodes().len();
+            let start = spans.len() * TREE_NODES_PER_PATCH;
+            spans.push(start..start + used);
+        }
+        BezierTrees {
+            curved,
+            nodes,
+            spans,
+        }
+    }
+
+    /// Whether these are the trees of `patches`' curved patches.
+    fn fits(&self, patches: &[Patch]) -> bool {
+        let mut curved = patches
+            .iter()
+            .enumerate()
+            .filter_map(|(id, p)| match p.shape {
+                Shape::Bezier(b) => Some((id, b)),
+                Shape::Polygon(_) => None,
+            });
+        self.curved.iter().all(|c| curved.next() == Some(*c)) && curved.next().is_none()
+    }
+
+    /// One tree per patch id (`None` for polygons).
+    fn views(&self, patch_count: usize) -> Vec<Option<BezierTree<'_>>> {
+        let mut views = vec![None; patch_count];
+        for ((id, _), span) in self.curved.iter().zip(&self.spans) {
+            views[*id] = Some(BezierTree::from_nodes(
+                &self.nodes[span.clone()],
+                Subdivision::default(),
+            ));
+        }
+        views
     }
 }
 
@@ -44,6 +127,8 @@ pub struct SoftEngine<'p> {
     /// Whether every patch is a polygon: hemispheres are then cast patch by patch
     /// (`SoftAccelerator::with_patch_major`), which a curved patch's subdivision does not allow.
     polygons_only: bool,
+    /// Each curved patch's stored subdivision, by patch id (empty without curved patches).
+    trees: Vec<Option<BezierTree<'p>>>,
 }
 
 /// Patches from which hemispheres skip what is below their horizon through the BVH
@@ -76,7 +161,16 @@ impl<'p> SoftEngine<'p> {
                 .map(|p| p.as_polygon().and_then(|poly| poly.uv_frame()))
                 .collect(),
             polygons_only: patches.iter().all(|p| p.as_polygon().is_some()),
+            trees: Vec::new(),
         }
+    }
+
+    /// Intersects the curved patches from `trees`, their stored subdivision.
+    fn with_bezier_trees(mut self, trees: Option<&'p BezierTrees>) -> Self {
+        if let Some(trees) = trees.filter(|t| !t.curved.is_empty()) {
+            self.trees = trees.views(self.patches.len());
+        }
+        self
     }
 
     fn accel(&mut self) -> SoftAccelerator<'p, '_> {
@@ -99,7 +193,10 @@ impl<'p> SoftEngine<'p> {
         )
         .expect("scratch is sized for the patches and the largest ring");
         accel.set_origin_patch(origin_patch);
-        let accel = accel.with_uv_frames(&self.uv_frames);
+        let mut accel = accel.with_uv_frames(&self.uv_frames);
+        if !self.trees.is_empty() {
+            accel = accel.with_bezier_trees(&self.trees);
+        }
         match &self.tree {
             Some((nodes, order)) if tree => accel.with_bvh(Bvh::from_parts(nodes, order)),
             _ => accel,
