@@ -646,14 +646,18 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
         d: Vec3,
         t_max: f32,
     ) -> Option<(f32, f32, f32, bool)> {
-        let t_min = CURVED_T_MIN * b.bounds().size();
         #[cfg(not(target_os = "none"))]
         let tree = self.bezier_trees.and_then(|t| t.get(id)?.as_ref());
         #[cfg(target_os = "none")]
-        let tree = {
+        let tree: Option<&crate::geometry::BezierTree<'_>> = {
             let _ = id;
             None
         };
+        // (the tree keeps the patch's box: computing it was a tenth of a teapot's pass 1)
+        let size = tree
+            .and_then(|t| t.size())
+            .unwrap_or_else(|| b.bounds().size());
+        let t_min = CURVED_T_MIN * size;
         let h = b.intersect_in(tree, o, d, t_min, t_max, &self.subdivision)?;
         // at a pole the normal is the limit from inside the patch
         let front = b

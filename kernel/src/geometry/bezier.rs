@@ -133,13 +133,60 @@ impl SlabRay {
         }
     }
 
+    /// [`SlabRay::enter`] of four boxes (a node's children) at once: the same arithmetic lane
+    /// by lane, so the same bits, on the boxes' sides gathered axis by axis so that the lanes
+    /// run side by side.
+    #[inline]
+    fn enter4(&self, boxes: &[Aabb; 4], t_min: f32, t_max: f32) -> [Option<f32>; 4] {
+        let axis = |f: fn(&Aabb) -> Vec3| -> [[f32; 4]; 3] {
+            let p: [Vec3; 4] = core::array::from_fn(|l| f(&boxes[l]));
+            [
+                [p[0].x, p[1].x, p[2].x, p[3].x],
+                [p[0].y, p[1].y, p[2].y, p[3].y],
+                [p[0].z, p[1].z, p[2].z, p[3].z],
+            ]
+        };
+        let (lo, hi) = (axis(|b| b.min), axis(|b| b.max));
+        let (o, d) = (
+            [self.o.x, self.o.y, self.o.z],
+            [self.d.x, self.d.y, self.d.z],
+        );
+        let mut enter = [f32::NEG_INFINITY; 4];
+        let mut exit = [f32::INFINITY; 4];
+        let mut inside = [true; 4];
+        for k in 0..3 {
+            let (ok, lo, hi) = (o[k], lo[k], hi[k]);
+            if d[k] == 0.0 {
+                for l in 0..4 {
+                    inside[l] &= !(ok < lo[l] || ok > hi[l]);
+                }
+                continue;
+            }
+            let inv = self.inv[k];
+            for l in 0..4 {
+                let (a, c) = ((lo[l] - ok) * inv, (hi[l] - ok) * inv);
+                let (a, c) = if a < c { (a, c) } else { (c, a) };
+                enter[l] = enter[l].max(a);
+                exit[l] = exit[l].min(c);
+            }
+        }
+        core::array::from_fn(|l| {
+            let (enter, exit) = (enter[l], exit[l]);
+            (inside[l] && enter <= exit && exit >= t_min && enter < t_max).then(|| enter.max(t_min))
+        })
+    }
+
     /// [`Aabb::slab`] of this ray.
     #[inline]
     fn enter(&self, b: &Aabb, t_min: f32, t_max: f32) -> Option<f32> {
         let mut enter = f32::NEG_INFINITY;
         let mut exit = f32::INFINITY;
-        for k in 0..3 {
-            let (ok, dk, lo, hi) = (self.o[k], self.d[k], b.min[k], b.max[k]);
+        let axes = [
+            (self.o.x, self.d.x, b.min.x, b.max.x),
+            (self.o.y, self.d.y, b.min.y, b.max.y),
+            (self.o.z, self.d.z, b.min.z, b.max.z),
+        ];
+        for (k, (ok, dk, lo, hi)) in axes.into_iter().enumerate() {
             if dk == 0.0 {
                 if ok < lo || ok > hi {
                     return None;
@@ -190,28 +237,28 @@ struct Node {
 /// A [`Node`] whose control points are on the owned stack.
 const OWNED: u32 = u32::MAX;
 
-/// One stored sub-patch of a [`BezierTree`].
+/// One stored sub-patch of a [`BezierTree`]: what a ray's descent reads at every node, kept
+/// apart from the control points (read at leaves and where the stored levels end) so that
+/// the four children's boxes share two cache lines.
 #[derive(Clone, Copy, Debug)]
 pub struct TreeNode {
-    cp: [Vec3; 16],
     bounds: Aabb,
-    /// The intersection stops here ([`Subdivision`]'s depth, size or flatness).
-    leaf: bool,
     /// Index of the first of the four children (stored consecutively), or 0 when the storage
     /// ended before them: they are then subdivided per ray, as without a tree.
     children: u32,
+    /// The intersection stops here ([`Subdivision`]'s depth, size or flatness).
+    leaf: bool,
 }
 
 impl Default for TreeNode {
     fn default() -> Self {
         TreeNode {
-            cp: [Vec3::ZERO; 16],
             bounds: Aabb {
                 min: Vec3::ZERO,
                 max: Vec3::ZERO,
             },
-            leaf: true,
             children: 0,
+            leaf: true,
         }
     }
 }
@@ -225,24 +272,46 @@ impl Default for TreeNode {
 #[derive(Clone, Copy, Debug)]
 pub struct BezierTree<'s> {
     nodes: &'s [TreeNode],
+    /// Each node's control points.
+    cps: &'s [[Vec3; 16]],
     sub: Subdivision,
 }
 
 impl<'s> BezierTree<'s> {
-    /// The tree in `nodes`, as [`Bezier::build_tree`] stored them for `sub` (for storage that
-    /// outlives the build, as a host's shared by threads).
-    pub fn from_nodes(nodes: &'s [TreeNode], sub: Subdivision) -> BezierTree<'s> {
-        BezierTree { nodes, sub }
+    /// The tree in `nodes` and `cps`, as [`Bezier::build_tree`] stored them for `sub` (for
+    /// storage that outlives the build, as a host's shared by threads).
+    pub fn from_parts(
+        nodes: &'s [TreeNode],
+        cps: &'s [[Vec3; 16]],
+        sub: Subdivision,
+    ) -> BezierTree<'s> {
+        let n = nodes.len().min(cps.len());
+        BezierTree {
+            nodes: &nodes[..n],
+            cps: &cps[..n],
+            sub,
+        }
     }
 
-    /// The stored nodes (the root first, then level by level).
-    pub fn nodes(&self) -> &'s [TreeNode] {
-        self.nodes
+    /// The number of stored sub-patches (the root first, then level by level).
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// Whether nothing is stored (the storage given was empty).
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
     }
 
     /// The subdivision the tree was built for; intersections with another ignore the tree.
     pub fn subdivision(&self) -> Subdivision {
         self.sub
+    }
+
+    /// The patch's size (largest side of its control points' box), which hits are measured
+    /// against, without recomputing the box.
+    pub fn size(&self) -> Option<f32> {
+        self.nodes.first().map(|n| n.bounds.size())
     }
 }
 
@@ -393,23 +462,28 @@ impl Bezier {
             enter,
             extent: root.size(),
         });
-        let nodes = tree.map_or(&[][..], |t| t.nodes);
+        let (nodes, cps) = tree.map_or((&[][..], &[][..]), |t| (t.nodes, t.cps));
         let mut best: Option<BezierHit> = None;
         let mut best_t = t_max;
+        let mut popped;
         while let Some(node) = stack.pop() {
-            let cp = match nodes.get(node.at as usize) {
-                Some(stored) => stored.cp,
-                None => owned.pop().unwrap_or(self.cp),
+            let stored = nodes.get(node.at as usize);
+            let cp = match cps.get(node.at as usize) {
+                Some(cp) => cp,
+                None => {
+                    popped = owned.pop().unwrap_or(self.cp);
+                    &popped
+                }
             };
             if node.enter >= best_t {
                 continue;
             }
-            let leaf = match nodes.get(node.at as usize) {
+            let leaf = match stored {
                 Some(stored) => stored.leaf,
-                None => is_leaf(&cp, node.depth, node.extent, sub, flat_tol),
+                None => is_leaf(cp, node.depth, node.extent, sub, flat_tol),
             };
             if leaf {
-                if let Some((t, s, r)) = leaf_hit(&cp, o, d, t_min, best_t) {
+                if let Some((t, s, r)) = leaf_hit(cp, o, d, t_min, best_t) {
                     best_t = t;
                     best = Some(BezierHit {
                         t,
@@ -420,18 +494,24 @@ impl Bezier {
                 continue;
             }
             // four children, pushed far-to-near so the nearest is examined first
-            let first = nodes.get(node.at as usize).map_or(0, |n| n.children);
-            let split = (first == 0).then(|| quarter(&cp));
+            let first = stored.map_or(0, |n| n.children);
+            let split = (first == 0).then(|| quarter(cp));
+            let boxes: [Aabb; 4] = match &split {
+                Some(q) => core::array::from_fn(|k| Aabb::of(&q[k])),
+                None => core::array::from_fn(|k| nodes[first as usize + k].bounds),
+            };
+            let entered = ray.enter4(&boxes, t_min, best_t);
             let mut children: [(f32, Node, usize); 4] = [(0.0, node, 0); 4];
             let mut n = 0;
             let half = node.size * 0.5;
-            for k in 0..4 {
+            for (k, (child_box, entered)) in boxes.iter().zip(entered).enumerate() {
                 let (cu, cv) = ((k & 1) as f32, (k >> 1) as f32);
-                let (at, child_box) = match &split {
-                    Some(q) => (OWNED, Aabb::of(&q[k])),
-                    None => (first + k as u32, nodes[(first + k as u32) as usize].bounds),
+                let at = if split.is_some() {
+                    OWNED
+                } else {
+                    first + k as u32
                 };
-                if let Some(e) = ray.enter(&child_box, t_min, best_t) {
+                if let Some(e) = entered {
                     children[n] = (
                         e,
                         Node {
@@ -461,22 +541,29 @@ impl Bezier {
         best
     }
 
-    /// Stores this patch's subdivision for `sub` in `nodes`, level by level, as far as they
-    /// hold (a node's four children are stored together or not at all): see [`BezierTree`].
-    pub fn build_tree<'s>(&self, sub: &Subdivision, nodes: &'s mut [TreeNode]) -> BezierTree<'s> {
+    /// Stores this patch's subdivision for `sub` in `nodes` and `cps` (their control points),
+    /// level by level, as far as both hold (a node's four children are stored together or not
+    /// at all): see [`BezierTree`].
+    pub fn build_tree<'s>(
+        &self,
+        sub: &Subdivision,
+        nodes: &'s mut [TreeNode],
+        cps: &'s mut [[Vec3; 16]],
+    ) -> BezierTree<'s> {
+        let cap = nodes.len().min(cps.len()).min(u32::MAX as usize);
         let root = self.bounds();
         let flat_tol = sub.flatness * root.size();
         let mut len = 0usize;
-        if let Some(first) = nodes.first_mut() {
-            *first = TreeNode {
-                cp: self.cp,
+        if cap > 0 {
+            nodes[0] = TreeNode {
                 bounds: root,
-                leaf: is_leaf(&self.cp, 0, root.size(), sub, flat_tol),
                 children: 0,
+                leaf: is_leaf(&self.cp, 0, root.size(), sub, flat_tol),
             };
+            cps[0] = self.cp;
             len = 1;
         }
-        // level by level: the depth of node i is found again from the level sizes
+        // level by level: node i's depth follows from where each level ends
         let (mut level_end, mut level) = (len, 0u32);
         let mut i = 0;
         while i < len {
@@ -484,17 +571,16 @@ impl Bezier {
                 level += 1;
                 level_end = len;
             }
-            let node = nodes[i];
-            if !node.leaf && len + 4 <= nodes.len() && len + 4 <= u32::MAX as usize {
+            if !nodes[i].leaf && len + 4 <= cap {
                 nodes[i].children = len as u32;
-                for child in quarter(&node.cp) {
+                for child in quarter(&cps[i]) {
                     let bounds = Aabb::of(&child);
                     nodes[len] = TreeNode {
-                        cp: child,
                         bounds,
-                        leaf: is_leaf(&child, level + 1, bounds.size(), sub, flat_tol),
                         children: 0,
+                        leaf: is_leaf(&child, level + 1, bounds.size(), sub, flat_tol),
                     };
+                    cps[len] = child;
                     len += 1;
                 }
             }
@@ -502,6 +588,7 @@ impl Bezier {
         }
         BezierTree {
             nodes: &nodes[..len],
+            cps: &cps[..len],
             sub: *sub,
         }
     }
@@ -694,9 +781,10 @@ mod tests {
         };
         // trees cut short at every level, down to the whole tree
         for cap in [1usize, 3, 5, 21, 85, 341, 1365, 5461] {
-            let mut storage = std::vec![TreeNode::default(); 5461];
-            let tree = b.build_tree(&sub, &mut storage[..cap]);
-            assert!(tree.nodes().len() <= cap && (cap < 5 || tree.nodes().len() >= 5));
+            let mut nodes = std::vec![TreeNode::default(); cap];
+            let mut cps = std::vec![[Vec3::ZERO; 16]; cap];
+            let tree = b.build_tree(&sub, &mut nodes, &mut cps);
+            assert!(tree.len() <= cap && (cap < 5 || tree.len() >= 5));
             let mut hits = 0;
             for _ in 0..400 {
                 let o = Vec3::new(next() * 2.0 - 0.5, next() * 2.0 - 0.5, 2.0 + next());
@@ -718,8 +806,9 @@ mod tests {
             max_depth: 3,
             ..sub
         };
-        let mut storage = [TreeNode::default(); 85];
-        let tree = b.build_tree(&coarse, &mut storage);
+        let mut nodes = [TreeNode::default(); 85];
+        let mut cps = [[Vec3::ZERO; 16]; 85];
+        let tree = b.build_tree(&coarse, &mut nodes, &mut cps);
         let (o, d) = (Vec3::new(0.4, 0.6, 3.0), Vec3::new(0.0, 0.0, -1.0));
         assert_eq!(
             b.intersect_in(Some(&tree), o, d, 0.0, f32::INFINITY, &sub),

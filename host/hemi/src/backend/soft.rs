@@ -44,9 +44,10 @@ impl Engines for Soft {
     }
 }
 
-/// Sub-patches stored per curved patch ([`Bezier::build_tree`]): the first five levels
-/// (1 + 4 + … + 4⁵), 305 KiB a patch, 9.5 MiB for the teapot's 32.
-pub const TREE_NODES_PER_PATCH: usize = 1365;
+/// Sub-patches stored at most per curved patch ([`Bezier::build_tree`]): the first seven
+/// levels (1 + 4 + … + 4⁶), 224 bytes each, so at most 1.2 MiB a patch; the teapot's trees
+/// take 4,000–5,461 nodes a patch, 37 MiB for its 32.
+pub const TREE_NODES_PER_PATCH: usize = 5461;
 
 /// The subdivision trees of a patch memory's curved patches, in one allocation.
 #[derive(Debug)]
@@ -54,7 +55,8 @@ struct BezierTrees {
     /// The curved patches they were built from, with their ids.
     curved: Vec<(usize, Bezier)>,
     nodes: Vec<TreeNode>,
-    /// Each curved patch's nodes in `nodes`, in the order of `curved`.
+    cps: Vec<[Vec3; 16]>,
+    /// Each curved patch's nodes in `nodes` and `cps`, in the order of `curved`.
     spans: Vec<Range<usize>>,
 }
 
@@ -68,19 +70,34 @@ impl BezierTrees {
                 Shape::Polygon(_) => None,
             })
             .collect();
-        let mut nodes = vec![TreeNode::default(); curved.len() * TREE_NODES_PER_PATCH];
-        let mut spans = Vec::with_capacity(curved.len());
-        for ((_, b), storage) in curved
-            .iter()
-            .zip(nodes.chunks_exact_mut(TREE_NODES_PER_PATCH))
-        {
-            let used = b.build_tree(&Subdivision::default(), storage).nodes().len();
-            let start = spans.len() * TREE_NODES_PER_PATCH;
-            spans.push(start..start + used);
+        let (mut nodes, mut cps, mut spans) = (Vec::new(), Vec::new(), Vec::new());
+        if curved.is_empty() {
+            return BezierTrees {
+                curved,
+                nodes,
+                cps,
+                spans,
+            };
+        }
+        // built in one patch's scratch, then only the nodes used are kept
+        let mut scratch_nodes = vec![TreeNode::default(); TREE_NODES_PER_PATCH];
+        let mut scratch_cps = vec![[Vec3::ZERO; 16]; TREE_NODES_PER_PATCH];
+        for (_, b) in &curved {
+            let used = b
+                .build_tree(
+                    &Subdivision::default(),
+                    &mut scratch_nodes,
+                    &mut scratch_cps,
+                )
+                .len();
+            spans.push(nodes.len()..nodes.len() + used);
+            nodes.extend_from_slice(&scratch_nodes[..used]);
+            cps.extend_from_slice(&scratch_cps[..used]);
         }
         BezierTrees {
             curved,
             nodes,
+            cps,
             spans,
         }
     }
@@ -101,8 +118,9 @@ impl BezierTrees {
     fn views(&self, patch_count: usize) -> Vec<Option<BezierTree<'_>>> {
         let mut views = vec![None; patch_count];
         for ((id, _), span) in self.curved.iter().zip(&self.spans) {
-            views[*id] = Some(BezierTree::from_nodes(
+            views[*id] = Some(BezierTree::from_parts(
                 &self.nodes[span.clone()],
+                &self.cps[span.clone()],
                 Subdivision::default(),
             ));
         }
