@@ -166,8 +166,10 @@ impl SlabRay {
             for l in 0..4 {
                 let (a, c) = ((lo[l] - ok) * inv, (hi[l] - ok) * inv);
                 let (a, c) = if a < c { (a, c) } else { (c, a) };
-                enter[l] = enter[l].max(a);
-                exit[l] = exit[l].min(c);
+                // f32::max and min as plain selects (no NaN reaches them from finite boxes
+                // and a finite inverse; at worst a zero's sign differs, which compares equal)
+                enter[l] = if a > enter[l] { a } else { enter[l] };
+                exit[l] = if c < exit[l] { c } else { exit[l] };
             }
         }
         core::array::from_fn(|l| {
@@ -501,41 +503,36 @@ impl Bezier {
                 None => core::array::from_fn(|k| nodes[first as usize + k].bounds),
             };
             let entered = ray.enter4(&boxes, t_min, best_t);
-            let mut children: [(f32, Node, usize); 4] = [(0.0, node, 0); 4];
+            let mut order: [(f32, usize); 4] = [(0.0, 0); 4];
             let mut n = 0;
-            let half = node.size * 0.5;
-            for (k, (child_box, entered)) in boxes.iter().zip(entered).enumerate() {
-                let (cu, cv) = ((k & 1) as f32, (k >> 1) as f32);
-                let at = if split.is_some() {
-                    OWNED
-                } else {
-                    first + k as u32
-                };
-                if let Some(e) = entered {
-                    children[n] = (
-                        e,
-                        Node {
-                            at,
-                            u0: node.u0 + cu * half,
-                            v0: node.v0 + cv * half,
-                            size: half,
-                            depth: node.depth + 1,
-                            enter: e,
-                            extent: child_box.size(),
-                        },
-                        k,
-                    );
+            for (k, e) in entered.into_iter().enumerate() {
+                if let Some(e) = e {
+                    order[n] = (e, k);
                     n += 1;
                 }
             }
-            let children = &mut children[..n];
-            children.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
-            for (_, c, k) in children.iter() {
+            let order = &mut order[..n];
+            order.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+            let half = node.size * 0.5;
+            for &(e, k) in order.iter() {
                 // depth-first with at most 3 siblings pending per level: STACK is never exceeded
-                if let Some(q) = &split {
-                    let _ = owned.push(q[*k]);
-                }
-                let _ = stack.push(*c);
+                let at = match &split {
+                    Some(q) => {
+                        let _ = owned.push(q[k]);
+                        OWNED
+                    }
+                    None => first + k as u32,
+                };
+                let (cu, cv) = ((k & 1) as f32, (k >> 1) as f32);
+                let _ = stack.push(Node {
+                    at,
+                    u0: node.u0 + cu * half,
+                    v0: node.v0 + cv * half,
+                    size: half,
+                    depth: node.depth + 1,
+                    enter: e,
+                    extent: boxes[k].size(),
+                });
             }
         }
         best

@@ -10,10 +10,11 @@ use hemi_kernel::hemisphere::{Hemisphere, MAX_CIRCLES};
 use hemi_kernel::patch::{Patch, Shape};
 use hemi_kernel::rotation::Rotation;
 use std::ops::Range;
+use rayon::prelude::*;
 use std::sync::OnceLock;
 
 /// The in-process engines of the soft backend ([`super::InProcess`]`<Soft>`). Holds the
-/// curved patches' subdivision trees, built once on the first engine and shared by all.
+/// curved patches' subdivision trees, built once by [`Engines::check`] and shared by all.
 #[derive(Debug, Default)]
 pub struct Soft {
     trees: OnceLock<BezierTrees>,
@@ -31,15 +32,18 @@ impl Soft {
 impl Engines for Soft {
     type Engine<'p> = SoftEngine<'p>;
 
-    fn check(&self, _patches: &[Patch]) -> anyhow::Result<()> {
+    /// Builds the trees here, once, before any pass: `engine` runs on the worker threads,
+    /// where a build (itself parallel) could be re-entered by a worker waiting on it.
+    fn check(&self, patches: &[Patch]) -> anyhow::Result<()> {
+        self.trees.get_or_init(|| BezierTrees::new(patches));
         Ok(())
     }
 
     fn engine<'p>(&'p self, patches: &'p [Patch]) -> SoftEngine<'p> {
-        let trees = self.trees.get_or_init(|| BezierTrees::new(patches));
-        // another patch memory than the first (a backend is made per scene, so never in
-        // practice): its curved patches are subdivided per ray, the same hits
-        let trees = trees.fits(patches).then_some(trees);
+        // without a check first, or for another patch memory than the checked one (a backend
+        // is made per scene, so never in practice): curved patches are subdivided per ray,
+        // the same hits
+        let trees = self.trees.get().filter(|t| t.fits(patches));
         SoftEngine::new(patches).with_bezier_trees(trees)
     }
 }
@@ -70,29 +74,26 @@ impl BezierTrees {
                 Shape::Polygon(_) => None,
             })
             .collect();
+        // each patch built in its own scratch, on all threads (this runs before pass 1 can
+        // start), then only the nodes used are kept, in one allocation
+        let built: Vec<(Vec<TreeNode>, Vec<[Vec3; 16]>)> = curved
+            .par_iter()
+            .map(|(_, b)| {
+                let mut nodes = vec![TreeNode::default(); TREE_NODES_PER_PATCH];
+                let mut cps = vec![[Vec3::ZERO; 16]; TREE_NODES_PER_PATCH];
+                let used = b
+                    .build_tree(&Subdivision::default(), &mut nodes, &mut cps)
+                    .len();
+                nodes.truncate(used);
+                cps.truncate(used);
+                (nodes, cps)
+            })
+            .collect();
         let (mut nodes, mut cps, mut spans) = (Vec::new(), Vec::new(), Vec::new());
-        if curved.is_empty() {
-            return BezierTrees {
-                curved,
-                nodes,
-                cps,
-                spans,
-            };
-        }
-        // built in one patch's scratch, then only the nodes used are kept
-        let mut scratch_nodes = vec![TreeNode::default(); TREE_NODES_PER_PATCH];
-        let mut scratch_cps = vec![[Vec3::ZERO; 16]; TREE_NODES_PER_PATCH];
-        for (_, b) in &curved {
-            let used = b
-                .build_tree(
-                    &Subdivision::default(),
-                    &mut scratch_nodes,
-                    &mut scratch_cps,
-                )
-                .len();
-            spans.push(nodes.len()..nodes.len() + used);
-            nodes.extend_from_slice(&scratch_nodes[..used]);
-            cps.extend_from_slice(&scratch_cps[..used]);
+        for (n, c) in built {
+            spans.push(nodes.len()..nodes.len() + n.len());
+            nodes.extend_from_slice(&n);
+            cps.extend_from_slice(&c);
         }
         BezierTrees {
             curved,
