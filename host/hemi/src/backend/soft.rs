@@ -9,8 +9,8 @@ use hemi_kernel::geometry::{Bezier, BezierTree, Subdivision, TreeNode, UvFrame, 
 use hemi_kernel::hemisphere::{Hemisphere, MAX_CIRCLES};
 use hemi_kernel::patch::{Patch, Shape};
 use hemi_kernel::rotation::Rotation;
-use std::ops::Range;
 use rayon::prelude::*;
+use std::ops::Range;
 use std::sync::OnceLock;
 
 /// The in-process engines of the soft backend ([`super::InProcess`]`<Soft>`). Holds the
