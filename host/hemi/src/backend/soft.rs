@@ -48,10 +48,20 @@ impl Engines for Soft {
     }
 }
 
-/// Sub-patches stored at most per curved patch ([`Bezier::build_tree`]): the first seven
-/// levels (1 + 4 + … + 4⁶), 224 bytes each, so at most 1.2 MiB a patch; the teapot's trees
-/// take 4,000–5,461 nodes a patch, 37 MiB for its 32.
-pub const TREE_NODES_PER_PATCH: usize = 5461;
+/// Sub-patches stored at most per curved patch ([`Bezier::build_tree`]): the first eight
+/// levels (1 + 4 + … + 4⁷), which hold all of most teapot patches' trees (6,605–23,677 nodes).
+pub const TREE_NODES_PER_PATCH: usize = 21845;
+
+/// Bytes all curved patches' trees may take together (224 bytes a node): a scene of many
+/// curved patches stores fewer levels of each, and subdivides the rest per ray.
+pub const TREE_BYTES: usize = 64 << 20;
+
+/// Nodes each of `curved` patches may store: [`TREE_NODES_PER_PATCH`], or an equal share of
+/// [`TREE_BYTES`], but always the root and its children.
+fn tree_nodes_per_patch(curved: usize) -> usize {
+    let node = std::mem::size_of::<TreeNode>() + std::mem::size_of::<[Vec3; 16]>();
+    (TREE_BYTES / node / curved.max(1)).clamp(5, TREE_NODES_PER_PATCH)
+}
 
 /// The subdivision trees of a patch memory's curved patches, in one allocation.
 #[derive(Debug)]
@@ -76,11 +86,12 @@ impl BezierTrees {
             .collect();
         // each patch built in its own scratch, on all threads (this runs before pass 1 can
         // start), then only the nodes used are kept, in one allocation
+        let cap = tree_nodes_per_patch(curved.len());
         let built: Vec<(Vec<TreeNode>, Vec<[Vec3; 16]>)> = curved
             .par_iter()
             .map(|(_, b)| {
-                let mut nodes = vec![TreeNode::default(); TREE_NODES_PER_PATCH];
-                let mut cps = vec![[Vec3::ZERO; 16]; TREE_NODES_PER_PATCH];
+                let mut nodes = vec![TreeNode::default(); cap];
+                let mut cps = vec![[Vec3::ZERO; 16]; cap];
                 let used = b
                     .build_tree(&Subdivision::default(), &mut nodes, &mut cps)
                     .len();
