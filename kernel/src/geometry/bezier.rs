@@ -236,6 +236,40 @@ struct Node {
     extent: f32,
 }
 
+impl Node {
+    /// Child `k` (bit 0: the upper u half, bit 1: the upper v half), entered at `enter`.
+    #[inline]
+    fn child(&self, k: usize, at: u32, enter: f32, extent: f32) -> Node {
+        let half = self.size * 0.5;
+        let (cu, cv) = ((k & 1) as f32, (k >> 1) as f32);
+        Node {
+            at,
+            u0: self.u0 + cu * half,
+            v0: self.v0 + cv * half,
+            size: half,
+            depth: self.depth + 1,
+            enter,
+            extent,
+        }
+    }
+}
+
+/// The children a ray enters, as (entry, index), far to near: pushed in this order, the
+/// nearest is examined first.
+#[inline]
+fn far_to_near(entered: [Option<f32>; 4]) -> ([(f32, usize); 4], usize) {
+    let mut order = [(0.0, 0); 4];
+    let mut n = 0;
+    for (k, e) in entered.into_iter().enumerate() {
+        if let Some(e) = e {
+            order[n] = (e, k);
+            n += 1;
+        }
+    }
+    order[..n].sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
+    (order, n)
+}
+
 /// A [`Node`] whose control points are on the owned stack.
 const OWNED: u32 = u32::MAX;
 
@@ -502,19 +536,8 @@ impl Bezier {
                 Some(q) => core::array::from_fn(|k| box_of(&q[k])),
                 None => core::array::from_fn(|k| nodes[first as usize + k].bounds),
             };
-            let entered = ray.enter4(&boxes, t_min, best_t);
-            let mut order: [(f32, usize); 4] = [(0.0, 0); 4];
-            let mut n = 0;
-            for (k, e) in entered.into_iter().enumerate() {
-                if let Some(e) = e {
-                    order[n] = (e, k);
-                    n += 1;
-                }
-            }
-            let order = &mut order[..n];
-            order.sort_unstable_by(|a, b| b.0.total_cmp(&a.0));
-            let half = node.size * 0.5;
-            for &(e, k) in order.iter() {
+            let (order, n) = far_to_near(ray.enter4(&boxes, t_min, best_t));
+            for &(e, k) in &order[..n] {
                 // depth-first with at most 3 siblings pending per level: STACK is never exceeded
                 let at = match &split {
                     Some(q) => {
@@ -523,16 +546,7 @@ impl Bezier {
                     }
                     None => first + k as u32,
                 };
-                let (cu, cv) = ((k & 1) as f32, (k >> 1) as f32);
-                let _ = stack.push(Node {
-                    at,
-                    u0: node.u0 + cu * half,
-                    v0: node.v0 + cv * half,
-                    size: half,
-                    depth: node.depth + 1,
-                    enter: e,
-                    extent: boxes[k].size(),
-                });
+                let _ = stack.push(node.child(k, at, e, boxes[k].size()));
             }
         }
         best
