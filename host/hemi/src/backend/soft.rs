@@ -63,7 +63,18 @@ fn tree_nodes_per_patch(curved: usize) -> usize {
     (TREE_BYTES / node / curved.max(1)).clamp(5, TREE_NODES_PER_PATCH)
 }
 
-/// The subdivision trees of a patch memory's curved patches, in one allocation.
+/// The curved patches of `patches`, with their ids.
+fn curved(patches: &[Patch]) -> impl Iterator<Item = (usize, Bezier)> + '_ {
+    patches
+        .iter()
+        .enumerate()
+        .filter_map(|(id, p)| match p.shape {
+            Shape::Bezier(b) => Some((id, b)),
+            Shape::Polygon(_) => None,
+        })
+}
+
+/// The subdivision trees of a patch memory's curved patches, all in two arrays.
 #[derive(Debug)]
 struct BezierTrees {
     /// The curved patches they were built from, with their ids.
@@ -76,14 +87,7 @@ struct BezierTrees {
 
 impl BezierTrees {
     fn new(patches: &[Patch]) -> BezierTrees {
-        let curved: Vec<(usize, Bezier)> = patches
-            .iter()
-            .enumerate()
-            .filter_map(|(id, p)| match p.shape {
-                Shape::Bezier(b) => Some((id, b)),
-                Shape::Polygon(_) => None,
-            })
-            .collect();
+        let curved: Vec<(usize, Bezier)> = curved(patches).collect();
         // each patch built in its own scratch, on all threads (this runs before pass 1 can
         // start), then only the nodes used are kept, in one allocation
         let cap = tree_nodes_per_patch(curved.len());
@@ -116,13 +120,7 @@ impl BezierTrees {
 
     /// Whether these are the trees of `patches`' curved patches.
     fn fits(&self, patches: &[Patch]) -> bool {
-        let mut curved = patches
-            .iter()
-            .enumerate()
-            .filter_map(|(id, p)| match p.shape {
-                Shape::Bezier(b) => Some((id, b)),
-                Shape::Polygon(_) => None,
-            });
+        let mut curved = curved(patches);
         self.curved.iter().all(|c| curved.next() == Some(*c)) && curved.next().is_none()
     }
 
@@ -294,5 +292,73 @@ impl Accelerator for SoftEngine<'_> {
         accel
             .with_patch_major(bvh)
             .cast_rings(origin, rot, hemi, rings, want_uv, sink)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
+
+    /// Every hit of hemispheres on the teapot, through the engines' stored subdivision trees,
+    /// against the same engine subdividing from the root for every ray: the same bits, on
+    /// seams and corners too (u, v ∈ {0, 1}).
+    #[test]
+    fn bezier_trees_change_no_hit() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../scenes/teapot.toml");
+        let scene = crate::scene::load(&path).unwrap();
+        let patches: Vec<Patch> = scene
+            .bezier_patches()
+            .into_iter()
+            .map(Patch::bezier)
+            .collect();
+        let soft = Soft::new();
+        soft.check(&patches).unwrap();
+        let mut with = soft.engine(&patches);
+        assert!(with.trees.iter().all(|t| t.is_some_and(|t| t.len() > 5)));
+        let mut without = SoftEngine::new(&patches);
+        let hemi = OwnedHemisphere::new(12, DeltaRule::Band).unwrap();
+        let hemi = hemi.view();
+        let (mut hits, mut rays) = (0, 0);
+        for (id, p) in patches.iter().enumerate().step_by(3) {
+            let Shape::Bezier(b) = &p.shape else { continue };
+            for (u, v) in [(0.0, 0.0), (0.5, 0.5), (1.0, 0.3), (0.2, 1.0)] {
+                let (origin, normal) = (b.point(u, v), b.normal_near(u, v).unwrap_or(Vec3::Z));
+                let rot = Rotation::onto(normal);
+                let mut cast = |engine: &mut SoftEngine<'_>| {
+                    engine.set_origin_patch(Some(id as u32));
+                    let mut seen = Vec::new();
+                    engine.cast_rings(
+                        origin,
+                        &rot,
+                        &hemi,
+                        0..hemi.rings().len(),
+                        true,
+                        |j, k, h| {
+                            seen.push((
+                                j,
+                                k,
+                                h.map(|h| {
+                                    (
+                                        h.patch,
+                                        h.t.to_bits(),
+                                        h.u.to_bits(),
+                                        h.v.to_bits(),
+                                        h.front,
+                                    )
+                                }),
+                            ))
+                        },
+                    );
+                    seen
+                };
+                let (got, want) = (cast(&mut with), cast(&mut without));
+                assert_eq!(got, want, "patch {id} at ({u}, {v})");
+                rays += got.len();
+                hits += got.iter().filter(|s| s.2.is_some()).count();
+            }
+        }
+        assert!(hits > rays / 10, "{hits} of {rays} rays hit the teapot");
     }
 }
