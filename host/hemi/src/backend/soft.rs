@@ -326,7 +326,7 @@ mod tests {
             for (u, v) in [(0.0, 0.0), (0.5, 0.5), (1.0, 0.3), (0.2, 1.0)] {
                 let (origin, normal) = (b.point(u, v), b.normal_near(u, v).unwrap_or(Vec3::Z));
                 let rot = Rotation::onto(normal);
-                let mut cast = |engine: &mut SoftEngine<'_>| {
+                let cast = |engine: &mut SoftEngine<'_>| {
                     engine.set_origin_patch(Some(id as u32));
                     let mut seen = Vec::new();
                     engine.cast_rings(
