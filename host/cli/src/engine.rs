@@ -152,7 +152,7 @@ impl Engine {
         settings: &Pass1Settings,
     ) -> Result<Running<'s>> {
         Ok(match self {
-            Engine::Soft => Running::Soft(InProcess::new(scene, settings, Soft)?),
+            Engine::Soft => Running::Soft(InProcess::new(scene, settings, Soft::new())?),
             Engine::Model(config) => {
                 Running::Model(InProcess::new(scene, settings, Model::new(*config))?)
             }

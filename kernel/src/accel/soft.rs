@@ -23,9 +23,9 @@
 #[cfg(not(target_os = "none"))]
 use super::bvh::Bvh;
 use super::{Accelerator, Hit, Ray};
-#[cfg(not(target_os = "none"))]
-use crate::geometry::UvFrame;
 use crate::geometry::{Bezier, Polygon, Subdivision, Vec3};
+#[cfg(not(target_os = "none"))]
+use crate::geometry::{BezierTree, UvFrame};
 use crate::hemisphere::{Hemisphere, Ring};
 use crate::patch::{Patch, Shape};
 use crate::rotation::Rotation;
@@ -465,6 +465,10 @@ pub struct SoftAccelerator<'p, 's> {
     /// Hemispheres patch by patch ([`SoftAccelerator::with_patch_major`]); hosts only.
     #[cfg(not(target_os = "none"))]
     patch_major: Option<PatchMajor<'s>>,
+    /// Each curved patch's stored subdivision ([`SoftAccelerator::with_bezier_trees`]); hosts
+    /// only (a board's RAM holds its stack, not the trees).
+    #[cfg(not(target_os = "none"))]
+    bezier_trees: Option<&'s [Option<BezierTree<'s>>]>,
 }
 
 /// How a host casts hemispheres patch by patch: every patch's rays of the whole hemisphere
@@ -512,6 +516,8 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
             uv_frames: None,
             #[cfg(not(target_os = "none"))]
             patch_major: None,
+            #[cfg(not(target_os = "none"))]
+            bezier_trees: None,
         })
     }
 
@@ -569,7 +575,7 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
                     (t < t_max && t <= best_t).then_some((t, (lp.front(), None)))
                 }
                 Shape::Bezier(b) => {
-                    let (t, u, v, front) = self.curved_hit(b, origin, dir, best_t)?;
+                    let (t, u, v, front) = self.curved_hit(id as usize, b, origin, dir, best_t)?;
                     Some((t, (front, Some((u, v)))))
                 }
             }
@@ -611,6 +617,15 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
         poly.uv_of(p)
     }
 
+    /// Intersects curved patch `id` starting from `trees[id]` ([`Bezier::build_tree`], built
+    /// for this engine's [`Subdivision`]) instead of splitting its first levels again for every
+    /// ray: the same hits, bit for bit.
+    #[cfg(not(target_os = "none"))]
+    pub fn with_bezier_trees(mut self, trees: &'s [Option<BezierTree<'s>>]) -> Self {
+        self.bezier_trees = Some(trees);
+        self
+    }
+
     /// Sets the termination of the Bezier subdivision (depth, minimum box).
     pub fn with_subdivision(mut self, sub: Subdivision) -> Self {
         self.subdivision = sub;
@@ -622,16 +637,28 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
         self.patches
     }
 
-    /// Nearest hit of one ray on one curved patch, as (t, u, v, front).
+    /// Nearest hit of one ray on curved patch `id`, `b`, as (t, u, v, front).
     fn curved_hit(
         &self,
+        id: usize,
         b: &Bezier,
         o: Vec3,
         d: Vec3,
         t_max: f32,
     ) -> Option<(f32, f32, f32, bool)> {
-        let t_min = CURVED_T_MIN * b.bounds().size();
-        let h = b.intersect(o, d, t_min, t_max, &self.subdivision)?;
+        #[cfg(not(target_os = "none"))]
+        let tree = self.bezier_trees.and_then(|t| t.get(id)?.as_ref());
+        #[cfg(target_os = "none")]
+        let tree: Option<&crate::geometry::BezierTree<'_>> = {
+            let _ = id;
+            None
+        };
+        // (the tree keeps the patch's box: computing it was a tenth of a teapot's pass 1)
+        let size = tree
+            .and_then(|t| t.size())
+            .unwrap_or_else(|| b.bounds().size());
+        let t_min = CURVED_T_MIN * size;
+        let h = b.intersect_in(tree, o, d, t_min, t_max, &self.subdivision)?;
         // at a pole the normal is the limit from inside the patch
         let front = b
             .normal_near(h.u, h.v)
@@ -655,7 +682,7 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
             Shape::Bezier(b) => {
                 if want_uv {
                     if let Some((_, hu, hv, _)) =
-                        self.curved_hit(b, origin, dir, t * (1.0 + 1e-4) + 1e-30)
+                        self.curved_hit(id as usize, b, origin, dir, t * (1.0 + 1e-4) + 1e-30)
                     {
                         (u, v) = (hu, hv);
                     }
@@ -714,7 +741,8 @@ impl Accelerator for SoftAccelerator<'_, '_> {
                     }
                 }
                 Shape::Bezier(b) => {
-                    if let Some((t, u, v, front)) = self.curved_hit(b, ray.origin, ray.dir, best_t)
+                    if let Some((t, u, v, front)) =
+                        self.curved_hit(i, b, ray.origin, ray.dir, best_t)
                     {
                         best_t = t;
                         best = Some(Hit {
@@ -773,7 +801,7 @@ impl Accelerator for SoftAccelerator<'_, '_> {
                 }
                 if lp.curved {
                     if let Shape::Bezier(b) = &self.patches[id].shape {
-                        if let Some((t, _, _, front)) = self.curved_hit(b, origin, d, best_t) {
+                        if let Some((t, _, _, front)) = self.curved_hit(id, b, origin, d, best_t) {
                             best_t = t;
                             best_id = id as u32 | if front { 0 } else { BACK };
                         }
@@ -890,7 +918,7 @@ impl SoftAccelerator<'_, '_> {
                         let k = ((start + i) % n as i64) as usize;
                         let d = rot.apply(hemi.direction(j, k as u32));
                         if let Some((t, _, _, front)) =
-                            self.curved_hit(b, origin, d, self.scratch.best_t[k])
+                            self.curved_hit(id, b, origin, d, self.scratch.best_t[k])
                         {
                             self.scratch.best_t[k] = t;
                             self.scratch.best_id[k] = id as u32 | if front { 0 } else { BACK };

@@ -4,6 +4,6 @@ mod bezier;
 mod polygon;
 mod vec3;
 
-pub use bezier::{Aabb, Bezier, BezierHit, Subdivision, MAX_DEPTH};
+pub use bezier::{Aabb, Bezier, BezierHit, BezierTree, Subdivision, TreeNode, MAX_DEPTH};
 pub use polygon::{Polygon, PolygonError, UvFrame};
 pub use vec3::Vec3;

@@ -544,7 +544,7 @@ vertices = [[0.2, 0.6, 0.2], [0.5, 0.6, 0.2], [0.5, 0.6, 0.5], [0.2, 0.6, 0.5]]
             ..Pass1Settings::default()
         };
         let backend =
-            crate::backend::InProcess::new(&scene, &settings, crate::backend::Soft).unwrap();
+            crate::backend::InProcess::new(&scene, &settings, crate::backend::Soft::new()).unwrap();
         let ff = form_factors(&backend, &|_| {}).unwrap();
         let floor: Vec<ElementRow> = ff
             .elements

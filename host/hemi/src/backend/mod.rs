@@ -171,7 +171,7 @@ pub fn shoot_checked(
 
 /// The default backend, the soft engine in this process, for `scene` with `settings`.
 pub fn soft<'s>(scene: &'s Scene, settings: &Pass1Settings) -> Result<InProcess<'s, Soft>> {
-    InProcess::new(scene, settings, Soft)
+    InProcess::new(scene, settings, Soft::new())
 }
 
 /// The accelerator model of `config` in this process, for `scene` with `settings`.
