@@ -37,6 +37,7 @@ use crate::shots::{Cell, ElementRow, Shot};
 use crate::solve::{gauss_seidel, SceneParts, Solution, SolveSettings, System};
 use crate::transport::{Layout, TransportRow};
 use fill::fill_buried;
+use rayon::prelude::*;
 
 /// How the field is solved at the elements.
 #[derive(Clone, Copy, Debug)]
@@ -186,7 +187,7 @@ pub fn solve_field_with(
         let gathered = match &recorded {
             Some(rows) => {
                 let vertices = layout.values(&field.grids);
-                rows.iter()
+                rows.par_iter()
                     .map(|r| Gathered {
                         light: r.gather(&vertices),
                         blocked: r.blocked,

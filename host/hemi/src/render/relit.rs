@@ -8,8 +8,8 @@
 //!
 //! so a shadow is as sharp in the image as the lamps make it, not as the grid's cells (the
 //! blocks' shadows on the Cornell box's floor, the teapot's on its table). Only the pixels on
-//! such cells cost shadow rays, one evaluation per [`SPLIT`]² part of a cell; the rest of the
-//! image is the paper's pass 2.
+//! such cells cost shadow rays, on a lattice [`SPLIT`] times finer than the cells; the rest of
+//! the image is the paper's pass 2.
 
 use crate::backend::{Backend, Seen};
 use crate::direct::Emitters;
@@ -39,14 +39,17 @@ pub fn wants(grids: &[Grid], direct: &Reflected, emitters: &Emitters, s: &Seen) 
     !emitters.handles(s.side) && miss_at(b, direct, s, MISS).is_some()
 }
 
-/// Relit hits are grouped by [`SPLIT`] × [`SPLIT`] parts of a grid cell, each part evaluated
-/// once at its centre: a pixel's several rays and its neighbours' share an evaluation, so the
-/// work is bounded by the shadows' edges' area, not by the pixels times `spp`.
-pub const SPLIT: u32 = 16;
+/// The exact direct light is evaluated on a lattice [`SPLIT`] times finer than a grid's cells,
+/// at the corners of the lattice's squares that relit rays land in, and interpolated
+/// bilinearly between them: a pixel's several rays and its neighbours' share the corners, so
+/// the work is bounded by the shadows' edges' area, not by the pixels times `spp`, and the
+/// shading stays continuous. 8 looks as 16 does on the teapot, whose pass 2 it takes from 37 s
+/// to 10 s.
+pub const SPLIT: u32 = 8;
 
-/// What each hit adds to its pixel's radiosity, `max(B̃ + ρD(c) − ρD̃(c), 0) − B̃` per channel
-/// (c the centre of its part of the cell), in the order of `hits`, the shadow rays of every
-/// part in one request per chunk.
+/// What each hit adds to its pixel's radiosity, `max(B̃ + ρD − ρD̃, 0) − B̃` per channel, with
+/// ρD − ρD̃ interpolated from the corners of its square of the fine lattice, in the order of
+/// `hits`, the shadow rays of every corner in one request per chunk.
 pub fn corrections(
     backend: &dyn Backend,
     emitters: &Emitters,
@@ -54,26 +57,52 @@ pub fn corrections(
     direct: &Reflected,
     hits: &[Hit],
 ) -> Result<Vec<[f64; 3]>> {
-    let mut parts: BTreeMap<(usize, u32), usize> = BTreeMap::new();
-    let mut part_of = Vec::with_capacity(hits.len());
+    let mut corners: BTreeMap<(usize, u32, u32), usize> = BTreeMap::new();
+    let mut blends = Vec::with_capacity(hits.len());
     for (_, _, s) in hits {
-        let k = grid_of(grids, s.side)?.k();
-        let next = parts.len();
-        part_of.push(*parts.entry((s.side, part(k, s.u, s.v))).or_insert(next));
+        let n = grid_of(grids, s.side)?.k() as u32 * SPLIT;
+        let blend = square(n, s.u, s.v).map(|((i, j), w)| {
+            let next = corners.len();
+            (*corners.entry((s.side, i, j)).or_insert(next), w)
+        });
+        blends.push(blend);
     }
-    let mut centres = vec![(0, 0.0, 0.0); parts.len()];
-    for (&(side, index), &n) in &parts {
-        let (u, v) = centre(grid_of(grids, side)?.k(), index);
-        centres[n] = (side, u, v);
+    let mut points = vec![(0, 0.0, 0.0); corners.len()];
+    for (&(side, i, j), &at) in &corners {
+        let n = (grid_of(grids, side)?.k() as u32 * SPLIT) as f32;
+        points[at] = (side, i as f32 / n, j as f32 / n);
     }
-    let add = part_corrections(backend, emitters, direct, grids, &centres)?;
+    let at_corners = part_corrections(backend, emitters, direct, grids, &points)?;
     hits.iter()
-        .zip(part_of)
-        .map(|((_, _, s), n)| {
+        .zip(blends)
+        .map(|((_, _, s), blend)| {
             let b = grid_of(grids, s.side)?.at(s.u, s.v);
-            Ok([0, 1, 2].map(|c| (b[c] + add[n][c]).max(0.0) - b[c]))
+            let mut d = [0.0f64; 3];
+            for (corner, w) in blend {
+                for c in 0..3 {
+                    d[c] += w * at_corners[corner][c];
+                }
+            }
+            Ok([0, 1, 2].map(|c| (b[c] + d[c]).max(0.0) - b[c]))
         })
         .collect()
+}
+
+/// The corners (i, j) of the square of an n×n lattice over the unit (u, v) square that (u, v)
+/// falls in, with their bilinear weights.
+fn square(n: u32, u: f32, v: f32) -> [((u32, u32), f64); 4] {
+    let locate = |t: f32| {
+        let x = f64::from(t.clamp(0.0, 1.0)) * f64::from(n);
+        let i = (x.floor() as u32).min(n - 1);
+        (i, x - f64::from(i))
+    };
+    let ((i, fu), (j, fv)) = (locate(u), locate(v));
+    [
+        ((i, j), (1.0 - fu) * (1.0 - fv)),
+        ((i + 1, j), fu * (1.0 - fv)),
+        ((i, j + 1), (1.0 - fu) * fv),
+        ((i + 1, j + 1), fu * fv),
+    ]
 }
 
 /// `ρD − ρD̃` at each (side, u, v), every point's shadow rays in one request per chunk.
@@ -104,18 +133,4 @@ fn part_corrections(
         }
     }
     Ok(out)
-}
-
-/// The index of the part of a k×k grid's cell that (u, v) falls in ([`SPLIT`] per cell side).
-fn part(k: usize, u: f32, v: f32) -> u32 {
-    let n = k as u32 * SPLIT;
-    let at = |t: f32| ((t.clamp(0.0, 1.0) * n as f32) as u32).min(n - 1);
-    at(v) * n + at(u)
-}
-
-/// The (u, v) of the centre of part `index` of a k×k grid ([`part`]'s numbering).
-fn centre(k: usize, index: u32) -> (f32, f32) {
-    let n = k as u32 * SPLIT;
-    let at = |i: u32| (i as f32 + 0.5) / n as f32;
-    (at(index % n), at(index / n))
 }
