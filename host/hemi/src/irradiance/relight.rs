@@ -67,7 +67,7 @@ impl Relit {
     /// direct light per side) where it is not smooth, leaving out those `skip` says are
     /// handled otherwise (the emitters, the near field's hits), and keeps the groups that
     /// could move the query's irradiance `scale` most, until what is left could move it by
-    /// less than [`BUDGET`] ([`select`]).
+    /// less than [`BUDGET`].
     pub fn of(
         scene: &Scene,
         grids: &[Grid],
@@ -119,8 +119,8 @@ impl Relit {
     /// The correction each evaluation adds to the radiosity its grid gives,
     /// `ρD(x) − ρD̃(x)` per channel, with the exact direct light D of `emitters` (their
     /// radiosity read off `grids`), all points' shadow rays in one request; `None` where the
-    /// sub-cell's centre lies buried in another body ([`buried`]), whose light is not the
-    /// surface's.
+    /// sub-cell's centre lies buried in another body (five probe rays meet backs), whose light
+    /// is not the surface's.
     pub fn corrections(
         &self,
         backend: &dyn Backend,
