@@ -199,11 +199,9 @@ fn the_furnace_gives_e_over_one_minus_rho_at_every_point_and_direction() {
     }
 }
 
-/// A lamp over a white floor that ends at a black wall: the floor's radiosity is one bounce of
-/// the lamp's light, `B(x) = ρ M F(x → lamp)` (Howell B-3), and the irradiance at a point of
-/// the wall `h` above the floor is the lamp's part plus `∫ B(x) cos θ_w cos θ_f / (π r²) dA`
-/// over the floor, both by fine quadrature here.
-const WALL_BY_THE_FLOOR: &str = r#"
+/// The materials of [`WALL_BY_THE_FLOOR`] and [`SHADOW_EDGE`] (a lamp, white ρ = 0.5, black)
+/// and their lamp, the unit square at z = 1 facing down.
+const LAMP_AND_MATERIALS: &str = r#"
 [[material]]
 name = "lamp"
 diffuse = [0.0, 0.0, 0.0]
@@ -218,6 +216,18 @@ diffuse = [0.0, 0.0, 0.0]
 name = "lamp"
 material = "lamp"
 vertices = [[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]]
+"#;
+
+/// `scene`, one of the tables after [`LAMP_AND_MATERIALS`], parsed with them.
+fn with_lamp(scene: &str) -> Scene {
+    parse(&format!("{LAMP_AND_MATERIALS}{scene}"), "lamp.toml").unwrap()
+}
+
+/// A lamp over a white floor that ends at a black wall: the floor's radiosity is one bounce of
+/// the lamp's light, `B(x) = ρ M F(x → lamp)` (Howell B-3), and the irradiance at a point of
+/// the wall `h` above the floor is the lamp's part plus `∫ B(x) cos θ_w cos θ_f / (π r²) dA`
+/// over the floor, both by fine quadrature here.
+const WALL_BY_THE_FLOOR: &str = r#"
 [[quad]]
 name = "floor"
 material = "white"
@@ -278,7 +288,7 @@ fn the_near_field_resolves_the_light_by_a_contact_edge() {
     // at 1 cm above the floor, the floor's nearest cells fill a quarter of the wall point's
     // hemisphere; its grid (K = 8: 0.4 m cells) smooths the floor's light there, the near field
     // evaluates it where the rays land
-    let scene = parse(WALL_BY_THE_FLOOR, "wall.toml").unwrap();
+    let scene = with_lamp(WALL_BY_THE_FLOOR);
     let h = 0.01;
     let at = [(
         Vec3::new(1.2 - 1e-5, 0.5, h as f32),
@@ -307,20 +317,6 @@ fn the_near_field_resolves_the_light_by_a_contact_edge() {
 /// the floor: its shadow's edge on the floor is a penumbra from x = 2/7 to 5/7 (a floor point
 /// sees the lamp's part x_l > (5 − 7x)/3), sharper than the floor's grid can carry.
 const SHADOW_EDGE: &str = r#"
-[[material]]
-name = "lamp"
-diffuse = [0.0, 0.0, 0.0]
-emission = [1.0, 2.0, 10.0]
-[[material]]
-name = "white"
-diffuse = [0.5, 0.5, 0.5]
-[[material]]
-name = "black"
-diffuse = [0.0, 0.0, 0.0]
-[[quad]]
-name = "lamp"
-material = "lamp"
-vertices = [[0, 0, 1], [0, 1, 1], [1, 1, 1], [1, 0, 1]]
 [[quad]]
 name = "floor"
 material = "white"
@@ -365,7 +361,7 @@ fn a_shadows_edge_beyond_the_near_field_is_relit_exactly() {
     // the point looks down over the sheet's shadow's edge; without the near field, every hit
     // reads the floor's grid, 0.31 m cells that smear the 0.43 m penumbra (11.6 % off; 2.9 %
     // at K = 32), unless relit (0.47 %; 0.08 % at K = 32)
-    let scene = parse(SHADOW_EDGE, "edge.toml").unwrap();
+    let scene = with_lamp(SHADOW_EDGE);
     let (qx, qy, h) = (0.9, 0.5, 0.2);
     let at = [(
         Vec3::new(qx as f32, qy as f32, h as f32),
@@ -393,7 +389,7 @@ fn a_shadows_edge_beyond_the_near_field_is_relit_exactly() {
 #[test]
 fn a_querys_answer_does_not_depend_on_the_queries_asked_with_it() {
     // the near field groups hits per query, so batching (or streaming) changes no bit
-    let scene = parse(WALL_BY_THE_FLOOR, "wall.toml").unwrap();
+    let scene = with_lamp(WALL_BY_THE_FLOOR);
     let n = Vec3::new(-1.0, 0.0, 0.0);
     let a = (Vec3::new(1.2 - 1e-5, 0.5, 0.01), n);
     let b = (Vec3::new(1.2 - 1e-5, 0.52, 0.02), n);
