@@ -131,26 +131,51 @@ impl Relit {
         if self.points.is_empty() {
             return Ok(Vec::new());
         }
-        let scene = backend.scene();
-        let lift = scene.ray_offset();
-        let at: Vec<_> = self
-            .points
-            .iter()
-            .map(|&(side, u, v)| {
-                let (p, n) = surface_at(scene, side, u, v);
-                (p + n * lift, n)
-            })
-            .collect();
+        let at = lifted(backend.scene(), &self.points);
         let buried = buried(backend, &at)?;
-        let exact = emitters.irradiance(backend, grids, &at)?;
-        let mut out = Vec::with_capacity(at.len());
-        for ((&(side, u, v), d), buried) in self.points.iter().zip(exact).zip(buried) {
+        let add = direct_corrections(backend, emitters, grids, direct, &self.points)?;
+        Ok(add
+            .into_iter()
+            .zip(buried)
+            .map(|(d, buried)| (!buried).then_some(d))
+            .collect())
+    }
+}
+
+/// `ρD(x) − ρD̃(x)` per channel at each (side, u, v): the exact direct light D of `emitters`
+/// (their radiosity read off `grids`) against the field's grid of it, every point's shadow rays
+/// in one request per chunk. The one evaluation relighting does, for queries and pass 2 alike.
+pub fn direct_corrections(
+    backend: &dyn Backend,
+    emitters: &Emitters,
+    grids: &[Grid],
+    direct: &Reflected,
+    points: &[(usize, f32, f32)],
+) -> anyhow::Result<Vec<[f64; 3]>> {
+    const CHUNK: usize = 4096;
+    let scene = backend.scene();
+    let mut out = Vec::with_capacity(points.len());
+    for chunk in points.chunks(CHUNK) {
+        let exact = emitters.irradiance(backend, grids, &lifted(scene, chunk))?;
+        for (&(side, u, v), d) in chunk.iter().zip(exact) {
             let rho = scene.material_of(side).diffuse;
             let grid = crate::grid::grid_of(&direct.grids, side)?.at(u, v);
-            out.push((!buried).then(|| [0, 1, 2].map(|c| rho[c] * d[c] - grid[c])));
+            out.push([0, 1, 2].map(|c| rho[c] * d[c] - grid[c]));
         }
-        Ok(out)
     }
+    Ok(out)
+}
+
+/// The (point, normal) of each (side, u, v), lifted off the surface as rays start.
+fn lifted(scene: &Scene, points: &[(usize, f32, f32)]) -> Vec<(Vec3, Vec3)> {
+    let lift = scene.ray_offset();
+    points
+        .iter()
+        .map(|&(side, u, v)| {
+            let (p, n) = surface_at(scene, side, u, v);
+            (p + n * lift, n)
+        })
+        .collect()
 }
 
 /// Whether each (point, normal) lies inside another body: every one of five rays, along the
@@ -240,9 +265,10 @@ pub fn miss_at(b: &Grid, direct: &Reflected, s: &Seen, threshold: f64) -> Option
     if d.k() != k || misses.len() != k * k {
         return None;
     }
-    let [((a, j), _), ..] = corners(k, s.u, s.v);
+    let cell = corners(k, s.u, s.v);
+    let ((a, j), _) = cell[0];
     let miss = misses[j * k + a].map(f64::from);
-    let top = corners(k, s.u, s.v)
+    let top = cell
         .iter()
         .flat_map(|&((i, j), _)| b.vertex(i, j))
         .fold(0.0f64, f64::max);

@@ -15,8 +15,7 @@ use crate::backend::{Backend, Seen};
 use crate::direct::Emitters;
 use crate::field::Reflected;
 use crate::grid::{grid_of, Grid};
-use crate::irradiance::near::surface_at;
-use crate::irradiance::relight::miss_at;
+use crate::irradiance::relight::{direct_corrections, miss_at};
 use anyhow::Result;
 use std::collections::BTreeMap;
 
@@ -60,10 +59,14 @@ pub fn corrections(
     let mut corners: BTreeMap<(usize, u32, u32), usize> = BTreeMap::new();
     let mut blends = Vec::with_capacity(hits.len());
     for (_, _, s) in hits {
-        let n = grid_of(grids, s.side)?.k() as u32 * SPLIT;
-        let blend = square(n, s.u, s.v).map(|((i, j), w)| {
+        let n = grid_of(grids, s.side)?.k() * SPLIT as usize;
+        // the fine lattice's square is a cell of an n×n grid: the same blend `Grid::at` uses
+        let blend = crate::grid::corners(n, s.u, s.v).map(|((i, j), w)| {
             let next = corners.len();
-            (*corners.entry((s.side, i, j)).or_insert(next), w)
+            (
+                *corners.entry((s.side, i as u32, j as u32)).or_insert(next),
+                w,
+            )
         });
         blends.push(blend);
     }
@@ -72,7 +75,7 @@ pub fn corrections(
         let n = (grid_of(grids, side)?.k() as u32 * SPLIT) as f32;
         points[at] = (side, i as f32 / n, j as f32 / n);
     }
-    let at_corners = part_corrections(backend, emitters, direct, grids, &points)?;
+    let at_corners = direct_corrections(backend, emitters, grids, direct, &points)?;
     hits.iter()
         .zip(blends)
         .map(|((_, _, s), blend)| {
@@ -86,51 +89,4 @@ pub fn corrections(
             Ok([0, 1, 2].map(|c| (b[c] + d[c]).max(0.0) - b[c]))
         })
         .collect()
-}
-
-/// The corners (i, j) of the square of an n×n lattice over the unit (u, v) square that (u, v)
-/// falls in, with their bilinear weights.
-fn square(n: u32, u: f32, v: f32) -> [((u32, u32), f64); 4] {
-    let locate = |t: f32| {
-        let x = f64::from(t.clamp(0.0, 1.0)) * f64::from(n);
-        let i = (x.floor() as u32).min(n - 1);
-        (i, x - f64::from(i))
-    };
-    let ((i, fu), (j, fv)) = (locate(u), locate(v));
-    [
-        ((i, j), (1.0 - fu) * (1.0 - fv)),
-        ((i + 1, j), fu * (1.0 - fv)),
-        ((i, j + 1), (1.0 - fu) * fv),
-        ((i + 1, j + 1), fu * fv),
-    ]
-}
-
-/// `ρD − ρD̃` at each (side, u, v), every point's shadow rays in one request per chunk.
-fn part_corrections(
-    backend: &dyn Backend,
-    emitters: &Emitters,
-    direct: &Reflected,
-    grids: &[Grid],
-    points: &[(usize, f32, f32)],
-) -> Result<Vec<[f64; 3]>> {
-    const CHUNK: usize = 4096;
-    let scene = backend.scene();
-    let lift = scene.ray_offset();
-    let mut out = Vec::with_capacity(points.len());
-    for chunk in points.chunks(CHUNK) {
-        let at: Vec<_> = chunk
-            .iter()
-            .map(|&(side, u, v)| {
-                let (p, n) = surface_at(scene, side, u, v);
-                (p + n * lift, n)
-            })
-            .collect();
-        let exact = emitters.irradiance(backend, grids, &at)?;
-        for (&(side, u, v), d) in chunk.iter().zip(exact) {
-            let rho = scene.material_of(side).diffuse;
-            let lit = grid_of(&direct.grids, side)?.at(u, v);
-            out.push([0, 1, 2].map(|c| rho[c] * d[c] - lit[c]));
-        }
-    }
-    Ok(out)
 }
