@@ -265,6 +265,12 @@ pub fn verilator() -> Result<(), String> {
     if let Some(m) = manual.first() {
         return Err(format!("verilator is missing: {m}"));
     }
+    // `verilator --build` runs make and a C++ compiler, which Debian's package does not pull in
+    for (tool, package) in [("g++", "g++"), ("make", "make")] {
+        if which(tool).is_none() {
+            apt_install(package)?;
+        }
+    }
     match output(cmd("verilator", ["--version"])) {
         Some(v) => say(format!("verilator: {}", v.trim())),
         None => return Err("setup: verilator is still not on PATH after installing it".into()),
