@@ -48,19 +48,19 @@ pub const TREE_BUDGET: u32 = 4096;
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct SpecularStats {
     /// Frustums shot.
-    pub frustums: u32,
+    pub frustums: u64,
     /// Frustum rays cast.
     pub rays: u64,
     /// Frustums not shot because they would carry less than Δ.
-    pub below_threshold: u32,
+    pub below_threshold: u64,
     /// Weight those frustums would have carried (the truncation error of §6.5).
     pub cut_weight: f64,
     /// Frustums not shot because their path already had the most bounces allowed.
-    pub too_deep: u32,
+    pub too_deep: u64,
     /// Weight those frustums would have carried.
     pub too_deep_weight: f64,
     /// Frustums (or parked hits) cut because the skeleton stack (or the park) was full.
-    pub overflows: u32,
+    pub overflows: u64,
     /// Weight lost with them.
     pub overflow_weight: f64,
     /// Weight of lobe rays that would have gone through their own surface (absorbed).
@@ -335,7 +335,7 @@ impl Walker<'_, '_> {
             origin,
             // each frustum turned by its own golden-ratio spin, so frustums of neighbouring
             // primary rays do not line their rings up
-            rot: Rotation::onto_spun(axis, spin_for_sample(self.stats.frustums)),
+            rot: Rotation::onto_spun(axis, spin_for_sample(self.stats.frustums as u32)),
             side,
             from,
             lobe: spec.lobe,

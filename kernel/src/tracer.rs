@@ -22,11 +22,11 @@ use crate::specular::{spawns, Pending, SpecularStats, Walker};
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ShotStats {
     /// Hemisphere rays cast.
-    pub rays: u32,
+    pub rays: u64,
     /// Rays that hit a front side.
-    pub front_hits: u32,
+    pub front_hits: u64,
     /// Rays blocked by a back side.
-    pub back_hits: u32,
+    pub back_hits: u64,
     /// The frustums the specular hits spawned.
     pub specular: SpecularStats,
 }
@@ -261,7 +261,7 @@ pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
             }
             Some(_) => {
                 // no room at all: the hits not followed are lost, and counted
-                walker.stats.overflows += (seen - done) as u32;
+                walker.stats.overflows += (seen - done) as u64;
                 break;
             }
             None => break,

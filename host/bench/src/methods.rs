@@ -89,7 +89,7 @@ fn measure(
             &mut row,
         )?;
         secs += t0.elapsed().as_secs_f64();
-        rays += stats.rays as u64;
+        rays += stats.rays;
         let e = (row[0][0] as f64 - want) / want;
         sq += e * e;
         worst = worst.max(e.abs());

@@ -16,7 +16,7 @@ use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-fn radiosity(scene: &Scene, settings: &Pass1Settings) -> Result<(Vec<[f64; 3]>, u32, f64)> {
+fn radiosity(scene: &Scene, settings: &Pass1Settings) -> Result<(Vec<[f64; 3]>, u64, f64)> {
     let t0 = Instant::now();
     let ff = form_factors(&hemi::backend::soft(scene, settings)?, &|_| {})?;
     let secs = t0.elapsed().as_secs_f64();

@@ -49,7 +49,7 @@ impl<'a> RowShooter<'a> {
         let k = self.backend.settings().samples;
         let shots: Vec<_> = uniform_shots(self.scene(), i, k).collect();
         let (rows, stats) = shoot_checked(self.backend, &shots, &|_| {})?;
-        self.rays += stats.rays as u64;
+        self.rays += stats.rays;
         Ok(rows)
     }
 

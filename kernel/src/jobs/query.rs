@@ -53,7 +53,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         Ok((
             Response::Weighted(out),
             Work {
-                rays: u64::from(shot.rays) + shot.specular.rays,
+                rays: shot.rays + shot.specular.rays,
                 specular: shot.specular,
             },
         ))

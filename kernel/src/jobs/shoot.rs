@@ -63,7 +63,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
             let point = if back { point.flipped() } else { point };
             let shot =
                 self.shoot_one(point.position, point.normal, spin_for_sample(q), i as u16)?;
-            work.rays += u64::from(shot.rays) + shot.specular.rays;
+            work.rays += shot.rays + shot.specular.rays;
             work.specular += shot.specular;
             let mut len = 0u16;
             for (j, f) in self.row.iter().take(cols).enumerate() {

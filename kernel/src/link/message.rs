@@ -337,15 +337,15 @@ pub struct TraceSettings {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct TraceStats {
     /// Frustums shot.
-    pub frustums: u32,
+    pub frustums: u64,
     /// Frustum rays cast.
     pub frustum_rays: u64,
     /// Frustums cut below Δ.
-    pub below_threshold: u32,
+    pub below_threshold: u64,
     /// Frustums cut at the bounce limit.
-    pub too_deep: u32,
+    pub too_deep: u64,
     /// Frustums (or parked hits) lost to a full stack or park.
-    pub overflows: u32,
+    pub overflows: u64,
     /// Weight cut below Δ, at the bounce limit and by overflows, summed (form-factor units).
     pub cut_weight: f32,
     /// Extra hemisphere casts because the park of primary specular hits was full.

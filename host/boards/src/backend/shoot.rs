@@ -49,7 +49,7 @@ impl Boards<'_> {
                     point: shot.point,
                     row,
                 });
-                stats.rays += rays;
+                stats.rays += u64::from(rays);
             }
         }
         Ok((elements, stats))

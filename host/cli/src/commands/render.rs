@@ -164,7 +164,7 @@ fn report_specular(
         return;
     }
     let describe = hemi::optics::describe;
-    let rays = solved.stats.rays as u64;
+    let rays = solved.stats.rays;
     eprintln!(
         "{}",
         describe(

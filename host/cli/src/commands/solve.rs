@@ -81,7 +81,7 @@ pub fn run(args: SolveArgs, out: &mut impl Write) -> Result<()> {
         );
     }
     if solved.stats.specular.frustums > 0 {
-        let (s, rays) = (&solved.stats.specular, solved.stats.rays as u64);
+        let (s, rays) = (&solved.stats.specular, solved.stats.rays);
         eprintln!(
             "{}",
             hemi::optics::describe("specular", s, rays, &settings.specular)
