@@ -5,6 +5,8 @@ use anyhow::{bail, Result};
 use clap::builder::FalseyValueParser;
 use clap::{Args, ValueEnum};
 use hemi::adaptive::{AdaptiveSettings, Test};
+use hemi::backend::Backend;
+use hemi::footprint::Need;
 use hemi::method::Method;
 use hemi::optics::SpecularSettings;
 use hemi::quality::Quality;
@@ -458,60 +460,130 @@ pub struct SolverArgs {
     /// Radiosity solver.
     #[arg(long, value_enum, default_value = "auto")]
     pub solver: SolverArg,
-    /// Largest N×N form-factor matrix pass 1 may form, in MiB (three f64 channels); above it,
-    /// `--solver auto` shoots rows on demand with progressive refinement instead.
+    /// Memory pass 1's form factors may take, in MiB (element rows and sparse patch rows;
+    /// estimated before pass 1 from a pilot of hemispheres when the dense bound passes it, and
+    /// counted while it runs); above it, `--solver auto` shoots rows on demand with progressive
+    /// refinement instead.
     #[arg(long, default_value_t = 4096)]
     pub matrix_mib: u64,
 }
 
 impl SolverArgs {
-    /// Whether this run solves without a matrix: `--solver progressive`, or `auto` on a scene
-    /// whose N×N matrices would exceed `--matrix-mib` (said on stderr). An explicit solver
-    /// that needs the matrix is refused past `--matrix-mib`, before pass 1 allocates it.
-    pub fn streaming(&self, scene: &Scene) -> Result<bool> {
-        let n = scene.patches.len() as u64;
-        let bytes = matrix_bytes(scene);
-        let over = bytes > self.matrix_mib.saturating_mul(1 << 20);
+    /// The bytes `--matrix-mib` allows.
+    pub fn limit(&self) -> u64 {
+        self.matrix_mib.saturating_mul(1 << 20)
+    }
+
+    /// Whether this run solves without stored rows: `--solver progressive`, or `auto` on a
+    /// scene whose pass 1 would take more than `--matrix-mib` (said on stderr). An explicit
+    /// solver that needs the rows is refused past `--matrix-mib`, before pass 1 takes them.
+    pub fn streaming(&self, backend: &dyn Backend) -> Result<bool> {
+        if self.solver == SolverArg::Progressive {
+            return Ok(true);
+        }
+        let need = Need::of(backend, self.limit())?;
+        let n = backend.scene().patches.len();
+        let over = need.bytes > self.limit();
         Ok(match self.solver {
-            SolverArg::Progressive => true,
             SolverArg::Auto if over => {
                 eprintln!(
-                    "solver auto: {n} patches need {:.1} MiB of form factors (> --matrix-mib {}): \
-                     progressive refinement with rows shot on demand",
-                    bytes as f64 / (1 << 20) as f64,
+                    "solver auto: pass 1 of {n} patches needs {} of form factors (> --matrix-mib \
+                     {}): progressive refinement with rows shot on demand",
+                    need.describe(),
                     self.matrix_mib
                 );
                 true
             }
-            SolverArg::Auto => false,
+            SolverArg::Auto => {
+                if need.pilot > 0 {
+                    eprintln!(
+                        "pass 1 of {n} patches: {} of form factors, within --matrix-mib {}",
+                        need.describe(),
+                        self.matrix_mib
+                    );
+                }
+                false
+            }
             explicit => {
                 let name = explicit
                     .to_possible_value()
                     .map(|v| v.get_name().to_string());
                 let what = format!("--solver {}", name.unwrap_or_default());
-                check_matrix(scene, self.matrix_mib, &what, "or --solver progressive, ")?;
+                refuse_over(
+                    &need,
+                    n,
+                    self.matrix_mib,
+                    &what,
+                    "--solver progressive, or ",
+                )?;
+                if explicit == SolverArg::Direct {
+                    self.check_lu(n)?;
+                }
                 false
             }
         })
     }
 }
 
-/// The bytes of a scene's N×N form-factor matrices (three f64 channels).
-pub fn matrix_bytes(scene: &Scene) -> u64 {
-    let n = scene.patches.len() as u64;
-    3u64.saturating_mul(8).saturating_mul(n).saturating_mul(n)
+impl SolverArgs {
+    /// Refuses `--solver direct` on `n` patches when its dense N×N matrix and LU factors pass
+    /// `--matrix-mib`, and says what the factorisation will cost when auto would not choose it.
+    fn check_lu(&self, n: usize) -> Result<()> {
+        let bytes = 16u64.saturating_mul(n as u64).saturating_mul(n as u64);
+        if bytes > self.limit() {
+            bail!(
+                "--solver direct: the dense LU of {n} patches needs {:.1} MiB (an N×N matrix and \
+                 its factors), more than --matrix-mib {} (--solver auto or gauss-seidel sweep the \
+                 sparse rows, or a larger --matrix-mib)",
+                hemi::footprint::mib(bytes),
+                self.matrix_mib
+            );
+        }
+        if n > hemi::solve::DIRECT_LIMIT {
+            let flop = |n: f64| 2.0 * n.powi(3) / 3.0;
+            let most = hemi::solve::DIRECT_LIMIT;
+            eprintln!(
+                "--solver direct: the dense LU of {n} patches is {:.0} GFLOP a channel, {:.0}× \
+                 the largest auto factors ({most} patches)",
+                flop(n as f64) / 1e9,
+                flop(n as f64) / flop(most as f64)
+            );
+        }
+        Ok(())
+    }
 }
 
-/// Refuses a run (`what`) whose N×N matrices exceed `matrix_mib`, naming the figure and the
+/// Refuses a run (`what`) whose pass 1 needs more than `matrix_mib`, naming the figure and the
 /// options (`alternative`, then `--matrix-mib`) that avoid it.
-pub fn check_matrix(scene: &Scene, matrix_mib: u64, what: &str, alternative: &str) -> Result<()> {
-    let bytes = matrix_bytes(scene);
-    if bytes > matrix_mib.saturating_mul(1 << 20) {
+pub fn check_matrix(
+    backend: &dyn Backend,
+    matrix_mib: u64,
+    what: &str,
+    alternative: &str,
+) -> Result<()> {
+    let need = Need::of(backend, matrix_mib.saturating_mul(1 << 20))?;
+    refuse_over(
+        &need,
+        backend.scene().patches.len(),
+        matrix_mib,
+        what,
+        alternative,
+    )
+}
+
+/// The refusal of [`check_matrix`] for a known `need` of `n` patches.
+fn refuse_over(
+    need: &Need,
+    n: usize,
+    matrix_mib: u64,
+    what: &str,
+    alternative: &str,
+) -> Result<()> {
+    if need.bytes > matrix_mib.saturating_mul(1 << 20) {
         bail!(
-            "{what}: {} patches need {:.1} MiB of form factors, more than --matrix-mib {matrix_mib} \
-             ({alternative}a larger --matrix-mib)",
-            scene.patches.len(),
-            bytes as f64 / (1 << 20) as f64
+            "{what}: pass 1 of {n} patches needs {} of form factors, more than --matrix-mib \
+             {matrix_mib} ({alternative}a larger --matrix-mib)",
+            need.describe()
         );
     }
     Ok(())

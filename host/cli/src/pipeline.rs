@@ -106,10 +106,12 @@ pub struct Solved {
 
 /// Pass 1, uniform or adaptive (`--adaptive`, paper §4), on `backend`. Adaptive sampling prints
 /// per patch the depth it reached and the rows it computed to stderr and returns the same.
+/// Uniform pass 1 stops once its rows pass `limit` bytes (`--matrix-mib`).
 pub fn sample(
     backend: &Running<'_>,
     adaptive: Option<AdaptiveSettings>,
     board_stats: bool,
+    limit: u64,
 ) -> Result<(FormFactors, Vec<PatchReport>)> {
     let Some(adaptive) = adaptive else {
         let (scene, k) = (backend.get().scene(), backend.get().settings().samples);
@@ -119,7 +121,9 @@ pub fn sample(
         let rays = hemi_kernel::hemisphere::ray_count(backend.get().settings().circles);
         let bar = bar_of_rays(elements, "pass 1", rays.into());
         let t0 = std::time::Instant::now();
-        let ff = hemi::pass1::form_factors(backend.get(), &|n| bar.inc(n))?;
+        let raise = "--matrix-mib raises it; --solver progressive needs no stored rows";
+        let on = |n| bar.inc(n);
+        let ff = hemi::pass1::form_factors_within(backend.get(), &on, limit, raise)?;
         bar.finish_and_clear();
         if board_stats && matches!(backend, Running::Boards(_)) {
             eprintln!("pass 1 on boards: {:.3} s", t0.elapsed().as_secs_f64());
@@ -211,7 +215,7 @@ pub fn solve(
 ) -> Result<Solved> {
     let scene = backend.get().scene();
     let t0 = std::time::Instant::now();
-    if solver.streaming(scene)? {
+    if solver.streaming(backend.get())? {
         if field.is_some_and(|f| f.sweeps > 0) {
             eprintln!(
                 "element field: no gather sweeps with rows shot on demand (they sweep a stored \
@@ -221,7 +225,8 @@ pub fn solve(
         return streaming(backend, adaptive.on(), solver, field.is_some());
     }
     let k = backend.get().settings().samples;
-    let (ff, sampled) = sample(backend, adaptive.settings(quality, k)?, board_stats)?;
+    let adaptive = adaptive.settings(quality, k)?;
+    let (ff, sampled) = sample(backend, adaptive, board_stats, solver.limit())?;
     let t1 = std::time::Instant::now();
     let solution = solve_scene(scene, &ff, solver.solver.into())?;
     let (ff, solution, grids, direct) = match field {

@@ -91,6 +91,71 @@ fn options_out_of_range_are_refused_with_the_option_named() {
     );
 }
 
+/// A floor of `n`×`n` unit tiles under a small lamp: each tile's hemispheres see the lamp and
+/// little else, so its rows are sparse while the dense bound grows with the square.
+fn tiled_floor(n: usize) -> String {
+    let mut s = String::from(
+        "[[material]]\nname = \"w\"\ndiffuse = [0.5, 0.5, 0.5]\n\
+         [[material]]\nname = \"lamp\"\ndiffuse = [0, 0, 0]\nemission = [10, 10, 10]\n\
+         [[quad]]\nname = \"lamp\"\nmaterial = \"lamp\"\n\
+         vertices = [[4, 5, 4], [6, 5, 4], [6, 5, 6], [4, 5, 6]]\n",
+    );
+    for i in 0..n {
+        for j in 0..n {
+            let (x, z) = (i as f64 * 10.0 / n as f64, j as f64 * 10.0 / n as f64);
+            let d = 10.0 / n as f64;
+            s += &format!(
+                "[[quad]]\nname = \"t{i}_{j}\"\nmaterial = \"w\"\nvertices = [[{x}, 0, {z}], \
+                 [{x}, 0, {}], [{}, 0, {}], [{}, 0, {z}]]\n",
+                z + d,
+                x + d,
+                z + d,
+                x + d
+            );
+        }
+    }
+    s
+}
+
+#[test]
+fn sparse_rows_are_measured_not_bounded_by_the_dense_matrix() {
+    // 401 patches at K = 2: the dense bound is about 18 MiB, the rows well under 1 MiB
+    let p = files("sparse", &[("floor.toml", &tiled_floor(20))]);
+    let args = [
+        "solve",
+        &p,
+        "--samples",
+        "2",
+        "--circles",
+        "8",
+        "--gather",
+        "0",
+    ];
+    let mut within = args.to_vec();
+    within.extend(["--matrix-mib", "1"]);
+    let (ok, out, err) = run(&within, b"");
+    assert!(ok, "{err}");
+    assert!(err.contains("pass 1 of 401 patches: about"), "{err}");
+    assert!(err.contains("within --matrix-mib 1"), "{err}");
+    assert!(err.contains("gauss-seidel"), "{err}");
+    assert!(!err.contains("progressive"), "{err}");
+    // the same answer as with room for the dense matrix
+    let (ok, dense, err) = run(&args, b"");
+    assert!(ok, "{err}");
+    assert!(!err.contains("pilot"), "{err}");
+    assert_eq!(out, dense);
+    // the dense LU needs N² whatever the rows hold: 2.5 MiB here
+    let mut lu = within.clone();
+    lu.extend(["--solver", "direct"]);
+    let (ok, _, err) = run(&lu, b"");
+    assert!(!ok);
+    assert!(
+        err.contains("--solver direct: the dense LU of 401 patches needs 2.5 MiB"),
+        "{err}"
+    );
+    assert!(err.contains("more than --matrix-mib 1"), "{err}");
+}
+
 #[test]
 fn budgets_are_checked_before_the_memory_is_taken() {
     refused(
@@ -105,12 +170,19 @@ fn budgets_are_checked_before_the_memory_is_taken() {
     refused(
         "matrix",
         &["solve", "--solver", "gauss-seidel", "--matrix-mib", "0"],
-        &["--solver gauss-seidel: 2 patches need 0.0 MiB of form factors, more than --matrix-mib 0"],
+        &[
+            "--solver gauss-seidel: pass 1 of 2 patches needs about",
+            "(estimated from a pilot of",
+            "of form factors, more than --matrix-mib 0 (--solver progressive, or a larger",
+        ],
     );
     refused(
         "ff-matrix",
         &["form-factors", "--matrix-mib", "0"],
-        &["form-factors: 2 patches need", "--matrix-mib 0"],
+        &[
+            "form-factors: pass 1 of 2 patches needs about",
+            "--matrix-mib 0",
+        ],
     );
     refused(
         "file",

@@ -14,6 +14,7 @@ pub mod backend;
 pub mod direct;
 pub mod export;
 pub mod field;
+pub mod footprint;
 pub mod grid;
 pub mod irradiance;
 pub mod matrix;

@@ -2,8 +2,9 @@
 //! each, and form patch form factors from the element rows by (4.3).
 
 use crate::backend::{shoot_checked, Backend, Progress};
+use crate::footprint;
 use crate::matrix::{FormMatrix, Row};
-use crate::shots::{self, ElementRow};
+use crate::shots::{self, ElementRow, Shot};
 use hemi_kernel::tracer::ShotStats;
 
 /// The outcome of pass 1.
@@ -75,18 +76,37 @@ impl FormFactors {
 /// Pass 1 with uniform sampling on `backend`: K×K points per polygon patch (4×4 on a Bezier
 /// patch, §7), one hemisphere each; `progress` gets the elements finished.
 pub fn form_factors(backend: &dyn Backend, progress: &Progress<'_>) -> anyhow::Result<FormFactors> {
+    let shots = all_shots(backend)?;
+    let (elements, stats) = shoot_checked(backend, &shots, progress)?;
+    Ok(assemble(backend, elements, stats))
+}
+
+/// [`form_factors`] within `limit` bytes of rows (see [`footprint::shoot_within`]; `raise`
+/// names the option that raises it).
+pub fn form_factors_within(
+    backend: &dyn Backend,
+    progress: &Progress<'_>,
+    limit: u64,
+    raise: &str,
+) -> anyhow::Result<FormFactors> {
+    let shots = all_shots(backend)?;
+    let (elements, stats) = footprint::shoot_within(backend, &shots, progress, limit, raise)?;
+    Ok(assemble(backend, elements, stats))
+}
+
+/// Every hemisphere of uniform pass 1 on `backend`, patch by patch.
+pub fn all_shots(backend: &dyn Backend) -> anyhow::Result<Vec<Shot>> {
     let (scene, settings) = (backend.scene(), backend.settings());
     anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
-    let shots: Vec<_> = (0..scene.patches.len())
+    Ok((0..scene.patches.len())
         .flat_map(|i| shots::uniform_shots(scene, i, settings.samples))
-        .collect();
-    let (elements, stats) = shoot_checked(backend, &shots, progress)?;
-    Ok(FormFactors::from_elements(
-        scene.patches.len(),
-        elements,
-        settings.samples,
-        stats,
-    ))
+        .collect())
+}
+
+/// Pass 1's outcome from its element rows.
+fn assemble(backend: &dyn Backend, elements: Vec<ElementRow>, stats: ShotStats) -> FormFactors {
+    let (n, k) = (backend.scene().patches.len(), backend.settings().samples);
+    FormFactors::from_elements(n, elements, k, stats)
 }
 
 /// One element's share of its patch's row by (4.3): `add(j, c, W_iq F_iq,j)` for each patch j

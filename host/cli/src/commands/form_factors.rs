@@ -13,24 +13,25 @@ pub struct FormFactorsArgs {
     /// Print JSON: `{"patches": [{"name", "area"}…], "matrix": [[F_ij…]…]}`.
     #[arg(long)]
     json: bool,
-    /// Largest N×N form-factor matrix pass 1 may form, in MiB (three f64 channels).
+    /// Memory pass 1's form factors may take, in MiB (element rows and sparse patch rows;
+    /// estimated from a pilot of hemispheres when the dense bound passes it).
     #[arg(long, default_value_t = 4096, value_name = "MIB")]
     matrix_mib: u64,
 }
 
 /// Runs `hemi form-factors`, writing to `out`.
 pub fn run(args: FormFactorsArgs, out: &mut impl Write) -> Result<()> {
-    let run = args.run.prepare(|scene| {
-        crate::options::check_matrix(scene, args.matrix_mib, "form-factors", "")
-    })?;
+    let run = args.run.prepare(|_| Ok(()))?;
     let (scene, settings) = (&run.scene, &run.settings);
     let backend = run.engine.backend(scene, settings)?;
+    crate::options::check_matrix(backend.get(), args.matrix_mib, "form-factors", "")?;
     let stats = args.run.engine.boards.board_stats;
     let adaptive = args
         .run
         .adaptive
         .settings(args.run.quality.quality, settings.samples)?;
-    let (ff, _) = pipeline::sample(&backend, adaptive, stats)?;
+    let limit = args.matrix_mib.saturating_mul(1 << 20);
+    let (ff, _) = pipeline::sample(&backend, adaptive, stats, limit)?;
     if args.json {
         let patches: Vec<_> = scene
             .patches
@@ -55,7 +56,7 @@ pub fn run(args: FormFactorsArgs, out: &mut impl Write) -> Result<()> {
         eprintln!("{} rays, {} elements", ff.stats.rays, ff.elements.len());
     }
     if ff.stats.specular.frustums > 0 {
-        let rays = ff.stats.rays as u64;
+        let rays = ff.stats.rays;
         let line = hemi::optics::describe("specular", &ff.stats.specular, rays, &settings.specular);
         eprintln!("{line}");
     }
