@@ -230,7 +230,10 @@ pub fn solve(
     let t1 = std::time::Instant::now();
     let solution = solve_scene(scene, &ff, solver.solver.into())?;
     let (ff, solution, grids, direct) = match field {
-        Some(f) => field_grids(backend, ff, solution, &f, solver.solver.into())?,
+        Some(mut f) => {
+            f.refine.max_elements = Some(element_budget(scene, &ff, &f, solver.limit()));
+            field_grids(backend, ff, solution, &f, solver.solver.into())?
+        }
         None => (ff, solution, Vec::new(), None),
     };
     Ok(Solved {
@@ -242,6 +245,32 @@ pub fn solve(
         sampled,
         seconds: ((t1 - t0).as_secs_f64(), t1.elapsed().as_secs_f64()),
     })
+}
+
+/// The elements refinement may reach: `--max-elements` when given, else twice pass 1's, or
+/// fewer when their rows at pass 1's mean size would pass `limit` bytes (`--matrix-mib`) with
+/// what pass 1 holds (said on stderr).
+fn element_budget(scene: &Scene, ff: &FormFactors, field: &FieldSettings, limit: u64) -> usize {
+    let now = ff.elements.len();
+    if let Some(m) = field.refine.max_elements {
+        return m;
+    }
+    if field.refine.rounds == 0 || now == 0 {
+        return 2 * now;
+    }
+    let rows = hemi::footprint::Footprint::of(scene).rows(&ff.elements);
+    let held = rows + ff.matrix_bytes() as u64;
+    let each = rows.div_ceil(now as u64).max(1);
+    let room = (limit.saturating_sub(held) / each) as usize;
+    if room < now {
+        eprintln!(
+            "field refinement: at most {room} new elements, not {now}: pass 1 holds {:.1} MiB of \
+             form factors and each element's row about {each} bytes (--matrix-mib {} raises it)",
+            held as f64 / MIB,
+            limit >> 20
+        );
+    }
+    now + room.min(now)
 }
 
 /// Bytes in a MiB, for messages.

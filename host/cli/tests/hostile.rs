@@ -157,6 +157,27 @@ fn sparse_rows_are_measured_not_bounded_by_the_dense_matrix() {
 }
 
 #[test]
+fn refinement_keeps_within_the_memory_pass_1_left() {
+    // 101 patches at K = 8: pass 1's rows take about 0.65 MiB of the 1 allowed
+    let p = files("refine-budget", &[("floor.toml", &tiled_floor(10))]);
+    let args = ["irradiance", &p, "--samples", "8", "--circles", "8"];
+    let mut tight = args.to_vec();
+    tight.extend(["--matrix-mib", "1"]);
+    let (ok, out, err) = run(&tight, b"5 0.001 5 0 1 0\n");
+    assert!(ok, "{err}");
+    assert_eq!(out.split_whitespace().count(), 3, "{out}");
+    assert!(err.contains("field refinement: at most"), "{err}");
+    assert!(
+        err.contains("new elements, not 6464: pass 1 holds"),
+        "{err}"
+    );
+    assert!(err.contains("(--matrix-mib 1 raises it)"), "{err}");
+    let (ok, _, err) = run(&args, b"5 0.001 5 0 1 0\n");
+    assert!(ok, "{err}");
+    assert!(!err.contains("field refinement: at most"), "{err}");
+}
+
+#[test]
 fn budgets_are_checked_before_the_memory_is_taken() {
     refused(
         "adaptive",
