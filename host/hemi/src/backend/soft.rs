@@ -1,5 +1,6 @@
 //! The kernel's f32 engine in this process, one per worker thread, each owning its working
-//! memory; the BVH for single rays and eye-ray bundles is built on first use.
+//! memory; what depends on the patches alone (the BVH, the (u,v) frames, the curved patches'
+//! trees) is built once before any pass and shared.
 
 use super::Engines;
 use hemi_kernel::accel::bvh::{self, Bvh, Node};
@@ -10,21 +11,54 @@ use hemi_kernel::hemisphere::{Hemisphere, MAX_CIRCLES};
 use hemi_kernel::patch::{Patch, Shape};
 use hemi_kernel::rotation::Rotation;
 use rayon::prelude::*;
+use std::borrow::Cow;
 use std::ops::Range;
 use std::sync::OnceLock;
 
-/// The in-process engines of the soft backend ([`super::InProcess`]`<Soft>`). Holds the
-/// curved patches' subdivision trees, built once by [`Engines::check`] and shared by all.
+/// The in-process engines of the soft backend ([`super::InProcess`]`<Soft>`). Holds what
+/// every engine reads and none changes, built once by [`Engines::check`] and shared by all: a
+/// pass makes an engine per worker job (rayon's `map_init`), dozens a pass, and on 10⁵ patches
+/// a BVH of its own in each took half of pass 1.
 #[derive(Debug, Default)]
 pub struct Soft {
-    trees: OnceLock<BezierTrees>,
+    shared: OnceLock<Shared>,
+}
+
+/// The BVH's nodes and patch order.
+type Tree = (Vec<Node>, Vec<u32>);
+
+/// What [`Soft`]'s engines share, and the patch memory it was built for.
+#[derive(Debug)]
+struct Shared {
+    /// The patch memory's address and length: the only patches these parts describe.
+    built_for: (usize, usize),
+    trees: BezierTrees,
+    tree: Option<Tree>,
+    uv_frames: Vec<Option<UvFrame>>,
+}
+
+impl Shared {
+    fn new(patches: &[Patch]) -> Shared {
+        let big = patches.len() >= TREE_MIN_SINGLE.min(TREE_MIN_HEMISPHERE);
+        Shared {
+            built_for: (patches.as_ptr() as usize, patches.len()),
+            trees: BezierTrees::new(patches),
+            tree: if big { build_tree(patches) } else { None },
+            uv_frames: uv_frames(patches),
+        }
+    }
+
+    /// Whether these parts describe `patches`.
+    fn fits(&self, patches: &[Patch]) -> bool {
+        self.built_for == (patches.as_ptr() as usize, patches.len())
+    }
 }
 
 impl Soft {
     /// The soft backend's engines (no tree built yet).
     pub const fn new() -> Soft {
         Soft {
-            trees: OnceLock::new(),
+            shared: OnceLock::new(),
         }
     }
 }
@@ -35,16 +69,18 @@ impl Engines for Soft {
     /// Builds the trees here, once, before any pass: `engine` runs on the worker threads,
     /// where a build (itself parallel) could be re-entered by a worker waiting on it.
     fn check(&self, patches: &[Patch]) -> anyhow::Result<()> {
-        self.trees.get_or_init(|| BezierTrees::new(patches));
+        self.shared.get_or_init(|| Shared::new(patches));
         Ok(())
     }
 
     fn engine<'p>(&'p self, patches: &'p [Patch]) -> SoftEngine<'p> {
         // without a check first, or for another patch memory than the checked one (a backend
-        // is made per scene, so never in practice): curved patches are subdivided per ray,
-        // the same hits
-        let trees = self.trees.get().filter(|t| t.fits(patches));
-        SoftEngine::new(patches).with_bezier_trees(trees)
+        // is made per scene, so never in practice): the engine builds its own parts, and
+        // curved patches are subdivided per ray, the same hits
+        match self.shared.get().filter(|s| s.fits(patches)) {
+            Some(shared) => SoftEngine::with_shared(patches, shared),
+            None => SoftEngine::new(patches),
+        }
     }
 }
 
@@ -118,12 +154,6 @@ impl BezierTrees {
         }
     }
 
-    /// Whether these are the trees of `patches`' curved patches.
-    fn fits(&self, patches: &[Patch]) -> bool {
-        let mut curved = curved(patches);
-        self.curved.iter().all(|c| curved.next() == Some(*c)) && curved.next().is_none()
-    }
-
     /// One tree per patch id (`None` for polygons).
     fn views(&self, patch_count: usize) -> Vec<Option<BezierTree<'_>>> {
         let mut views = vec![None; patch_count];
@@ -147,11 +177,11 @@ pub struct SoftEngine<'p> {
     local: Vec<LocalPatch>,
     best_t: Vec<f32>,
     best_id: Vec<u32>,
-    /// The BVH for single rays and `cast_from` bundles, built on the first query that uses it
-    /// (see [`TREE_MIN_SINGLE`], [`TREE_MIN_BUNDLE`]; hemisphere shots never need it).
-    tree: Option<(Vec<Node>, Vec<u32>)>,
+    /// The BVH (see [`TREE_MIN_SINGLE`], [`TREE_MIN_BUNDLE`], [`TREE_MIN_HEMISPHERE`]):
+    /// [`Soft`]'s, or built on the first query that uses it by an engine made without one.
+    tree: Option<Cow<'p, Tree>>,
     /// Each patch's (u,v) frame (`Polygon::uv_frame`), so a hit's (u,v) does not rebuild it.
-    uv_frames: Vec<Option<UvFrame>>,
+    uv_frames: Cow<'p, [Option<UvFrame>]>,
     /// Whether every patch is a polygon: hemispheres are then cast patch by patch
     /// (`SoftAccelerator::with_patch_major`), which a curved patch's subdivision does not allow.
     polygons_only: bool,
@@ -176,6 +206,14 @@ pub const TREE_MIN_BUNDLE: usize = 32;
 impl<'p> SoftEngine<'p> {
     /// An engine over `patches` (its patch memory).
     pub fn new(patches: &'p [Patch]) -> Self {
+        SoftEngine {
+            uv_frames: Cow::Owned(uv_frames(patches)),
+            ..SoftEngine::new_bare(patches)
+        }
+    }
+
+    /// An engine over `patches` with its scratch and no (u,v) frames yet.
+    fn new_bare(patches: &'p [Patch]) -> Self {
         let max_ring = 4 * MAX_CIRCLES;
         SoftEngine {
             patches,
@@ -184,13 +222,18 @@ impl<'p> SoftEngine<'p> {
             best_t: vec![0.0; max_ring],
             best_id: vec![0; max_ring],
             tree: None,
-            uv_frames: patches
-                .iter()
-                .map(|p| p.as_polygon().and_then(|poly| poly.uv_frame()))
-                .collect(),
+            uv_frames: Cow::Borrowed(&[]),
             polygons_only: patches.iter().all(|p| p.as_polygon().is_some()),
             trees: Vec::new(),
         }
+    }
+
+    /// An engine over `patches` reading `shared`, built for them.
+    fn with_shared(patches: &'p [Patch], shared: &'p Shared) -> Self {
+        let mut engine = SoftEngine::new_bare(patches);
+        engine.tree = shared.tree.as_ref().map(Cow::Borrowed);
+        engine.uv_frames = Cow::Borrowed(&shared.uv_frames);
+        engine.with_bezier_trees(Some(&shared.trees))
     }
 
     /// Intersects the curved patches from `trees`, their stored subdivision.
@@ -208,7 +251,7 @@ impl<'p> SoftEngine<'p> {
     /// The accelerator, through the BVH when `tree` (built on first use).
     fn accel_with_tree(&mut self, tree: bool) -> SoftAccelerator<'p, '_> {
         if tree && self.tree.is_none() {
-            self.tree = build_tree(self.patches);
+            self.tree = build_tree(self.patches).map(Cow::Owned);
         }
         let origin_patch = self.origin_patch;
         let mut accel = SoftAccelerator::new(
@@ -226,15 +269,23 @@ impl<'p> SoftEngine<'p> {
             accel = accel.with_bezier_trees(&self.trees);
         }
         match &self.tree {
-            Some((nodes, order)) if tree => accel.with_bvh(Bvh::from_parts(nodes, order)),
+            Some(t) if tree => accel.with_bvh(Bvh::from_parts(&t.0, &t.1)),
             _ => accel,
         }
     }
 }
 
+/// Each patch's (u,v) frame (`None` for curved patches and polygons without one).
+fn uv_frames(patches: &[Patch]) -> Vec<Option<UvFrame>> {
+    patches
+        .iter()
+        .map(|p| p.as_polygon().and_then(|poly| poly.uv_frame()))
+        .collect()
+}
+
 /// The BVH over `patches`, or `None` if the kernel cannot build one (the linear scan then
 /// answers alone).
-fn build_tree(patches: &[Patch]) -> Option<(Vec<Node>, Vec<u32>)> {
+fn build_tree(patches: &[Patch]) -> Option<Tree> {
     let n = patches.len();
     let mut nodes = vec![Node::default(); bvh::nodes_for(n)];
     let mut order = vec![0u32; n];
