@@ -22,6 +22,7 @@ extern crate std;
 
 pub mod accel;
 pub mod camera;
+pub mod form_row;
 pub mod frustum;
 pub mod geometry;
 pub mod hemisphere;

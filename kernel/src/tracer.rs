@@ -11,6 +11,7 @@
 //! that sees diffuse sides, directly or in mirrors.
 
 use crate::accel::{Accelerator, Hit};
+use crate::form_row::FormRow;
 use crate::geometry::Vec3;
 use crate::hemisphere::Hemisphere;
 use crate::optics::Optics;
@@ -88,7 +89,7 @@ impl<'s> TraceScratch<'s> {
     clippy::too_many_arguments,
     reason = "the inputs of one hemisphere shot, §3.4"
 )]
-pub fn shoot_hemisphere<A: Accelerator>(
+pub fn shoot_hemisphere<A: Accelerator, R: FormRow + ?Sized>(
     accel: &mut A,
     hemi: &Hemisphere<'_>,
     optics: &Optics<'_>,
@@ -97,7 +98,7 @@ pub fn shoot_hemisphere<A: Accelerator>(
     normal: Vec3,
     spin: f32,
     origin_patch: Option<u32>,
-    row: &mut [[f32; 3]],
+    row: &mut R,
 ) -> ShotStats {
     let shot = Shot {
         origin,
@@ -107,14 +108,8 @@ pub fn shoot_hemisphere<A: Accelerator>(
         want_uv: false,
     };
     shoot(accel, hemi, optics, scratch, &shot, |hit, w| {
-        if let Some(slot) = optics
-            .surface(hit.patch)
-            .column_for(hit.front)
-            .and_then(|c| row.get_mut(c as usize))
-        {
-            for c in 0..3 {
-                slot[c] += w[c];
-            }
+        if let Some(c) = optics.surface(hit.patch).column_for(hit.front) {
+            row.add(c as usize, w);
         }
     })
 }

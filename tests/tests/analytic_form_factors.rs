@@ -132,7 +132,7 @@ fn point_ff(target: Polygon, origin: Vec3, normal: Vec3, circles: u32, rule: Del
         normal,
         0.0,
         None,
-        &mut row,
+        &mut row[..],
     );
     row[0][0] as f64
 }

@@ -86,7 +86,7 @@ fn measure(
             &point,
             q as u32,
             1,
-            &mut row,
+            &mut row[..],
         )?;
         secs += t0.elapsed().as_secs_f64();
         rays += stats.rays;

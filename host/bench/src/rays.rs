@@ -109,7 +109,7 @@ pub fn per_ray(scene: &Scene, settings: &Pass1Settings) -> Result<(u64, f64)> {
             p.normal,
             spin,
             Some(*i as u32),
-            &mut row,
+            &mut row[..],
         )
         .rays as u64;
     }

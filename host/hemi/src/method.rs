@@ -3,6 +3,7 @@
 
 use anyhow::{bail, Result};
 use hemi_kernel::accel::Accelerator;
+use hemi_kernel::form_row::FormRow;
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{ray_count, Hemisphere};
 use hemi_kernel::optics::Optics;
@@ -110,7 +111,7 @@ impl Shooter {
     /// Shoots sample point `point` (index `q` on patch `patch`) and accumulates its element row
     /// into `row` (zeroed by the caller), as [`shoot_hemisphere`] does.
     #[expect(clippy::too_many_arguments, reason = "the inputs of one shot")]
-    pub fn shoot<A: Accelerator>(
+    pub fn shoot<A: Accelerator, R: FormRow + ?Sized>(
         &mut self,
         accel: &mut A,
         hemi: &Hemisphere<'_>,
@@ -119,7 +120,7 @@ impl Shooter {
         point: &SamplePoint,
         q: u32,
         patch: usize,
-        row: &mut [[f32; 3]],
+        row: &mut R,
     ) -> Result<ShotStats> {
         let spin = spin_for_sample(q);
         let at = Placement {

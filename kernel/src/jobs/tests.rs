@@ -248,7 +248,7 @@ fn engine_rows_through_mirrors_equal_the_tracer_with_a_whole_hemisphere_park() {
                 point.normal,
                 spin_for_sample(q),
                 Some(i as u32),
-                &mut row,
+                &mut row[..],
             );
             assert_eq!(shot.specular.recasts, 0);
             host_frustums += shot.specular.frustums;

@@ -24,6 +24,7 @@
 
 use super::{cast_weighted, PeerError, Placement};
 use crate::accel::Accelerator;
+use crate::form_row::FormRow;
 use crate::geometry::Vec3;
 use crate::optics::Optics;
 use crate::rotation::Rotation;
@@ -118,13 +119,13 @@ impl Hemicube {
 /// Shoots the hemicube `cube` at `at` and adds each pixel's ΔF to the diffuse patch its ray
 /// reaches first (the item buffer), into `row` (one entry per diffuse column; the caller zeroes
 /// it). `batch` is direction scratch of any non-zero length (the rays of one `cast_from`).
-pub fn shoot_hemicube<A: Accelerator>(
+pub fn shoot_hemicube<A: Accelerator, R: FormRow + ?Sized>(
     accel: &mut A,
     cube: &Hemicube,
     optics: &Optics<'_>,
     at: &Placement,
     batch: &mut [Vec3],
-    row: &mut [[f32; 3]],
+    row: &mut R,
 ) -> Result<ShotStats, PeerError> {
     let rot = Rotation::onto_spun(at.normal, at.spin);
     cast_weighted(

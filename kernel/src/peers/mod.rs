@@ -17,6 +17,7 @@ pub mod hemicube;
 pub mod monte_carlo;
 
 use crate::accel::{Accelerator, Hit};
+use crate::form_row::FormRow;
 use crate::geometry::Vec3;
 use crate::optics::Optics;
 use crate::tracer::ShotStats;
@@ -52,7 +53,7 @@ pub struct Placement {
 /// reaches a diffuse side (see [`crate::optics::Surface::column_for`]) adds its weight to that
 /// side's column of `row`.
 #[expect(clippy::too_many_arguments, reason = "one batched shot")]
-pub(crate) fn cast_weighted<A: Accelerator>(
+pub(crate) fn cast_weighted<A: Accelerator, R: FormRow + ?Sized>(
     accel: &mut A,
     optics: &Optics<'_>,
     at: &Placement,
@@ -60,7 +61,7 @@ pub(crate) fn cast_weighted<A: Accelerator>(
     batch: &mut [Vec3],
     mut dir: impl FnMut(u32) -> Vec3,
     weight: impl Fn(u32) -> f32,
-    row: &mut [[f32; 3]],
+    row: &mut R,
 ) -> Result<ShotStats, PeerError> {
     if optics.has_specular() {
         return Err(PeerError::Specular);
@@ -87,15 +88,8 @@ pub(crate) fn cast_weighted<A: Accelerator>(
                 } else {
                     stats.back_hits += 1;
                 }
-                if let Some(slot) = optics
-                    .surface(h.patch)
-                    .column_for(h.front)
-                    .and_then(|c| row.get_mut(c as usize))
-                {
-                    let w = weight(base + i as u32);
-                    for s in slot.iter_mut() {
-                        *s += w;
-                    }
+                if let Some(c) = optics.surface(h.patch).column_for(h.front) {
+                    row.add(c as usize, [weight(base + i as u32); 3]);
                 }
             }
         });

@@ -15,6 +15,7 @@
 
 use super::{cast_weighted, PeerError, Placement};
 use crate::accel::Accelerator;
+use crate::form_row::FormRow;
 use crate::geometry::Vec3;
 use crate::optics::Optics;
 use crate::rotation::Rotation;
@@ -95,14 +96,14 @@ fn unit(h: u64) -> f64 {
 
 /// Shoots `mc` at `at` with random stream `seed` (the host uses the sample point's index) and
 /// adds 1/N per ray to the diffuse patch each reaches, into `row` (the caller zeroes it).
-pub fn shoot_monte_carlo<A: Accelerator>(
+pub fn shoot_monte_carlo<A: Accelerator, R: FormRow + ?Sized>(
     accel: &mut A,
     mc: &MonteCarlo,
     optics: &Optics<'_>,
     at: &Placement,
     seed: u64,
     batch: &mut [Vec3],
-    row: &mut [[f32; 3]],
+    row: &mut R,
 ) -> Result<ShotStats, PeerError> {
     let rot = Rotation::onto_spun(at.normal, at.spin);
     let w = 1.0 / mc.ray_count() as f32;

@@ -1,6 +1,7 @@
 //! In-process backends: the kernel's passes on all cores, one engine per worker thread, over
 //! the soft engine or the accelerator model ([`Engines`]).
 
+use super::TouchedRow;
 use super::{Backend, Gathered, Progress, Query, RowSink, Seen};
 use crate::grid::Grid;
 use crate::method::Shooter;
@@ -83,12 +84,11 @@ impl<'s, E: Engines> InProcess<'s, E> {
     /// (making it checks every patch's surface, which per shot was O(P) per hemisphere).
     fn shoot_one(
         &self,
-        state: &mut (E::Engine<'_>, Vec<[f32; 3]>, Scratch, Shooter),
+        state: &mut (E::Engine<'_>, TouchedRow, Scratch, Shooter),
         optics: &Optics<'_>,
         shot: &Shot,
     ) -> Result<(ElementRow, ShotStats)> {
         let (engine, row, scratch, shooter) = state;
-        row.fill([0.0; 3]);
         let stats = shooter.shoot(
             engine,
             &self.hemi.view(),
@@ -99,12 +99,7 @@ impl<'s, E: Engines> InProcess<'s, E> {
             self.scene.kernel_id(shot.patch),
             row,
         )?;
-        let sparse = row
-            .iter()
-            .enumerate()
-            .filter(|(_, f)| **f != [0.0; 3])
-            .map(|(c, f)| (self.optics.columns[c] as u32, *f))
-            .collect();
+        let sparse = row.take(|c| self.optics.columns[c] as u32);
         let element = ElementRow {
             patch: shot.patch,
             point: shot.point,
@@ -243,7 +238,7 @@ impl<E: Engines> Backend for InProcess<'_, E> {
                 || {
                     let scratch = Scratch::new(pending, &self.settings.specular);
                     let shooter = Shooter::new(self.settings.method, self.settings.circles);
-                    (self.engine(), vec![[0.0f32; 3]; cols], scratch, shooter)
+                    (self.engine(), TouchedRow::new(cols), scratch, shooter)
                 },
                 |state, shot| {
                     let out = self.shoot_one(state, &optics, shot)?;

@@ -14,10 +14,12 @@
 mod in_process;
 mod model;
 mod soft;
+mod touched_row;
 
 pub use in_process::{Engines, InProcess};
 pub use model::{CountedModel, Counters, Model};
 pub use soft::{Soft, SoftEngine, TREE_MIN_BUNDLE, TREE_MIN_SINGLE};
+pub use touched_row::TouchedRow;
 
 use crate::grid::Grid;
 use crate::scene::Scene;
