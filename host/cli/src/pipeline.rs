@@ -247,30 +247,34 @@ pub fn solve(
     })
 }
 
-/// The elements refinement may reach: `--max-elements` when given, else twice pass 1's, or
-/// fewer when their rows at pass 1's mean size would pass `limit` bytes (`--matrix-mib`) with
-/// what pass 1 holds (said on stderr).
+/// The elements refinement may reach: `--max-elements` when given, else twice pass 1's; in
+/// both cases no more than the rows `limit` bytes (`--matrix-mib`) leave room for at pass 1's
+/// mean row size (said on stderr when that is the bound).
 fn element_budget(scene: &Scene, ff: &FormFactors, field: &FieldSettings, limit: u64) -> usize {
     let now = ff.elements.len();
-    if let Some(m) = field.refine.max_elements {
-        return m;
-    }
+    let asked = field.refine.max_elements;
     if field.refine.rounds == 0 || now == 0 {
-        return 2 * now;
+        return asked.unwrap_or(2 * now);
     }
     let rows = hemi::footprint::Footprint::of(scene).rows(&ff.elements);
     let held = rows + ff.matrix_bytes() as u64;
     let each = rows.div_ceil(now as u64).max(1);
-    let room = (limit.saturating_sub(held) / each) as usize;
-    if room < now {
+    let room = now.saturating_add((limit.saturating_sub(held) / each) as usize);
+    let wanted = asked.unwrap_or(2 * now);
+    if wanted > room {
+        let what = match asked {
+            Some(m) => format!("{m} (--max-elements)"),
+            None => format!("{wanted} (twice pass 1's {now})"),
+        };
         eprintln!(
-            "field refinement: at most {room} new elements, not {now}: pass 1 holds {:.1} MiB of \
-             form factors and each element's row about {each} bytes (--matrix-mib {} raises it)",
+            "field refinement: at most {room} elements instead of {what}: pass 1 holds {:.1} MiB of \
+             form factors and each element's row takes about {each} bytes (--matrix-mib {} \
+             raises it)",
             held as f64 / MIB,
             limit >> 20
         );
     }
-    now + room.min(now)
+    wanted.min(room)
 }
 
 /// Bytes in a MiB, for messages.

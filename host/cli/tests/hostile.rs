@@ -168,13 +168,22 @@ fn refinement_keeps_within_the_memory_pass_1_left() {
     assert_eq!(out.split_whitespace().count(), 3, "{out}");
     assert!(err.contains("field refinement: at most"), "{err}");
     assert!(
-        err.contains("new elements, not 6464: pass 1 holds"),
+        err.contains("elements instead of 12928 (twice pass 1's 6464): pass 1 holds"),
         "{err}"
     );
     assert!(err.contains("(--matrix-mib 1 raises it)"), "{err}");
     let (ok, _, err) = run(&args, b"5 0.001 5 0 1 0\n");
     assert!(ok, "{err}");
     assert!(!err.contains("field refinement: at most"), "{err}");
+    // an element budget asked for is held to the memory too
+    let mut asked = args.to_vec();
+    asked.extend(["--max-elements", "18446744073709551615"]);
+    let (ok, _, err) = run(&asked, b"5 0.001 5 0 1 0\n");
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("instead of 18446744073709551615 (--max-elements)"),
+        "{err}"
+    );
 }
 
 #[test]
