@@ -80,6 +80,12 @@ impl RunArgs {
         solver: &SolverArgs,
         field: Option<FieldSettings>,
     ) -> Result<Solved> {
+        if !backend.get().scene().emits() {
+            eprintln!(
+                "warning: no patch of {} emits light: every radiosity will be 0",
+                self.scene.display()
+            );
+        }
         let stats = self.engine.boards.board_stats;
         let q = self.quality.quality;
         solve(backend, &self.adaptive, q, solver, stats, field)

@@ -433,3 +433,41 @@ fn progressive_refinement_says_when_its_shots_missed_patches() {
         "{black} black tiles, but: {err}"
     );
 }
+
+#[test]
+fn a_dark_scene_and_a_black_picture_are_warned_about() {
+    let dark = TWO_SQUARES.replace("emission = [2.0, 3.0, 4.0]", "");
+    let p = files("dark", &[("dark.toml", &dark)]);
+    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("dark.toml emits light: every radiosity will be 0"),
+        "{err}"
+    );
+    // the lit squares, with the camera looking away from them
+    let p = files("away", &[("two.toml", TWO_SQUARES)]);
+    let png = dir("away").join("away.png");
+    let args = [
+        "render",
+        &p,
+        "--circles",
+        "4",
+        "--samples",
+        "1",
+        "--size",
+        "8x8",
+        "--eye",
+        "0.5,0.5,-2",
+        "--look-at",
+        "0.5,0.5,-5",
+        "--output",
+    ];
+    let mut args = args.to_vec();
+    args.push(png.to_str().unwrap());
+    let (ok, _, err) = run(&args, b"");
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("warning: the image is black: no lit surface is in view"),
+        "{err}"
+    );
+}

@@ -132,6 +132,7 @@ fn write_images(
     let ev = args
         .exposure
         .unwrap_or_else(|| hemi::render::auto_exposure(&img));
+    warn_if_black(scene, &img);
     if args.show_samples {
         let radius = (camera.height as f32 / 400.0).max(1.0);
         let patches = scene.kernel_patches();
@@ -150,6 +151,19 @@ fn write_images(
         hemi::render::write_exr(&img, exr)?;
     }
     Ok(ev)
+}
+
+/// A warning when every pixel is black: the picture would say nothing of why.
+fn warn_if_black(scene: &hemi::scene::Scene, img: &Image) {
+    if img.pixels.iter().any(|p| p.iter().any(|c| *c != 0.0)) {
+        return;
+    }
+    let why = if scene.emits() {
+        "no lit surface is in view (check --eye, --look-at and --fov, or the camera in the scene)"
+    } else {
+        "no patch of the scene emits light"
+    };
+    eprintln!("warning: the image is black: {why}");
 }
 
 /// What the frustums of both passes did, on stderr, when there were any.

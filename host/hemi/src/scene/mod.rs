@@ -229,6 +229,10 @@ impl Scene {
     pub fn material_of(&self, i: usize) -> &Material {
         &self.materials[self.patches[i].material]
     }
+    /// Whether some patch emits light (else every radiosity is 0).
+    pub fn emits(&self) -> bool {
+        (0..self.patches.len()).any(|i| self.material_of(i).emission.iter().any(|e| *e > 0.0))
+    }
     /// Index of the patch called `name`.
     pub fn patch_index(&self, name: &str) -> Option<usize> {
         self.patches.iter().position(|p| p.name == name)
