@@ -60,6 +60,23 @@ pub enum HemisphereError {
     StorageTooSmall,
 }
 
+impl core::fmt::Display for HemisphereError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        match self {
+            HemisphereError::TooFewCircles => write!(f, "a hemisphere needs at least 2 circles"),
+            HemisphereError::TooManyCircles => {
+                write!(f, "a hemisphere has at most {MAX_CIRCLES} circles")
+            }
+            HemisphereError::StorageTooSmall => {
+                write!(
+                    f,
+                    "the storage given is too small for the hemisphere's table"
+                )
+            }
+        }
+    }
+}
+
 /// Number of rays on ring `j` of a hemisphere with `circles` circles: (3.1), rounded to a
 /// multiple of four (at least 4 off the pole).
 pub fn rays_on_ring(circles: u32, j: u32) -> u32 {

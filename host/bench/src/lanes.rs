@@ -93,7 +93,7 @@ struct Run {
 fn run(scene: &Scene, params: Params, circles: u32, samples: u32) -> Result<Run> {
     let patches = scene.kernel_patches();
     let hemi = OwnedHemisphere::new(circles, DeltaRule::Band)
-        .map_err(|e| anyhow::anyhow!("hemisphere of {circles} circles: {e:?}"))?;
+        .map_err(|e| anyhow::anyhow!("hemisphere of {circles} circles: {e}"))?;
     let view = hemi.view();
     let config = ModelConfig {
         params,

@@ -40,7 +40,7 @@ fn measure(
     cases: &[(f64, f64, f64, f64, f64)],
 ) -> Result<(u32, f64, f64, f64)> {
     let hemi =
-        OwnedHemisphere::new(circles, DeltaRule::Band).map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        OwnedHemisphere::new(circles, DeltaRule::Band).map_err(|e| anyhow::anyhow!("{e}"))?;
     let view = hemi.view();
     let mut scratch = Scratch::new(0, &SpecularSettings::default());
     let mut shooter = Shooter::new(method, circles);

@@ -80,7 +80,7 @@ impl<A: Accelerator> Accelerator for PerRay<A> {
 /// Rays cast and seconds for the first 64 sample points through `PerRay` (the trait's provided ray-by-ray path).
 pub fn per_ray(scene: &Scene, settings: &Pass1Settings) -> Result<(u64, f64)> {
     let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
-        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
     let view = hemi.view();
     let patches = scene.kernel_patches();
     let optics = hemi::optics::SceneOptics::new(scene, &view)?;

@@ -300,7 +300,7 @@ pub fn write_rays(scene: &Scene, settings: &Pass1Settings, path: &Path) -> Resul
         }
     }
     let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
-        .map_err(|e| anyhow::anyhow!("{e:?}"))?;
+        .map_err(|e| anyhow::anyhow!("{e}"))?;
     let view = hemi.view();
     u(&mut buf, view.ray_count());
     for (j, ring) in view.rings().iter().enumerate() {

@@ -76,7 +76,12 @@ fn workspace_root() -> Option<PathBuf> {
 pub fn firmware_elf(explicit: Option<&Path>) -> Result<PathBuf> {
     if let Some(path) = explicit {
         if !path.is_file() {
-            bail!("firmware ELF {} does not exist", path.display());
+            let what = if path.exists() {
+                "is not a file"
+            } else {
+                "does not exist"
+            };
+            bail!("firmware ELF {} {what}", path.display());
         }
         return Ok(path.to_path_buf());
     }
@@ -228,10 +233,17 @@ impl Qemu {
         std::thread::spawn(move || drain_stderr(stderr_pipe, tx2, stderr));
         match rx.recv_timeout(BOOT_TIMEOUT) {
             Ok(pty) => qemu.pty = pty,
-            Err(_) => {
+            Err(e) => {
                 let status = qemu.stop();
+                let status = status.map_or("still running".to_string(), |s| s.to_string());
+                let when = match e {
+                    mpsc::RecvTimeoutError::Timeout => {
+                        format!("within {} s", BOOT_TIMEOUT.as_secs())
+                    }
+                    mpsc::RecvTimeoutError::Disconnected => "before it ended".to_string(),
+                };
                 bail!(
-                    "QEMU did not announce its pty within {BOOT_TIMEOUT:?} (status {status:?}): {}",
+                    "QEMU did not announce its pty {when} ({status}): {}",
                     qemu.stderr_text()
                 );
             }

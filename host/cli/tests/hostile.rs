@@ -471,3 +471,31 @@ fn a_dark_scene_and_a_black_picture_are_warned_about() {
         "{err}"
     );
 }
+
+#[test]
+fn a_board_that_cannot_start_is_named_plainly() {
+    let p = files("qemu", &[("two.toml", TWO_SQUARES)]);
+    let qemu = [
+        "solve",
+        &p,
+        "--backend",
+        "qemu",
+        "--qemu",
+        "/bin/true",
+        "--firmware",
+    ];
+    let mut args = qemu.to_vec();
+    args.push(&p);
+    let (ok, _, err) = run(&args, b"");
+    assert!(!ok);
+    assert!(
+        err.contains("QEMU did not announce its pty before it ended (exit status: 0)"),
+        "{err}"
+    );
+    let mut args = qemu.to_vec();
+    let folder = dir("qemu");
+    args.push(folder.to_str().unwrap());
+    let (ok, _, err) = run(&args, b"");
+    assert!(!ok);
+    assert!(err.contains("is not a file"), "{err}");
+}

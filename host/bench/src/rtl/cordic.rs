@@ -77,7 +77,7 @@ pub fn hemisphere_entries(
     cfg: CordicConfig,
 ) -> Result<Vec<RotEntry>> {
     let hemi = OwnedHemisphere::new(circles, DeltaRule::Band)
-        .map_err(|e| anyhow::anyhow!("hemisphere of {circles} circles: {e:?}"))?;
+        .map_err(|e| anyhow::anyhow!("hemisphere of {circles} circles: {e}"))?;
     let view = hemi.view();
     let mut out = Vec::new();
     let mut q = 0u32;

@@ -58,7 +58,7 @@ impl<'s, E: Engines> InProcess<'s, E> {
     pub fn new(scene: &'s Scene, settings: &Pass1Settings, engines: E) -> Result<Self> {
         crate::optics::check(&settings.specular)?;
         let hemi = OwnedHemisphere::new(settings.circles, settings.rule)
-            .map_err(|e| anyhow::anyhow!("--circles {}: {e:?}", settings.circles))?;
+            .map_err(|e| anyhow::anyhow!("--circles {}: {e}", settings.circles))?;
         let optics = SceneOptics::new(scene, &hemi.view())?;
         engines.check(&optics.patches)?;
         Ok(InProcess {
