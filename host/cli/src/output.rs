@@ -100,9 +100,25 @@ pub fn writable(path: &Path, option: &str) -> Result<()> {
     Ok(())
 }
 
-/// Whether two paths name the same file (compared as absolute paths, their folders resolved
-/// where they exist).
+/// Refuses an output `path` (of `option`) that names the input file `input`: writing the
+/// picture would destroy the scene it came from.
+pub fn not_the_input(path: &Path, option: &str, input: &Path) -> Result<()> {
+    if same_file(path, input) {
+        bail!(
+            "{option} {}: that is the scene file {}; writing there would destroy it",
+            path.display(),
+            input.display()
+        );
+    }
+    Ok(())
+}
+
+/// Whether two paths name the same file: the same file on disk when both exist (links
+/// followed), else the same absolute path, their folders resolved where they exist.
 fn same_file(a: &Path, b: &Path) -> bool {
+    if let (Ok(a), Ok(b)) = (a.canonicalize(), b.canonicalize()) {
+        return a == b;
+    }
     let resolve = |p: &Path| -> Option<PathBuf> {
         let dir = match p.parent() {
             Some(d) if !d.as_os_str().is_empty() => d.canonicalize().ok()?,

@@ -499,3 +499,40 @@ fn a_board_that_cannot_start_is_named_plainly() {
     assert!(!ok);
     assert!(err.contains("is not a file"), "{err}");
 }
+
+#[test]
+fn an_output_never_overwrites_the_scene_or_the_other_output() {
+    // a scene whose name ends in .png, and a link to one output under the other's name
+    let p = files("overwrite", &[("scene.png", TWO_SQUARES)]);
+    let view = [
+        "--size",
+        "4x4",
+        "--eye",
+        "0.5,0.5,3",
+        "--look-at",
+        "0.5,0.5,0",
+    ];
+    let mut args = vec!["render", p.as_str(), "--circles", "4", "--samples", "1"];
+    args.extend(view);
+    let mut onto_scene = args.clone();
+    onto_scene.extend(["--output", p.as_str()]);
+    let (ok, _, err) = run(&onto_scene, b"");
+    assert!(!ok);
+    assert!(err.contains("that is the scene file"), "{err}");
+    assert_eq!(std::fs::read_to_string(&p).unwrap(), TWO_SQUARES);
+    let d = dir("overwrite");
+    let (a, link) = (d.join("a.exr"), d.join("link.exr"));
+    std::fs::write(&a, b"").unwrap();
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink(&a, &link).unwrap();
+    let mut linked = args.clone();
+    linked.extend([
+        "--output",
+        a.to_str().unwrap(),
+        "--exr",
+        link.to_str().unwrap(),
+    ]);
+    let (ok, _, err) = run(&linked, b"");
+    assert!(!ok);
+    assert!(err.contains("one would overwrite the other"), "{err}");
+}

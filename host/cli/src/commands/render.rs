@@ -62,8 +62,12 @@ pub fn run(args: RenderArgs, out: &mut impl Write) -> Result<()> {
         "--show-samples draws the points of adaptive sampling: add --adaptive"
     );
     let target = ImageTarget::of(&args.output, args.exr.as_deref())?;
+    if let ImageTarget::File(path, _) = &target {
+        crate::output::not_the_input(path, "-o", &args.run.scene)?;
+    }
     if let Some(exr) = &args.exr {
         crate::output::writable(exr, "--exr")?;
+        crate::output::not_the_input(exr, "--exr", &args.run.scene)?;
     }
     let field = args.field.settings(args.run.on_boards())?;
     let run = args.run.prepare(|scene| {

@@ -1,7 +1,7 @@
 //! `hemi solve`: pass 1 and the solve, the radiosity per patch.
 
 use crate::options::{FieldArgs, SolverArgs};
-use crate::output::export_path;
+use crate::output::{export_path, not_the_input};
 use crate::pipeline::{RunArgs, Solved};
 use anyhow::Result;
 use clap::Args;
@@ -40,9 +40,11 @@ pub fn run(args: SolveArgs, out: &mut impl Write) -> Result<()> {
     let export = args.ply.is_some() || args.gltf.is_some();
     if let Some(p) = &args.ply {
         export_path(p, "--ply", &["ply"])?;
+        not_the_input(p, "--ply", &args.run.scene)?;
     }
     if let Some(p) = &args.gltf {
         export_path(p, "--gltf", &["glb"])?;
+        not_the_input(p, "--gltf", &args.run.scene)?;
     }
     anyhow::ensure!(
         args.exposure.is_none_or(f64::is_finite),
