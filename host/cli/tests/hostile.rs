@@ -536,3 +536,28 @@ fn an_output_never_overwrites_the_scene_or_the_other_output() {
     assert!(!ok);
     assert!(err.contains("one would overwrite the other"), "{err}");
 }
+
+#[test]
+fn an_include_that_adds_nothing_is_refused_and_a_repeated_one_is_named_apart() {
+    let scene = "[[obj]]\npath = \"m.obj\"\n";
+    let p = files(
+        "empty-obj",
+        &[("s.toml", scene), ("m.obj", "v 0 0 0\nv 1 0 0\n")],
+    );
+    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
+    assert!(!ok);
+    assert!(err.contains("m.obj: adds no patch (0 face(s)"), "{err}");
+    let lit = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+    let twice = format!(
+        "{}[[obj]]\npath = \"m.obj\"\nmaterial = \"lamp\"\ntranslate = [0, 0, 2]\n\
+         [[obj]]\npath = \"m.obj\"\nmaterial = \"m\"\n",
+        TWO_SQUARES
+    );
+    let p = files("twice-obj", &[("s.toml", &twice), ("m.obj", lit)]);
+    let (ok, out, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
+    assert!(ok, "{err}");
+    assert!(
+        out.contains("unnamed_object/0 ") && out.contains("unnamed_object/0:2 "),
+        "{out}"
+    );
+}

@@ -168,6 +168,17 @@ pub fn load_bpt(
             Err(Reject::Degenerate(why)) => skipped.push(format!("{i} {why}")),
         }
     }
+    if skipped.len() == list.len() {
+        return Err(fail(format!(
+            "adds no patch ({} declared, {} degenerate{})",
+            list.len(),
+            skipped.len(),
+            match skipped.first() {
+                Some(first) => format!(": {first}"),
+                None => String::new(),
+            }
+        )));
+    }
     if !skipped.is_empty() {
         cx.warn(
             b.path.span(),

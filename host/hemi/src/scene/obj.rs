@@ -226,7 +226,7 @@ pub fn load_obj(
         Some(i) => i,
         None => material_index(materials, by_name, "default", || plain([0.8; 3], [0.0; 3])),
     };
-    let (mut skipped, mut small) = (0usize, 0usize);
+    let (mut skipped, mut small, before) = (0usize, 0usize, patches.len());
     for model in &models {
         let mesh = &model.mesh;
         let material = fixed.unwrap_or_else(|| {
@@ -262,10 +262,7 @@ pub fn load_obj(
             }
             match Polygon::triangle([a.0, b.0, c.0]) {
                 Ok(polygon) => {
-                    let mut name = format!("{base_name}/{f}");
-                    while names.insert(name.clone(), ()).is_some() {
-                        name.push('\'');
-                    }
+                    let name = unique(names, format!("{base_name}/{f}"));
                     patches.push(ScenePatch {
                         name,
                         material,
@@ -277,6 +274,20 @@ pub fn load_obj(
                 Err(_) => skipped += 1,
             }
         }
+    }
+    if patches.len() == before {
+        return Err(cx.err(
+            o.path.span(),
+            "obj.path",
+            format!(
+                "{}: adds no patch ({} face(s), {skipped} degenerate, {small} too small for f32)",
+                path.display(),
+                models
+                    .iter()
+                    .map(|m| m.mesh.indices.len() / 3)
+                    .sum::<usize>()
+            ),
+        ));
     }
     if skipped + small > 0 {
         cx.warn(
@@ -290,6 +301,18 @@ pub fn load_obj(
         );
     }
     Ok(())
+}
+
+/// `name`, or when another patch has it (the same OBJ included twice), `name:2`, `name:3`, …:
+/// users' names hold no `:`, so these never take a name a user gives later.
+fn unique(names: &mut HashMap<String, ()>, name: String) -> String {
+    let mut candidate = name.clone();
+    let mut n = 1;
+    while names.insert(candidate.clone(), ()).is_some() {
+        n += 1;
+        candidate = format!("{name}:{n}");
+    }
+    candidate
 }
 
 #[cfg(test)]
