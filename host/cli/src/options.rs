@@ -402,13 +402,13 @@ pub struct AdaptiveArgs {
     pub adaptive: bool,
     /// Gradient test margin (--adaptive): a 4-sample window fails when its luminances spread
     /// by more than this fraction of their mean.
-    #[arg(long, default_value_t = 0.1)]
+    #[arg(long, default_value_t = 0.1, requires = "adaptive")]
     pub margin: f64,
     /// Most subdivision levels beyond the initial guess (--adaptive).
-    #[arg(long, default_value_t = 4)]
+    #[arg(long, default_value_t = 4, requires = "adaptive")]
     pub max_depth: u32,
     /// What the gradient test compares (--adaptive).
-    #[arg(long, value_enum, default_value = "surplus")]
+    #[arg(long, value_enum, default_value = "surplus", requires = "adaptive")]
     pub test: TestArg,
 }
 

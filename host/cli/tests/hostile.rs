@@ -561,3 +561,59 @@ fn an_include_that_adds_nothing_is_refused_and_a_repeated_one_is_named_apart() {
         "{out}"
     );
 }
+
+#[test]
+fn options_that_would_be_ignored_are_refused_or_warned_about() {
+    refused(
+        "margin",
+        &["solve", "--margin", "0.5"],
+        &[
+            "the following required arguments were not provided",
+            "--adaptive",
+        ],
+    );
+    refused(
+        "near",
+        &["irradiance", "--near", "4294967295"],
+        &["--near 4294967295: at most 4"],
+    );
+    refused(
+        "near-cells",
+        &["irradiance", "--near-cells", "NaN"],
+        &["--near-cells NaN: must be a number of grid cells in (0, 64]"],
+    );
+    let view = [
+        "--size",
+        "4x4",
+        "--eye",
+        "0.5,0.5,3",
+        "--look-at",
+        "0.5,0.5,0",
+    ];
+    let out = dir("exr").join("a.png");
+    let mut args = vec!["render", "--circles", "4", "--samples", "1"];
+    args.extend(view);
+    let mut exr = args.clone();
+    exr.extend([
+        "--output",
+        out.to_str().unwrap(),
+        "--exr",
+        "/tmp/hemi-hostile-b.png",
+    ]);
+    refused(
+        "exr",
+        &exr,
+        &["--exr /tmp/hemi-hostile-b.png: expected a .exr file"],
+    );
+    let p = files("exposure", &[("two.toml", TWO_SQUARES)]);
+    let hdr = dir("exposure").join("a.hdr");
+    let mut exposed = vec!["render", p.as_str(), "--exposure", "5"];
+    exposed.extend(&args[1..]);
+    exposed.extend(["--output", hdr.to_str().unwrap()]);
+    let (ok, _, err) = run(&exposed, b"");
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("warning: --exposure 5 does not change"),
+        "{err}"
+    );
+}

@@ -37,6 +37,13 @@ pub struct IrradianceArgs {
     near_cells: f32,
 }
 
+/// The most `--near` levels.
+const MOST_NEAR: u32 = 4;
+
+/// The widest near field, in grid cells (`--near-cells`): past a patch's few cells every hit
+/// would be evaluated afresh.
+const MOST_CELLS: f32 = 64.0;
+
 /// Where a point query's direct light comes from.
 #[derive(Clone, Copy, Debug, clap::ValueEnum)]
 enum DirectArg {
@@ -48,6 +55,17 @@ enum DirectArg {
 
 /// Runs `hemi irradiance`, writing to `out` each answer as soon as its line is read.
 pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
+    anyhow::ensure!(
+        args.near <= MOST_NEAR,
+        "--near {}: at most {MOST_NEAR} levels (each evaluates the near hits as queries of their \
+         own, so a level multiplies a query's cost)",
+        args.near
+    );
+    anyhow::ensure!(
+        args.near_cells.is_finite() && args.near_cells > 0.0 && args.near_cells <= MOST_CELLS,
+        "--near-cells {}: must be a number of grid cells in (0, {MOST_CELLS}]",
+        args.near_cells
+    );
     let field = args.field.settings(args.run.on_boards())?;
     let run = args.run.prepare(|_| Ok(()))?;
     let backend = run.engine.backend(&run.scene, &run.settings)?;

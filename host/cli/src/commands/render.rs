@@ -66,8 +66,17 @@ pub fn run(args: RenderArgs, out: &mut impl Write) -> Result<()> {
         crate::output::not_the_input(path, "-o", &args.run.scene)?;
     }
     if let Some(exr) = &args.exr {
-        crate::output::writable(exr, "--exr")?;
+        crate::output::export_path(exr, "--exr", &["exr"])?;
         crate::output::not_the_input(exr, "--exr", &args.run.scene)?;
+    }
+    if let (Some(ev), ImageTarget::File(path, ImageFormat::Exr | ImageFormat::Hdr)) =
+        (args.exposure, &target)
+    {
+        eprintln!(
+            "warning: --exposure {ev} does not change {}: .exr and .hdr hold linear radiance; \
+             only PNG output is exposed",
+            path.display()
+        );
     }
     let field = args.field.settings(args.run.on_boards())?;
     let run = args.run.prepare(|scene| {
