@@ -267,6 +267,11 @@ fn element_budget(scene: &Scene, ff: &FormFactors, field: &FieldSettings, limit:
     let each = rows.div_ceil(now as u64).max(1);
     let room = now.saturating_add((limit.saturating_sub(held) / each) as usize);
     let wanted = asked.unwrap_or(2 * now);
+    if wanted <= now {
+        eprintln!(
+            "field refinement: none, --max-elements {wanted} is not above pass 1's {now} elements"
+        );
+    }
     if wanted > room {
         let what = match asked {
             Some(m) => format!("{m} (--max-elements)"),
@@ -430,12 +435,13 @@ fn streaming(
 ) -> Result<Solved> {
     anyhow::ensure!(
         matches!(backend, Running::Soft(_)),
-        "--solver progressive shoots rows on demand on the soft backend only"
+        "progressive refinement (--solver progressive, or auto past --matrix-mib) shoots rows \
+         on demand on the soft backend only: a larger --matrix-mib keeps pass 1's rows"
     );
     anyhow::ensure!(
         !adaptive,
-        "--adaptive refines from solved rows and needs the form-factor matrix: choose a \
-         --solver other than progressive"
+        "--adaptive refines from solved rows and needs pass 1's rows stored: choose a --solver \
+         other than progressive, or, where auto chose it past --matrix-mib, a larger --matrix-mib"
     );
     let t0 = std::time::Instant::now();
     let n = backend.get().scene().patches.len();
