@@ -184,6 +184,14 @@ fn refinement_keeps_within_the_memory_pass_1_left() {
         err.contains("instead of 18446744073709551615 (--max-elements)"),
         "{err}"
     );
+    let mut none = args.to_vec();
+    none.extend(["--max-elements", "1"]);
+    let (ok, _, err) = run(&none, b"5 0.001 5 0 1 0\n");
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("none, --max-elements 1 is not above pass 1's 6464"),
+        "{err}"
+    );
 }
 
 #[test]
