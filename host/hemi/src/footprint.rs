@@ -106,7 +106,8 @@ impl Need {
     /// What pass 1 on `backend` needs, measured no further than `limit` calls for: the dense
     /// bound when it is within `limit`, else the pilot's [`estimate`].
     pub fn of(backend: &dyn Backend, limit: u64) -> Result<Need> {
-        let shots = crate::pass1::all_shots(backend)?;
+        let k = backend.settings().samples;
+        let shots = crate::shots::all_uniform_shots(backend.scene(), k);
         let dense = dense_bound(backend.scene(), shots.len());
         if dense <= limit {
             return Ok(Need {
@@ -209,7 +210,7 @@ vertices = [[0.2, 0.6, 0.2], [0.5, 0.6, 0.2], [0.5, 0.6, 0.5], [0.2, 0.6, 0.5]]
     #[test]
     fn the_rows_stay_within_the_dense_bound_and_the_pilot_estimates_them() {
         with_backend(|backend| {
-            let shots = crate::pass1::all_shots(backend).unwrap();
+            let shots = crate::shots::all_uniform_shots(backend.scene(), 4);
             let (rows, _) = shoot_checked(backend, &shots, &|_| {}).unwrap();
             let measured = Footprint::of(backend.scene()).rows(&rows);
             assert!(measured <= dense_bound(backend.scene(), shots.len()));
@@ -222,7 +223,7 @@ vertices = [[0.2, 0.6, 0.2], [0.5, 0.6, 0.2], [0.5, 0.6, 0.5], [0.2, 0.6, 0.5]]
     #[test]
     fn pass_1_stops_at_its_limit_with_the_figure() {
         with_backend(|backend| {
-            let shots = crate::pass1::all_shots(backend).unwrap();
+            let shots = crate::shots::all_uniform_shots(backend.scene(), 4);
             let err = shoot_within(backend, &shots, &|_| {}, 100, "--more raises it")
                 .unwrap_err()
                 .to_string();

@@ -98,9 +98,7 @@ pub fn form_factors_within(
 pub fn all_shots(backend: &dyn Backend) -> anyhow::Result<Vec<Shot>> {
     let (scene, settings) = (backend.scene(), backend.settings());
     anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
-    Ok((0..scene.patches.len())
-        .flat_map(|i| shots::uniform_shots(scene, i, settings.samples))
-        .collect())
+    Ok(shots::all_uniform_shots(scene, settings.samples))
 }
 
 /// Pass 1's outcome from its element rows.

@@ -102,6 +102,13 @@ pub fn uniform_shots(scene: &Scene, i: usize, k: u32) -> impl Iterator<Item = Sh
         })
 }
 
+/// Every hemisphere of uniform pass 1 at K = `k`, patch by patch.
+pub fn all_uniform_shots(scene: &Scene, k: u32) -> Vec<Shot> {
+    (0..scene.patches.len())
+        .flat_map(|i| uniform_shots(scene, i, k))
+        .collect()
+}
+
 /// Sample point (a, b) of the k×k lattice on patch `i` (the cell's centre, its area share):
 /// the kernel's `lattice_sample`, which a board's `ShootLevel` job uses too. The back side of
 /// a translucent sheet has its front's points, facing the other way (as in uniform sampling).
