@@ -625,3 +625,38 @@ fn options_that_would_be_ignored_are_refused_or_warned_about() {
         "{err}"
     );
 }
+
+#[test]
+fn an_obj_material_that_does_not_parse_or_does_not_exist_is_named() {
+    let tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+    let scene = format!("{TWO_SQUARES}[[obj]]\npath = \"m.obj\"\n");
+    let obj = format!("mtllib m.mtl\n{tri}usemtl nothere\nf 1 2 3\n");
+    let p = files(
+        "usemtl",
+        &[
+            ("s.toml", &scene),
+            ("m.obj", &obj),
+            ("m.mtl", "newmtl a\nKd 0.5 0.5 0.5\n"),
+        ],
+    );
+    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("m.obj:5: `usemtl nothere`: no MTL file defines it; its faces get `default`"),
+        "{err}"
+    );
+    let p = files(
+        "kd-abc",
+        &[
+            ("s.toml", &scene),
+            ("m.obj", &obj),
+            ("m.mtl", "newmtl a\nKd abc 0 0\n"),
+        ],
+    );
+    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
+    assert!(!ok);
+    assert!(
+        err.contains("m.mtl:2: `Kd`: `abc` is not a number"),
+        "{err}"
+    );
+}

@@ -60,11 +60,17 @@ pub fn scan_numbers(
         }
         let at = |msg: String| format!("{file}:{}: `{key}`: {msg}", i + 1);
         let count = tokens.clone().count();
-        if MTL_TRIPLES.contains(&key) && count < 3 {
-            return Err(at(format!("expected 3 numbers, found {count}")));
+        if MTL_TRIPLES.contains(&key) && count != 3 {
+            return Err(at(format!("expected 3 numbers (r g b), found {count}")));
         }
         for t in tokens {
-            let Ok(x) = t.parse::<f64>() else { continue };
+            // `d -halo 0.5` is the one option a number line may hold
+            let Ok(x) = t.parse::<f64>() else {
+                if t == "-halo" {
+                    continue;
+                }
+                return Err(at(format!("`{t}` is not a number")));
+            };
             if let Some(why) = not_f32(x) {
                 return Err(at(format!("`{t}` {why}")));
             }
@@ -157,7 +163,36 @@ fn read(cx: &Ctx, o: &RawObj) -> Result<(Vec<tobj::Model>, Vec<tobj::Material>, 
     for w in log.warnings.into_inner() {
         cx.warn(o.path.span(), "obj.path", w);
     }
-    Ok((models, mtls.unwrap_or_default(), path))
+    let mtls = mtls.unwrap_or_default();
+    for w in unknown_materials(&text, &path.display().to_string(), &mtls) {
+        cx.warn(o.path.span(), "obj.path", w);
+    }
+    Ok((models, mtls, path))
+}
+
+/// A warning for every `usemtl` naming a material its MTL files do not define (at its first
+/// line): tobj gives those faces no material, so they would take `default` without a word.
+fn unknown_materials(text: &str, file: &str, mtls: &[tobj::Material]) -> Vec<String> {
+    let mut unknown: Vec<(usize, String)> = Vec::new();
+    for (i, line) in text.lines().enumerate() {
+        let mut tokens = line.split_whitespace();
+        if tokens.next() != Some("usemtl") {
+            continue;
+        }
+        let name = tokens.collect::<Vec<_>>().join(" ");
+        let known = mtls.iter().any(|m| m.name == name);
+        if !known && !unknown.iter().any(|(_, n)| *n == name) {
+            unknown.push((i + 1, name));
+        }
+    }
+    unknown
+        .into_iter()
+        .map(|(line, name)| {
+            format!(
+                "{file}:{line}: `usemtl {name}`: no MTL file defines it; its faces get `default`"
+            )
+        })
+        .collect()
 }
 
 /// A scene material for an MTL material (its `Kd` clamped below 1, as [`scan_numbers`] warned).
@@ -333,7 +368,14 @@ mod tests {
         let e = scan_numbers("Ke 1e300 0 0\n", "m.mtl", MTL_NUMBERS).unwrap_err();
         assert!(e.contains("beyond f32"), "{e}");
         let e = scan_numbers("newmtl a\nKd 0.7\n", "m.mtl", MTL_NUMBERS).unwrap_err();
-        assert_eq!(e, "m.mtl:2: `Kd`: expected 3 numbers, found 1");
+        assert_eq!(e, "m.mtl:2: `Kd`: expected 3 numbers (r g b), found 1");
+        let e = scan_numbers("Kd 0.5 0.5 0.5 0.5\n", "m.mtl", MTL_NUMBERS).unwrap_err();
+        assert_eq!(e, "m.mtl:1: `Kd`: expected 3 numbers (r g b), found 4");
+        let e = scan_numbers("Kd abc 0 0\n", "m.mtl", MTL_NUMBERS).unwrap_err();
+        assert_eq!(e, "m.mtl:1: `Kd`: `abc` is not a number");
+        let e = scan_numbers("v 0 zero 0\n", "m.obj", OBJ_NUMBERS).unwrap_err();
+        assert_eq!(e, "m.obj:1: `v`: `zero` is not a number");
+        assert!(scan_numbers("d -halo 0.5\n", "m.mtl", MTL_NUMBERS).is_ok());
         let e = scan_numbers("Ke 1e20 0 0\n", "m.mtl", MTL_NUMBERS).unwrap_err();
         assert!(e.contains("emission hemi takes"), "{e}");
     }
