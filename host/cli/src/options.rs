@@ -744,12 +744,27 @@ impl ViewArgs {
         };
         camera.eye = eye.unwrap_or(camera.eye);
         camera.look_at = look_at.unwrap_or(camera.look_at);
+        if eye.is_some() || look_at.is_some() {
+            let d = camera.look_at - camera.eye;
+            if d.cross(camera.up).length() <= 1e-6 * d.length() || d == Vec3::ZERO {
+                bail!(
+                    "--eye and --look-at: the view direction {} is zero or parallel to up {}",
+                    show3(d),
+                    show3(camera.up)
+                );
+            }
+        }
         camera.fov_y_deg = self.fov.unwrap_or(camera.fov_y_deg);
         if let Some((w, h)) = size {
             (camera.width, camera.height) = (w, h);
         }
         Ok(camera)
     }
+}
+
+/// `(x, y, z)` for messages.
+fn show3(v: Vec3) -> String {
+    format!("({}, {}, {})", v.x, v.y, v.z)
 }
 
 /// A camera for a scene without one: up +y (+z when looking along y), 40°, 512×512.

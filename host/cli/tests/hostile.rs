@@ -586,6 +586,19 @@ fn options_that_would_be_ignored_are_refused_or_warned_about() {
         &["--near 4294967295: at most 4"],
     );
     refused(
+        "view",
+        &[
+            "render",
+            "--eye",
+            "0.5,0.5,3",
+            "--look-at",
+            "0.5,0.5,3",
+            "--output",
+            "/tmp/hemi-v.png",
+        ],
+        &["--eye and --look-at: the view direction (0, 0, 0) is zero or parallel to up"],
+    );
+    refused(
         "near-cells",
         &["irradiance", "--near-cells", "NaN"],
         &["--near-cells NaN: must be a number of grid cells in (0, 64]"],
