@@ -172,9 +172,11 @@ pub struct TraceBench {
     /// The scene file.
     #[arg(default_value = "scenes/teapot.toml")]
     scene: PathBuf,
-    /// Rays to cast (random origins in the scene's box, random directions; fixed seed).
-    #[arg(long, default_value_t = 100_000)]
-    rays: usize,
+    /// Rays to cast (random origins in the scene's box, random directions; fixed seed;
+    /// 1..=10⁸: they are held in memory, at least 24 bytes each).
+    #[arg(long, default_value_t = 100_000,
+          value_parser = clap::value_parser!(u64).range(1..=100_000_000))]
+    rays: u64,
     /// Tessellate Bezier patches into an n×n grid of triangle pairs first (0: keep them).
     #[arg(long, default_value_t = 16)]
     tessellate: usize,
@@ -286,8 +288,8 @@ pub struct RaysBench {
     scene: PathBuf,
     #[command(flatten)]
     sampling: SamplingArgs,
-    /// Repeat each measurement this many times and keep the fastest.
-    #[arg(long, default_value_t = 3)]
+    /// Repeat each measurement this many times and keep the fastest (1..=1000).
+    #[arg(long, default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=1000))]
     repeat: u32,
     /// Also measure the accelerator trait's provided ray-by-ray path (rotate each ray, then a
     /// general nearest hit), on one thread over the first 64 sample points: what the
@@ -392,7 +394,7 @@ impl TraceBench {
             anyhow::ensure!(self.tessellate <= 64, "--tessellate must be at most 64");
             scene = hemi_bench::tessellate(&scene, self.tessellate);
         }
-        hemi_bench::trace::single_rays(&scene, self.rays, out)
+        hemi_bench::trace::single_rays(&scene, self.rays as usize, out)
     }
 }
 
