@@ -483,6 +483,13 @@ fn a_dark_scene_and_a_black_picture_are_warned_about() {
 #[test]
 fn a_board_that_cannot_start_is_named_plainly() {
     let p = files("qemu", &[("two.toml", TWO_SQUARES)]);
+    // the first 20 bytes of a 32-bit little-endian ARM ELF: enough for the check, and QEMU
+    // here is /bin/true, which runs nothing
+    let mut head = vec![0x7f, b'E', b'L', b'F', 1, 1, 1];
+    head.resize(18, 0);
+    head.extend([40, 0]);
+    let elf = dir("qemu").join("fake.elf");
+    std::fs::write(&elf, &head).unwrap();
     let qemu = [
         "solve",
         &p,
@@ -492,19 +499,24 @@ fn a_board_that_cannot_start_is_named_plainly() {
         "/bin/true",
         "--firmware",
     ];
-    let mut args = qemu.to_vec();
-    args.push(&p);
-    let (ok, _, err) = run(&args, b"");
-    assert!(!ok);
+    let with = |firmware: &str| {
+        let mut args = qemu.to_vec();
+        args.push(firmware);
+        let (ok, _, err) = run(&args, b"");
+        assert!(!ok);
+        err
+    };
+    let err = with(elf.to_str().unwrap());
     assert!(
         err.contains("QEMU did not announce its pty before it ended (exit status: 0)"),
         "{err}"
     );
-    let mut args = qemu.to_vec();
-    let folder = dir("qemu");
-    args.push(folder.to_str().unwrap());
-    let (ok, _, err) = run(&args, b"");
-    assert!(!ok);
+    let err = with(&p);
+    assert!(
+        err.contains("two.toml: not an ELF file, not the Cortex-M firmware"),
+        "{err}"
+    );
+    let err = with(dir("qemu").to_str().unwrap());
     assert!(err.contains("is not a file"), "{err}");
 }
 
