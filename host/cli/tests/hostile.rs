@@ -685,3 +685,25 @@ fn an_obj_material_that_does_not_parse_or_does_not_exist_is_named() {
         "{err}"
     );
 }
+
+#[test]
+fn a_patch_repeated_over_another_is_refused_and_a_two_sided_wall_is_not() {
+    let repeat = format!(
+        "{TWO_SQUARES}[[quad]]\nname = \"again\"\nmaterial = \"m\"\n\
+         vertices = [[0,1,1],[1,1,1],[1,0,1],[0,0,1]]\n"
+    );
+    let p = files("repeat", &[("s.toml", &repeat)]);
+    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
+    assert!(!ok);
+    assert!(
+        err.contains("patch `again` has the vertices and facing of `p2`"),
+        "{err}"
+    );
+    let wall = format!(
+        "{TWO_SQUARES}[[quad]]\nname = \"back\"\nmaterial = \"m\"\n\
+         vertices = [[0,0,1],[1,0,1],[1,1,1],[0,1,1]]\n"
+    );
+    let p = files("two-sided", &[("s.toml", &wall)]);
+    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
+    assert!(ok, "{err}");
+}

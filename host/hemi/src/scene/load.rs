@@ -119,6 +119,14 @@ pub fn parse_with(src: &str, file: &str, limits: &Limits) -> Result<Scene> {
         materials.push(material(&cx, m)?);
     }
     let mut patches = patches(&cx, &raw, &mut materials, &mut by_name)?;
+    if let Some((a, b)) = super::overlap::first_duplicate(&patches) {
+        anyhow::bail!(
+            "{file}: patch `{}` has the vertices and facing of `{}`: coplanar patches must not \
+             overlap, since a ray cannot tell them apart (docs/scene-format.md)",
+            patches[b].name,
+            patches[a].name
+        );
+    }
     let camera = match &raw.camera {
         None => None,
         Some(c) => Some(camera(&cx, c.get_ref())?),

@@ -5,6 +5,7 @@ mod ctx;
 mod file;
 mod load;
 mod obj;
+mod overlap;
 pub mod range;
 pub mod translucent;
 
