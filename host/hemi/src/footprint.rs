@@ -80,7 +80,7 @@ pub fn dense_bound(scene: &Scene, shots: usize) -> u64 {
 }
 
 /// Pass 1's bytes for `shots` on `backend`, estimated from a pilot of [`PILOT`] of them spread
-/// evenly over the list (their rows are dropped): the pilot's mean times [`PILOT_MARGIN`].
+/// evenly over the list (their rows are dropped): the pilot's mean times 1.25 (`PILOT_MARGIN`).
 pub fn estimate(backend: &dyn Backend, shots: &[Shot]) -> Result<u64> {
     if shots.is_empty() {
         return Ok(0);
