@@ -11,6 +11,13 @@
 //!   patches (a model without an allocator holds at most 256 whatever the build says).
 //! - `rays_per_clock`: the width of the front end (ray FIFO, rotators, ray queue, result FIFO
 //!   and the stream port): how many rays enter and leave per clock.
+//! - `ray_groups`: lanes in groups of banks, each group taking every `ray_groups`-th ray over
+//!   its own copy of the local memory (patch memory has `lanes / ray_groups` banks).
+//! - `compact`: the datapath sized for an ECP5-85k (docs/PERFORMANCE.md, "Area proxy against
+//!   lanes"): local memory and candidate lists double-buffered, so the next origin's set-up pass
+//!   runs while the lanes still scan the last one's rays. Without it (the wide datapath, whose
+//!   one-lane build `hdl-model/rtl/plane_unit.v` mirrors) a set-up pass waits for every lane to
+//!   be idle.
 
 /// Most lanes a configuration may have.
 pub const MAX_LANES: u32 = 16;
@@ -32,6 +39,14 @@ pub struct Params {
     pub rays_per_clock: u32,
     /// Patch slots per bank (lanes × bank_slots ≤ 32768).
     pub bank_slots: u32,
+    /// The compact datapath (CAPS_LANES bit 25): double-buffered set-up, coarse edge tests
+    /// with a shared exact unit.
+    pub compact: bool,
+    /// Ray groups (1..=lanes, dividing it; CAPS_LANES bits 31:28 hold groups − 1): the lanes
+    /// form this many groups of `lanes / ray_groups` banks, each group holding a copy of the
+    /// local memory and taking every `ray_groups`-th ray, so a patch every ray tests costs a
+    /// lane 1 / `ray_groups` clocks a ray instead of one.
+    pub ray_groups: u32,
 }
 
 impl Params {
@@ -44,6 +59,8 @@ impl Params {
         sectors: 32,
         rays_per_clock: 2,
         bank_slots: 256,
+        compact: true,
+        ray_groups: 2,
     };
 
     /// The accelerator before this datapath: one lane of 256 slots, no culling, one ray per
@@ -53,11 +70,18 @@ impl Params {
         sectors: 0,
         rays_per_clock: 1,
         bank_slots: 256,
+        compact: false,
+        ray_groups: 1,
     };
+
+    /// Banks of patch memory (and lanes in a group).
+    pub fn banks(&self) -> u32 {
+        self.lanes / self.ray_groups.max(1)
+    }
 
     /// Patch slots on chip.
     pub fn capacity(&self) -> u32 {
-        self.lanes * self.bank_slots
+        self.banks() * self.bank_slots
     }
 
     /// Whether the hardware can be built this way.
@@ -66,14 +90,22 @@ impl Params {
             && (self.sectors == 0
                 || (self.sectors.is_power_of_two() && (8..=MAX_SECTORS).contains(&self.sectors)))
             && (1..=MAX_RAYS_PER_CLOCK).contains(&self.rays_per_clock)
+            && (1..=self.lanes).contains(&self.ray_groups)
+            && self.lanes.is_multiple_of(self.ray_groups)
+            && self.ray_groups <= 16
             && self.bank_slots >= 1
-            && self.bank_slots <= MAX_CAPACITY / self.lanes.max(1)
+            && self.bank_slots <= MAX_CAPACITY / self.banks().max(1)
     }
 
     /// The CAPS_LANES word: lanes 7:0, rays per clock 15:8, sectors 23:16, bit 24 the stream
-    /// port.
+    /// port, bit 25 the compact datapath, bits 31:28 ray groups − 1.
     pub fn caps_word(&self) -> u32 {
-        self.lanes | self.rays_per_clock << 8 | self.sectors << 16 | 1 << 24
+        self.lanes
+            | self.rays_per_clock << 8
+            | self.sectors << 16
+            | 1 << 24
+            | (self.compact as u32) << 25
+            | (self.ray_groups.saturating_sub(1) & 0xF) << 28
     }
 
     /// Decodes a CAPS_LANES word with the patch capacity from CAPS (a CAPS_LANES of 0, from a
@@ -86,11 +118,14 @@ impl Params {
             };
         }
         let lanes = (w & 0xFF).max(1);
+        let ray_groups = (w >> 28) + 1;
         Params {
             lanes,
             rays_per_clock: (w >> 8) & 0xFF,
             sectors: (w >> 16) & 0xFF,
-            bank_slots: capacity / lanes,
+            bank_slots: capacity / (lanes / ray_groups).max(1),
+            compact: w & 1 << 25 != 0,
+            ray_groups,
         }
     }
 }
