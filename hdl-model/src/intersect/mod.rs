@@ -307,6 +307,21 @@ fn setup_latency(culling: bool) -> u64 {
     }
 }
 
+/// The subdivision engine of a build: the compact datapath's tests a child box a clock.
+fn engine(subdiv: SubdivConfig, compact: bool) -> BezierEngine {
+    let e = BezierEngine::new(subdiv, bezier::STACK_ENTRIES);
+    if compact {
+        e.with_serial_slabs()
+    } else {
+        e
+    }
+}
+
+/// Iterative (u,v) units of the compact datapath, shared by all lanes: each runs one bisection
+/// level a clock, so a hit whose (u,v) is wanted holds one for `depth` clocks (only hits on
+/// planar patches of rays that want (u,v) use them).
+pub const UV_UNITS: usize = 2;
+
 /// What the set-up pass was computed for: the origin, and the frame if it culled.
 type SetupKey = ([Coord; 3], Option<[Angle; 3]>);
 
@@ -421,6 +436,8 @@ pub struct IntersectUnit<T: Copy + Default> {
     /// the ray group the next ray goes to, and the clock the shared exact edge unit is free
     next_group: u32,
     exact_free: u64,
+    /// compact builds: the clock each iterative (u,v) unit is free
+    uv_free: [u64; UV_UNITS],
 }
 
 /// What the lanes did (for measurements): candidates tested, rays, set-up passes.
@@ -470,7 +487,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             depth,
             unsupported: false,
             overflow: false,
-            engine: BezierEngine::new(subdiv, bezier::STACK_ENTRIES),
+            engine: engine(subdiv, params.compact),
             bez_root: [Box3::default(); BEZIER_ROWS],
             stats: LaneStats::default(),
             buffer: 0,
@@ -479,6 +496,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             setup_free: 0,
             next_group: 0,
             exact_free: 0,
+            uv_free: [0; UV_UNITS],
         }
     }
 
@@ -488,7 +506,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.flush();
         self.depth = depth;
         self.cull_ok = width >= cull::MIN_CULL_WIDTH;
-        self.engine = BezierEngine::new(subdiv, bezier::STACK_ENTRIES);
+        self.engine = engine(subdiv, self.params.compact);
         self.unsupported = false;
         self.overflow = false;
     }
@@ -537,6 +555,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.setup_free = 0;
         self.next_group = 0;
         self.exact_free = 0;
+        self.uv_free = [0; UV_UNITS];
     }
 
     /// Whether rays in a frame are culled by this unit as configured.
@@ -708,6 +727,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         debug_assert!(self.ready());
         let mut hit = None;
         let mut finish = now + 1;
+        let mut wants_uv_unit = false;
         if !ray.bypass {
             let frame = ray.frame.filter(|_| self.culls());
             let stale = match self.key {
@@ -731,13 +751,35 @@ impl<T: Copy + Default> IntersectUnit<T> {
             finish = end.max(bez_end);
             let used = &mut self.release[self.buffer];
             *used = (*used).max(finish);
-            hit = nearer(planar, curved).map(|b| self.hit_out(mem, &ray, b));
+            let best = nearer(planar, curved);
+            wants_uv_unit = ray.uv && best.is_some_and(|b| b.uv.is_none());
+            hit = best.map(|b| self.hit_out(mem, &ray, b));
         }
-        let lat = merge_latency(self.params.banks()) + DIV_LATENCY as u64 + self.depth as u64 + 1;
-        let ready = (finish + lat).max(self.last_ready);
+        let ready = self
+            .retire_clock(finish, wants_uv_unit)
+            .max(self.last_ready);
         self.last_ready = ready;
         let pushed = self.retire.push((ready, RayOut { ray, hit }));
         debug_assert!(pushed.is_ok(), "ray slots");
+    }
+
+    /// The clock a ray whose lanes are done on `finish` can leave (before in-order
+    /// retirement): the min tree and the divider, then the wide datapath's unrolled (u,v) pipe
+    /// for every ray, or the compact datapath's first free iterative (u,v) unit for a planar hit
+    /// that wants (u,v) (the others pass it by).
+    fn retire_clock(&mut self, finish: u64, wants_uv_unit: bool) -> u64 {
+        let base = finish + merge_latency(self.params.banks()) + DIV_LATENCY as u64;
+        let depth = self.depth as u64;
+        if !self.params.compact {
+            return base + depth + 1;
+        }
+        if !wants_uv_unit {
+            return base + 1;
+        }
+        let unit = (0..UV_UNITS).min_by_key(|&u| self.uv_free[u]).unwrap_or(0);
+        let start = self.uv_free[unit].max(base);
+        self.uv_free[unit] = start + depth;
+        start + depth + 1
     }
 
     /// The planar lanes on one ray: its nearest planar hit and the clock its last lane is
@@ -921,5 +963,80 @@ impl<T: Copy + Default> IntersectUnit<T> {
             Some((ready, _)) if *ready <= now => self.retire.pop().map(|(_, r)| r),
             _ => None,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A xorshift stream, for reproducible vectors.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0
+        }
+        /// A signed value of `bits` bits at most.
+        fn signed(&mut self, bits: u32) -> i64 {
+            (self.next() as i64) >> (64 - bits)
+        }
+    }
+
+    fn exact_sign(d: &[i32; 3], e: &[i64; 3]) -> i128 {
+        (0..3).map(|c| d[c] as i128 * e[c] as i128).sum()
+    }
+
+    /// Where the coarse test answers, it answers as the exact product: random edge normals of
+    /// every magnitude up to 62 bits, unit-range directions, and pairs built to lie within a
+    /// few LSBs of the edge plane (where it must decline, or be right).
+    #[test]
+    fn the_coarse_edge_test_never_contradicts_the_exact_one() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let (mut decided, mut declined) = (0u32, 0u32);
+        for n in 0..200_000u32 {
+            let bits = 2 + n % 61;
+            let e = [rng.signed(bits), rng.signed(bits), rng.signed(bits)];
+            let mut d = [0i32; 3].map(|_| (rng.signed(31)) as i32);
+            if n % 3 == 0 {
+                // d nearly orthogonal to e: d − (d·e / e·e) e, rounded
+                let ee: f64 = e.iter().map(|&c| (c as f64) * (c as f64)).sum();
+                if ee > 0.0 {
+                    let de: f64 = (0..3).map(|c| d[c] as f64 * e[c] as f64).sum();
+                    for c in 0..3 {
+                        d[c] = (d[c] as f64 - de / ee * e[c] as f64).round() as i32;
+                    }
+                }
+            }
+            let dc = d.map(|c| c >> COARSE_DIR_SHIFT);
+            match coarse_sign(&dc, &coarse_edge(&e)) {
+                Some(positive) => {
+                    decided += 1;
+                    let s = exact_sign(&d, &e);
+                    assert_eq!(positive, s > 0, "d {d:?} e {e:?}: exact {s}");
+                    assert_ne!(s, 0, "d {d:?} e {e:?}: decided a zero");
+                }
+                None => declined += 1,
+            }
+        }
+        // the test is worth having: most random pairs are decided, the built ones often not
+        assert!(
+            decided > 120_000 && declined > 1_000,
+            "{decided} decided, {declined} declined"
+        );
+    }
+
+    /// The coarse words fit the 18-bit signed inputs of a DSP tile.
+    #[test]
+    fn coarse_words_are_18_bits() {
+        for m in [0i64, 1, (1 << 17) - 1, 1 << 17, (1 << 61) - 1, -(1 << 61)] {
+            for w in coarse_edge(&[m, -m, m / 3]) {
+                assert!((-(1 << 17)..(1 << 17)).contains(&w), "{m}: {w}");
+            }
+        }
+        let d = Unit::ONE.to_bits() >> COARSE_DIR_SHIFT;
+        assert!(d < 1 << 17);
     }
 }
