@@ -99,6 +99,15 @@ impl Proxy {
         self.reg(count * (n + 2) * 3 * w);
     }
 
+    /// Adds `other`'s counts to these (its multipliers after these in mapping order).
+    fn merge(&mut self, other: Proxy) {
+        self.adders += other.adders;
+        self.adder_bits += other.adder_bits;
+        self.multipliers.extend(other.multipliers);
+        self.register_bits += other.register_bits;
+        self.memories.extend(other.memories);
+    }
+
     /// Multiplier bits: Σ a·b.
     pub fn multiplier_bits(&self) -> u64 {
         self.multipliers
@@ -164,51 +173,74 @@ pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 /// exact words double-buffered, each lane's words for its bank (so once per ray group).
 fn compact_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     let mut p = Proxy::default();
+    for (_, part) in compact_parts(params, cfg) {
+        p.merge(part);
+    }
+    p
+}
+
+/// The compact datapath of `params` unit by unit, in mapping order (its multipliers take the
+/// DSP tiles in this order): what [`ray_datapath`] sums, so that what does not fit is named.
+pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, Proxy)> {
     let (g, l, b) = (
         params.rays_per_clock as u64,
         params.lanes as u64,
         params.banks() as u64,
     );
-    let groups = params.ray_groups as u64;
     // coarse test: A (two adds of 38 bits), A against ±B (two compares of 38), B (Σ|d'| once a
     // ray plus Σ|e'| from memory: one add of 20) per edge
-    for _ in 0..l {
-        p.mul(12, 18, 18);
-    }
-    p.add(l * 4 * 5, 38);
-    p.add(g * 5, 18);
-    p.reg(l * (4 * 3 * 18 + 4 * 38 + 3 * 18));
-    // n · d, divider, running minimum (as the wide datapath's)
-    for _ in 0..l {
-        p.mul(3, 32, 32);
-    }
-    p.add(l * 2, 94);
-    p.add(l * crate::intersect::DIV_LATENCY as u64, 98);
-    p.reg(l * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
-    p.add(l, 64);
-    p.reg(l * (94 + 64 + 64));
+    let mut coarse = Proxy::default();
+    coarse.mul(12 * l as u32, 18, 18);
+    coarse.add(l * 4 * 5, 38);
+    coarse.add(g * 5, 18);
+    coarse.reg(l * (4 * 3 * 18 + 4 * 38 + 3 * 18));
+    // n · d, divider, running minimum (as the wide datapath's), and the min trees
+    let mut plane = Proxy::default();
+    plane.mul(3 * l as u32, 32, 32);
+    plane.add(l * 2, 94);
+    plane.add(l * crate::intersect::DIV_LATENCY as u64, 98);
+    plane.reg(l * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
+    plane.add(l, 64);
+    plane.reg(l * (94 + 64 + 64));
+    plane.add(l, 64 + 16);
+    plane.reg(l * 80);
     // the shared exact edge unit: an edge a clock, its queue of undecided pairs
-    p.mul(3, 32, 62);
-    p.add(3, 94);
-    p.reg(3 * 94 + 32 * 3);
-    p.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4);
-    setup_units(&mut p, params, b);
-    front_end(&mut p, params, cfg);
-    p.add(l, 64 + 16);
-    p.reg(l * 80);
-    // memories, double-buffered (the set-up of the next origin fills the other half)
+    let mut exact = Proxy::default();
+    exact.mul(3, 32, 62);
+    exact.add(3, 94);
+    exact.reg(3 * 94 + 32 * 3);
+    exact.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4);
+    let mut setup = Proxy::default();
+    setup_units(&mut setup, params, b);
+    let mut front = Proxy::default();
+    front_end(&mut front, params, cfg);
+    queues(&mut front, l);
+    alloc::vec![
+        ("coarse edge tests", coarse),
+        ("n · d, dividers, minima", plane),
+        ("exact edge unit", exact),
+        ("set-up units", setup),
+        ("front end and queues", front),
+        ("memories", compact_memories(params)),
+    ]
+}
+
+/// The compact datapath's memories, double-buffered where the set-up pass writes them (the
+/// next origin's pass fills the other half): each lane's coarse words for its bank, one copy of
+/// the exact edge normals, the sector bitmaps per bank and group, and patch memory.
+fn compact_memories(params: &Params) -> Proxy {
+    let mut p = Proxy::default();
     let slots = params.capacity() as u64;
-    for _ in 0..l {
+    for _ in 0..params.lanes {
         p.mem(2 * params.bank_slots as u64, COARSE_WORD);
     }
     p.mem(2 * slots, EXACT_WORD);
     p.mem(slots * 16, 32);
     if params.sectors > 0 {
-        for _ in 0..b * groups {
+        for _ in 0..params.banks() * params.ray_groups {
             p.mem(2 * params.sectors as u64, params.bank_slots as u64);
         }
     }
-    queues(&mut p, l);
     p
 }
 

@@ -2,12 +2,13 @@
 //! CONFIG, which software changes at run time), reported by the CAPS and CAPS_LANES registers.
 //!
 //! - `lanes`: planar intersection lanes. Patch memory and the per-origin set-up are banked by
-//!   patch index modulo `lanes`, one bank per lane, each with its own set-up unit, edge unit and
-//!   divider, so a ray's candidates in different banks are tested in the same clock.
+//!   patch index modulo the banks (`lanes / ray_groups`), each bank with its own set-up unit and
+//!   each lane with its own edge unit and divider, so a ray's candidates in different banks are
+//!   tested in the same clock.
 //! - `sectors`: the azimuth sectors of the hemisphere culling unit (0 turns culling off). Per
 //!   origin and frame, every planar patch gets the range of sectors in which its pyramid can be
 //!   met; a hemisphere ray in sector s is only handed the patches of that sector.
-//! - `bank_slots`: patch slots per bank, so the on-chip patch memory holds `lanes × bank_slots`
+//! - `bank_slots`: patch slots per bank, so the on-chip patch memory holds `banks × bank_slots`
 //!   patches (a model without an allocator holds at most 256 whatever the build says).
 //! - `rays_per_clock`: the width of the front end (ray FIFO, rotators, ray queue, result FIFO
 //!   and the stream port): how many rays enter and leave per clock.
@@ -37,7 +38,7 @@ pub struct Params {
     pub sectors: u32,
     /// Rays entering and leaving per clock (1..=4).
     pub rays_per_clock: u32,
-    /// Patch slots per bank (lanes × bank_slots ≤ 32768).
+    /// Patch slots per bank (banks × bank_slots ≤ 32768).
     pub bank_slots: u32,
     /// The compact datapath (CAPS_LANES bit 25): double-buffered set-up, coarse edge tests
     /// with a shared exact unit.
@@ -50,15 +51,16 @@ pub struct Params {
 }
 
 impl Params {
-    /// The default build: 8 lanes of 256 slots, 32 sectors (and the culling unit's 16 polar
-    /// bands), 2 rays per clock: the fewest lanes that cast the 1,216-patch Cornell box at
-    /// under 4 cycles a ray (docs/PERFORMANCE.md). Its area proxy does not fit an ECP5-85k
-    /// (`area`; nor does any build's, because of the fixed units).
+    /// The default build: 8 lanes in 2 ray groups of 4 banks of 512 slots (2,048 patches), 32
+    /// sectors (and the culling unit's 16 polar bands), 2 rays per clock, the compact datapath:
+    /// the fewest lanes that cast the Cornell box at under 1 cycle a ray and its 1,216-patch
+    /// subdivision at under 4 (docs/PERFORMANCE.md). Its area proxy does not fit an ECP5-85k
+    /// (`area`; nor does any build's).
     pub const DEFAULT: Params = Params {
         lanes: 8,
         sectors: 32,
         rays_per_clock: 2,
-        bank_slots: 256,
+        bank_slots: 512,
         compact: true,
         ray_groups: 2,
     };

@@ -195,6 +195,7 @@ pub fn bench(
         });
     }
     area_table(lanes, out)?;
+    default_parts(out)?;
     if let Some(dir) = svg_dir {
         let svg = log_log(
             "Modelled accelerator: cycles per ray against lanes",
@@ -205,6 +206,33 @@ pub fn bench(
         );
         std::fs::write(dir.join("lanes-cycles.svg"), svg)?;
     }
+    Ok(())
+}
+
+/// The default build's area proxy unit by unit, on an ECP5-85k: what does not fit, named.
+fn default_parts(out: &mut impl Write) -> Result<()> {
+    let p = Params::DEFAULT;
+    writeln!(out, "\nThe default build unit by unit ({p:?})\n")?;
+    writeln!(out, "| unit | LUT4 | FF | DSP | EBR |")?;
+    writeln!(out, "|---|---|---|---|---|")?;
+    let mut dsps = area::ECP5_85K.dsps;
+    let mut row = |name: &str, f: area::Fpga| {
+        writeln!(
+            out,
+            "| {name} | {} | {} | {} | {} |",
+            f.luts, f.ffs, f.dsps, f.brams
+        )
+    };
+    for (name, part) in area::compact_parts(&p, CordicConfig::DEFAULT) {
+        let f = part.ecp5(dsps);
+        dsps -= f.dsps;
+        row(name, f)?;
+    }
+    let fixed = area::fixed_units(CordicConfig::DEFAULT, 16, p.compact).ecp5(dsps);
+    row(
+        "fixed units (angle unit, (u,v) units, Bezier engine)",
+        fixed,
+    )?;
     Ok(())
 }
 
