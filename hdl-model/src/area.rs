@@ -212,6 +212,10 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     exact.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4);
     let mut setup = Proxy::default();
     setup_units(&mut setup, params, b);
+    if params.sectors > 0 {
+        // a corner a clock needs its polar vectoring too, chained after the azimuth's
+        setup.cordic(CordicConfig::DEFAULT, b);
+    }
     let mut front = Proxy::default();
     front_end(&mut front, params, cfg);
     queues(&mut front, l);

@@ -322,6 +322,22 @@ fn engine(subdiv: SubdivConfig, compact: bool) -> BezierEngine {
 /// planar patches of rays that want (u,v) use them).
 pub const UV_UNITS: usize = 2;
 
+/// Clocks of a compact build's set-up pass over the first `count` slots: each bank's set-up
+/// unit takes a corner a clock (one cross product, the corner's dot products with the axes and
+/// its two vectorings: the multipliers and CORDIC pipes `area` counts), so a quad costs four
+/// clocks and any other slot (a Bezier root box, an empty slot) one; the banks run in parallel.
+fn corner_clocks(mem: &PatchMem, count: u32, banks: usize) -> u64 {
+    let mut per_bank = [0u64; MAX_LANES as usize];
+    for i in 0..count as usize {
+        per_bank[i % banks] += match mem.kind(i) {
+            KIND_TRIANGLE => 3,
+            KIND_QUAD => 4,
+            _ => 1,
+        };
+    }
+    per_bank.iter().copied().max().unwrap_or(0)
+}
+
 /// What the set-up pass was computed for: the origin, and the frame if it culled.
 type SetupKey = ([Coord; 3], Option<[Angle; 3]>);
 
@@ -579,7 +595,11 @@ impl<T: Copy + Default> IntersectUnit<T> {
         }
         let lanes = self.params.lanes as usize;
         // one set-up unit a bank, writing every group's copy at once
-        let pass = (count as u64).div_ceil(self.params.banks() as u64);
+        let pass = if self.params.compact {
+            corner_clocks(mem, count, self.params.banks() as usize)
+        } else {
+            (count as u64).div_ceil(self.params.banks() as u64)
+        };
         let latency = setup_latency(axes.is_some());
         if self.params.compact {
             self.double_buffered(pass, latency, now);
