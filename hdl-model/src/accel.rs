@@ -25,7 +25,7 @@ use crate::intersect::bezier::{BEZIER_ROWS, CP_WORDS};
 use crate::intersect::patch_mem::{BezierSlot, PatchWords, KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
 use crate::params::Params;
 use crate::regs::{mode, result};
-use hemi_kernel::accel::{Accelerator, Hit, Ray};
+use hemi_kernel::accel::{Accelerator, HemiShot, Hit, Ray};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::Hemisphere;
 use hemi_kernel::patch::{Patch, Shape};
@@ -463,6 +463,151 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
                 sink(j, k, hit);
             },
         );
+    }
+
+    /// Every shot's registers and rays follow the last shot's rays into the FIFO without
+    /// waiting for their results (the registers are latched per entry), so the pipeline drains
+    /// once per batch instead of once per hemisphere.
+    fn cast_hemispheres<F: FnMut(usize, usize, u32, Option<Hit>)>(
+        &mut self,
+        shots: &[HemiShot],
+        hemi: &Hemisphere<'_>,
+        rings: core::ops::Range<usize>,
+        want_uv: bool,
+        mut sink: F,
+    ) {
+        let mut pop = BatchCursor {
+            shots,
+            hemi,
+            rings: rings.clone(),
+            frame: Normalise {
+                centre: self.centre,
+                scale: self.scale,
+                flatness: 0.0,
+            },
+            s: 0,
+            j: rings.start,
+            k: 0,
+            in_range: None,
+            outstanding: 0,
+        };
+        let mode_word = mode::ROTATE_TRACE | uv_flag(want_uv);
+        for (s, shot) in shots.iter().enumerate() {
+            if !self.feed_shot(shot, hemi, rings.clone(), mode_word, &mut pop, &mut sink) {
+                let n: usize = rings.clone().map(|j| hemi.rings()[j].count as usize).sum();
+                self.out_of_range += n as u64;
+                for j in rings.clone() {
+                    (0..hemi.rings()[j].count).for_each(|k| sink(s, j, k, None));
+                }
+            }
+        }
+        let scale = self.scale;
+        let rest = pop.outstanding;
+        if let Err(e) = self.driver.collect(rest, |_, r| {
+            let (s, j, k) = pop.next_index();
+            sink(s, j, k, decode(scale, r));
+        }) {
+            panic!("model accelerator: {e:?}");
+        }
+        self.origin_patch = None;
+    }
+}
+
+impl<B: RegisterAccess> RegisterAccelerator<B> {
+    /// One shot of a batch: its registers written (origin, frame, mode, skip) and its rays fed
+    /// while earlier shots' results are handed to `sink` through `pop`; false if its origin is
+    /// out of range (nothing fed).
+    fn feed_shot<F: FnMut(usize, usize, u32, Option<Hit>)>(
+        &mut self,
+        shot: &HemiShot,
+        hemi: &Hemisphere<'_>,
+        rings: core::ops::Range<usize>,
+        mode_word: u32,
+        pop: &mut BatchCursor<'_, '_>,
+        sink: &mut F,
+    ) -> bool {
+        if !self.set_origin(shot.origin) {
+            return false;
+        }
+        if self.frame != Some(shot.rot) {
+            // the frame command is an entry of the ray FIFO, which the last shot may have filled
+            let scale = self.scale;
+            let made = self.driver.make_room(|_, r| {
+                let (s, j, k) = pop.next_index();
+                sink(s, j, k, decode(scale, r));
+            });
+            if let Err(e) = made {
+                panic!("model accelerator: {e:?}");
+            }
+        }
+        self.set_frame(&shot.rot);
+        self.set_mode(mode_word);
+        self.set_skip(shot.origin_patch);
+        let n: usize = rings.clone().map(|j| hemi.rings()[j].count as usize).sum();
+        self.rays += n as u64;
+        pop.outstanding += n;
+        let mut push = RingCursor::new(hemi, rings);
+        let scale = self.scale;
+        let fed = self.driver.feed(
+            n,
+            |_| {
+                let (j, k) = push.next_index();
+                let d = hemi.direction(j, k);
+                [d.x, d.y, d.z].map(unit_word)
+            },
+            |_, r| {
+                let (s, j, k) = pop.next_index();
+                sink(s, j, k, decode(scale, r));
+            },
+        );
+        if let Err(e) = fed {
+            panic!("model accelerator: {e:?}");
+        }
+        true
+    }
+}
+
+/// Walks (shot, ring, index) over a batch's shots in range, in the order their rays are
+/// streamed, and counts the results still to come.
+struct BatchCursor<'a, 'h> {
+    shots: &'a [HemiShot],
+    hemi: &'a Hemisphere<'h>,
+    rings: core::ops::Range<usize>,
+    frame: Normalise,
+    /// shot, ring, index of the next result; whether shot `s` was found in range
+    s: usize,
+    j: usize,
+    k: u32,
+    in_range: Option<(usize, bool)>,
+    outstanding: usize,
+}
+
+impl BatchCursor<'_, '_> {
+    fn shot_in_range(&mut self, s: usize) -> bool {
+        match self.in_range {
+            Some((t, ok)) if t == s => ok,
+            _ => {
+                let ok = self.frame.coord(self.shots[s].origin).is_some();
+                self.in_range = Some((s, ok));
+                ok
+            }
+        }
+    }
+
+    fn next_index(&mut self) -> (usize, usize, u32) {
+        self.outstanding = self.outstanding.saturating_sub(1);
+        loop {
+            let next_shot = !self.shot_in_range(self.s) || self.j >= self.rings.end;
+            if next_shot {
+                self.s += 1;
+                (self.j, self.k) = (self.rings.start, 0);
+            } else if self.k >= self.hemi.rings()[self.j].count {
+                (self.j, self.k) = (self.j + 1, 0);
+            } else {
+                self.k += 1;
+                return (self.s, self.j, self.k - 1);
+            }
+        }
     }
 }
 

@@ -22,6 +22,7 @@
 extern crate alloc;
 
 use crate::cordic::CordicConfig;
+use crate::intersect::UV_UNITS;
 use crate::params::Params;
 use alloc::vec::Vec;
 
@@ -98,6 +99,15 @@ impl Proxy {
         self.reg(count * (n + 2) * 3 * w);
     }
 
+    /// Adds `other`'s counts to these (its multipliers after these in mapping order).
+    fn merge(&mut self, other: Proxy) {
+        self.adders += other.adders;
+        self.adder_bits += other.adder_bits;
+        self.multipliers.extend(other.multipliers);
+        self.register_bits += other.register_bits;
+        self.memories.extend(other.memories);
+    }
+
     /// Multiplier bits: Σ a·b.
     pub fn multiplier_bits(&self) -> u64 {
         self.multipliers
@@ -140,8 +150,146 @@ impl Proxy {
 /// h (98) and the flags.
 const LOCAL_WORD: u64 = 4 * 3 * 62 + 3 * 32 + 98 + 4;
 
+/// Width of a compact lane's local-memory word: four coarse edge normals (3 × 18 bits) with
+/// their Σ|e'_c| (20 bits), the normal (3 × 32) and h (98) for the lane's n · d and divider, and
+/// the flags.
+const COARSE_WORD: u64 = 4 * (3 * 18 + 20) + 3 * 32 + 98 + 4;
+
+/// Width of the shared exact unit's word per slot: the exact edge normals (4 × 3 × 62).
+const EXACT_WORD: u64 = 4 * 3 * 62;
+
 /// The ray datapath of `params` at CORDIC `cfg` (the part the build parameters change).
 pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
+    if params.compact {
+        return compact_datapath(params, cfg);
+    }
+    wide_datapath(params, cfg)
+}
+
+/// The compact datapath: per lane the coarse edge test (twelve 18 × 18 products, one DSP tile
+/// each, and the bound's adders and compares), n · d, divider and running minimum; one shared
+/// exact edge unit (an edge a clock: three 32 × 62 products) over one copy of the exact edge
+/// normals; one set-up unit per bank (the wide datapath's); local memory, candidate bitmaps and
+/// exact words double-buffered, each lane's words for its bank (so once per ray group).
+fn compact_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
+    let mut p = Proxy::default();
+    for (_, part) in compact_parts(params, cfg) {
+        p.merge(part);
+    }
+    p
+}
+
+/// The compact datapath of `params` unit by unit, in mapping order (its multipliers take the
+/// DSP tiles in this order): what [`ray_datapath`] sums, so that what does not fit is named.
+pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, Proxy)> {
+    let (g, l, b) = (
+        params.rays_per_clock as u64,
+        params.lanes as u64,
+        params.banks() as u64,
+    );
+    // coarse test: A (two adds of 38 bits), A against ±B (two compares of 38), B (Σ|d'| once a
+    // ray plus Σ|e'| from memory: one add of 20) per edge
+    let mut coarse = Proxy::default();
+    coarse.mul(12 * l as u32, 18, 18);
+    coarse.add(l * 4 * 5, 38);
+    coarse.add(g * 5, 18);
+    coarse.reg(l * (4 * 3 * 18 + 4 * 38 + 3 * 18));
+    // n · d, divider, running minimum (as the wide datapath's), and the min trees
+    let mut plane = Proxy::default();
+    plane.mul(3 * l as u32, 32, 32);
+    plane.add(l * 2, 94);
+    plane.add(l * crate::intersect::DIV_LATENCY as u64, 98);
+    plane.reg(l * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
+    plane.add(l, 64);
+    plane.reg(l * (94 + 64 + 64));
+    plane.add(l, 64 + 16);
+    plane.reg(l * 80);
+    // the shared exact edge unit: an edge a clock, its queue of undecided pairs
+    let mut exact = Proxy::default();
+    exact.mul(3, 32, 62);
+    exact.add(3, 94);
+    exact.reg(3 * 94 + 32 * 3);
+    exact.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4);
+    let mut setup = Proxy::default();
+    setup_units(&mut setup, params, b);
+    if params.sectors > 0 {
+        // a corner a clock needs its polar vectoring too, chained after the azimuth's
+        setup.cordic(CordicConfig::DEFAULT, b);
+    }
+    let mut front = Proxy::default();
+    front_end(&mut front, params, cfg);
+    queues(&mut front, l);
+    alloc::vec![
+        ("coarse edge tests", coarse),
+        ("n · d, dividers, minima", plane),
+        ("exact edge unit", exact),
+        ("set-up units", setup),
+        ("front end and queues", front),
+        ("memories", compact_memories(params)),
+    ]
+}
+
+/// The compact datapath's memories, double-buffered where the set-up pass writes them (the
+/// next origin's pass fills the other half): each lane's coarse words for its bank, one copy of
+/// the exact edge normals, the sector bitmaps per bank and group, and patch memory.
+fn compact_memories(params: &Params) -> Proxy {
+    let mut p = Proxy::default();
+    let slots = params.capacity() as u64;
+    for _ in 0..params.lanes {
+        p.mem(2 * params.bank_slots as u64, COARSE_WORD);
+    }
+    p.mem(2 * slots, EXACT_WORD);
+    p.mem(slots * 16, 32);
+    if params.sectors > 0 {
+        for _ in 0..params.banks() * params.ray_groups {
+            p.mem(2 * params.sectors as u64, params.bank_slots as u64);
+        }
+    }
+    p
+}
+
+/// Set-up units, one per bank, a corner per clock: a × b (6 products of 34 × 34), h, and with
+/// culling the corner's three dot products with the axes and a vectoring CORDIC.
+fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
+    for _ in 0..banks {
+        p.mul(6, 34, 34);
+        p.mul(3, 32, 34);
+    }
+    p.add(banks * 6, 68);
+    p.reg(banks * 1024);
+    if params.sectors > 0 {
+        for _ in 0..banks {
+            p.mul(9, 34, 32);
+        }
+        p.cordic(CordicConfig::DEFAULT, banks);
+        p.add(banks * 8, 32);
+        p.cordic(CordicConfig::DEFAULT, params.rays_per_clock as u64);
+    }
+}
+
+/// The front end: rotators (three pipes each), reciprocal units (three radix-2 dividers of 33
+/// stages on 64 bits).
+fn front_end(p: &mut Proxy, params: &Params, cfg: CordicConfig) {
+    let g = params.rays_per_clock as u64;
+    p.cordic(cfg, 3 * g);
+    p.add(g * 3 * 33, 64);
+    p.reg(g * 3 * 33 * 128);
+}
+
+/// The descriptor FIFOs, the ray table, ray queue, result FIFO and ray FIFO.
+fn queues(p: &mut Proxy, lanes: u64) {
+    let slots_in_flight = crate::intersect::RAY_SLOTS as u64;
+    for _ in 0..lanes {
+        p.mem(slots_in_flight, 8 + 6);
+    }
+    p.mem(slots_in_flight, 3 * 32 + 3 * 32 + 32);
+    p.mem(slots_in_flight, 3 * 32 + 3 * 32 + 3 * 32);
+    p.mem(slots_in_flight, 4 * 32);
+    p.mem(crate::device::RAY_FIFO_DEPTH as u64, 3 * 32 + 3 * 32 + 40);
+}
+
+/// The wide datapath: every lane with the exact edge products.
+fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     let mut p = Proxy::default();
     let (g, l) = (params.rays_per_clock as u64, params.lanes as u64);
     let slots = params.capacity() as u64;
@@ -202,22 +350,34 @@ pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 }
 
 /// The units every build has: the angle unit (a vectoring and a rotation CORDIC), the (u,v)
-/// pipe of `uv_depth` unrolled levels (two 2D side tests of 34 × 34 products each, midpoints) and
-/// the Bezier subdivision engine (the de Casteljau network on 26-bit control points, four child
-/// boxes and slab tests per step, the leaf's products and three dividers, the node stack and
-/// control-point memory).
-pub fn fixed_units(cfg: CordicConfig, uv_depth: u32) -> Proxy {
+/// unit and the Bezier subdivision engine (the de Casteljau network on 26-bit control points,
+/// child boxes and slab tests, the leaf's products and three dividers, the node stack and
+/// control-point memory). The wide datapath (`compact` false) unrolls the (u,v) pipe into
+/// `uv_depth` levels (two 2D side tests of 34 × 34 products each, midpoints) and slab-tests a
+/// step's four children at once; the compact one has [`UV_UNITS`] iterative (u,v) units (one
+/// level a clock) and one slab tester taking a child a clock.
+pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     let mut p = Proxy::default();
     p.cordic(cfg, 2);
     let d = uv_depth as u64;
-    p.mul(4 * uv_depth, 34, 34);
-    p.add(d * 12, 34);
-    p.reg(d * (4 * 2 * 34 + 2 * 34 + 48));
+    let (levels, children) = if compact {
+        (UV_UNITS as u64, 1)
+    } else {
+        (d, 4)
+    };
+    p.mul(4 * levels as u32, 34, 34);
+    p.add(levels * 12, 34);
+    p.reg(levels * (4 * 2 * 34 + 2 * 34 + 48));
+    if compact {
+        // each unit's level counter and cell registers
+        p.add(levels, 5);
+        p.reg(levels * 8);
+    }
     // Bezier engine
     p.add(3 * 66, 26);
-    p.add(4 * 3 * 2 * 15, 26);
-    p.mul(24, 26, 64);
-    p.add(24, 64);
+    p.add(children * 3 * 2 * 15, 26);
+    p.mul(children as u32 * 6, 26, 64);
+    p.add(children * 6, 64);
     p.mul(18, 34, 34);
     p.add(3 * 32, 64);
     p.reg(3 * 32 * 128 + 2 * 1300);
@@ -230,6 +390,6 @@ pub fn fixed_units(cfg: CordicConfig, uv_depth: u32) -> Proxy {
 /// tiles), then the fixed units with the tiles left. Returns (ray datapath, fixed units).
 pub fn on_ecp5(params: &Params, cfg: CordicConfig, uv_depth: u32) -> (Fpga, Fpga) {
     let ray = ray_datapath(params, cfg).ecp5(ECP5_85K.dsps);
-    let fixed = fixed_units(cfg, uv_depth).ecp5(ECP5_85K.dsps - ray.dsps);
+    let fixed = fixed_units(cfg, uv_depth, params.compact).ecp5(ECP5_85K.dsps - ray.dsps);
     (ray, fixed)
 }

@@ -407,31 +407,93 @@ impl<B: RegisterAccess> Driver<B> {
         dir: impl FnMut(usize) -> [u32; 3],
         sink: impl FnMut(usize, [u32; 4]),
     ) -> Result<(), DriverError> {
+        self.pump(n, n, dir, sink).map(|_| ())
+    }
+
+    /// Pushes `n` rays as [`Driver::stream`] does, handing `sink` every result that is ready
+    /// meanwhile (results of rays pushed before, first), and returns once the last ray is in,
+    /// with how many results it handed on. What lets the next origin's rays follow without the
+    /// pipeline draining: the registers latched with each entry (MODE, ORIGIN, SKIP_PATCH, the
+    /// frame) may be rewritten while earlier entries are in flight.
+    pub fn feed(
+        &mut self,
+        n: usize,
+        dir: impl FnMut(usize) -> [u32; 3],
+        sink: impl FnMut(usize, [u32; 4]),
+    ) -> Result<usize, DriverError> {
+        self.pump(n, 0, dir, sink)
+    }
+
+    /// Hands `sink` the next `n` results, waiting for them (after [`Driver::feed`]).
+    pub fn collect(
+        &mut self,
+        n: usize,
+        sink: impl FnMut(usize, [u32; 4]),
+    ) -> Result<(), DriverError> {
+        self.pump(0, n, |_| [0; 3], sink).map(|_| ())
+    }
+
+    /// Hands `sink` ready results until the ray FIFO has room for an entry: what a frame
+    /// command ([`Driver::frame_from_pairs`]) needs after [`Driver::feed`], since the FIFO drops
+    /// an entry written into it when full (RAY_OVERFLOW). Returns the results handed on.
+    pub fn make_room(
+        &mut self,
+        mut sink: impl FnMut(usize, [u32; 4]),
+    ) -> Result<usize, DriverError> {
+        let mut popped = 0;
+        for _ in 0..STALL_LIMIT {
+            let s = self.bus.read(regs::STATUS);
+            if s & status::RAY_FULL == 0 {
+                return Ok(popped);
+            }
+            let ready = ((s >> status::RESULT_LEVEL_SHIFT) & 0xFF) as usize;
+            for _ in 0..ready {
+                let r = self.pop_result();
+                if r[0] & result::ERROR != 0 {
+                    return Err(DriverError::Device(self.take_errors()));
+                }
+                sink(popped, r);
+                popped += 1;
+            }
+        }
+        Err(DriverError::Timeout(self.bus.read(regs::STATUS)))
+    }
+
+    /// Pushes `n_push` rays and pops at least `min_pop` results (every ready one along the
+    /// way), through the stream port when there is one; returns the results popped.
+    fn pump(
+        &mut self,
+        n_push: usize,
+        min_pop: usize,
+        dir: impl FnMut(usize) -> [u32; 3],
+        sink: impl FnMut(usize, [u32; 4]),
+    ) -> Result<usize, DriverError> {
         let has_port = self.stream_port;
         match self.bus.stream_port() {
-            Some(port) if has_port => match stream_through(port, n, dir, sink) {
-                Ok(()) => Ok(()),
+            Some(port) if has_port => match stream_through(port, n_push, min_pop, dir, sink) {
+                Ok(popped) => Ok(popped),
                 Err(StreamFault::Result) => Err(DriverError::Device(self.take_errors())),
                 Err(StreamFault::Stall) => Err(DriverError::Timeout(self.bus.read(regs::STATUS))),
             },
-            _ => self.stream_registers(n, dir, sink),
+            _ => self.stream_registers(n_push, min_pop, dir, sink),
         }
     }
 
-    /// [`Driver::stream`] through RAY_IN and RESULT_OUT.
+    /// [`Driver::pump`] through RAY_IN and RESULT_OUT.
     fn stream_registers(
         &mut self,
-        n: usize,
+        n_push: usize,
+        min_pop: usize,
         mut dir: impl FnMut(usize) -> [u32; 3],
         mut sink: impl FnMut(usize, [u32; 4]),
-    ) -> Result<(), DriverError> {
+    ) -> Result<usize, DriverError> {
         let (mut pushed, mut popped, mut stalls) = (0usize, 0usize, 0u32);
-        while popped < n {
+        while pushed < n_push || popped < min_pop {
             let s = self.bus.read(regs::STATUS);
             let ray_level = (s >> status::RAY_LEVEL_SHIFT) & 0xFF;
             let ready = ((s >> status::RESULT_LEVEL_SHIFT) & 0xFF) as usize;
             let room = (self.ray_depth - ray_level) as usize;
-            let k = room.min(n - pushed);
+            let k = room.min(n_push - pushed);
             for _ in 0..k {
                 self.push_ray(dir(pushed));
                 pushed += 1;
@@ -453,7 +515,7 @@ impl<B: RegisterAccess> Driver<B> {
                 stalls = 0;
             }
         }
-        Ok(())
+        Ok(popped)
     }
 
     /// Clocks since reset (CYCLE_LO latches CYCLE_HI).
@@ -477,23 +539,25 @@ enum StreamFault {
     Stall,
 }
 
-/// Streams `n` rays through the port: the descriptor writes, then per clock up to its width of
-/// entries in and of results out.
+/// Pushes `n_push` rays through the port and pops at least `min_pop` results (every ready one
+/// along the way): the descriptor writes, then per clock up to its width of entries in and of
+/// results out. Returns the results popped.
 fn stream_through(
     port: &mut dyn StreamPort,
-    n: usize,
+    n_push: usize,
+    min_pop: usize,
     mut dir: impl FnMut(usize) -> [u32; 3],
     mut sink: impl FnMut(usize, [u32; 4]),
-) -> Result<(), StreamFault> {
+) -> Result<usize, StreamFault> {
     for _ in 0..STREAM_DESCRIPTOR_WRITES {
         port.clock();
     }
     let width = port.rays_per_clock();
     let (mut pushed, mut popped, mut stalls) = (0usize, 0usize, 0u32);
-    while popped < n {
+    while pushed < n_push || popped < min_pop {
         let before = (pushed, popped);
         for _ in 0..width {
-            if pushed == n || !port.can_push() {
+            if pushed == n_push || !port.can_push() {
                 break;
             }
             port.push(dir(pushed));
@@ -519,5 +583,5 @@ fn stream_through(
             stalls = 0;
         }
     }
-    Ok(())
+    Ok(popped)
 }

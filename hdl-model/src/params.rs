@@ -2,15 +2,23 @@
 //! CONFIG, which software changes at run time), reported by the CAPS and CAPS_LANES registers.
 //!
 //! - `lanes`: planar intersection lanes. Patch memory and the per-origin set-up are banked by
-//!   patch index modulo `lanes`, one bank per lane, each with its own set-up unit, edge unit and
-//!   divider, so a ray's candidates in different banks are tested in the same clock.
+//!   patch index modulo the banks (`lanes / ray_groups`), each bank with its own set-up unit and
+//!   each lane with its own edge unit and divider, so a ray's candidates in different banks are
+//!   tested in the same clock.
 //! - `sectors`: the azimuth sectors of the hemisphere culling unit (0 turns culling off). Per
 //!   origin and frame, every planar patch gets the range of sectors in which its pyramid can be
 //!   met; a hemisphere ray in sector s is only handed the patches of that sector.
-//! - `bank_slots`: patch slots per bank, so the on-chip patch memory holds `lanes × bank_slots`
+//! - `bank_slots`: patch slots per bank, so the on-chip patch memory holds `banks × bank_slots`
 //!   patches (a model without an allocator holds at most 256 whatever the build says).
 //! - `rays_per_clock`: the width of the front end (ray FIFO, rotators, ray queue, result FIFO
 //!   and the stream port): how many rays enter and leave per clock.
+//! - `ray_groups`: lanes in groups of banks, each group taking every `ray_groups`-th ray over
+//!   its own copy of the local memory (patch memory has `lanes / ray_groups` banks).
+//! - `compact`: the datapath sized for an ECP5-85k (docs/PERFORMANCE.md, "Area proxy against
+//!   lanes"): local memory and candidate lists double-buffered, so the next origin's set-up pass
+//!   runs while the lanes still scan the last one's rays. Without it (the wide datapath, whose
+//!   one-lane build `hdl-model/rtl/plane_unit.v` mirrors) a set-up pass waits for every lane to
+//!   be idle.
 
 /// Most lanes a configuration may have.
 pub const MAX_LANES: u32 = 16;
@@ -30,20 +38,32 @@ pub struct Params {
     pub sectors: u32,
     /// Rays entering and leaving per clock (1..=4).
     pub rays_per_clock: u32,
-    /// Patch slots per bank (lanes × bank_slots ≤ 32768).
+    /// Patch slots per bank (banks × bank_slots ≤ 32768).
     pub bank_slots: u32,
+    /// The compact datapath (CAPS_LANES bit 25): double-buffered set-up, coarse edge tests
+    /// with a shared exact unit.
+    pub compact: bool,
+    /// Ray groups (1..=lanes, dividing it; CAPS_LANES bits 31:28 hold groups − 1): the lanes
+    /// form this many groups of `lanes / ray_groups` banks, each group holding a copy of the
+    /// local memory and taking every `ray_groups`-th ray, so a patch every ray tests costs a
+    /// lane 1 / `ray_groups` clocks a ray instead of one.
+    pub ray_groups: u32,
 }
 
 impl Params {
-    /// The default build: 8 lanes of 256 slots, 32 sectors (and the culling unit's 16 polar
-    /// bands), 2 rays per clock: the fewest lanes that cast the 1,216-patch Cornell box at
-    /// under 4 cycles a ray (docs/PERFORMANCE.md). Its area proxy does not fit an ECP5-85k
-    /// (`area`; nor does any build's, because of the fixed units).
+    /// The default build: 10 lanes in 2 ray groups of 5 banks of 512 slots (2,560 patches), 32
+    /// sectors (and the culling unit's 16 polar bands), 2 rays per clock, the compact datapath:
+    /// the fewest lanes that cast the Cornell box at under 1 cycle a ray and its 1,216-patch
+    /// subdivision at under 4 (docs/PERFORMANCE.md; with a set-up unit a bank taking a corner a
+    /// clock, 8 lanes in 4 banks need 4.1 on the latter). Its area proxy does not fit an
+    /// ECP5-85k (`area`; nor does any build's).
     pub const DEFAULT: Params = Params {
-        lanes: 8,
+        lanes: 10,
         sectors: 32,
         rays_per_clock: 2,
-        bank_slots: 256,
+        bank_slots: 512,
+        compact: true,
+        ray_groups: 2,
     };
 
     /// The accelerator before this datapath: one lane of 256 slots, no culling, one ray per
@@ -53,11 +73,18 @@ impl Params {
         sectors: 0,
         rays_per_clock: 1,
         bank_slots: 256,
+        compact: false,
+        ray_groups: 1,
     };
+
+    /// Banks of patch memory (and lanes in a group).
+    pub fn banks(&self) -> u32 {
+        self.lanes / self.ray_groups.max(1)
+    }
 
     /// Patch slots on chip.
     pub fn capacity(&self) -> u32 {
-        self.lanes * self.bank_slots
+        self.banks() * self.bank_slots
     }
 
     /// Whether the hardware can be built this way.
@@ -66,14 +93,22 @@ impl Params {
             && (self.sectors == 0
                 || (self.sectors.is_power_of_two() && (8..=MAX_SECTORS).contains(&self.sectors)))
             && (1..=MAX_RAYS_PER_CLOCK).contains(&self.rays_per_clock)
+            && (1..=self.lanes).contains(&self.ray_groups)
+            && self.lanes.is_multiple_of(self.ray_groups)
+            && self.ray_groups <= 16
             && self.bank_slots >= 1
-            && self.bank_slots <= MAX_CAPACITY / self.lanes.max(1)
+            && self.bank_slots <= MAX_CAPACITY / self.banks().max(1)
     }
 
     /// The CAPS_LANES word: lanes 7:0, rays per clock 15:8, sectors 23:16, bit 24 the stream
-    /// port.
+    /// port, bit 25 the compact datapath, bits 31:28 ray groups − 1.
     pub fn caps_word(&self) -> u32 {
-        self.lanes | self.rays_per_clock << 8 | self.sectors << 16 | 1 << 24
+        self.lanes
+            | self.rays_per_clock << 8
+            | self.sectors << 16
+            | 1 << 24
+            | (self.compact as u32) << 25
+            | (self.ray_groups.saturating_sub(1) & 0xF) << 28
     }
 
     /// Decodes a CAPS_LANES word with the patch capacity from CAPS (a CAPS_LANES of 0, from a
@@ -86,11 +121,14 @@ impl Params {
             };
         }
         let lanes = (w & 0xFF).max(1);
+        let ray_groups = (w >> 28) + 1;
         Params {
             lanes,
             rays_per_clock: (w >> 8) & 0xFF,
             sectors: (w >> 16) & 0xFF,
-            bank_slots: capacity / lanes,
+            bank_slots: capacity / (lanes / ray_groups).max(1),
+            compact: w & 1 << 25 != 0,
+            ray_groups,
         }
     }
 }

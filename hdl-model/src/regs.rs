@@ -90,11 +90,12 @@ pub const CAPS_LANES: u32 = 0x0B0;
 
 /// ID register value.
 pub const ID_VALUE: u32 = 0x4845_4D49;
-/// VERSION register value: 1.3 (1.1 added the Bezier unit: BZ_CONFIG, SKIP_PATCH, the
+/// VERSION register value: 1.4 (1.1 added the Bezier unit: BZ_CONFIG, SKIP_PATCH, the
 /// control-point memory; 1.2 added MODE.NO_UV and SHORT results; 1.3 added CAPS_LANES, the
-/// lanes, the culling unit and the stream port. A 1.0 driver still works against it: it never
-/// sets the new bit, so it never sees a short result, and it never needs the stream port).
-pub const VERSION_VALUE: u32 = 0x0001_0003;
+/// lanes, the culling unit and the stream port; 1.4 added CAPS_LANES' compact-datapath bit and
+/// ray groups. A 1.0 driver still works against it: it never sets the new bit, so it never sees
+/// a short result, and it never needs the stream port).
+pub const VERSION_VALUE: u32 = 0x0001_0004;
 
 /// CTRL bits.
 pub mod ctrl {

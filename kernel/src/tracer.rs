@@ -10,7 +10,7 @@
 //! a ray that leaves the scene adds nothing, so a row sums to the fraction of the hemisphere
 //! that sees diffuse sides, directly or in mirrors.
 
-use crate::accel::{Accelerator, Hit};
+use crate::accel::{Accelerator, HemiShot, Hit};
 use crate::form_row::FormRow;
 use crate::geometry::Vec3;
 use crate::hemisphere::Hemisphere;
@@ -112,6 +112,36 @@ pub fn shoot_hemisphere<A: Accelerator, R: FormRow + ?Sized>(
             row.add(c as usize, w);
         }
     })
+}
+
+/// The form-factor rows of diffuse-only scenes, a batch of hemispheres at a time
+/// ([`Accelerator::cast_hemispheres`], so a pipelined engine need not drain between them):
+/// what [`shoot_hemisphere`] adds to each shot's row, `sink(s, column, weight)` for shot `s`
+/// in the order it would, and each shot's stats in `stats[s]`. Optics with a mirror need the
+/// walker shot by shot ([`shoot`]): this is for `!optics.has_specular()` only.
+pub fn shoot_diffuse_batch<A: Accelerator, S: FnMut(usize, usize, [f32; 3])>(
+    accel: &mut A,
+    hemi: &Hemisphere<'_>,
+    optics: &Optics<'_>,
+    shots: &[HemiShot],
+    stats: &mut [ShotStats],
+    mut sink: S,
+) {
+    debug_assert!(!optics.has_specular());
+    let rings = hemi.rings();
+    accel.cast_hemispheres(shots, hemi, 0..rings.len(), false, |s, j, _k, hit| {
+        let st = &mut stats[s];
+        st.rays += 1;
+        match hit {
+            Some(h) if h.front => st.front_hits += 1,
+            Some(_) => st.back_hits += 1,
+            None => {}
+        }
+        let column = hit.and_then(|h| optics.surface(h.patch).column_for(h.front));
+        if let Some(c) = column {
+            sink(s, c as usize, [rings[j].delta_ff; 3]);
+        }
+    });
 }
 
 /// Where and how a hemisphere is placed.

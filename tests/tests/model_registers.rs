@@ -7,6 +7,7 @@ use hemi_hdl_model::format::Unit;
 use hemi_hdl_model::intersect::bezier::{BEZIER_ROWS, CP_WORDS, LEAF_CLOCKS, STACK_ENTRIES};
 use hemi_hdl_model::intersect::patch_mem::{BezierSlot, CP_BASE};
 use hemi_hdl_model::regs::{self, ctrl, error, irq, mode, result, status};
+use hemi_hdl_model::Params;
 
 fn w(x: f32) -> u32 {
     Unit::from_num(x).to_bits() as u32
@@ -459,16 +460,43 @@ fn clocks_to_result(d: &mut Driver<ModelBus>, m: u32, dir: [f32; 3]) -> u32 {
     clocks
 }
 
-#[test]
-fn no_uv_entries_give_two_word_results_with_the_same_hit_on_the_same_clock() {
-    let mut d = Driver::new(ModelBus::new()).unwrap();
+/// A driver on a model of `params` with the unit square loaded and an origin above (0.25, 0.75)
+/// whose set-up pass is paid (by a first ray, whose result is left in the FIFO).
+fn above_the_square(params: Params) -> Driver<ModelBus> {
+    let mut d = Driver::new(ModelBus::with_params(params)).unwrap();
     d.bus_mut().write(regs::CTRL, ctrl::ENABLE);
     d.load_patches([square_slot()]).unwrap();
     let c = |x: f32| hemi_hdl_model::format::Coord::from_num(x).to_bits() as u32;
     d.set_origin([c(0.25), c(0.75), c(1.0)]);
+    clocks_to_result(&mut d, mode::TRACE, [0.0, 0.0, -1.0]);
+    d
+}
+
+/// On the wide datapath a NO_UV entry still takes its place in the unrolled (u,v) pipe: its
+/// result leaves on the clock a full one would.
+#[test]
+fn on_the_wide_datapath_no_uv_results_leave_on_the_same_clock() {
+    let wide = Params {
+        compact: false,
+        ray_groups: 1,
+        ..Params::DEFAULT
+    };
+    let mut d = above_the_square(wide);
     let down = [0.0, 0.0, -1.0];
-    // the set-up pass for the new origin is paid by the first ray: warm it up
-    clocks_to_result(&mut d, mode::TRACE, down);
+    let _: [u32; 4] = core::array::from_fn(|_| d.bus_mut().read(regs::RESULT_OUT));
+    let full = clocks_to_result(&mut d, mode::TRACE, down);
+    let _: [u32; 4] = core::array::from_fn(|_| d.bus_mut().read(regs::RESULT_OUT));
+    let short = clocks_to_result(&mut d, mode::TRACE | mode::NO_UV, down);
+    assert_eq!(
+        short, full,
+        "gating the (u,v) stages must not move the result"
+    );
+}
+
+#[test]
+fn no_uv_entries_give_two_word_results_with_the_same_hit_without_the_uv_unit() {
+    let mut d = above_the_square(Params::DEFAULT);
+    let down = [0.0, 0.0, -1.0];
     let full_r: [u32; 4] = core::array::from_fn(|_| d.bus_mut().read(regs::RESULT_OUT));
     let full = clocks_to_result(&mut d, mode::TRACE, down);
     let long: [u32; 4] = core::array::from_fn(|_| d.bus_mut().read(regs::RESULT_OUT));
@@ -482,12 +510,10 @@ fn no_uv_entries_give_two_word_results_with_the_same_hit_on_the_same_clock() {
         "({u}, {v})"
     );
 
-    // MODE.NO_UV: the same hit and t in two words, on the same clock
+    // MODE.NO_UV: the same hit and t in two words; on the compact datapath the ray does not
+    // wait for an iterative (u,v) unit's DEPTH = 16 levels
     let short = clocks_to_result(&mut d, mode::TRACE | mode::NO_UV, down);
-    assert_eq!(
-        short, full,
-        "gating the (u,v) stages must not move the result"
-    );
+    assert_eq!(short + 16, full, "a NO_UV hit skips the (u,v) unit");
     let b = d.bus_mut();
     assert_eq!(b.read(regs::MODE), mode::TRACE | mode::NO_UV);
     let r = [b.read(regs::RESULT_OUT), b.read(regs::RESULT_OUT)];

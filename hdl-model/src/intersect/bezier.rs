@@ -541,6 +541,9 @@ pub struct BezierEngine {
     best_t: Coord64,
     overflow: bool,
     stats: BezierStats,
+    /// clocks a step adds for its child boxes' slab tests beyond the first: 0 with four slab
+    /// testers, 3 with one tester taking a child a clock (the compact datapath)
+    serial_slabs: u32,
 }
 
 impl BezierEngine {
@@ -559,7 +562,15 @@ impl BezierEngine {
             best_t: Coord64::ZERO,
             overflow: false,
             stats: BezierStats::default(),
+            serial_slabs: 0,
         }
+    }
+
+    /// The engine with one slab tester for the four children of a step, a child a clock (three
+    /// clocks more a step), instead of four: the compact datapath's engine.
+    pub fn with_serial_slabs(mut self) -> Self {
+        self.serial_slabs = 3;
+        self
     }
 
     /// The configuration.
@@ -709,7 +720,7 @@ impl BezierEngine {
             self.work = Some(child(h));
             self.state = State::Eval;
         }
-        self.wait = STEP_CLOCKS - 1 + pushes;
+        self.wait = STEP_CLOCKS - 1 + pushes + self.serial_slabs;
     }
 }
 

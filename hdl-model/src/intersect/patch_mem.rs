@@ -32,7 +32,7 @@ use crate::table::Table;
 pub const PATCH_WORDS: usize = 16;
 /// Patch slots the model holds without an allocator (the model lives on the stack of the
 /// firmware, so its memories are kept small there); with the `alloc` feature a build holds
-/// `lanes × bank_slots` ([`crate::params::Params::capacity`]).
+/// `banks × bank_slots` ([`crate::params::Params::capacity`]).
 pub const PATCH_CAPACITY: usize = 256;
 /// Unused slot (never hit).
 pub const KIND_EMPTY: u32 = 0;

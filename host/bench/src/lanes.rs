@@ -8,7 +8,7 @@ use hemi::scene::{Scene, Sides};
 use hemi_hdl_model::area;
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::{ModelAccelerator, ModelConfig, Params};
-use hemi_kernel::accel::Accelerator;
+use hemi_kernel::accel::{Accelerator, HemiShot};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
 use hemi_kernel::patch::Shape;
@@ -104,20 +104,21 @@ fn run(scene: &Scene, params: Params, circles: u32, samples: u32) -> Result<Run>
     );
     let (c0, t0) = (model.cycles(), Instant::now());
     let mut q = 0u32;
+    // a row's hemispheres in one batch, as a shoot job casts them: the pipeline drains once a
+    // row, not once a hemisphere
     for i in 0..patches.len() {
-        for p in hemi::shots::sample_points(scene, i, samples) {
-            let rot = Rotation::onto_spun(p.normal, spin_for_sample(q));
-            q += 1;
-            model.set_origin_patch(Some(i as u32));
-            model.cast_rings(
-                p.position,
-                &rot,
-                &view,
-                0..view.rings().len(),
-                false,
-                |_, _, _| {},
-            );
-        }
+        let shots: Vec<HemiShot> = hemi::shots::sample_points(scene, i, samples)
+            .into_iter()
+            .map(|p| {
+                q += 1;
+                HemiShot {
+                    origin: p.position,
+                    rot: Rotation::onto_spun(p.normal, spin_for_sample(q - 1)),
+                    origin_patch: Some(i as u32),
+                }
+            })
+            .collect();
+        model.cast_hemispheres(&shots, &view, 0..view.rings().len(), false, |_, _, _, _| {});
     }
     let st = model.lane_stats();
     Ok(Run {
@@ -130,15 +131,19 @@ fn run(scene: &Scene, params: Params, circles: u32, samples: u32) -> Result<Run>
     })
 }
 
-/// A build of `lanes` lanes whose banks hold `patches`.
+/// A build of `lanes` lanes whose banks hold `patches`: the default's datapath and ray groups
+/// (fewer when there are fewer lanes).
 fn build(lanes: u32, sectors: u32, rays_per_clock: u32, patches: usize) -> Params {
+    let ray_groups = Params::DEFAULT.ray_groups.min(lanes);
     Params {
         lanes,
         sectors,
         rays_per_clock,
         bank_slots: (patches as u32)
-            .div_ceil(lanes)
+            .div_ceil(lanes / ray_groups)
             .max(Params::DEFAULT.bank_slots),
+        compact: Params::DEFAULT.compact,
+        ray_groups,
     }
 }
 
@@ -190,6 +195,7 @@ pub fn bench(
         });
     }
     area_table(lanes, out)?;
+    default_parts(out)?;
     if let Some(dir) = svg_dir {
         let svg = log_log(
             "Modelled accelerator: cycles per ray against lanes",
@@ -200,6 +206,33 @@ pub fn bench(
         );
         std::fs::write(dir.join("lanes-cycles.svg"), svg)?;
     }
+    Ok(())
+}
+
+/// The default build's area proxy unit by unit, on an ECP5-85k: what does not fit, named.
+fn default_parts(out: &mut impl Write) -> Result<()> {
+    let p = Params::DEFAULT;
+    writeln!(out, "\nThe default build unit by unit ({p:?})\n")?;
+    writeln!(out, "| unit | LUT4 | FF | DSP | EBR |")?;
+    writeln!(out, "|---|---|---|---|---|")?;
+    let mut dsps = area::ECP5_85K.dsps;
+    let mut row = |name: &str, f: area::Fpga| {
+        writeln!(
+            out,
+            "| {name} | {} | {} | {} | {} |",
+            f.luts, f.ffs, f.dsps, f.brams
+        )
+    };
+    for (name, part) in area::compact_parts(&p, CordicConfig::DEFAULT) {
+        let f = part.ecp5(dsps);
+        dsps -= f.dsps;
+        row(name, f)?;
+    }
+    let fixed = area::fixed_units(CordicConfig::DEFAULT, 16, p.compact).ecp5(dsps);
+    row(
+        "fixed units (angle unit, (u,v) units, Bezier engine)",
+        fixed,
+    )?;
     Ok(())
 }
 
@@ -219,6 +252,8 @@ fn area_table(lanes: &[u32], out: &mut impl Write) -> Result<()> {
                 sectors,
                 rays_per_clock: 2,
                 bank_slots: 512,
+                compact: Params::DEFAULT.compact,
+                ray_groups: Params::DEFAULT.ray_groups.min(l),
             };
             let proxy = area::ray_datapath(&p, CordicConfig::DEFAULT);
             let (ray, fixed) = area::on_ecp5(&p, CordicConfig::DEFAULT, 16);

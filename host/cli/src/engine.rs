@@ -124,6 +124,8 @@ impl ModelArgs {
             sectors: self.sectors,
             rays_per_clock: self.rays_per_clock,
             bank_slots: self.bank_slots,
+            compact: !self.wide_datapath,
+            ray_groups: self.ray_groups,
         };
         anyhow::ensure!(
             params.is_valid(),

@@ -186,6 +186,14 @@ pub struct ModelArgs {
     /// slots ≤ 32768).
     #[arg(long, default_value_t = Params::DEFAULT.bank_slots)]
     pub bank_slots: u32,
+    /// The wide datapath instead of the compact one sized for an ECP5-85k (`--backend model`;
+    /// docs/PERFORMANCE.md): set-up passes wait for idle lanes.
+    #[arg(long)]
+    pub wide_datapath: bool,
+    /// Ray groups the lanes form (`--backend model`; dividing --lanes): each group holds all
+    /// the patches and takes every n-th ray.
+    #[arg(long, default_value_t = Params::DEFAULT.ray_groups)]
+    pub ray_groups: u32,
 }
 
 impl ModelArgs {

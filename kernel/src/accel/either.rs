@@ -4,7 +4,7 @@
 //! not fit. The engine is chosen per job; the dispatch costs a branch per call into the engine,
 //! and its calls are per ring or per bundle, not per ray.
 
-use super::{Accelerator, Hit, Ray};
+use super::{Accelerator, HemiShot, Hit, Ray};
 use crate::geometry::Vec3;
 use crate::hemisphere::Hemisphere;
 use crate::rotation::Rotation;
@@ -61,6 +61,19 @@ impl<A: Accelerator, B: Accelerator> Accelerator for Either<'_, A, B> {
         match self {
             Either::Left(a) => a.cast_rings(origin, rot, hemi, rings, want_uv, sink),
             Either::Right(b) => b.cast_rings(origin, rot, hemi, rings, want_uv, sink),
+        }
+    }
+    fn cast_hemispheres<F: FnMut(usize, usize, u32, Option<Hit>)>(
+        &mut self,
+        shots: &[HemiShot],
+        hemi: &Hemisphere<'_>,
+        rings: Range<usize>,
+        want_uv: bool,
+        sink: F,
+    ) {
+        match self {
+            Either::Left(a) => a.cast_hemispheres(shots, hemi, rings, want_uv, sink),
+            Either::Right(b) => b.cast_hemispheres(shots, hemi, rings, want_uv, sink),
         }
     }
 }

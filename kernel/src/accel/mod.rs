@@ -39,6 +39,18 @@ pub struct Hit {
     pub front: bool,
 }
 
+/// One hemisphere of a batch ([`Accelerator::cast_hemispheres`]): where it stands, how it is
+/// turned, and the patch it stands on (left out, as [`Accelerator::set_origin_patch`] names it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HemiShot {
+    /// The sample point.
+    pub origin: Vec3,
+    /// The frame the reference hemisphere is turned onto.
+    pub rot: Rotation,
+    /// The patch the point lies on, if any.
+    pub origin_patch: Option<u32>,
+}
+
 /// A ray engine. Methods take `&mut self` because hardware ones have state (FIFOs, counters).
 pub trait Accelerator {
     /// Rot_{θ,φ}(d): one direction of the reference hemisphere onto the frame `rot`.
@@ -92,5 +104,36 @@ pub trait Accelerator {
                 sink(j, k, self.nearest_hit(&Ray { origin, dir }, f32::INFINITY));
             }
         }
+    }
+
+    /// Casts rings `rings` of `hemi` for every shot of `shots` and reports each ray's nearest hit
+    /// as `sink(shot, ring, k, hit)`, each shot's rays in ring order (an engine may report a
+    /// shot it cannot cast, such as one out of its range, before earlier ones); leaves no origin
+    /// patch named.
+    ///
+    /// The provided method casts the shots one by one with [`Accelerator::cast_rings`]. A
+    /// pipelined engine overrides it so that the next hemisphere's rays enter while the last
+    /// ones of the previous are still in flight: one `cast_rings` per hemisphere would drain
+    /// the pipeline every time, because it returns only with the last result.
+    fn cast_hemispheres<F: FnMut(usize, usize, u32, Option<Hit>)>(
+        &mut self,
+        shots: &[HemiShot],
+        hemi: &Hemisphere<'_>,
+        rings: Range<usize>,
+        want_uv: bool,
+        mut sink: F,
+    ) {
+        for (s, shot) in shots.iter().enumerate() {
+            self.set_origin_patch(shot.origin_patch);
+            self.cast_rings(
+                shot.origin,
+                &shot.rot,
+                hemi,
+                rings.clone(),
+                want_uv,
+                |j, k, h| sink(s, j, k, h),
+            );
+        }
+        self.set_origin_patch(None);
     }
 }

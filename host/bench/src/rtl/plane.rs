@@ -284,6 +284,8 @@ fn unit(depth: u32) -> IntersectUnit<u32> {
         sectors: 0,
         rays_per_clock: 1,
         bank_slots: SLOTS as u32,
+        compact: false,
+        ray_groups: 1,
     };
     IntersectUnit::new(params, depth, SubdivConfig::DEFAULT, 32)
 }

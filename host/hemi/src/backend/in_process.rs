@@ -4,25 +4,30 @@
 use super::TouchedRow;
 use super::{Backend, Gathered, Progress, Query, RowSink, Seen};
 use crate::grid::Grid;
-use crate::method::Shooter;
+use crate::method::{Method, Shooter};
 use crate::optics::{pending_for, SceneOptics, Scratch};
 use crate::scene::Scene;
 use crate::settings::Pass1Settings;
 use crate::shots::{ElementRow, Shot};
 use crate::transport::{Accumulator, Layout, TransportRow};
 use anyhow::Result;
-use hemi_kernel::accel::{Accelerator, Hit, Ray};
+use hemi_kernel::accel::{Accelerator, HemiShot, Hit, Ray};
+use hemi_kernel::form_row::FormRow;
 use hemi_kernel::camera::Camera;
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::OwnedHemisphere;
 use hemi_kernel::optics::Optics;
 use hemi_kernel::patch::Patch;
 use hemi_kernel::pixels::trace_pixels;
-use hemi_kernel::rotation::spin_for_sample;
+use hemi_kernel::rotation::{spin_for_sample, Rotation};
 use hemi_kernel::specular::SpecularStats;
 use hemi_kernel::tracer::{self, ShotStats};
 use rayon::prelude::*;
 use std::ops::Range;
+
+/// Shots a worker casts in one batch (diffuse-only hemisphere shots): enough for a pipelined
+/// engine to drain seldom, few enough to keep the workers balanced.
+const SHOT_BATCH: usize = 8;
 
 /// A kind of in-process engine: how to make one per worker thread over the kernel's patches.
 pub trait Engines: Sync {
@@ -30,6 +35,11 @@ pub trait Engines: Sync {
     type Engine<'p>: Accelerator
     where
         Self: 'p;
+
+    /// Whether hemisphere shots should reach an engine in batches: a pipelined engine (the
+    /// model) drains once a batch instead of once a shot; the soft engine gains nothing, and a
+    /// batch's rows cost O(columns) each to set up, which on 10⁵ patches is the pass.
+    const BATCHES: bool = false;
 
     /// Whether engines can be made over `patches` (a clear error if not: the model's memories
     /// are bounded).
@@ -100,12 +110,48 @@ impl<'s, E: Engines> InProcess<'s, E> {
             row,
         )?;
         let sparse = row.take(|c| self.optics.columns[c] as u32);
-        let element = ElementRow {
+        Ok((self.element(shot, sparse), stats))
+    }
+
+    /// A shot's element row from its non-zero columns (scene indices).
+    fn element(&self, shot: &Shot, sparse: Vec<(u32, [f32; 3])>) -> ElementRow {
+        ElementRow {
             patch: shot.patch,
             point: shot.point,
             row: sparse,
-        };
-        Ok((element, stats))
+        }
+    }
+
+    /// Hemisphere shots of a diffuse-only scene in one batch (`tracer::shoot_diffuse_batch`):
+    /// the rows and stats `shoot_one` gives each, bit for bit, with a pipelined engine (the
+    /// model) draining once a batch instead of once a shot.
+    fn shoot_batch(
+        &self,
+        engine: &mut E::Engine<'_>,
+        optics: &Optics<'_>,
+        chunk: &[Shot],
+    ) -> Vec<(ElementRow, ShotStats)> {
+        let at: Vec<HemiShot> = chunk
+            .iter()
+            .map(|shot| HemiShot {
+                origin: shot.point.position,
+                rot: Rotation::onto_spun(shot.point.normal, spin_for_sample(shot.cell.q())),
+                origin_patch: Some(self.scene.kernel_id(shot.patch) as u32),
+            })
+            .collect();
+        let cols = self.optics.columns.len();
+        let mut rows: Vec<TouchedRow> = chunk.iter().map(|_| TouchedRow::new(cols)).collect();
+        let mut stats = vec![ShotStats::default(); chunk.len()];
+        let hemi = self.hemi.view();
+        tracer::shoot_diffuse_batch(engine, &hemi, optics, &at, &mut stats, |s, c, w| {
+            rows[s].add(c, w)
+        });
+        let columns = |c: usize| self.optics.columns[c] as u32;
+        chunk
+            .iter()
+            .zip(rows.iter_mut().zip(stats))
+            .map(|(shot, (row, st))| (self.element(shot, row.take(columns)), st))
+            .collect()
     }
 
     /// What the eye rays of image row `y` saw, in tracer order.
@@ -232,24 +278,32 @@ impl<E: Engines> Backend for InProcess<'_, E> {
         } else {
             0
         };
-        let results: Vec<(ElementRow, ShotStats)> = shots
-            .par_iter()
+        // diffuse-only hemisphere shots go in batches (the rows do not depend on it)
+        let batch =
+            E::BATCHES && self.settings.method == Method::Hemisphere && !optics.has_specular();
+        let results: Vec<Vec<(ElementRow, ShotStats)>> = shots
+            .par_chunks(if batch { SHOT_BATCH } else { 1 })
             .map_init(
                 || {
                     let scratch = Scratch::new(pending, &self.settings.specular);
                     let shooter = Shooter::new(self.settings.method, self.settings.circles);
                     (self.engine(), TouchedRow::new(cols), scratch, shooter)
                 },
-                |state, shot| {
-                    let out = self.shoot_one(state, &optics, shot)?;
-                    done(1);
+                |state, chunk| {
+                    let out = if batch {
+                        self.shoot_batch(&mut state.0, &optics, chunk)
+                    } else {
+                        let one = |s| self.shoot_one(state, &optics, s);
+                        chunk.iter().map(one).collect::<Result<_>>()?
+                    };
+                    done(chunk.len() as u64);
                     Ok(out)
                 },
             )
             .collect::<Result<_>>()?;
         let mut stats = ShotStats::default();
-        let mut elements = Vec::with_capacity(results.len());
-        for (e, s) in results {
+        let mut elements = Vec::with_capacity(shots.len());
+        for (e, s) in results.into_iter().flatten() {
             stats += s;
             elements.push(e);
         }

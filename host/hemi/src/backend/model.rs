@@ -3,7 +3,7 @@
 
 use super::Engines;
 use hemi_hdl_model::{ModelAccelerator, ModelConfig, ModelError};
-use hemi_kernel::accel::{Accelerator, Hit, Ray};
+use hemi_kernel::accel::{Accelerator, HemiShot, Hit, Ray};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::Hemisphere;
 use hemi_kernel::patch::Patch;
@@ -32,6 +32,8 @@ impl Model {
 }
 
 impl Engines for Model {
+    const BATCHES: bool = true;
+
     type Engine<'p> = CountedModel<'p>;
 
     fn check(&self, patches: &[Patch]) -> anyhow::Result<()> {
@@ -114,6 +116,17 @@ impl Accelerator for CountedModel<'_> {
     ) {
         self.inner
             .cast_rings(origin, rot, hemi, rings, want_uv, sink)
+    }
+    fn cast_hemispheres<F: FnMut(usize, usize, u32, Option<Hit>)>(
+        &mut self,
+        shots: &[HemiShot],
+        hemi: &Hemisphere<'_>,
+        rings: Range<usize>,
+        want_uv: bool,
+        sink: F,
+    ) {
+        self.inner
+            .cast_hemispheres(shots, hemi, rings, want_uv, sink)
     }
 }
 
