@@ -598,6 +598,11 @@ fn options_that_would_be_ignored_are_refused_or_warned_about() {
         &["--near 4294967295: at most 4"],
     );
     refused(
+        "image",
+        &["render", "--size", "16384x16384", "--eye", "0.5,0.5,3", "--look-at", "0.5,0.5,0", "--output", "/tmp/hemi-i.png"],
+        &["render: a 16384×16384 picture needs about 6144 MiB (24 bytes a pixel), more than --image-mib 4096"],
+    );
+    refused(
         "view",
         &[
             "render",
