@@ -712,3 +712,23 @@ fn a_patch_repeated_over_another_is_refused_and_a_two_sided_wall_is_not() {
     let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
     assert!(ok, "{err}");
 }
+
+#[test]
+fn a_lobe_without_a_mirror_is_warned_about_and_an_invisible_name_is_refused() {
+    let lobe = TWO_SQUARES.replace(
+        "diffuse = [0.5, 0.5, 0.5]",
+        "diffuse = [0.5, 0.5, 0.5]\nphong = 50",
+    );
+    let p = files("lobe", &[("s.toml", &lobe)]);
+    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("`material.phong`: warning: has no effect"),
+        "{err}"
+    );
+    let hidden = TWO_SQUARES.replace("name = \"p1\"", "name = \"p\u{200B}1\"");
+    let p = files("zero-width", &[("s.toml", &hidden)]);
+    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
+    assert!(!ok);
+    assert!(err.contains("contains '\\u{200b}'"), "{err}");
+}

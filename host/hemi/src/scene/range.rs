@@ -134,7 +134,10 @@ pub fn bad_name(name: &str) -> Option<String> {
     if name.is_empty() {
         return Some("is empty".into());
     }
-    if let Some(c) = name.chars().find(|c| c.is_whitespace() || c.is_control()) {
+    if let Some(c) = name
+        .chars()
+        .find(|c| c.is_whitespace() || c.is_control() || invisible(*c))
+    {
         return Some(format!(
             "`{}` contains {:?}: names may not contain white space or control characters (they \
              are printed in line- and space-separated output)",
@@ -148,6 +151,13 @@ pub fn bad_name(name: &str) -> Option<String> {
         ));
     }
     None
+}
+
+/// Characters that print as nothing but move or join what is around them (zero-width spaces
+/// and joiners, direction marks and overrides, the byte-order mark): a name holding one lines up
+/// wrong and reads like another.
+fn invisible(c: char) -> bool {
+    matches!(c, '\u{200B}'..='\u{200F}' | '\u{202A}'..='\u{202E}' | '\u{2060}'..='\u{2064}' | '\u{FEFF}' | '\u{00AD}')
 }
 
 /// `name` (from an OBJ or MTL file) made a valid scene name: white space, control characters and
