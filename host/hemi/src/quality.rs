@@ -65,6 +65,15 @@ impl Quality {
         }
     }
 
+    /// The name `--quality` takes.
+    pub fn name(self) -> &'static str {
+        match self {
+            Quality::Draft => "draft",
+            Quality::Default => "default",
+            Quality::High => "high",
+        }
+    }
+
     /// The ray budget of pass 1.
     pub fn ray_budget(self) -> f64 {
         match self {
@@ -121,7 +130,9 @@ pub fn choose(quality: Quality, scene: &Scene) -> Preset {
     let mut samples = ((2.0 * A / e).sqrt().ceil() as u32).clamp(1, 256);
     let mut circles = ((2.0 * B / e).sqrt().ceil() as u32).clamp(4, 1024);
     let mut why = format!(
-        "--quality {quality:?}: target {:.1} %: K = {samples}, R = {circles} (e ≈ 0.7/K² + 7/R²)",
+        "--quality {}: target {:.1} %: K = {samples}, R = {circles} in place of any --samples \
+         and --circles (e ≈ 0.7/K² + 7/R²)",
+        quality.name(),
         100.0 * e
     );
     let budget = quality.ray_budget();
