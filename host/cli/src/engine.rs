@@ -68,6 +68,16 @@ impl EngineArgs {
 }
 
 impl Choice {
+    /// A warning when the modelled accelerator's options were given to the soft backend.
+    pub fn warn_unused(&self, model: &ModelArgs) {
+        if matches!(self, Choice::Soft) && model.changed() {
+            eprintln!(
+                "warning: the modelled accelerator's options (--lanes, --cordic-*, --bezier-*, \
+                 --clock-mhz, …) have no effect with --backend soft"
+            );
+        }
+    }
+
     /// Opens the engine (boards connect here, QEMU boots).
     pub fn open(self, model: &ModelArgs, boards: &BoardArgs) -> Result<Engine> {
         Ok(match self {

@@ -153,8 +153,23 @@ pub enum InProcessArg {
     Model,
 }
 
+impl ModelArgs {
+    /// Whether any option of the modelled accelerator differs from its default: on the soft
+    /// backend they would do nothing, which is said rather than passed over.
+    pub fn changed(&self) -> bool {
+        use clap::{CommandFactory as _, FromArgMatches as _, Parser};
+        #[derive(Parser)]
+        struct Defaults {
+            #[command(flatten)]
+            model: ModelArgs,
+        }
+        let matches = Defaults::command().get_matches_from(["hemi"]);
+        Defaults::from_arg_matches(&matches).is_ok_and(|d| d.model != *self)
+    }
+}
+
 /// The modelled accelerator (`--backend model`, and the CORDIC of boards' models).
-#[derive(Args, Clone, Debug)]
+#[derive(Args, Clone, Debug, PartialEq)]
 pub struct ModelArgs {
     /// Accelerator clock assumed when `--backend model` reports time.
     #[arg(long, default_value_t = 100.0)]

@@ -53,6 +53,7 @@ impl RunArgs {
     pub fn prepare(&self, check: impl FnOnce(&mut Scene) -> Result<()>) -> Result<Prepared> {
         let adaptive = self.adaptive.on();
         let choice = self.engine.check()?;
+        choice.warn_unused(&self.engine.model);
         let checked = self.sampling.settings(adaptive)?;
         let mut scene = self.limits.load(&self.scene)?;
         let settings = self.quality.for_scene(checked, &scene, adaptive);

@@ -732,3 +732,16 @@ fn a_lobe_without_a_mirror_is_warned_about_and_an_invisible_name_is_refused() {
     assert!(!ok);
     assert!(err.contains("contains '\\u{200b}'"), "{err}");
 }
+
+#[test]
+fn model_options_on_the_soft_backend_are_said_to_do_nothing() {
+    let p = files("soft-lanes", &[("two.toml", TWO_SQUARES)]);
+    let solve = ["solve", &p, "--circles", "4", "--samples", "1"];
+    let mut lanes = solve.to_vec();
+    lanes.extend(["--lanes", "4"]);
+    let (ok, _, err) = run(&lanes, b"");
+    assert!(ok, "{err}");
+    assert!(err.contains("have no effect with --backend soft"), "{err}");
+    let (ok, _, err) = run(&solve, b"");
+    assert!(ok && !err.contains("have no effect"), "{err}");
+}
