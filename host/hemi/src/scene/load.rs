@@ -142,14 +142,26 @@ pub fn parse_with(src: &str, file: &str, limits: &Limits) -> Result<Scene> {
 /// The TOML of a scene, with the line of a syntax error.
 fn read_toml(src: &str, file: &str) -> Result<RawScene> {
     toml::from_str(src).map_err(|e| {
-        let line = e
-            .span()
-            .map(|s| src[..s.start.min(src.len())].matches('\n').count() + 1);
-        match line {
-            Some(l) => anyhow!("{file}:{l}: {}", e.message()),
-            None => anyhow!("{file}: {}", e.message()),
+        let Some(span) = e.span() else {
+            return anyhow!("{file}: {}", e.message());
+        };
+        let start = span.start.min(src.len());
+        let line = src[..start].matches('\n').count() + 1;
+        match key_at(src, start) {
+            Some(key) => anyhow!("{file}:{line}: `{key}`: {}", e.message()),
+            None => anyhow!("{file}:{line}: {}", e.message()),
         }
     })
+}
+
+/// The key of the `key = value` line holding byte `at`, when the error lies in its value: the
+/// line number alone leaves a reader to find which of a table's keys was wrong.
+fn key_at(src: &str, at: usize) -> Option<&str> {
+    let begin = src[..at].rfind('\n').map_or(0, |i| i + 1);
+    let (key, _) = src[begin..at].split_once('=')?;
+    let key = key.trim();
+    let plain = |c: char| c.is_ascii_alphanumeric() || "_-.\"".contains(c);
+    (!key.is_empty() && key.chars().all(plain)).then_some(key)
 }
 
 /// One `[[material]]`, checked: ranges per key, and (2.2)'s k_d + k_y + k_r + k_t ≤ 1.
@@ -464,6 +476,19 @@ fn camera(cx: &Ctx<'_>, c: &RawCamera) -> Result<Camera> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_value_of_the_wrong_type_is_named_by_its_key() {
+        let e = parse("[[material]]\nname = \"m\"\ndiffuse = \"grey\"\n", "t.toml").unwrap_err();
+        let e = e.to_string();
+        assert!(
+            e.starts_with("t.toml:3: `diffuse`: invalid type: string"),
+            "{e}"
+        );
+        // no `key = value` on the line: the line alone
+        let e = parse("nonsense\n", "t.toml").unwrap_err().to_string();
+        assert!(e.starts_with("t.toml:1: expected"), "{e}");
+    }
 
     const GOOD: &str = r#"
 [[material]]
