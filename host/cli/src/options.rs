@@ -351,11 +351,11 @@ impl SamplingArgs {
     /// [`QualityArgs::for_scene`] once the scene is loaded.
     pub fn settings(&self, adaptive: bool) -> Result<Pass1Settings> {
         if self.circles < 2 || self.circles > 1024 {
-            bail!("--circles must be between 2 and 1024");
+            bail!("--circles {}: must be between 2 and 1024", self.circles);
         }
         let samples = self.samples.unwrap_or(if adaptive { 2 } else { 16 });
         if !(1..=256).contains(&samples) {
-            bail!("--samples must be between 1 and 256");
+            bail!("--samples {samples}: must be between 1 and 256");
         }
         Ok(Pass1Settings {
             circles: self.circles,
@@ -453,7 +453,7 @@ impl AdaptiveArgs {
             return Ok(None);
         }
         if !(self.margin >= 0.0 && self.margin.is_finite()) {
-            bail!("--margin must be a finite number ≥ 0");
+            bail!("--margin {}: must be a finite number ≥ 0", self.margin);
         }
         let (margin, max_depth) = quality.map_or((self.margin, self.max_depth), |q| {
             Quality::from(q).adaptive()
@@ -666,10 +666,13 @@ impl FieldArgs {
             }
         };
         if sweeps > 1000 {
-            bail!("--gather must be at most 1000 sweeps");
+            bail!("--gather {sweeps}: must be at most 1000 sweeps");
         }
         if !(self.gather_tolerance >= 0.0 && self.gather_tolerance.is_finite()) {
-            bail!("--gather-tolerance must be a finite number ≥ 0");
+            bail!(
+                "--gather-tolerance {}: must be a finite number ≥ 0",
+                self.gather_tolerance
+            );
         }
         Ok(hemi::field::FieldSettings {
             sweeps,
@@ -686,10 +689,15 @@ impl FieldArgs {
             .refine
             .unwrap_or(if boards { 0 } else { DEFAULT_REFINE_ROUNDS });
         if rounds > 8 {
-            bail!("--refine must be at most 8 rounds (each quadruples a patch's elements)");
+            bail!(
+                "--refine {rounds}: must be at most 8 rounds (each quadruples a patch's elements)"
+            );
         }
         if !(self.refine_tolerance > 0.0 && self.refine_tolerance < 1.0) {
-            bail!("--refine-tolerance must be a fraction above 0 and below 1");
+            bail!(
+                "--refine-tolerance {}: must be a fraction above 0 and below 1",
+                self.refine_tolerance
+            );
         }
         Ok(hemi::field::refine::RefineSettings {
             rounds,

@@ -598,6 +598,16 @@ fn options_that_would_be_ignored_are_refused_or_warned_about() {
         &["--near 4294967295: at most 4"],
     );
     refused(
+        "circles",
+        &["solve", "--circles", "1025"],
+        &["--circles 1025: must be between 2 and 1024"],
+    );
+    refused(
+        "spp",
+        &["render", "--spp", "0", "--output", "/tmp/hemi-s.png"],
+        &["--spp 0: must be"],
+    );
+    refused(
         "image",
         &["render", "--size", "16384x16384", "--eye", "0.5,0.5,3", "--look-at", "0.5,0.5,0", "--output", "/tmp/hemi-i.png"],
         &["render: a 16384×16384 picture needs about 6144 MiB (24 bytes a pixel), more than --image-mib 4096"],

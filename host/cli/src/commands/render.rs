@@ -52,7 +52,8 @@ pub struct RenderArgs {
 pub fn run(args: RenderArgs, out: &mut impl Write) -> Result<()> {
     anyhow::ensure!(
         (1..=4096).contains(&args.spp),
-        "--spp must be between 1 and 4096"
+        "--spp {}: must be between 1 and 4096",
+        args.spp
     );
     if let Some(ev) = args.exposure {
         anyhow::ensure!(
