@@ -231,8 +231,12 @@ impl ModelArgs {
                 c.width
             );
         }
-        if !(self.clock_mhz > 0.0 && self.clock_mhz.is_finite()) {
-            bail!("--clock-mhz {}: must be a positive number", self.clock_mhz);
+        // an FPGA clock: from a kilohertz (a slow test clock) to 10 GHz, well past any part
+        if !(self.clock_mhz >= 1e-3 && self.clock_mhz <= 1e4) {
+            bail!(
+                "--clock-mhz {}: must be a clock in MHz between 0.001 and 10000",
+                self.clock_mhz
+            );
         }
         Ok(())
     }

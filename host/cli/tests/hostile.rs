@@ -598,6 +598,11 @@ fn options_that_would_be_ignored_are_refused_or_warned_about() {
         &["--near 4294967295: at most 4"],
     );
     refused(
+        "clock",
+        &["solve", "--backend", "model", "--clock-mhz", "1e300"],
+        &["--clock-mhz 1e300: must be a clock in MHz between 0.001 and 10000"],
+    );
+    refused(
         "circles",
         &["solve", "--circles", "1025"],
         &["--circles 1025: must be between 2 and 1024"],
