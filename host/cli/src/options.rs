@@ -235,7 +235,7 @@ impl ModelArgs {
         if !(self.clock_mhz >= 1e-3 && self.clock_mhz <= 1e4) {
             bail!(
                 "--clock-mhz {}: must be a clock in MHz between 0.001 and 10000",
-                self.clock_mhz
+                hemi::scene::range::show(self.clock_mhz)
             );
         }
         Ok(())
