@@ -320,7 +320,15 @@ fn claim_name(
     cx.check_name(name, key)?;
     let n = name.get_ref().clone();
     if names.insert(n.clone(), ()).is_some() {
-        return Err(cx.err(name.span(), key, format!("patch `{n}` defined twice")));
+        // a `/` is in every name an [[obj]] or [[bpt]] entry gives its patches
+        let why = match n.contains('/') {
+            true => format!(
+                "patch `{n}` defined twice, or named like a patch of an [[obj]] or [[bpt]] entry \
+                 before it (`<object>/<index>`): choose a name without `/`"
+            ),
+            false => format!("patch `{n}` defined twice"),
+        };
+        return Err(cx.err(name.span(), key, why));
     }
     Ok(n)
 }
