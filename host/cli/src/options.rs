@@ -357,6 +357,15 @@ impl SamplingArgs {
         if self.circles < 2 || self.circles > 1024 {
             bail!("--circles {}: must be between 2 and 1024", self.circles);
         }
+        if matches!(self.delta, DeltaArg::Paper) && !matches!(self.method, MethodArg::Hemisphere) {
+            eprintln!(
+                "warning: --delta paper has no effect with --method {}: the peers weight their \
+                 own rays",
+                self.method
+                    .to_possible_value()
+                    .map_or(String::new(), |v| v.get_name().into())
+            );
+        }
         let samples = self.samples.unwrap_or(if adaptive { 2 } else { 16 });
         if !(1..=256).contains(&samples) {
             bail!("--samples {samples}: must be between 1 and 256");

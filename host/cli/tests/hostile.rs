@@ -759,4 +759,12 @@ fn model_options_on_the_soft_backend_are_said_to_do_nothing() {
     assert!(err.contains("have no effect with --backend soft"), "{err}");
     let (ok, _, err) = run(&solve, b"");
     assert!(ok && !err.contains("have no effect"), "{err}");
+    let mut delta = solve.to_vec();
+    delta.extend(["--method", "hemicube", "--delta", "paper"]);
+    let (ok, _, err) = run(&delta, b"");
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("--delta paper has no effect with --method hemicube"),
+        "{err}"
+    );
 }
