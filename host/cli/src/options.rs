@@ -669,6 +669,11 @@ impl FieldArgs {
     /// The settings, checked; `boards` says whether the run is on boards (no sweeps by default).
     pub fn settings(&self, boards: bool) -> Result<hemi::field::FieldSettings> {
         let sweeps = match (self.gather, boards) {
+            (Some(n), true) if n > 0 => bail!(
+                "--gather {n}: the element-level field gather runs in-process only (boards have \
+                 no job for it yet: it needs the radiosity grids on the board); use --gather 0 \
+                 with boards"
+            ),
             (Some(n), _) => n,
             (None, false) => DEFAULT_SWEEPS,
             (None, true) => {
