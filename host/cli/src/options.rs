@@ -559,9 +559,7 @@ impl SolverArgs {
             }
         })
     }
-}
 
-impl SolverArgs {
     /// Refuses `--solver direct` on `n` patches when its dense N×N matrix and LU factors pass
     /// `--matrix-mib`, and says what the factorisation will cost when auto would not choose it.
     fn check_lu(&self, n: usize) -> Result<()> {
@@ -793,15 +791,19 @@ impl ViewArgs {
         };
         camera.eye = eye.unwrap_or(camera.eye);
         camera.look_at = look_at.unwrap_or(camera.look_at);
-        if eye.is_some() || look_at.is_some() {
+        // the kernel's own test of a camera frame, blamed on the options that made it
+        let framed = || {
+            let c = &camera;
+            let fov = c.fov_y_deg as f32;
+            hemi_kernel::camera::Camera::look_at(c.eye, c.look_at, c.up, fov, 1, 1).is_some()
+        };
+        if (eye.is_some() || look_at.is_some()) && !framed() {
             let d = camera.look_at - camera.eye;
-            if d.cross(camera.up).length() <= 1e-6 * d.length() || d == Vec3::ZERO {
-                bail!(
-                    "--eye and --look-at: the view direction {} is zero or parallel to up {}",
-                    show3(d),
-                    show3(camera.up)
-                );
-            }
+            bail!(
+                "--eye and --look-at: the view direction {} is zero or parallel to up {}",
+                show3(d),
+                show3(camera.up)
+            );
         }
         camera.fov_y_deg = self.fov.unwrap_or(camera.fov_y_deg);
         if let Some((w, h)) = size {
