@@ -18,7 +18,7 @@
 
 use crate::backend::{shoot_checked, Backend, Progress};
 use crate::scene::Scene;
-use crate::shots::{ElementRow, Shot};
+use crate::shots::{all_uniform_shots, sample_count, ElementRow, Shot};
 use anyhow::{bail, Result};
 use hemi_kernel::tracer::ShotStats;
 
@@ -73,10 +73,10 @@ impl Footprint {
     }
 }
 
-/// Pass 1's bytes by the dense bound: every element sees every one of the `patches`.
-pub fn dense_bound(scene: &Scene, shots: usize) -> u64 {
+/// Pass 1's bytes by the dense bound for `shots` hemispheres: every element sees every patch.
+pub fn dense_bound(scene: &Scene, shots: u64) -> u64 {
     let each = Footprint::of(scene).element(scene.patches.len());
-    each.saturating_mul(shots as u64)
+    each.saturating_mul(shots)
 }
 
 /// Pass 1's bytes for `shots` on `backend`, estimated from a pilot of [`PILOT`] of them spread
@@ -106,15 +106,17 @@ impl Need {
     /// What pass 1 on `backend` needs, measured no further than `limit` calls for: the dense
     /// bound when it is within `limit`, else the pilot's [`estimate`].
     pub fn of(backend: &dyn Backend, limit: u64) -> Result<Need> {
-        let k = backend.settings().samples;
-        let shots = crate::shots::all_uniform_shots(backend.scene(), k);
-        let dense = dense_bound(backend.scene(), shots.len());
+        let (scene, k) = (backend.scene(), backend.settings().samples);
+        // counted without placing them: the dense bound decides most scenes alone
+        let count = (0..scene.patches.len()).map(|i| sample_count(scene, i, k) as u64);
+        let dense = dense_bound(scene, count.sum());
         if dense <= limit {
             return Ok(Need {
                 bytes: dense,
                 pilot: 0,
             });
         }
+        let shots = all_uniform_shots(scene, k);
         Ok(Need {
             bytes: estimate(backend, &shots)?,
             pilot: PILOT.min(shots.len()),
@@ -134,8 +136,8 @@ impl Need {
 }
 
 /// `shots` on `backend`, as [`shoot_checked`] does, in pieces whose rows are counted as they
-/// arrive: past `limit` bytes pass 1 stops with the figure, naming `raise` (the option that
-/// raises the limit, and what else avoids it).
+/// arrive (one piece when even the dense bound fits): past `limit` bytes pass 1 stops with the
+/// figure, naming `raise` (the option that raises the limit, and what else avoids it).
 pub fn shoot_within(
     backend: &dyn Backend,
     shots: &[Shot],
@@ -144,6 +146,10 @@ pub fn shoot_within(
     raise: &str,
 ) -> Result<(Vec<ElementRow>, ShotStats)> {
     let footprint = Footprint::of(backend.scene());
+    // rows that cannot pass the limit need no counting: one request, as boards prefer
+    if dense_bound(backend.scene(), shots.len() as u64) <= limit {
+        return shoot_checked(backend, shots, progress);
+    }
     let piece = shots.len().div_ceil(PIECES).max(4096);
     let (mut rows, mut stats, mut bytes) = (Vec::new(), ShotStats::default(), 0u64);
     for chunk in shots.chunks(piece) {
@@ -176,26 +182,7 @@ mod tests {
     use crate::backend::{InProcess, Soft};
     use crate::settings::Pass1Settings;
 
-    const SCENE: &str = r#"
-[[material]]
-name = "white"
-diffuse = [0.5, 0.5, 0.5]
-
-[[material]]
-name = "lamp"
-diffuse = [0.0, 0.0, 0.0]
-emission = [1.0, 1.0, 1.0]
-
-[[quad]]
-name = "floor"
-material = "white"
-vertices = [[0, 0, 0], [0, 0, 1], [1, 0, 1], [1, 0, 0]]
-
-[[quad]]
-name = "lamp"
-material = "lamp"
-vertices = [[0.2, 0.6, 0.2], [0.5, 0.6, 0.2], [0.5, 0.6, 0.5], [0.2, 0.6, 0.5]]
-"#;
+    use crate::adaptive::tests::SCENE;
 
     fn with_backend(test: impl FnOnce(&InProcess<'_, Soft>)) {
         let scene = crate::scene::parse(SCENE, "t.toml").unwrap();
@@ -210,10 +197,10 @@ vertices = [[0.2, 0.6, 0.2], [0.5, 0.6, 0.2], [0.5, 0.6, 0.5], [0.2, 0.6, 0.5]]
     #[test]
     fn the_rows_stay_within_the_dense_bound_and_the_pilot_estimates_them() {
         with_backend(|backend| {
-            let shots = crate::shots::all_uniform_shots(backend.scene(), 4);
+            let shots = all_uniform_shots(backend.scene(), 4);
             let (rows, _) = shoot_checked(backend, &shots, &|_| {}).unwrap();
             let measured = Footprint::of(backend.scene()).rows(&rows);
-            assert!(measured <= dense_bound(backend.scene(), shots.len()));
+            assert!(measured <= dense_bound(backend.scene(), shots.len() as u64));
             // every shot is in the pilot here: the estimate is the measure and its margin
             let estimated = estimate(backend, &shots).unwrap();
             assert_eq!(estimated, (measured as f64 * PILOT_MARGIN) as u64);
@@ -223,7 +210,7 @@ vertices = [[0.2, 0.6, 0.2], [0.5, 0.6, 0.2], [0.5, 0.6, 0.5], [0.2, 0.6, 0.5]]
     #[test]
     fn pass_1_stops_at_its_limit_with_the_figure() {
         with_backend(|backend| {
-            let shots = crate::shots::all_uniform_shots(backend.scene(), 4);
+            let shots = all_uniform_shots(backend.scene(), 4);
             let err = shoot_within(backend, &shots, &|_| {}, 100, "--more raises it")
                 .unwrap_err()
                 .to_string();

@@ -1,10 +1,10 @@
 //! Pass 1: place sample points, have the backend shoot a hemisphere from
 //! each, and form patch form factors from the element rows by (4.3).
 
-use crate::backend::{shoot_checked, Backend, Progress};
+use crate::backend::{Backend, Progress};
 use crate::footprint;
 use crate::matrix::{FormMatrix, Row};
-use crate::shots::{self, ElementRow, Shot};
+use crate::shots::{self, ElementRow};
 use hemi_kernel::tracer::ShotStats;
 
 /// The outcome of pass 1.
@@ -76,9 +76,7 @@ impl FormFactors {
 /// Pass 1 with uniform sampling on `backend`: K×K points per polygon patch (4×4 on a Bezier
 /// patch, §7), one hemisphere each; `progress` gets the elements finished.
 pub fn form_factors(backend: &dyn Backend, progress: &Progress<'_>) -> anyhow::Result<FormFactors> {
-    let shots = all_shots(backend)?;
-    let (elements, stats) = shoot_checked(backend, &shots, progress)?;
-    Ok(assemble(backend, elements, stats))
+    form_factors_within(backend, progress, u64::MAX, "")
 }
 
 /// [`form_factors`] within `limit` bytes of rows (see [`footprint::shoot_within`]; `raise`
@@ -89,16 +87,11 @@ pub fn form_factors_within(
     limit: u64,
     raise: &str,
 ) -> anyhow::Result<FormFactors> {
-    let shots = all_shots(backend)?;
-    let (elements, stats) = footprint::shoot_within(backend, &shots, progress, limit, raise)?;
-    Ok(assemble(backend, elements, stats))
-}
-
-/// Every hemisphere of uniform pass 1 on `backend`, patch by patch.
-pub fn all_shots(backend: &dyn Backend) -> anyhow::Result<Vec<Shot>> {
     let (scene, settings) = (backend.scene(), backend.settings());
     anyhow::ensure!(settings.samples >= 1, "--samples must be at least 1");
-    Ok(shots::all_uniform_shots(scene, settings.samples))
+    let shots = shots::all_uniform_shots(scene, settings.samples);
+    let (elements, stats) = footprint::shoot_within(backend, &shots, progress, limit, raise)?;
+    Ok(assemble(backend, elements, stats))
 }
 
 /// Pass 1's outcome from its element rows.

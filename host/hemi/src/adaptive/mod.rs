@@ -510,12 +510,13 @@ fn predicted(k: usize, parent: &[[f64; 3]]) -> Vec<[f64; 3]> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::pass1::form_factors;
     use crate::settings::Pass1Settings;
 
-    const SCENE: &str = r#"
+    /// A floor under a small lamp (also the scene of `footprint`'s tests).
+    pub(crate) const SCENE: &str = r#"
 [[material]]
 name = "m"
 diffuse = [0.5, 0.5, 0.5]
