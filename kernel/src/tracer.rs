@@ -116,16 +116,16 @@ pub fn shoot_hemisphere<A: Accelerator, R: FormRow + ?Sized>(
 
 /// The form-factor rows of diffuse-only scenes, a batch of hemispheres at a time
 /// ([`Accelerator::cast_hemispheres`], so a pipelined engine need not drain between them):
-/// what [`shoot_hemisphere`] adds to each shot's row, `sink(s, column, weight)` for shot `s`
-/// in the order it would, and each shot's stats in `stats[s]`. Optics with a mirror need the
-/// walker shot by shot ([`shoot`]): this is for `!optics.has_specular()` only.
-pub fn shoot_diffuse_batch<A: Accelerator, S: FnMut(usize, usize, [f32; 3])>(
+/// what [`shoot_hemisphere`] adds to each shot's row, into `rows[s]` for shot `s` in the order
+/// it would, and each shot's stats in `stats[s]`. Optics with a mirror need the walker shot by
+/// shot ([`shoot`]): this is for `!optics.has_specular()` only.
+pub fn shoot_diffuse_batch<A: Accelerator, R: FormRow>(
     accel: &mut A,
     hemi: &Hemisphere<'_>,
     optics: &Optics<'_>,
     shots: &[HemiShot],
     stats: &mut [ShotStats],
-    mut sink: S,
+    rows: &mut [R],
 ) {
     debug_assert!(!optics.has_specular());
     let rings = hemi.rings();
@@ -139,7 +139,7 @@ pub fn shoot_diffuse_batch<A: Accelerator, S: FnMut(usize, usize, [f32; 3])>(
         }
         let column = hit.and_then(|h| optics.surface(h.patch).column_for(h.front));
         if let Some(c) = column {
-            sink(s, c as usize, [rings[j].delta_ff; 3]);
+            rows[s].add(c as usize, [rings[j].delta_ff; 3]);
         }
     });
 }

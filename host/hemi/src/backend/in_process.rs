@@ -13,7 +13,6 @@ use crate::transport::{Accumulator, Layout, TransportRow};
 use anyhow::Result;
 use hemi_kernel::accel::{Accelerator, HemiShot, Hit, Ray};
 use hemi_kernel::camera::Camera;
-use hemi_kernel::form_row::FormRow;
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::OwnedHemisphere;
 use hemi_kernel::optics::Optics;
@@ -94,11 +93,12 @@ impl<'s, E: Engines> InProcess<'s, E> {
     /// (making it checks every patch's surface, which per shot was O(P) per hemisphere).
     fn shoot_one(
         &self,
-        state: &mut (E::Engine<'_>, TouchedRow, Scratch, Shooter),
+        state: &mut (E::Engine<'_>, Vec<TouchedRow>, Scratch, Shooter),
         optics: &Optics<'_>,
         shot: &Shot,
     ) -> Result<(ElementRow, ShotStats)> {
-        let (engine, row, scratch, shooter) = state;
+        let (engine, rows, scratch, shooter) = state;
+        let row = &mut rows[0];
         let stats = shooter.shoot(
             engine,
             &self.hemi.view(),
@@ -128,6 +128,7 @@ impl<'s, E: Engines> InProcess<'s, E> {
     fn shoot_batch(
         &self,
         engine: &mut E::Engine<'_>,
+        rows: &mut [TouchedRow],
         optics: &Optics<'_>,
         chunk: &[Shot],
     ) -> Vec<(ElementRow, ShotStats)> {
@@ -139,13 +140,10 @@ impl<'s, E: Engines> InProcess<'s, E> {
                 origin_patch: Some(self.scene.kernel_id(shot.patch) as u32),
             })
             .collect();
-        let cols = self.optics.columns.len();
-        let mut rows: Vec<TouchedRow> = chunk.iter().map(|_| TouchedRow::new(cols)).collect();
+        let rows = &mut rows[..chunk.len()];
         let mut stats = vec![ShotStats::default(); chunk.len()];
         let hemi = self.hemi.view();
-        tracer::shoot_diffuse_batch(engine, &hemi, optics, &at, &mut stats, |s, c, w| {
-            rows[s].add(c, w)
-        });
+        tracer::shoot_diffuse_batch(engine, &hemi, optics, &at, &mut stats, rows);
         let columns = |c: usize| self.optics.columns[c] as u32;
         chunk
             .iter()
@@ -281,17 +279,21 @@ impl<E: Engines> Backend for InProcess<'_, E> {
         // diffuse-only hemisphere shots go in batches (the rows do not depend on it)
         let batch =
             E::BATCHES && self.settings.method == Method::Hemisphere && !optics.has_specular();
+        // one row per shot of a batch, made once per worker and left zero by `take`
+        let per_state = if batch { SHOT_BATCH } else { 1 };
         let results: Vec<Vec<(ElementRow, ShotStats)>> = shots
-            .par_chunks(if batch { SHOT_BATCH } else { 1 })
+            .par_chunks(per_state)
             .map_init(
                 || {
                     let scratch = Scratch::new(pending, &self.settings.specular);
                     let shooter = Shooter::new(self.settings.method, self.settings.circles);
-                    (self.engine(), TouchedRow::new(cols), scratch, shooter)
+                    let rows: Vec<TouchedRow> =
+                        (0..per_state).map(|_| TouchedRow::new(cols)).collect();
+                    (self.engine(), rows, scratch, shooter)
                 },
                 |state, chunk| {
                     let out = if batch {
-                        self.shoot_batch(&mut state.0, &optics, chunk)
+                        self.shoot_batch(&mut state.0, &mut state.1, &optics, chunk)
                     } else {
                         let one = |s| self.shoot_one(state, &optics, s);
                         chunk.iter().map(one).collect::<Result<_>>()?
