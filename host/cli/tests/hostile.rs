@@ -23,6 +23,25 @@ fn files(test: &str, files: &[(&str, &str)]) -> String {
     d.join(files[0].0).to_str().unwrap().to_string()
 }
 
+/// `hemi ARGS` (stdin `input`) must succeed; its (stdout, stderr).
+fn accepted(args: &[&str], input: &[u8]) -> (String, String) {
+    let (ok, out, err) = run(args, input);
+    assert!(ok, "hemi {args:?}: {err}");
+    (out, err)
+}
+
+/// `hemi ARGS` (stdin `input`) must fail; its stderr.
+fn rejected(args: &[&str], input: &[u8]) -> String {
+    let (ok, _, err) = run(args, input);
+    assert!(!ok, "hemi {args:?} succeeded");
+    err
+}
+
+/// `hemi CMD SCENE` at the cheapest sampling, for tests about messages rather than light.
+fn quick<'a>(cmd: &'a str, scene: &'a str) -> Vec<&'a str> {
+    vec![cmd, scene, "--circles", "4", "--samples", "1"]
+}
+
 /// `hemi ARGS` on the two squares must fail with a message containing every one of `want`.
 fn refused(test: &str, args: &[&str], want: &[&str]) {
     let p = files(test, &[("two.toml", TWO_SQUARES)]);
@@ -133,8 +152,7 @@ fn sparse_rows_are_measured_not_bounded_by_the_dense_matrix() {
     ];
     let mut within = args.to_vec();
     within.extend(["--matrix-mib", "1"]);
-    let (ok, out, err) = run(&within, b"");
-    assert!(ok, "{err}");
+    let (out, err) = accepted(&within, b"");
     assert!(err.contains("pass 1 of 401 patches: about"), "{err}");
     assert!(err.contains("within --matrix-mib 1"), "{err}");
     assert!(err.contains("gauss-seidel"), "{err}");
@@ -147,8 +165,7 @@ fn sparse_rows_are_measured_not_bounded_by_the_dense_matrix() {
     // the dense LU needs N² whatever the rows hold: 2.5 MiB here
     let mut lu = within.clone();
     lu.extend(["--solver", "direct"]);
-    let (ok, _, err) = run(&lu, b"");
-    assert!(!ok);
+    let err = rejected(&lu, b"");
     assert!(
         err.contains("--solver direct: the dense LU of 401 patches needs 2.5 MiB"),
         "{err}"
@@ -163,8 +180,7 @@ fn refinement_keeps_within_the_memory_pass_1_left() {
     let args = ["irradiance", &p, "--samples", "8", "--circles", "8"];
     let mut tight = args.to_vec();
     tight.extend(["--matrix-mib", "1"]);
-    let (ok, out, err) = run(&tight, b"5 0.001 5 0 1 0\n");
-    assert!(ok, "{err}");
+    let (out, err) = accepted(&tight, b"5 0.001 5 0 1 0\n");
     assert_eq!(out.split_whitespace().count(), 3, "{out}");
     assert!(err.contains("field refinement: at most"), "{err}");
     assert!(
@@ -172,22 +188,19 @@ fn refinement_keeps_within_the_memory_pass_1_left() {
         "{err}"
     );
     assert!(err.contains("(--matrix-mib 1 raises it)"), "{err}");
-    let (ok, _, err) = run(&args, b"5 0.001 5 0 1 0\n");
-    assert!(ok, "{err}");
+    let (_, err) = accepted(&args, b"5 0.001 5 0 1 0\n");
     assert!(!err.contains("field refinement: at most"), "{err}");
     // an element budget asked for is held to the memory too
     let mut asked = args.to_vec();
     asked.extend(["--max-elements", "18446744073709551615"]);
-    let (ok, _, err) = run(&asked, b"5 0.001 5 0 1 0\n");
-    assert!(ok, "{err}");
+    let (_, err) = accepted(&asked, b"5 0.001 5 0 1 0\n");
     assert!(
         err.contains("instead of 18446744073709551615 (--max-elements)"),
         "{err}"
     );
     let mut none = args.to_vec();
     none.extend(["--max-elements", "1"]);
-    let (ok, _, err) = run(&none, b"5 0.001 5 0 1 0\n");
-    assert!(ok, "{err}");
+    let (_, err) = accepted(&none, b"5 0.001 5 0 1 0\n");
     assert!(
         err.contains("none, --max-elements 1 is not above pass 1's 6464"),
         "{err}"
@@ -380,8 +393,7 @@ fn a_specular_tree_stops_at_its_work_budget_and_says_what_it_cut() {
         "--circles",
         "4",
     ];
-    let (ok, _, err) = run(&[&args[..], &["--samples", "1"]].concat(), b"");
-    assert!(ok, "{err}");
+    let (_, err) = accepted(&[&args[..], &["--samples", "1"]].concat(), b"");
     let at = err.find("cut past the work budget of 4096 frustums a primary ray (");
     let cut: u64 = at
         .and_then(|i| err[i..].split(['(', ')']).nth(1))
@@ -427,8 +439,7 @@ fn progressive_refinement_says_when_its_shots_missed_patches() {
         "--samples",
         "2",
     ];
-    let (ok, out, err) = run(&args, b"");
-    assert!(ok, "{err}");
+    let (out, err) = accepted(&args, b"");
     let black = out
         .lines()
         .filter(|l| l.ends_with("0.000000 0.000000 0.000000"))
@@ -446,8 +457,7 @@ fn progressive_refinement_says_when_its_shots_missed_patches() {
 fn a_dark_scene_and_a_black_picture_are_warned_about() {
     let dark = TWO_SQUARES.replace("emission = [2.0, 3.0, 4.0]", "");
     let p = files("dark", &[("dark.toml", &dark)]);
-    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
-    assert!(ok, "{err}");
+    let (_, err) = accepted(&quick("solve", &p), b"");
     assert!(
         err.contains("dark.toml emits light: every radiosity will be 0"),
         "{err}"
@@ -472,8 +482,7 @@ fn a_dark_scene_and_a_black_picture_are_warned_about() {
     ];
     let mut args = args.to_vec();
     args.push(png.to_str().unwrap());
-    let (ok, _, err) = run(&args, b"");
-    assert!(ok, "{err}");
+    let (_, err) = accepted(&args, b"");
     assert!(
         err.contains("warning: the image is black: no lit surface is in view"),
         "{err}"
@@ -502,9 +511,7 @@ fn a_board_that_cannot_start_is_named_plainly() {
     let with = |firmware: &str| {
         let mut args = qemu.to_vec();
         args.push(firmware);
-        let (ok, _, err) = run(&args, b"");
-        assert!(!ok);
-        err
+        rejected(&args, b"")
     };
     let err = with(elf.to_str().unwrap());
     assert!(
@@ -536,8 +543,7 @@ fn an_output_never_overwrites_the_scene_or_the_other_output() {
     args.extend(view);
     let mut onto_scene = args.clone();
     onto_scene.extend(["--output", p.as_str()]);
-    let (ok, _, err) = run(&onto_scene, b"");
-    assert!(!ok);
+    let err = rejected(&onto_scene, b"");
     assert!(err.contains("that is the scene file"), "{err}");
     assert_eq!(std::fs::read_to_string(&p).unwrap(), TWO_SQUARES);
     let d = dir("overwrite");
@@ -552,8 +558,7 @@ fn an_output_never_overwrites_the_scene_or_the_other_output() {
         "--exr",
         link.to_str().unwrap(),
     ]);
-    let (ok, _, err) = run(&linked, b"");
-    assert!(!ok);
+    let err = rejected(&linked, b"");
     assert!(err.contains("one would overwrite the other"), "{err}");
 }
 
@@ -564,8 +569,7 @@ fn an_include_that_adds_nothing_is_refused_and_a_repeated_one_is_named_apart() {
         "empty-obj",
         &[("s.toml", scene), ("m.obj", "v 0 0 0\nv 1 0 0\n")],
     );
-    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
-    assert!(!ok);
+    let err = rejected(&quick("solve", &p), b"");
     assert!(err.contains("m.obj: adds no patch (0 face(s)"), "{err}");
     let lit = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
     let twice = format!(
@@ -574,8 +578,7 @@ fn an_include_that_adds_nothing_is_refused_and_a_repeated_one_is_named_apart() {
         TWO_SQUARES
     );
     let p = files("twice-obj", &[("s.toml", &twice), ("m.obj", lit)]);
-    let (ok, out, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
-    assert!(ok, "{err}");
+    let (out, _) = accepted(&quick("solve", &p), b"");
     assert!(
         out.contains("unnamed_object/0 ") && out.contains("unnamed_object/0:2 "),
         "{out}"
@@ -663,8 +666,7 @@ fn options_that_would_be_ignored_are_refused_or_warned_about() {
     let mut exposed = vec!["render", p.as_str(), "--exposure", "5"];
     exposed.extend(&args[1..]);
     exposed.extend(["--output", hdr.to_str().unwrap()]);
-    let (ok, _, err) = run(&exposed, b"");
-    assert!(ok, "{err}");
+    let (_, err) = accepted(&exposed, b"");
     assert!(
         err.contains("warning: --exposure 5 does not change"),
         "{err}"
@@ -684,8 +686,7 @@ fn an_obj_material_that_does_not_parse_or_does_not_exist_is_named() {
             ("m.mtl", "newmtl a\nKd 0.5 0.5 0.5\n"),
         ],
     );
-    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
-    assert!(ok, "{err}");
+    let (_, err) = accepted(&quick("solve", &p), b"");
     assert!(
         err.contains("m.obj:5: `usemtl nothere`: no MTL file defines it; its faces get `default`"),
         "{err}"
@@ -698,8 +699,7 @@ fn an_obj_material_that_does_not_parse_or_does_not_exist_is_named() {
             ("m.mtl", "newmtl a\nKd abc 0 0\n"),
         ],
     );
-    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
-    assert!(!ok);
+    let err = rejected(&quick("solve", &p), b"");
     assert!(
         err.contains("m.mtl:2: `Kd`: `abc` is not a number"),
         "{err}"
@@ -713,8 +713,7 @@ fn a_patch_repeated_over_another_is_refused_and_a_two_sided_wall_is_not() {
          vertices = [[0,1,1],[1,1,1],[1,0,1],[0,0,1]]\n"
     );
     let p = files("repeat", &[("s.toml", &repeat)]);
-    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
-    assert!(!ok);
+    let err = rejected(&quick("solve", &p), b"");
     assert!(
         err.contains("patch `again` has the vertices and facing of `p2`"),
         "{err}"
@@ -724,8 +723,7 @@ fn a_patch_repeated_over_another_is_refused_and_a_two_sided_wall_is_not() {
          vertices = [[0,0,1],[1,0,1],[1,1,1],[0,1,1]]\n"
     );
     let p = files("two-sided", &[("s.toml", &wall)]);
-    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
-    assert!(ok, "{err}");
+    accepted(&quick("solve", &p), b"");
 }
 
 #[test]
@@ -735,16 +733,14 @@ fn a_lobe_without_a_mirror_is_warned_about_and_an_invisible_name_is_refused() {
         "diffuse = [0.5, 0.5, 0.5]\nphong = 50",
     );
     let p = files("lobe", &[("s.toml", &lobe)]);
-    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
-    assert!(ok, "{err}");
+    let (_, err) = accepted(&quick("solve", &p), b"");
     assert!(
         err.contains("`material.phong`: warning: has no effect"),
         "{err}"
     );
     let hidden = TWO_SQUARES.replace("name = \"p1\"", "name = \"p\u{200B}1\"");
     let p = files("zero-width", &[("s.toml", &hidden)]);
-    let (ok, _, err) = run(&["solve", &p, "--circles", "4", "--samples", "1"], b"");
-    assert!(!ok);
+    let err = rejected(&quick("solve", &p), b"");
     assert!(err.contains("contains '\\u{200b}'"), "{err}");
 }
 
@@ -754,15 +750,13 @@ fn model_options_on_the_soft_backend_are_said_to_do_nothing() {
     let solve = ["solve", &p, "--circles", "4", "--samples", "1"];
     let mut lanes = solve.to_vec();
     lanes.extend(["--lanes", "4"]);
-    let (ok, _, err) = run(&lanes, b"");
-    assert!(ok, "{err}");
+    let (_, err) = accepted(&lanes, b"");
     assert!(err.contains("have no effect with --backend soft"), "{err}");
     let (ok, _, err) = run(&solve, b"");
     assert!(ok && !err.contains("have no effect"), "{err}");
     let mut delta = solve.to_vec();
     delta.extend(["--method", "hemicube", "--delta", "paper"]);
-    let (ok, _, err) = run(&delta, b"");
-    assert!(ok, "{err}");
+    let (_, err) = accepted(&delta, b"");
     assert!(
         err.contains("--delta paper has no effect with --method hemicube"),
         "{err}"
