@@ -291,7 +291,7 @@ fn queues(p: &mut Proxy, lanes: u64) {
 /// The wide datapath: every lane with the exact edge products.
 fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     let mut p = Proxy::default();
-    let (g, l) = (params.rays_per_clock as u64, params.lanes as u64);
+    let l = params.lanes as u64;
     let slots = params.capacity() as u64;
     // lanes: edge stage (4 edges · 3 products of 32 × 62, n · d), divider, running minimum
     for _ in 0..l {
@@ -303,27 +303,8 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     p.reg(l * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
     p.add(l, 64);
     p.reg(l * (4 * 94 + 64 + 64));
-    // set-up units, one per bank, a corner per clock: a × b (6 products of 34 × 34), h, and with
-    // culling the corner's three dot products with the axes and a vectoring CORDIC
-    for _ in 0..l {
-        p.mul(6, 34, 34);
-        p.mul(3, 32, 34);
-    }
-    p.add(l * 6, 68);
-    p.reg(l * 1024);
-    if params.sectors > 0 {
-        for _ in 0..l {
-            p.mul(9, 34, 32);
-        }
-        p.cordic(CordicConfig::DEFAULT, l);
-        p.add(l * 8, 32);
-        p.cordic(CordicConfig::DEFAULT, g);
-    }
-    // front end: rotators (three pipes each), reciprocal units (three radix-2 dividers of 33
-    // stages on 64 bits)
-    p.cordic(cfg, 3 * g);
-    p.add(g * 3 * 33, 64);
-    p.reg(g * 3 * 33 * 128);
+    setup_units(&mut p, params, l);
+    front_end(&mut p, params, cfg);
     // min tree
     p.add(l, 64 + 16);
     p.reg(l * 80);
@@ -338,14 +319,7 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
             p.mem(params.sectors as u64, params.bank_slots as u64);
         }
     }
-    let slots_in_flight = crate::intersect::RAY_SLOTS as u64;
-    for _ in 0..l {
-        p.mem(slots_in_flight, 8 + 6);
-    }
-    p.mem(slots_in_flight, 3 * 32 + 3 * 32 + 32);
-    p.mem(slots_in_flight, 3 * 32 + 3 * 32 + 3 * 32);
-    p.mem(slots_in_flight, 4 * 32);
-    p.mem(crate::device::RAY_FIFO_DEPTH as u64, 3 * 32 + 3 * 32 + 40);
+    queues(&mut p, l);
     p
 }
 
