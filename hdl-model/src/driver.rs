@@ -447,14 +447,7 @@ impl<B: RegisterAccess> Driver<B> {
                 return Ok(popped);
             }
             let ready = ((s >> status::RESULT_LEVEL_SHIFT) & 0xFF) as usize;
-            for _ in 0..ready {
-                let r = self.pop_result();
-                if r[0] & result::ERROR != 0 {
-                    return Err(DriverError::Device(self.take_errors()));
-                }
-                sink(popped, r);
-                popped += 1;
-            }
+            popped = self.pop_ready(ready, popped, &mut sink)?;
         }
         Err(DriverError::Timeout(self.bus.read(regs::STATUS)))
     }
@@ -498,14 +491,7 @@ impl<B: RegisterAccess> Driver<B> {
                 self.push_ray(dir(pushed));
                 pushed += 1;
             }
-            for _ in 0..ready {
-                let r = self.pop_result();
-                if r[0] & result::ERROR != 0 {
-                    return Err(DriverError::Device(self.take_errors()));
-                }
-                sink(popped, r);
-                popped += 1;
-            }
+            popped = self.pop_ready(ready, popped, &mut sink)?;
             if k == 0 && ready == 0 {
                 stalls += 1;
                 if stalls > STALL_LIMIT {
@@ -514,6 +500,25 @@ impl<B: RegisterAccess> Driver<B> {
             } else {
                 stalls = 0;
             }
+        }
+        Ok(popped)
+    }
+
+    /// Pops `ready` results into `sink`, numbering them from `popped`; a result flagged ERROR
+    /// stops with the device's errors. Returns the new count.
+    fn pop_ready(
+        &mut self,
+        ready: usize,
+        mut popped: usize,
+        sink: &mut impl FnMut(usize, [u32; 4]),
+    ) -> Result<usize, DriverError> {
+        for _ in 0..ready {
+            let r = self.pop_result();
+            if r[0] & result::ERROR != 0 {
+                return Err(DriverError::Device(self.take_errors()));
+            }
+            sink(popped, r);
+            popped += 1;
         }
         Ok(popped)
     }
