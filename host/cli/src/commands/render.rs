@@ -190,17 +190,16 @@ fn check_image(camera: &Camera, image_mib: u64) -> Result<()> {
     Ok(())
 }
 
-/// A warning when every pixel is black: the picture would say nothing of why.
+/// A warning when every pixel of a lit scene is black: the picture would say nothing of why (a
+/// scene where nothing emits was warned about before pass 1).
 fn warn_if_black(scene: &hemi::scene::Scene, img: &Image) {
-    if img.pixels.iter().any(|p| p.iter().any(|c| *c != 0.0)) {
-        return;
+    let black = img.pixels.iter().all(|p| p.iter().all(|c| *c == 0.0));
+    if black && scene.emits() {
+        eprintln!(
+            "warning: the image is black: no lit surface is in view (check --eye, --look-at and \
+             --fov, or the camera in the scene)"
+        );
     }
-    let why = if scene.emits() {
-        "no lit surface is in view (check --eye, --look-at and --fov, or the camera in the scene)"
-    } else {
-        "no patch of the scene emits light"
-    };
-    eprintln!("warning: the image is black: {why}");
 }
 
 /// What the frustums of both passes did, on stderr, when there were any.
