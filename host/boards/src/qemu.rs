@@ -72,25 +72,18 @@ fn workspace_root() -> Option<PathBuf> {
 /// Refuses a `--firmware` that is not a 32-bit ARM ELF before QEMU runs it: QEMU answers a
 /// text file or a host binary with a register dump ("Lockup: can't escalate 3 to HardFault").
 fn check_arm_elf(path: &Path) -> Result<()> {
-    use std::io::Read;
-    let mut head = [0u8; 20];
-    let read = std::fs::File::open(path).and_then(|mut f| f.read_exact(&mut head));
-    let elf = read.is_ok() && head[..4] == *b"\x7fELF";
-    // EI_CLASS 1 (32-bit), EI_DATA 1 (little-endian), e_machine 40 (EM_ARM)
-    let arm = elf && head[4] == 1 && head[5] == 1 && u16::from_le_bytes([head[18], head[19]]) == 40;
-    if !arm {
-        let what = if elf {
-            "an ELF for another machine"
-        } else {
-            "not an ELF file"
-        };
-        bail!(
-            "firmware ELF {}: {what}, not the Cortex-M firmware (build it with cargo build \
-             --release -p hemi-firmware --target thumbv7em-none-eabihf, or leave out --firmware)",
-            path.display()
-        );
-    }
-    Ok(())
+    use object::{Architecture, Object};
+    let data = std::fs::read(path).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let what = match object::File::parse(&*data) {
+        Ok(elf) if elf.architecture() == Architecture::Arm && !elf.is_64() => return Ok(()),
+        Ok(_) => "an ELF for another machine",
+        Err(_) => "not an ELF file",
+    };
+    bail!(
+        "firmware ELF {}: {what}, not the Cortex-M firmware (build it with cargo build \
+         --release -p hemi-firmware --target thumbv7em-none-eabihf, or leave out --firmware)",
+        path.display()
+    )
 }
 
 /// Finds the firmware ELF: `explicit` if given; else builds it from this host's workspace with

@@ -492,11 +492,13 @@ fn a_dark_scene_and_a_black_picture_are_warned_about() {
 #[test]
 fn a_board_that_cannot_start_is_named_plainly() {
     let p = files("qemu", &[("two.toml", TWO_SQUARES)]);
-    // the first 20 bytes of a 32-bit little-endian ARM ELF: enough for the check, and QEMU
-    // here is /bin/true, which runs nothing
+    // the 52-byte header of a 32-bit little-endian ARM executable with no segments: enough
+    // for the check, and QEMU here is /bin/true, which runs nothing
     let mut head = vec![0x7f, b'E', b'L', b'F', 1, 1, 1];
-    head.resize(18, 0);
-    head.extend([40, 0]);
+    head.resize(16, 0);
+    head.extend([2, 0, 40, 0, 1, 0, 0, 0]); // e_type EXEC, e_machine ARM, e_version 1
+    head.resize(40, 0); // e_entry, e_phoff, e_shoff, e_flags
+    head.extend([52, 0, 32, 0, 0, 0, 40, 0, 0, 0, 0, 0]); // header sizes, no entries
     let elf = dir("qemu").join("fake.elf");
     std::fs::write(&elf, &head).unwrap();
     let qemu = [

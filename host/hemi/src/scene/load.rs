@@ -231,17 +231,13 @@ fn material(cx: &Ctx<'_>, m: &Spanned<RawMaterial>) -> Result<Material> {
             ));
         }
     }
-    let specular = material.reflects() || material.transmits();
-    for (key, given) in [
-        ("phong", &m.phong.as_ref().map(|p| p.span())),
-        ("frustum", &m.frustum.as_ref().map(|f| f.span())),
-    ] {
-        if let (Some(at), false) = (given, specular) {
-            cx.warn(
-                at.clone(),
-                &format!("material.{key}"),
-                "has no effect: the material has no specular or transmission part",
-            );
+    if !(material.reflects() || material.transmits()) {
+        let lobes = [("phong", m.phong.as_ref()), ("frustum", m.frustum.as_ref())];
+        for (key, given) in lobes {
+            if let Some(v) = given {
+                let why = "has no effect: the material has no specular or transmission part";
+                cx.warn(v.span(), &format!("material.{key}"), why);
+            }
         }
     }
     Ok(material)
