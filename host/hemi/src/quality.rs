@@ -87,12 +87,11 @@ impl Quality {
 impl std::str::FromStr for Quality {
     type Err = anyhow::Error;
     fn from_str(s: &str) -> Result<Quality> {
-        Ok(match s {
-            "draft" => Quality::Draft,
-            "default" => Quality::Default,
-            "high" => Quality::High,
-            _ => bail!("--quality {s}: expected draft, default or high"),
-        })
+        let all = [Quality::Draft, Quality::Default, Quality::High];
+        match all.into_iter().find(|q| q.name() == s) {
+            Some(q) => Ok(q),
+            None => bail!("--quality {s}: expected draft, default or high"),
+        }
     }
 }
 

@@ -4,7 +4,7 @@
 //! avoid (docs/scene-format.md, "Coplanar overlaps").
 
 use super::{ScenePatch, Shape};
-use std::collections::HashMap;
+use std::collections::hash_map::{Entry, HashMap};
 
 /// The first patch that repeats an earlier one's vertices (in any order) and its facing, with
 /// the earlier one: `(earlier, later)` indices.
@@ -14,7 +14,6 @@ pub fn first_duplicate(patches: &[ScenePatch]) -> Option<(usize, usize)> {
         let Shape::Polygon(poly) = &p.shape else {
             continue;
         };
-        let mut key: Vec<u32> = Vec::with_capacity(15);
         let mut corners: Vec<[u32; 3]> = poly
             .vertices()
             .iter()
@@ -22,14 +21,16 @@ pub fn first_duplicate(patches: &[ScenePatch]) -> Option<(usize, usize)> {
             .collect();
         corners.sort_unstable();
         corners.dedup();
-        key.extend(corners.into_iter().flatten());
+        let mut key: Vec<u32> = corners.into_iter().flatten().collect();
         // the facing: opposite windings of one quad are a two-sided wall, and allowed
         let n = poly.normal;
         key.extend([n.x > 0.0, n.y > 0.0, n.z > 0.0].map(u32::from));
-        if let Some(&j) = seen.get(&key) {
-            return Some((j, i));
+        match seen.entry(key) {
+            Entry::Occupied(earlier) => return Some((*earlier.get(), i)),
+            Entry::Vacant(slot) => {
+                slot.insert(i);
+            }
         }
-        seen.insert(key, i);
     }
     None
 }
