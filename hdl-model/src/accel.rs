@@ -364,12 +364,22 @@ impl<B: RegisterAccess> RegisterAccelerator<B> {
         dir: impl FnMut(usize) -> [u32; 3],
         sink: impl FnMut(usize, [u32; 4]),
     ) {
-        if let Err(e) = self.driver.stream(n, dir, sink) {
-            // Every entry is set up so that the device cannot refuse it: an error here is a bug
-            // in the model or the driver, not in the caller's data.
-            panic!("model accelerator: {e:?}");
-        }
+        device_ok(self.driver.stream(n, dir, sink));
     }
+}
+
+/// The driver's answer, unwrapped: every entry is set up so that the device cannot refuse it,
+/// so an error here is a bug in the model or the driver, not in the caller's data.
+fn device_ok<T>(r: Result<T, crate::driver::DriverError>) -> T {
+    match r {
+        Ok(t) => t,
+        Err(e) => panic!("model accelerator: {e:?}"),
+    }
+}
+
+/// The rays of rings `rings` of `hemi`.
+fn rays_in(hemi: &Hemisphere<'_>, rings: core::ops::Range<usize>) -> usize {
+    rings.map(|j| hemi.rings()[j].count as usize).sum()
 }
 
 impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
@@ -494,8 +504,7 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
         let mode_word = mode::ROTATE_TRACE | uv_flag(want_uv);
         for (s, shot) in shots.iter().enumerate() {
             if !self.feed_shot(shot, hemi, rings.clone(), mode_word, &mut pop, &mut sink) {
-                let n: usize = rings.clone().map(|j| hemi.rings()[j].count as usize).sum();
-                self.out_of_range += n as u64;
+                self.out_of_range += rays_in(hemi, rings.clone()) as u64;
                 for j in rings.clone() {
                     (0..hemi.rings()[j].count).for_each(|k| sink(s, j, k, None));
                 }
@@ -503,12 +512,10 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
         }
         let scale = self.scale;
         let rest = pop.outstanding;
-        if let Err(e) = self.driver.collect(rest, |_, r| {
+        device_ok(self.driver.collect(rest, |_, r| {
             let (s, j, k) = pop.next_index();
             sink(s, j, k, decode(scale, r));
-        }) {
-            panic!("model accelerator: {e:?}");
-        }
+        }));
         self.origin_patch = None;
     }
 }
@@ -536,14 +543,12 @@ impl<B: RegisterAccess> RegisterAccelerator<B> {
                 let (s, j, k) = pop.next_index();
                 sink(s, j, k, decode(scale, r));
             });
-            if let Err(e) = made {
-                panic!("model accelerator: {e:?}");
-            }
+            device_ok(made);
         }
         self.set_frame(&shot.rot);
         self.set_mode(mode_word);
         self.set_skip(shot.origin_patch);
-        let n: usize = rings.clone().map(|j| hemi.rings()[j].count as usize).sum();
+        let n = rays_in(hemi, rings.clone());
         self.rays += n as u64;
         pop.outstanding += n;
         let mut push = RingCursor::new(hemi, rings);
@@ -560,9 +565,7 @@ impl<B: RegisterAccess> RegisterAccelerator<B> {
                 sink(s, j, k, decode(scale, r));
             },
         );
-        if let Err(e) = fed {
-            panic!("model accelerator: {e:?}");
-        }
+        device_ok(fed);
         true
     }
 }
