@@ -442,9 +442,16 @@ pub struct IntersectUnit<T: Copy + Default> {
     bez_root: [Box3; BEZIER_ROWS],
     /// work counters: (ray, patch) candidates handed to the lanes, rays, set-up passes
     stats: LaneStats,
-    /// compact builds: which of the two local-memory buffers the current set-up is in, the
-    /// clock from which it is complete, the clock each buffer's last ray is done reading it,
-    /// and the clock the set-up units take the next pass's first patch
+    /// The compact datapath's clocks, cleared with the rest on a flush.
+    clocks: CompactClocks,
+}
+
+/// Where the compact datapath's shared resources stand.
+#[derive(Clone, Copy, Debug, Default)]
+struct CompactClocks {
+    /// which of the two local-memory buffers the current set-up is in, the clock from which it
+    /// is complete, the clock each buffer's last ray is done reading it, and the clock the
+    /// set-up units take the next pass's first patch
     buffer: usize,
     ready_at: u64,
     release: [u64; 2],
@@ -452,7 +459,7 @@ pub struct IntersectUnit<T: Copy + Default> {
     /// the ray group the next ray goes to, and the clock the shared exact edge unit is free
     next_group: u32,
     exact_free: u64,
-    /// compact builds: the clock each iterative (u,v) unit is free
+    /// the clock each iterative (u,v) unit is free
     uv_free: [u64; UV_UNITS],
 }
 
@@ -506,13 +513,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             engine: engine(subdiv, params.compact),
             bez_root: [Box3::default(); BEZIER_ROWS],
             stats: LaneStats::default(),
-            buffer: 0,
-            ready_at: 0,
-            release: [0; 2],
-            setup_free: 0,
-            next_group: 0,
-            exact_free: 0,
-            uv_free: [0; UV_UNITS],
+            clocks: CompactClocks::default(),
         }
     }
 
@@ -565,13 +566,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.last_ready = 0;
         self.engine.flush();
         self.key = None;
-        self.buffer = 0;
-        self.ready_at = 0;
-        self.release = [0; 2];
-        self.setup_free = 0;
-        self.next_group = 0;
-        self.exact_free = 0;
-        self.uv_free = [0; UV_UNITS];
+        self.clocks = CompactClocks::default();
     }
 
     /// Whether rays in a frame are culled by this unit as configured.
@@ -611,7 +606,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             let end = now.max(busy) + pass + latency;
             self.bank_free[..lanes].fill(end);
             self.bezier_free = end;
-            self.ready_at = end;
+            self.clocks.ready_at = end;
         }
         self.key = Some(key);
         self.stats.setups += 1;
@@ -621,11 +616,13 @@ impl<T: Copy + Default> IntersectUnit<T> {
     /// in, once the set-up units are free and that buffer's last rays (two origins back) are
     /// done reading it, while the lanes go on scanning the current buffer's rays.
     fn double_buffered(&mut self, pass: u64, latency: u64, now: u64) {
-        let next = 1 - self.buffer;
-        let start = now.max(self.setup_free).max(self.release[next]);
-        self.setup_free = start + pass;
-        self.ready_at = start + pass + latency;
-        self.buffer = next;
+        let next = 1 - self.clocks.buffer;
+        let start = now
+            .max(self.clocks.setup_free)
+            .max(self.clocks.release[next]);
+        self.clocks.setup_free = start + pass;
+        self.clocks.ready_at = start + pass + latency;
+        self.clocks.buffer = next;
     }
 
     /// The clock from which a ray started on `now` can take its first candidate, and the
@@ -633,7 +630,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
     /// candidates (the wide datapath retires such a ray at once: see `rtl/plane_unit.v`).
     fn first_clock(&self, now: u64) -> (u64, u64) {
         if self.params.compact {
-            let t = (now + 1).max(self.ready_at);
+            let t = (now + 1).max(self.clocks.ready_at);
             (t, t)
         } else {
             (now + 1, now + 1)
@@ -769,7 +766,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             let (planar, end) = self.lanes(&ray, bin, now);
             let (curved, bez_end) = self.bezier_lane(mem, &ray, now);
             finish = end.max(bez_end);
-            let used = &mut self.release[self.buffer];
+            let used = &mut self.clocks.release[self.clocks.buffer];
             *used = (*used).max(finish);
             let best = nearer(planar, curved);
             wants_uv_unit = ray.uv && best.is_some_and(|b| b.uv.is_none());
@@ -796,9 +793,11 @@ impl<T: Copy + Default> IntersectUnit<T> {
         if !wants_uv_unit {
             return base + 1;
         }
-        let unit = (0..UV_UNITS).min_by_key(|&u| self.uv_free[u]).unwrap_or(0);
-        let start = self.uv_free[unit].max(base);
-        self.uv_free[unit] = start + depth;
+        let unit = (0..UV_UNITS)
+            .min_by_key(|&u| self.clocks.uv_free[u])
+            .unwrap_or(0);
+        let start = self.clocks.uv_free[unit].max(base);
+        self.clocks.uv_free[unit] = start + depth;
         start + depth + 1
     }
 
@@ -808,8 +807,8 @@ impl<T: Copy + Default> IntersectUnit<T> {
     /// shared exact unit after that lane's last candidate of the ray.
     fn lanes(&mut self, ray: &RayIn<T>, bin: Option<(u32, u32)>, now: u64) -> (Option<Best>, u64) {
         let banks = self.params.banks() as usize;
-        let group = self.next_group as usize;
-        self.next_group = (self.next_group + 1) % self.params.ray_groups.max(1);
+        let group = self.clocks.next_group as usize;
+        self.clocks.next_group = (self.clocks.next_group + 1) % self.params.ray_groups.max(1);
         let mut counts = [0u64; MAX_LANES as usize];
         // edges the exact unit checks, per bank
         let mut exact = [0u64; MAX_LANES as usize];
@@ -852,9 +851,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 end = end.max(*free);
             }
             if exact[b] > 0 {
-                let start = self.exact_free.max(*free);
-                self.exact_free = start + exact[b];
-                end = end.max(self.exact_free);
+                let start = self.clocks.exact_free.max(*free);
+                self.clocks.exact_free = start + exact[b];
+                end = end.max(self.clocks.exact_free);
             }
         }
         (best, end)
