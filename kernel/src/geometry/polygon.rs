@@ -223,6 +223,11 @@ fn inverse_bilinear(b: (f32, f32), c: (f32, f32), d: (f32, f32), h: (f32, f32)) 
             best_err = err;
             best = (clamp01(u), clamp01(v));
         }
+        if err == 0.0 {
+            // inside the unit square: the other root cannot do better (it would need a
+            // smaller error to be taken), so the hot path of every hit skips its division
+            break;
+        }
     }
     best
 }
