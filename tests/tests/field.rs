@@ -387,6 +387,43 @@ fn a_shadows_edge_beyond_the_near_field_is_relit_exactly() {
 }
 
 #[test]
+fn a_lamp_seen_only_along_its_rim_is_not_lost() {
+    // a black sheet hides all of the lamp from the point but a strip along one edge, 3/8 of a
+    // shadow-ray cell wide: every cell's centre is hidden, so no two neighbours disagree, and
+    // before the rim probes the direct light was 0. The strip is 3 of the split cells' 64
+    // columns, so the exact answer is its form factor.
+    let s = 3.0 / 64.0;
+    let edge = 0.75 - s / 2.0; // the sheet's edge, as seen from the point, at the strip's
+    let scene = parse(
+        &format!(
+            "{LAMP}\n[[quad]]\nname = \"sheet\"\nmaterial = \"black\"\n\
+             vertices = [[-1, -1, 0.5], [-1, 2, 0.5], [{edge}, 2, 0.5], [{edge}, -1, 0.5]]\n"
+        ),
+        "rim.toml",
+    )
+    .unwrap();
+    let (p, n) = (Vec3::new(0.5, 0.5, 0.01), Vec3::new(0.0, 0.0, 1.0));
+    let strip = [
+        Vec3::new(1.0 - s as f32, 0.0, 1.0),
+        Vec3::new(1.0, 0.0, 1.0),
+        Vec3::new(1.0, 1.0, 1.0),
+        Vec3::new(1.0 - s as f32, 1.0, 1.0),
+    ];
+    let want = hemi::direct::form_factor(p, n, &strip);
+    let query = QuerySettings {
+        direct: Direct::Exact,
+        near_levels: 0,
+        ..QuerySettings::default()
+    };
+    let got = queries_at(&scene, &settings(16, 2), 0, &query, &[(p, n)])[0];
+    for (c, m) in [1.0, 2.0, 10.0].into_iter().enumerate() {
+        let err = (got[c] / m - want).abs() / want;
+        println!("lamp seen along its rim, channel {c}: relative error {err:.2e}");
+        assert!(err < 1e-2, "{got:?} against {want} × (1, 2, 10)");
+    }
+}
+
+#[test]
 fn a_querys_answer_does_not_depend_on_the_queries_asked_with_it() {
     // the near field groups hits per query, so batching (or streaming) changes no bit
     let scene = with_lamp(WALL_BY_THE_FLOOR);
