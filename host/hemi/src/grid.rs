@@ -3,7 +3,8 @@
 
 /// Radiosity over one patch as the grid of §4.3: K×K sample points sit at the centres of the
 /// cells of a (K+1)×(K+1) vertex grid; vertex values are the mean of the (up to four) samples
-/// around them, extended linearly to the patch boundary; inside a cell B is bilinear between its
+/// around them, extended quadratically to the patch boundary (the samples padded by a cell whose
+/// value continues the parabola through the three nearest); inside a cell B is bilinear between its
 /// four vertices. Shading is then continuous across the patch (no faceting) and a uniform
 /// patch stays exactly uniform.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
@@ -25,20 +26,31 @@ impl Grid {
                 pad[(b + 1) * w + a + 1] = samples[b * k + a];
             }
         }
-        let extend = |inner: [f64; 3], next: [f64; 3]| -> [f64; 3] {
-            if k == 1 {
-                inner
-            } else {
-                [0, 1, 2].map(|c| 2.0 * inner[c] - next[c])
+        // The padding cell takes the value the parabola through the three samples nearest the
+        // boundary has there (a line through two when there are only two): the light towards
+        // a patch's edge curves (a corner's darkening, a lamp's fall), and a line through the
+        // two inner samples overshot it by 2-3 % in the Cornell box's ceiling corners
+        // (docs/ACCURACY.md, "Near field at two levels").
+        let extend = |f1: [f64; 3], f2: [f64; 3], f3: [f64; 3]| -> [f64; 3] {
+            match k {
+                1 => f1,
+                2 => [0, 1, 2].map(|c| 2.0 * f1[c] - f2[c]),
+                _ => [0, 1, 2].map(|c| 3.0 * f1[c] - 3.0 * f2[c] + f3[c]),
             }
         };
+        let k3 = 3.min(k);
         for b in 1..=k {
-            pad[b * w] = extend(pad[b * w + 1], pad[b * w + 2.min(k)]);
-            pad[b * w + k + 1] = extend(pad[b * w + k], pad[b * w + (k - 1).max(1)]);
+            let r = b * w;
+            pad[r] = extend(pad[r + 1], pad[r + 2.min(k)], pad[r + k3]);
+            pad[r + k + 1] = extend(pad[r + k], pad[r + (k - 1).max(1)], pad[r + k + 1 - k3]);
         }
         for a in 0..w {
-            pad[a] = extend(pad[w + a], pad[2.min(k) * w + a]);
-            pad[(k + 1) * w + a] = extend(pad[k * w + a], pad[(k - 1).max(1) * w + a]);
+            pad[a] = extend(pad[w + a], pad[2.min(k) * w + a], pad[k3 * w + a]);
+            pad[(k + 1) * w + a] = extend(
+                pad[k * w + a],
+                pad[(k - 1).max(1) * w + a],
+                pad[(k + 1 - k3) * w + a],
+            );
         }
         let vertices = (0..=k)
             .flat_map(|j| (0..=k).map(move |i| (i, j)))
