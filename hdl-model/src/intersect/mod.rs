@@ -461,6 +461,9 @@ struct CompactClocks {
     exact_free: u64,
     /// the clock each iterative (u,v) unit is free
     uv_free: [u64; UV_UNITS],
+    /// the next set-up key seen at the ray FIFO's head ([`IntersectUnit::announce`]) and the
+    /// clock it was first seen
+    lookahead: Option<(SetupKey, u64)>,
 }
 
 /// What the lanes did (for measurements): candidates tested, rays, set-up passes.
@@ -553,9 +556,35 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.retire.len() as u32
     }
 
-    /// Forgets the set-up (patch memory was written).
+    /// Forgets the set-up (patch memory was written), and any pass begun ahead of its rays.
     pub fn invalidate(&mut self) {
         self.key = None;
+        self.clocks.lookahead = None;
+    }
+
+    /// The entry at the ray FIFO's head on clock `now` traces from `origin`, in `frame` if it
+    /// is turned by one: a compact build's set-up units may begin that origin's pass now, before
+    /// its rays reach the unit (the credits hold at most [`RAY_SLOTS`] rays between the FIFO and
+    /// the result FIFO, so without it a pass overlaps only those). The pass's values are those
+    /// the unit computes when the first such ray starts (the same patch memory, origin and
+    /// frame: a write to patch memory in between drops it); only its clock is taken from here.
+    pub fn announce(&mut self, origin: [Coord; 3], frame: Option<[Angle; 3]>, now: u64) {
+        if !self.params.compact || self.clocks.lookahead.is_some() {
+            return;
+        }
+        let key = (origin, frame.filter(|_| self.culls()));
+        if self.stale(&key) {
+            self.clocks.lookahead = Some((key, now));
+        }
+    }
+
+    /// Whether a ray of set-up key `key` needs a new pass: another origin, or another frame
+    /// for a culled ray.
+    fn stale(&self, key: &SetupKey) -> bool {
+        match self.key {
+            None => true,
+            Some((o, f)) => o != key.0 || (key.1.is_some() && f != key.1),
+        }
     }
 
     /// Drops everything in flight.
@@ -597,7 +626,11 @@ impl<T: Copy + Default> IntersectUnit<T> {
         };
         let latency = setup_latency(axes.is_some());
         if self.params.compact {
-            self.double_buffered(pass, latency, now);
+            let begun = match self.clocks.lookahead.take() {
+                Some((k, at)) if k == key => at,
+                _ => now,
+            };
+            self.double_buffered(pass, latency, begun);
         } else {
             let busy = self.bank_free[..lanes]
                 .iter()
@@ -613,8 +646,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
     }
 
     /// A compact build's set-up pass timing: it fills the buffer the current set-up is not
-    /// in, once the set-up units are free and that buffer's last rays (two origins back) are
-    /// done reading it, while the lanes go on scanning the current buffer's rays.
+    /// in, from clock `now` (its key was seen) once the set-up units are free and that buffer's
+    /// last rays (two origins back) are done reading it, while the lanes go on scanning the
+    /// current buffer's rays.
     fn double_buffered(&mut self, pass: u64, latency: u64, now: u64) {
         let next = 1 - self.clocks.buffer;
         let start = now
@@ -746,14 +780,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let mut finish = now + 1;
         let mut wants_uv_unit = false;
         if !ray.bypass {
-            let frame = ray.frame.filter(|_| self.culls());
-            let stale = match self.key {
-                None => true,
-                Some((o, f)) => o != ray.origin || (frame.is_some() && f != frame),
-            };
-            if stale {
-                let key = (ray.origin, frame);
-                self.setup_pass(mem, count, key, frame.map(axes), now);
+            let key = (ray.origin, ray.frame.filter(|_| self.culls()));
+            if self.stale(&key) {
+                self.setup_pass(mem, count, key, key.1.map(axes), now);
             }
             let culled = self.key.is_some_and(|k| k.1.is_some()) && ray.frame.is_some();
             let bin = if culled {
