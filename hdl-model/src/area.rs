@@ -329,7 +329,8 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 /// control-point memory). The wide datapath (`compact` false) unrolls the (u,v) pipe into
 /// `uv_depth` levels (two 2D side tests of 34 × 34 products each, midpoints) and slab-tests a
 /// step's four children at once; the compact one has [`UV_UNITS`] iterative (u,v) units (one
-/// level a clock) and one slab tester taking a child a clock.
+/// level a clock), one slab tester taking a child a clock and a leaf with six products
+/// instead of eighteen.
 pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     let mut p = Proxy::default();
     p.cordic(cfg, 2);
@@ -352,7 +353,8 @@ pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     p.add(children * 3 * 2 * 15, 26);
     p.mul(children as u32 * 6, 26, 64);
     p.add(children * 6, 64);
-    p.mul(18, 34, 34);
+    // the leaf's products: both triangles' at once, or six at a time (compact)
+    p.mul(if compact { 6 } else { 18 }, 34, 34);
     p.add(3 * 32, 64);
     p.reg(3 * 32 * 128 + 2 * 1300);
     p.mem(40, 1300);

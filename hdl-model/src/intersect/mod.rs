@@ -307,11 +307,12 @@ fn setup_latency(culling: bool) -> u64 {
     }
 }
 
-/// The subdivision engine of a build: the compact datapath's tests a child box a clock.
+/// The subdivision engine of a build: the compact datapath's tests a child box a clock and
+/// forms a leaf's products six at a time.
 fn engine(subdiv: SubdivConfig, compact: bool) -> BezierEngine {
     let e = BezierEngine::new(subdiv, bezier::STACK_ENTRIES);
     if compact {
-        e.with_serial_slabs()
+        e.with_serial_slabs().with_serial_leaf()
     } else {
         e
     }
