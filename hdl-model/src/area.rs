@@ -155,9 +155,6 @@ const LOCAL_WORD: u64 = 4 * 3 * 62 + 3 * 32 + 98 + 4;
 /// the flags.
 const COARSE_WORD: u64 = 4 * (3 * 18 + 20) + 3 * 32 + 98 + 4;
 
-/// Width of the shared exact unit's word per slot: the exact edge normals (4 × 3 × 62).
-const EXACT_WORD: u64 = 4 * 3 * 62;
-
 /// The ray datapath of `params` at CORDIC `cfg` (the part the build parameters change).
 pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     if params.compact {
@@ -168,8 +165,8 @@ pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 
 /// The compact datapath: per lane the coarse edge test (twelve 18 × 18 products, one DSP tile
 /// each, and the bound's adders and compares), n · d, divider and running minimum; one shared
-/// exact edge unit (an edge a clock: three 32 × 62 products) over one copy of the exact edge
-/// normals; one set-up unit per bank (the wide datapath's); local memory, candidate bitmaps and
+/// exact edge unit (an edge a clock: three 32 × 62 products, and the six 34 × 34 products
+/// that recompute its normal from the corners); one set-up unit per bank (the wide datapath's); local memory, candidate bitmaps and
 /// exact words double-buffered, each lane's words for its bank (so once per ray group).
 fn compact_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     let mut p = Proxy::default();
@@ -204,12 +201,22 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     plane.reg(l * (94 + 64 + 64));
     plane.add(l, 64 + 16);
     plane.reg(l * 80);
-    // the shared exact edge unit: an edge a clock, its queue of undecided pairs
+    // the shared exact edge unit: an edge a clock, its normal recomputed from the corners
+    // (a = v − O, the cross product, the origin-wide shift and the side's sign), its queue of
+    // undecided pairs
     let mut exact = Proxy::default();
     exact.mul(3, 32, 62);
     exact.add(3, 94);
     exact.reg(3 * 94 + 32 * 3);
     exact.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4);
+    exact.mul(6, 34, 34);
+    exact.add(3, 34);
+    exact.add(3, 68);
+    // the shift: six levels of 2:1 multiplexers a component (a LUT4 a bit a level, counted as
+    // adders); the sign: a negation
+    exact.add(3 * 6, 68);
+    exact.add(3, 62);
+    exact.reg(4 * 3 * 34 + 3 * 68);
     let mut setup = Proxy::default();
     setup_units(&mut setup, params, b);
     if params.sectors > 0 {
@@ -230,15 +237,15 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
 }
 
 /// The compact datapath's memories, double-buffered where the set-up pass writes them (the
-/// next origin's pass fills the other half): each lane's coarse words for its bank, one copy of
-/// the exact edge normals, the sector bitmaps per bank and group, and patch memory.
+/// next origin's pass fills the other half): each lane's coarse words for its bank, the sector
+/// bitmaps per bank and group, and patch memory (the exact unit recomputes the exact edge
+/// normals from it).
 fn compact_memories(params: &Params) -> Proxy {
     let mut p = Proxy::default();
     let slots = params.capacity() as u64;
     for _ in 0..params.lanes {
         p.mem(2 * params.bank_slots as u64, COARSE_WORD);
     }
-    p.mem(2 * slots, EXACT_WORD);
     p.mem(slots * 16, 32);
     if params.sectors > 0 {
         for _ in 0..params.banks() * params.ray_groups {

@@ -244,9 +244,15 @@ fn coarse_inside(d: &[i32; 3], lp: &LocalPatch) -> Option<bool> {
     (!undecided).then_some(true)
 }
 
-/// Clocks the shared exact edge unit takes for one pair: an edge (three 32 × 62 products) a
-/// clock.
-const EXACT_CLOCKS_PER_EDGE: u64 = 1;
+/// Clocks the shared exact edge unit takes for one pair of a patch of `sides` corners. The
+/// exact edge normals are not stored (they would take as much block RAM as the lanes' words):
+/// the unit reads the slot's corners from patch memory, a corner a clock as the set-up units
+/// do, and then takes an edge a clock, its normal a_i × a_{i+1} recomputed exactly as the
+/// set-up pass forms it (six 34 × 34 products, the origin-wide shift, the side's sign) and
+/// dotted with d (three 32 × 62 products): the same integers as the model's stored `e`.
+fn exact_pair_clocks(sides: u8) -> u64 {
+    2 * sides as u64
+}
 
 /// Stage 2: t = h / (n · d) as Q8.24, or "no hit" (t ≤ 0, parallel, out of range).
 #[derive(Clone, Copy, Debug, Default)]
@@ -856,7 +862,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             if compact && lp.active {
                 match coarse_inside(&dc, lp) {
                     Some(inside) => debug_assert_eq!(inside, tok.inside, "coarse bound"),
-                    None => exact[i as usize % banks] += lp.sides as u64 * EXACT_CLOCKS_PER_EDGE,
+                    None => exact[i as usize % banks] += exact_pair_clocks(lp.sides),
                 }
             }
             if let Some(t) = DivideStage.eval(tok) {
