@@ -99,6 +99,17 @@ impl Proxy {
         self.reg(count * (n + 2) * 3 * w);
     }
 
+    /// A pipelined vectoring CORDIC of `cfg` whose magnitude is used (`magnitude`: the x
+    /// output's gain multiplier) or not (the angle alone needs no gain stage).
+    fn vectoring(&mut self, cfg: CordicConfig, count: u64, magnitude: bool) {
+        let (n, w) = (cfg.iterations as u64, cfg.width as u64);
+        self.add(count * 3 * (n + 1), w);
+        if magnitude {
+            self.mul(count as u32, cfg.width, cfg.width);
+        }
+        self.reg(count * (n + 2) * 3 * w);
+    }
+
     /// Adds `other`'s counts to these (its multipliers after these in mapping order).
     fn merge(&mut self, other: Proxy) {
         self.adders += other.adders;
@@ -220,8 +231,9 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     let mut setup = Proxy::default();
     setup_units(&mut setup, params, b);
     if params.sectors > 0 {
-        // a corner a clock needs its polar vectoring too, chained after the azimuth's
-        setup.cordic(CordicConfig::DEFAULT, b);
+        // a corner a clock needs its polar vectoring too, chained after the azimuth's (its
+        // angle alone is used)
+        setup.vectoring(CordicConfig::DEFAULT, b, false);
     }
     let mut front = Proxy::default();
     front_end(&mut front, params, cfg);
@@ -255,22 +267,31 @@ fn compact_memories(params: &Params) -> Proxy {
     p
 }
 
-/// Set-up units, one per bank, a corner per clock: a × b (6 products of 34 × 34), h, and with
-/// culling the corner's three dot products with the axes and a vectoring CORDIC.
+/// Set-up units, one per bank, a corner per clock: a × b (6 products of 34 × 34) and h (one
+/// 32 × 34 product a clock, accumulated over the patch's three or four corner clocks), and with
+/// culling the corner's three dot products with the axes, its edge normal's with the frame's
+/// axis (three 62 × 32) and the azimuth's vectoring CORDIC (the magnitude feeds the polar
+/// vectoring); the rays' sector and band vectorings, `rays_per_clock` of each.
 fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
     for _ in 0..banks {
         p.mul(6, 34, 34);
-        p.mul(3, 32, 34);
+        p.mul(1, 32, 34);
     }
     p.add(banks * 6, 68);
+    p.add(banks, 68);
     p.reg(banks * 1024);
     if params.sectors > 0 {
         for _ in 0..banks {
             p.mul(9, 34, 32);
+            p.mul(3, 62, 32);
         }
-        p.cordic(CordicConfig::DEFAULT, banks);
+        // e · w: its sum, and its compare against |e|∞ 2^-10
+        p.add(banks * 3, 94);
+        p.vectoring(CordicConfig::DEFAULT, banks, true);
         p.add(banks * 8, 32);
-        p.cordic(CordicConfig::DEFAULT, params.rays_per_clock as u64);
+        let rays = params.rays_per_clock as u64;
+        p.vectoring(CordicConfig::DEFAULT, rays, true);
+        p.vectoring(CordicConfig::DEFAULT, rays, false);
     }
 }
 
@@ -311,6 +332,10 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     p.add(l, 64);
     p.reg(l * (4 * 94 + 64 + 64));
     setup_units(&mut p, params, l);
+    // a slot a clock: h's three products at once
+    for _ in 0..l {
+        p.mul(2, 32, 34);
+    }
     front_end(&mut p, params, cfg);
     // min tree
     p.add(l, 64 + 16);
