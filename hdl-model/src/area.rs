@@ -22,7 +22,7 @@
 extern crate alloc;
 
 use crate::cordic::CordicConfig;
-use crate::intersect::UV_UNITS;
+use crate::intersect::{PLANE_UNITS, UV_UNITS};
 use crate::params::Params;
 use alloc::vec::Vec;
 
@@ -162,8 +162,8 @@ impl Proxy {
 const LOCAL_WORD: u64 = 4 * 3 * 62 + 3 * 32 + 98 + 4;
 
 /// Width of a compact lane's local-memory word: four coarse edge normals (3 × 18 bits) with
-/// their Σ|e'_c| (20 bits), the normal (3 × 32) and h (98) for the lane's n · d and divider, and
-/// the flags.
+/// their Σ|e'_c| (20 bits), the normal (3 × 32) and h (98) that the lane hands its group's plane
+/// unit with a pair found inside, and the flags.
 const COARSE_WORD: u64 = 4 * (3 * 18 + 20) + 3 * 32 + 98 + 4;
 
 /// The ray datapath of `params` at CORDIC `cfg` (the part the build parameters change).
@@ -175,7 +175,8 @@ pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 }
 
 /// The compact datapath: per lane the coarse edge test (twelve 18 × 18 products, one DSP tile
-/// each, and the bound's adders and compares), n · d, divider and running minimum; one shared
+/// each, and the bound's adders and compares); per ray group [`PLANE_UNITS`] plane units
+/// (n · d, divider, running minimum) fed with the pairs its lanes find inside; one shared
 /// exact edge unit (an edge a clock: three 32 × 62 products, and the six 34 × 34 products
 /// that recompute its normal from the corners); one set-up unit per bank (the wide datapath's); local memory, candidate bitmaps and
 /// exact words double-buffered, each lane's words for its bank (so once per ray group).
@@ -202,16 +203,21 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     coarse.add(l * 4 * 5, 38);
     coarse.add(g * 5, 18);
     coarse.reg(l * (4 * 3 * 18 + 4 * 38 + 3 * 18));
-    // n · d, divider, running minimum (as the wide datapath's), and the min trees
+    // the plane units, PLANE_UNITS a ray group: n · d, divider, running minimum (as the wide
+    // datapath's lane has them) and the min tree; each lane's hand-off register (its pair's
+    // slot, n and h from its word) and the oldest-first arbiter's compares of ray tags
+    let units = params.ray_groups as u64 * PLANE_UNITS as u64;
     let mut plane = Proxy::default();
-    plane.mul(3 * l as u32, 32, 32);
-    plane.add(l * 2, 94);
-    plane.add(l * crate::intersect::DIV_LATENCY as u64, 98);
-    plane.reg(l * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
-    plane.add(l, 64);
-    plane.reg(l * (94 + 64 + 64));
-    plane.add(l, 64 + 16);
-    plane.reg(l * 80);
+    plane.mul(3 * units as u32, 32, 32);
+    plane.add(units * 2, 94);
+    plane.add(units * crate::intersect::DIV_LATENCY as u64, 98);
+    plane.reg(units * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
+    plane.add(units, 64);
+    plane.reg(units * (94 + 64 + 64));
+    plane.add(units, 64 + 16);
+    plane.reg(units * 80);
+    plane.reg(l * (16 + 3 * 32 + 98 + 8 + 1));
+    plane.add(l, 8);
     // the shared exact edge unit: an edge a clock, its normal recomputed from the corners
     // (a = v − O, the cross product, the origin-wide shift and the side's sign), its queue of
     // undecided pairs
@@ -240,7 +246,7 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     queues(&mut front, l);
     alloc::vec![
         ("coarse edge tests", coarse),
-        ("n · d, dividers, minima", plane),
+        ("plane units (n · d, dividers, minima)", plane),
         ("exact edge unit", exact),
         ("set-up units", setup),
         ("front end and queues", front),

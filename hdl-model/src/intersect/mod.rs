@@ -28,6 +28,11 @@
 //!    as one exact integer quotient; a restoring divider gives the same truncated quotient).
 //! 3. the lane's running minimum, then the min tree over lanes (`merge_latency` clocks).
 //!
+//! On the compact datapath a lane has only the edge stage (a coarse test, the undecided pairs
+//! to a shared exact unit): the pairs it finds inside go, with the n and h of the lane's word,
+//! to one of its ray group's [`PLANE_UNITS`] plane units, which hold the n · d, the divider and
+//! the group's running minimum; a lane whose pair finds them busy waits with it.
+//!
 //! Then the (u,v) pipe ([`uv`]) locates the hit point on the hit patch. Widths: coordinates Q8.24
 //! (32 bits), a_i 34 bits, e_i ≤ 62 bits (an origin-wide truncation keeps far origins in range),
 //! d · e_i and h, n · d up to 98 bits (i128 containers), t Q8.24. h ([`PlaneDist`], Q.54), n · d
@@ -329,6 +334,24 @@ fn engine(subdiv: SubdivConfig, compact: bool) -> BezierEngine {
 /// planar patches of rays that want (u,v) use them).
 pub const UV_UNITS: usize = 2;
 
+/// Plane units of each ray group in a compact build: the lanes test edges only, and hand each
+/// pair they find inside (with its slot's n and h from the lane's word) to one of their group's
+/// plane units, which forms n · d, divides and keeps the group's running minimum. A pair takes
+/// a plane unit one clock; a lane whose pair finds them busy holds it and stalls.
+pub const PLANE_UNITS: usize = 1;
+
+/// Most ray groups (CAPS_LANES holds groups − 1 in four bits).
+const MAX_GROUPS: usize = 16;
+
+/// A (ray, patch) pair found inside, for the plane units: its bank, its place among the bank's
+/// candidates of the ray, and whether the shared exact unit decided it.
+#[derive(Clone, Copy, Debug, Default)]
+struct InsidePair {
+    bank: u8,
+    at: u32,
+    exact: bool,
+}
+
 /// Clocks of a compact build's set-up pass over the first `count` slots: each bank's set-up
 /// unit takes a corner a clock (one cross product, the corner's dot products with the axes and
 /// its two vectorings: the multipliers and CORDIC pipes `area` counts), so a quad costs four
@@ -343,6 +366,15 @@ fn corner_clocks(mem: &PatchMem, count: u32, banks: usize) -> u64 {
         };
     }
     per_bank.iter().copied().max().unwrap_or(0)
+}
+
+/// One pair offered to a ray group's plane units (the clocks each is free) on clock `at`: the
+/// clock the first free one takes it.
+fn plane_take(units: &mut [u64; PLANE_UNITS], at: u64) -> u64 {
+    let unit = (0..PLANE_UNITS).min_by_key(|&u| units[u]).unwrap_or(0);
+    let taken = units[unit].max(at);
+    units[unit] = taken + 1;
+    taken
 }
 
 /// What the set-up pass was computed for: the origin, and the frame if it culled.
@@ -451,6 +483,8 @@ pub struct IntersectUnit<T: Copy + Default> {
     stats: LaneStats,
     /// The compact datapath's clocks, cleared with the rest on a flush.
     clocks: CompactClocks,
+    /// the current ray's pairs found inside (scratch of [`IntersectUnit::lanes`])
+    inside: Table<InsidePair, PATCH_CAPACITY>,
 }
 
 /// Where the compact datapath's shared resources stand.
@@ -468,6 +502,8 @@ struct CompactClocks {
     exact_free: u64,
     /// the clock each iterative (u,v) unit is free
     uv_free: [u64; UV_UNITS],
+    /// the clock each ray group's plane units are free
+    plane_free: [[u64; PLANE_UNITS]; MAX_GROUPS],
     /// the next set-up key seen at the ray FIFO's head ([`IntersectUnit::announce`]) and the
     /// clock it was first seen
     lookahead: Option<(SetupKey, u64)>,
@@ -496,6 +532,9 @@ pub struct LaneStats {
     pub exact_edges: u64,
     /// Bins covered, summed.
     pub bins: u64,
+    /// (ray, planar patch) pairs found inside the patch's pyramid, handed to a plane unit
+    /// (compact builds).
+    pub inside: u64,
 }
 
 /// Exclusive bound of a Bezier hit's t: the largest t of the result's Q8.24 plus one LSB.
@@ -524,6 +563,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             bez_root: [Box3::default(); BEZIER_ROWS],
             stats: LaneStats::default(),
             clocks: CompactClocks::default(),
+            inside: Table::new(InsidePair::default(), params.capacity() as usize),
         }
     }
 
@@ -839,8 +879,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
 
     /// The planar lanes on one ray: its nearest planar hit and the clock its last lane is
     /// done. The ray goes to one group's lanes (round robin); in a compact build each
-    /// candidate's coarse test runs in its lane and the pairs it cannot decide queue for the
-    /// shared exact unit after that lane's last candidate of the ray.
+    /// candidate's coarse test runs in its lane, the pairs it cannot decide queue for the
+    /// shared exact unit after that lane's last candidate of the ray, and the pairs found
+    /// inside go to the group's plane units (`compact_lanes`).
     fn lanes(&mut self, ray: &RayIn<T>, bin: Option<(u32, u32)>, now: u64) -> (Option<Best>, u64) {
         let banks = self.params.banks() as usize;
         let group = self.clocks.next_group as usize;
@@ -852,17 +893,28 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let compact = self.params.compact;
         let dc = ray.dir.map(|c| c.to_bits() >> COARSE_DIR_SHIFT);
         let c = &self.candidates;
+        let mut inside = 0;
         for &i in c.list(bin.map(|b| b.0)) {
             if ray.skip == Some(i as u32) || bin.is_some_and(|b| !c.in_band(i, b.1)) {
                 continue;
             }
-            counts[i as usize % banks] += 1;
+            let bank = i as usize % banks;
+            counts[bank] += 1;
             let lp = &self.local[i as usize];
             let tok = EdgeStage.eval(&ray.dir, lp);
             if compact && lp.active {
-                match coarse_inside(&dc, lp) {
+                let decided = coarse_inside(&dc, lp);
+                match decided {
                     Some(inside) => debug_assert_eq!(inside, tok.inside, "coarse bound"),
-                    None => exact[i as usize % banks] += exact_pair_clocks(lp.sides),
+                    None => exact[bank] += exact_pair_clocks(lp.sides),
+                }
+                if tok.inside {
+                    self.inside[inside] = InsidePair {
+                        bank: bank as u8,
+                        at: counts[bank] as u32 - 1,
+                        exact: decided.is_none(),
+                    };
+                    inside += 1;
                 }
             }
             if let Some(t) = DivideStage.eval(tok) {
@@ -878,7 +930,14 @@ impl<T: Copy + Default> IntersectUnit<T> {
         }
         self.stats.candidates += counts.iter().sum::<u64>();
         self.stats.exact_edges += exact.iter().sum::<u64>();
+        self.stats.inside += inside as u64;
         let (first, mut end) = self.first_clock(now);
+        if compact {
+            let end = self
+                .compact_lanes(group, &counts, &exact, inside, first)
+                .max(end);
+            return (best, end);
+        }
         let lanes = &mut self.bank_free[group * banks..(group + 1) * banks];
         for (b, free) in lanes.iter_mut().enumerate() {
             if counts[b] > 0 {
@@ -893,6 +952,98 @@ impl<T: Copy + Default> IntersectUnit<T> {
             }
         }
         (best, end)
+    }
+
+    /// A compact build's clocks for one ray in `group`, whose lanes have `counts` candidates
+    /// and `exact` clocks of the shared exact unit, and whose first `inside` pairs of
+    /// `self.inside` were found inside: the clock its last lane, exact check or plane unit is
+    /// done. The lanes' pairs go to the group's plane units oldest first (a lane waits with its
+    /// pair while they are busy, which delays its later candidates); the exact unit's pairs
+    /// follow, as it decides them.
+    fn compact_lanes(
+        &mut self,
+        group: usize,
+        counts: &[u64; MAX_LANES as usize],
+        exact: &[u64; MAX_LANES as usize],
+        inside: usize,
+        first: u64,
+    ) -> u64 {
+        let banks = self.params.banks() as usize;
+        let lanes = group * banks..(group + 1) * banks;
+        let mut start = [0u64; MAX_LANES as usize];
+        for (b, free) in self.bank_free[lanes.clone()].iter().enumerate() {
+            start[b] = (*free).max(first);
+        }
+        let pairs = &mut self.inside[..inside];
+        pairs.sort_unstable_by_key(|p| (p.exact, p.bank, p.at));
+        let lane_pairs = pairs.iter().filter(|p| !p.exact).count();
+        let delay = self.plane_pairs(group, &start, lane_pairs);
+        let mut end = first;
+        let mut exact_end = [0u64; MAX_LANES as usize];
+        for (b, free) in self.bank_free[lanes].iter_mut().enumerate() {
+            if counts[b] > 0 {
+                *free = start[b] + counts[b] + delay[b];
+                end = end.max(*free);
+            }
+            if exact[b] > 0 {
+                let at = self.clocks.exact_free.max(*free);
+                self.clocks.exact_free = at + exact[b];
+                exact_end[b] = self.clocks.exact_free;
+            }
+        }
+        for k in lane_pairs..inside {
+            let p = self.inside[k];
+            let taken = plane_take(
+                &mut self.clocks.plane_free[group],
+                exact_end[p.bank as usize],
+            );
+            self.clocks.exact_free = self.clocks.exact_free.max(taken + 1);
+        }
+        let plane = self.clocks.plane_free[group]
+            .iter()
+            .copied()
+            .max()
+            .unwrap_or(0);
+        end.max(self.clocks.exact_free).max(plane)
+    }
+
+    /// The first `n` pairs of `self.inside` (the lanes' own, sorted by bank and place) through
+    /// `group`'s plane units, oldest first: each bank's stall, for lanes that started the ray
+    /// on `start`.
+    fn plane_pairs(
+        &mut self,
+        group: usize,
+        start: &[u64; MAX_LANES as usize],
+        n: usize,
+    ) -> [u64; MAX_LANES as usize] {
+        let pairs = &self.inside[..n];
+        let units = &mut self.clocks.plane_free[group];
+        let mut delay = [0u64; MAX_LANES as usize];
+        // each bank's next pair: its index in `pairs`
+        let mut next = [usize::MAX; MAX_LANES as usize];
+        for (k, p) in pairs.iter().enumerate().rev() {
+            next[p.bank as usize] = k;
+        }
+        let arrival = |k: usize, delay: &[u64; MAX_LANES as usize]| {
+            let b = pairs[k].bank as usize;
+            start[b] + delay[b] + pairs[k].at as u64 + 1
+        };
+        loop {
+            let oldest = (0..MAX_LANES as usize)
+                .filter(|&b| next[b] < n)
+                .min_by_key(|&b| arrival(next[b], &delay));
+            let Some(b) = oldest else {
+                return delay;
+            };
+            let k = next[b];
+            let at = arrival(k, &delay);
+            delay[b] += plane_take(units, at) - at;
+            next[b] = if pairs.get(k + 1).is_some_and(|p| p.bank as usize == b) {
+                k + 1
+            } else {
+                usize::MAX
+            };
+        }
     }
 
     /// The Bezier lane on one ray: its nearest Bezier hit and the clock the lane is done.
