@@ -301,13 +301,19 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
     }
 }
 
-/// The front end: rotators (three pipes each), reciprocal units (three radix-2 dividers of 33
-/// stages on 64 bits).
+/// The front end: rotators (three pipes each), reciprocal units (radix-2 dividers of 33 stages
+/// on 64 bits: three a ray a clock, or the compact datapath's one for the Bezier lane).
 fn front_end(p: &mut Proxy, params: &Params, cfg: CordicConfig) {
     let g = params.rays_per_clock as u64;
     p.cordic(cfg, 3 * g);
-    p.add(g * 3 * 33, 64);
-    p.reg(g * 3 * 33 * 128);
+    // the compact datapath's one divider, a component a clock, and its results for the rays
+    // waiting for the Bezier lane
+    let dividers = if params.compact { 1 } else { 3 * g };
+    p.add(dividers * 33, 64);
+    p.reg(dividers * 33 * 128);
+    if params.compact {
+        p.mem(crate::intersect::RAY_SLOTS as u64, 3 * 64);
+    }
 }
 
 /// The descriptor FIFOs, the ray table, ray queue, result FIFO and ray FIFO.

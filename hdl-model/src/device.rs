@@ -643,8 +643,9 @@ impl Device {
                 continue;
             };
             // room was reserved when the entry left the FIFO
-            // the reciprocal unit (1/d for the Bezier unit's slab tests) sits at the queue's
-            // input: pipelined, its answer is ready RECIP_LATENCY clocks after the ray enters
+            // the wide datapath's reciprocal unit (1/d for the Bezier unit's slab tests) sits at
+            // the queue's input: pipelined, its answer is ready RECIP_LATENCY clocks after the ray
+            // enters (the compact datapath's serial one is in the intersection unit)
             let pushed = self.queue.push(RayIn {
                 origin: info.origin,
                 dir,

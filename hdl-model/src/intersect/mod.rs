@@ -502,6 +502,8 @@ struct CompactClocks {
     exact_free: u64,
     /// the clock each iterative (u,v) unit is free
     uv_free: [u64; UV_UNITS],
+    /// the clock the reciprocal unit takes its next component
+    recip_free: u64,
     /// the clock each ray group's plane units are free
     plane_free: [[u64; PLANE_UNITS]; MAX_GROUPS],
     /// the next set-up key seen at the ray FIFO's head ([`IntersectUnit::announce`]) and the
@@ -1075,9 +1077,25 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 });
             }
         }
-        let start = self.bezier_free.max(first).max(ray.recip_at);
+        let recip = if self.params.compact {
+            self.serial_recip(now)
+        } else {
+            ray.recip_at
+        };
+        let start = self.bezier_free.max(first).max(recip);
         self.bezier_free = start + clocks;
         (best, self.bezier_free)
+    }
+
+    /// A compact build's reciprocal unit for a ray started on `now` whose set-up has Bezier
+    /// slots: one pipelined divider taking a component of d a clock (the wide datapath has
+    /// three a front-end lane, at the ray queue's input, for every ray), so a ray holds it
+    /// three clocks; the clock its three reciprocals are ready. Only the Bezier lane waits for
+    /// them, and it spends at least a clock a Bezier slot on every ray.
+    fn serial_recip(&mut self, now: u64) -> u64 {
+        let start = self.clocks.recip_free.max(now + 1);
+        self.clocks.recip_free = start + 3;
+        start + 2 + bezier::RECIP_LATENCY
     }
 
     /// One Bezier slot: the root slab test, then the engine to its answer; the answer and
