@@ -908,7 +908,10 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 let decided = coarse_inside(&dc, lp);
                 match decided {
                     Some(inside) => debug_assert_eq!(inside, tok.inside, "coarse bound"),
-                    None => exact[bank] += exact_pair_clocks(lp.sides),
+                    None => {
+                        exact[bank] += exact_pair_clocks(lp.sides);
+                        self.stats.exact_edges += lp.sides as u64;
+                    }
                 }
                 if tok.inside {
                     self.inside[inside] = InsidePair {
@@ -931,7 +934,6 @@ impl<T: Copy + Default> IntersectUnit<T> {
             }
         }
         self.stats.candidates += counts.iter().sum::<u64>();
-        self.stats.exact_edges += exact.iter().sum::<u64>();
         self.stats.inside += inside as u64;
         let (first, mut end) = self.first_clock(now);
         if compact {
