@@ -348,7 +348,8 @@ const MAX_GROUPS: usize = 16;
 #[derive(Clone, Copy, Debug, Default)]
 struct InsidePair {
     bank: u8,
-    at: u32,
+    /// below the bank's slots (at most [`crate::params::MAX_CAPACITY`])
+    at: u16,
     exact: bool,
 }
 
@@ -916,7 +917,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 if tok.inside {
                     self.inside[inside] = InsidePair {
                         bank: bank as u8,
-                        at: counts[bank] as u32 - 1,
+                        at: (counts[bank] - 1) as u16,
                         exact: decided.is_none(),
                     };
                     inside += 1;
