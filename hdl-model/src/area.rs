@@ -22,7 +22,7 @@
 extern crate alloc;
 
 use crate::cordic::CordicConfig;
-use crate::intersect::UV_UNITS;
+use crate::intersect::{PLANE_UNITS, UV_UNITS};
 use crate::params::Params;
 use alloc::vec::Vec;
 
@@ -99,6 +99,17 @@ impl Proxy {
         self.reg(count * (n + 2) * 3 * w);
     }
 
+    /// A pipelined vectoring CORDIC of `cfg` whose magnitude is used (`magnitude`: the x
+    /// output's gain multiplier) or not (the angle alone needs no gain stage).
+    fn vectoring(&mut self, cfg: CordicConfig, count: u64, magnitude: bool) {
+        let (n, w) = (cfg.iterations as u64, cfg.width as u64);
+        self.add(count * 3 * (n + 1), w);
+        if magnitude {
+            self.mul(count as u32, cfg.width, cfg.width);
+        }
+        self.reg(count * (n + 2) * 3 * w);
+    }
+
     /// Adds `other`'s counts to these (its multipliers after these in mapping order).
     fn merge(&mut self, other: Proxy) {
         self.adders += other.adders;
@@ -151,12 +162,9 @@ impl Proxy {
 const LOCAL_WORD: u64 = 4 * 3 * 62 + 3 * 32 + 98 + 4;
 
 /// Width of a compact lane's local-memory word: four coarse edge normals (3 × 18 bits) with
-/// their Σ|e'_c| (20 bits), the normal (3 × 32) and h (98) for the lane's n · d and divider, and
-/// the flags.
+/// their Σ|e'_c| (20 bits), the normal (3 × 32) and h (98) that the lane hands its group's plane
+/// unit with a pair found inside, and the flags.
 const COARSE_WORD: u64 = 4 * (3 * 18 + 20) + 3 * 32 + 98 + 4;
-
-/// Width of the shared exact unit's word per slot: the exact edge normals (4 × 3 × 62).
-const EXACT_WORD: u64 = 4 * 3 * 62;
 
 /// The ray datapath of `params` at CORDIC `cfg` (the part the build parameters change).
 pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
@@ -167,9 +175,10 @@ pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 }
 
 /// The compact datapath: per lane the coarse edge test (twelve 18 × 18 products, one DSP tile
-/// each, and the bound's adders and compares), n · d, divider and running minimum; one shared
-/// exact edge unit (an edge a clock: three 32 × 62 products) over one copy of the exact edge
-/// normals; one set-up unit per bank (the wide datapath's); local memory, candidate bitmaps and
+/// each, and the bound's adders and compares); per ray group [`PLANE_UNITS`] plane units
+/// (n · d, divider, running minimum) fed with the pairs its lanes find inside; one shared
+/// exact edge unit (an edge a clock: three 32 × 62 products, and the six 34 × 34 products
+/// that recompute its normal from the corners); one set-up unit per bank (the wide datapath's); local memory, candidate bitmaps and
 /// exact words double-buffered, each lane's words for its bank (so once per ray group).
 fn compact_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     let mut p = Proxy::default();
@@ -194,34 +203,50 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     coarse.add(l * 4 * 5, 38);
     coarse.add(g * 5, 18);
     coarse.reg(l * (4 * 3 * 18 + 4 * 38 + 3 * 18));
-    // n · d, divider, running minimum (as the wide datapath's), and the min trees
+    // the plane units, PLANE_UNITS a ray group: n · d, divider, running minimum (as the wide
+    // datapath's lane has them) and the min tree; each lane's hand-off register (its pair's
+    // slot, n and h from its word) and the oldest-first arbiter's compares of ray tags
+    let units = params.ray_groups as u64 * PLANE_UNITS as u64;
     let mut plane = Proxy::default();
-    plane.mul(3 * l as u32, 32, 32);
-    plane.add(l * 2, 94);
-    plane.add(l * crate::intersect::DIV_LATENCY as u64, 98);
-    plane.reg(l * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
-    plane.add(l, 64);
-    plane.reg(l * (94 + 64 + 64));
-    plane.add(l, 64 + 16);
-    plane.reg(l * 80);
-    // the shared exact edge unit: an edge a clock, its queue of undecided pairs
+    plane.mul(3 * units as u32, 32, 32);
+    plane.add(units * 2, 94);
+    plane.add(units * crate::intersect::DIV_LATENCY as u64, 98);
+    plane.reg(units * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
+    plane.add(units, 64);
+    plane.reg(units * (94 + 64 + 64));
+    plane.add(units, 64 + 16);
+    plane.reg(units * 80);
+    plane.reg(l * (16 + 3 * 32 + 98 + 8 + 1));
+    plane.add(l, 8);
+    // the shared exact edge unit: an edge a clock, its normal recomputed from the corners
+    // (a = v − O, the cross product, the origin-wide shift and the side's sign), its queue of
+    // undecided pairs
     let mut exact = Proxy::default();
     exact.mul(3, 32, 62);
     exact.add(3, 94);
     exact.reg(3 * 94 + 32 * 3);
     exact.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4);
+    exact.mul(6, 34, 34);
+    exact.add(3, 34);
+    exact.add(3, 68);
+    // the shift: six levels of 2:1 multiplexers a component (a LUT4 a bit a level, counted as
+    // adders); the sign: a negation
+    exact.add(3 * 6, 68);
+    exact.add(3, 62);
+    exact.reg(4 * 3 * 34 + 3 * 68);
     let mut setup = Proxy::default();
     setup_units(&mut setup, params, b);
     if params.sectors > 0 {
-        // a corner a clock needs its polar vectoring too, chained after the azimuth's
-        setup.cordic(CordicConfig::DEFAULT, b);
+        // a corner a clock needs its polar vectoring too, chained after the azimuth's (its
+        // angle alone is used)
+        setup.vectoring(CordicConfig::DEFAULT, b, false);
     }
     let mut front = Proxy::default();
     front_end(&mut front, params, cfg);
     queues(&mut front, l);
     alloc::vec![
         ("coarse edge tests", coarse),
-        ("n · d, dividers, minima", plane),
+        ("plane units (n · d, dividers, minima)", plane),
         ("exact edge unit", exact),
         ("set-up units", setup),
         ("front end and queues", front),
@@ -230,15 +255,15 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
 }
 
 /// The compact datapath's memories, double-buffered where the set-up pass writes them (the
-/// next origin's pass fills the other half): each lane's coarse words for its bank, one copy of
-/// the exact edge normals, the sector bitmaps per bank and group, and patch memory.
+/// next origin's pass fills the other half): each lane's coarse words for its bank, the sector
+/// bitmaps per bank and group, and patch memory (the exact unit recomputes the exact edge
+/// normals from it).
 fn compact_memories(params: &Params) -> Proxy {
     let mut p = Proxy::default();
     let slots = params.capacity() as u64;
     for _ in 0..params.lanes {
         p.mem(2 * params.bank_slots as u64, COARSE_WORD);
     }
-    p.mem(2 * slots, EXACT_WORD);
     p.mem(slots * 16, 32);
     if params.sectors > 0 {
         for _ in 0..params.banks() * params.ray_groups {
@@ -248,32 +273,47 @@ fn compact_memories(params: &Params) -> Proxy {
     p
 }
 
-/// Set-up units, one per bank, a corner per clock: a × b (6 products of 34 × 34), h, and with
-/// culling the corner's three dot products with the axes and a vectoring CORDIC.
+/// Set-up units, one per bank, a corner per clock: a × b (6 products of 34 × 34) and h (one
+/// 32 × 34 product a clock, accumulated over the patch's three or four corner clocks), and with
+/// culling the corner's three dot products with the axes, its edge normal's with the frame's
+/// axis (three 62 × 32) and the azimuth's vectoring CORDIC (the magnitude feeds the polar
+/// vectoring); the rays' sector and band vectorings, `rays_per_clock` of each.
 fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
     for _ in 0..banks {
         p.mul(6, 34, 34);
-        p.mul(3, 32, 34);
+        p.mul(1, 32, 34);
     }
     p.add(banks * 6, 68);
+    p.add(banks, 68);
     p.reg(banks * 1024);
     if params.sectors > 0 {
         for _ in 0..banks {
             p.mul(9, 34, 32);
+            p.mul(3, 62, 32);
         }
-        p.cordic(CordicConfig::DEFAULT, banks);
+        // e · w: its sum, and its compare against |e|∞ 2^-10
+        p.add(banks * 3, 94);
+        p.vectoring(CordicConfig::DEFAULT, banks, true);
         p.add(banks * 8, 32);
-        p.cordic(CordicConfig::DEFAULT, params.rays_per_clock as u64);
+        let rays = params.rays_per_clock as u64;
+        p.vectoring(CordicConfig::DEFAULT, rays, true);
+        p.vectoring(CordicConfig::DEFAULT, rays, false);
     }
 }
 
-/// The front end: rotators (three pipes each), reciprocal units (three radix-2 dividers of 33
-/// stages on 64 bits).
+/// The front end: rotators (three pipes each), reciprocal units (radix-2 dividers of 33 stages
+/// on 64 bits: three a ray a clock, or the compact datapath's one for the Bezier lane).
 fn front_end(p: &mut Proxy, params: &Params, cfg: CordicConfig) {
     let g = params.rays_per_clock as u64;
     p.cordic(cfg, 3 * g);
-    p.add(g * 3 * 33, 64);
-    p.reg(g * 3 * 33 * 128);
+    // the compact datapath's one divider, a component a clock, and its results for the rays
+    // waiting for the Bezier lane
+    let dividers = if params.compact { 1 } else { 3 * g };
+    p.add(dividers * 33, 64);
+    p.reg(dividers * 33 * 128);
+    if params.compact {
+        p.mem(crate::intersect::RAY_SLOTS as u64, 3 * 64);
+    }
 }
 
 /// The descriptor FIFOs, the ray table, ray queue, result FIFO and ray FIFO.
@@ -304,6 +344,10 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     p.add(l, 64);
     p.reg(l * (4 * 94 + 64 + 64));
     setup_units(&mut p, params, l);
+    // a slot a clock: h's three products at once
+    for _ in 0..l {
+        p.mul(2, 32, 34);
+    }
     front_end(&mut p, params, cfg);
     // min tree
     p.add(l, 64 + 16);
@@ -329,7 +373,8 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 /// control-point memory). The wide datapath (`compact` false) unrolls the (u,v) pipe into
 /// `uv_depth` levels (two 2D side tests of 34 × 34 products each, midpoints) and slab-tests a
 /// step's four children at once; the compact one has [`UV_UNITS`] iterative (u,v) units (one
-/// level a clock) and one slab tester taking a child a clock.
+/// level a clock), one slab tester taking a child a clock and a leaf with six products
+/// instead of eighteen.
 pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     let mut p = Proxy::default();
     p.cordic(cfg, 2);
@@ -352,7 +397,8 @@ pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     p.add(children * 3 * 2 * 15, 26);
     p.mul(children as u32 * 6, 26, 64);
     p.add(children * 6, 64);
-    p.mul(18, 34, 34);
+    // the leaf's products: both triangles' at once, or six at a time (compact)
+    p.mul(if compact { 6 } else { 18 }, 34, 34);
     p.add(3 * 32, 64);
     p.reg(3 * 32 * 128 + 2 * 1300);
     p.mem(40, 1300);

@@ -611,18 +611,41 @@ impl Device {
         rot_in
     }
 
+    /// Shows the intersection unit the set-up key of the ray FIFO's head, if it is a ray that
+    /// will be traced and its frame (if it rotates) is the angle unit's settled output, so
+    /// that the set-up units can begin its origin's pass while earlier rays hold the credits.
+    fn announce_head(&mut self) {
+        let Some(e) = self.ray_fifo.front() else {
+            return;
+        };
+        let kind = e.mode & mode::KIND_MASK;
+        if e.frame.is_some() || kind == mode::ROTATE {
+            return;
+        }
+        let frame = if kind == mode::TRACE {
+            None
+        } else if self.frame.busy() || !self.frame_valid {
+            return;
+        } else {
+            Some(self.frame.angles())
+        };
+        self.intersect.announce(e.origin, frame, self.cycles);
+    }
+
     /// One clock.
     pub fn tick(&mut self) {
         self.retire();
         self.start_rays();
         let rot_in = self.issue();
+        self.announce_head();
         for (rotator, input) in self.rotators.iter_mut().zip(rot_in) {
             let Some((dir, info)) = rotator.tick(input) else {
                 continue;
             };
             // room was reserved when the entry left the FIFO
-            // the reciprocal unit (1/d for the Bezier unit's slab tests) sits at the queue's
-            // input: pipelined, its answer is ready RECIP_LATENCY clocks after the ray enters
+            // the wide datapath's reciprocal unit (1/d for the Bezier unit's slab tests) sits at
+            // the queue's input: pipelined, its answer is ready RECIP_LATENCY clocks after the ray
+            // enters (the compact datapath's serial one is in the intersection unit)
             let pushed = self.queue.push(RayIn {
                 origin: info.origin,
                 dir,

@@ -55,8 +55,9 @@ impl Params {
     /// sectors (and the culling unit's 16 polar bands), 2 rays per clock, the compact datapath:
     /// the fewest lanes that cast the Cornell box at under 1 cycle a ray and its 1,216-patch
     /// subdivision at under 4 (docs/PERFORMANCE.md; with a set-up unit a bank taking a corner a
-    /// clock, 8 lanes in 4 banks need 4.1 on the latter). Its area proxy does not fit an
-    /// ECP5-85k (`area`; nor does any build's).
+    /// clock, 8 lanes in 4 banks need 4.02 on the latter). Its area proxy does not fit an
+    /// ECP5-85k (`area`; of the builds docs/PERFORMANCE.md tabulates only one lane without
+    /// culling does).
     pub const DEFAULT: Params = Params {
         lanes: 10,
         sectors: 32,

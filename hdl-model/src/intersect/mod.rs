@@ -28,6 +28,11 @@
 //!    as one exact integer quotient; a restoring divider gives the same truncated quotient).
 //! 3. the lane's running minimum, then the min tree over lanes (`merge_latency` clocks).
 //!
+//! On the compact datapath a lane has only the edge stage (a coarse test, the undecided pairs
+//! to a shared exact unit): the pairs it finds inside go, with the n and h of the lane's word,
+//! to one of its ray group's [`PLANE_UNITS`] plane units, which hold the n · d, the divider and
+//! the group's running minimum; a lane whose pair finds them busy waits with it.
+//!
 //! Then the (u,v) pipe ([`uv`]) locates the hit point on the hit patch. Widths: coordinates Q8.24
 //! (32 bits), a_i 34 bits, e_i ≤ 62 bits (an origin-wide truncation keeps far origins in range),
 //! d · e_i and h, n · d up to 98 bits (i128 containers), t Q8.24. h ([`PlaneDist`], Q.54), n · d
@@ -244,9 +249,15 @@ fn coarse_inside(d: &[i32; 3], lp: &LocalPatch) -> Option<bool> {
     (!undecided).then_some(true)
 }
 
-/// Clocks the shared exact edge unit takes for one pair: an edge (three 32 × 62 products) a
-/// clock.
-const EXACT_CLOCKS_PER_EDGE: u64 = 1;
+/// Clocks the shared exact edge unit takes for one pair of a patch of `sides` corners. The
+/// exact edge normals are not stored (they would take as much block RAM as the lanes' words):
+/// the unit reads the slot's corners from patch memory, a corner a clock as the set-up units
+/// do, and then takes an edge a clock, its normal a_i × a_{i+1} recomputed exactly as the
+/// set-up pass forms it (six 34 × 34 products, the origin-wide shift, the side's sign) and
+/// dotted with d (three 32 × 62 products): the same integers as the model's stored `e`.
+fn exact_pair_clocks(sides: u8) -> u64 {
+    2 * sides as u64
+}
 
 /// Stage 2: t = h / (n · d) as Q8.24, or "no hit" (t ≤ 0, parallel, out of range).
 #[derive(Clone, Copy, Debug, Default)]
@@ -307,11 +318,12 @@ fn setup_latency(culling: bool) -> u64 {
     }
 }
 
-/// The subdivision engine of a build: the compact datapath's tests a child box a clock.
+/// The subdivision engine of a build: the compact datapath's tests a child box a clock and
+/// forms a leaf's products six at a time.
 fn engine(subdiv: SubdivConfig, compact: bool) -> BezierEngine {
     let e = BezierEngine::new(subdiv, bezier::STACK_ENTRIES);
     if compact {
-        e.with_serial_slabs()
+        e.with_serial_slabs().with_serial_leaf()
     } else {
         e
     }
@@ -321,6 +333,25 @@ fn engine(subdiv: SubdivConfig, compact: bool) -> BezierEngine {
 /// level a clock, so a hit whose (u,v) is wanted holds one for `depth` clocks (only hits on
 /// planar patches of rays that want (u,v) use them).
 pub const UV_UNITS: usize = 2;
+
+/// Plane units of each ray group in a compact build: the lanes test edges only, and hand each
+/// pair they find inside (with its slot's n and h from the lane's word) to one of their group's
+/// plane units, which forms n · d, divides and keeps the group's running minimum. A pair takes
+/// a plane unit one clock; a lane whose pair finds them busy holds it and stalls.
+pub const PLANE_UNITS: usize = 1;
+
+/// Most ray groups (CAPS_LANES holds groups − 1 in four bits).
+const MAX_GROUPS: usize = 16;
+
+/// A (ray, patch) pair found inside, for the plane units: its bank, its place among the bank's
+/// candidates of the ray, and whether the shared exact unit decided it.
+#[derive(Clone, Copy, Debug, Default)]
+struct InsidePair {
+    bank: u8,
+    /// below the bank's slots (at most [`crate::params::MAX_CAPACITY`])
+    at: u16,
+    exact: bool,
+}
 
 /// Clocks of a compact build's set-up pass over the first `count` slots: each bank's set-up
 /// unit takes a corner a clock (one cross product, the corner's dot products with the axes and
@@ -336,6 +367,15 @@ fn corner_clocks(mem: &PatchMem, count: u32, banks: usize) -> u64 {
         };
     }
     per_bank.iter().copied().max().unwrap_or(0)
+}
+
+/// One pair offered to a ray group's plane units (the clocks each is free) on clock `at`: the
+/// clock the first free one takes it.
+fn plane_take(units: &mut [u64; PLANE_UNITS], at: u64) -> u64 {
+    let unit = (0..PLANE_UNITS).min_by_key(|&u| units[u]).unwrap_or(0);
+    let taken = units[unit].max(at);
+    units[unit] = taken + 1;
+    taken
 }
 
 /// What the set-up pass was computed for: the origin, and the frame if it culled.
@@ -444,6 +484,8 @@ pub struct IntersectUnit<T: Copy + Default> {
     stats: LaneStats,
     /// The compact datapath's clocks, cleared with the rest on a flush.
     clocks: CompactClocks,
+    /// the current ray's pairs found inside (scratch of [`IntersectUnit::lanes`])
+    inside: Table<InsidePair, PATCH_CAPACITY>,
 }
 
 /// Where the compact datapath's shared resources stand.
@@ -461,6 +503,13 @@ struct CompactClocks {
     exact_free: u64,
     /// the clock each iterative (u,v) unit is free
     uv_free: [u64; UV_UNITS],
+    /// the clock the reciprocal unit takes its next component
+    recip_free: u64,
+    /// the clock each ray group's plane units are free
+    plane_free: [[u64; PLANE_UNITS]; MAX_GROUPS],
+    /// the next set-up key seen at the ray FIFO's head ([`IntersectUnit::announce`]) and the
+    /// clock it was first seen
+    lookahead: Option<(SetupKey, u64)>,
 }
 
 /// What the lanes did (for measurements): candidates tested, rays, set-up passes.
@@ -486,6 +535,9 @@ pub struct LaneStats {
     pub exact_edges: u64,
     /// Bins covered, summed.
     pub bins: u64,
+    /// (ray, planar patch) pairs found inside the patch's pyramid, handed to a plane unit
+    /// (compact builds).
+    pub inside: u64,
 }
 
 /// Exclusive bound of a Bezier hit's t: the largest t of the result's Q8.24 plus one LSB.
@@ -514,6 +566,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             bez_root: [Box3::default(); BEZIER_ROWS],
             stats: LaneStats::default(),
             clocks: CompactClocks::default(),
+            inside: Table::new(InsidePair::default(), params.capacity() as usize),
         }
     }
 
@@ -553,9 +606,35 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.retire.len() as u32
     }
 
-    /// Forgets the set-up (patch memory was written).
+    /// Forgets the set-up (patch memory was written), and any pass begun ahead of its rays.
     pub fn invalidate(&mut self) {
         self.key = None;
+        self.clocks.lookahead = None;
+    }
+
+    /// The entry at the ray FIFO's head on clock `now` traces from `origin`, in `frame` if it
+    /// is turned by one: a compact build's set-up units may begin that origin's pass now, before
+    /// its rays reach the unit (the credits hold at most [`RAY_SLOTS`] rays between the FIFO and
+    /// the result FIFO, so without it a pass overlaps only those). The pass's values are those
+    /// the unit computes when the first such ray starts (the same patch memory, origin and
+    /// frame: a write to patch memory in between drops it); only its clock is taken from here.
+    pub fn announce(&mut self, origin: [Coord; 3], frame: Option<[Angle; 3]>, now: u64) {
+        if !self.params.compact || self.clocks.lookahead.is_some() {
+            return;
+        }
+        let key = (origin, frame.filter(|_| self.culls()));
+        if self.stale(&key) {
+            self.clocks.lookahead = Some((key, now));
+        }
+    }
+
+    /// Whether a ray of set-up key `key` needs a new pass: another origin, or another frame
+    /// for a culled ray.
+    fn stale(&self, key: &SetupKey) -> bool {
+        match self.key {
+            None => true,
+            Some((o, f)) => o != key.0 || (key.1.is_some() && f != key.1),
+        }
     }
 
     /// Drops everything in flight.
@@ -597,7 +676,11 @@ impl<T: Copy + Default> IntersectUnit<T> {
         };
         let latency = setup_latency(axes.is_some());
         if self.params.compact {
-            self.double_buffered(pass, latency, now);
+            let begun = match self.clocks.lookahead.take() {
+                Some((k, at)) if k == key => at,
+                _ => now,
+            };
+            self.double_buffered(pass, latency, begun);
         } else {
             let busy = self.bank_free[..lanes]
                 .iter()
@@ -613,8 +696,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
     }
 
     /// A compact build's set-up pass timing: it fills the buffer the current set-up is not
-    /// in, once the set-up units are free and that buffer's last rays (two origins back) are
-    /// done reading it, while the lanes go on scanning the current buffer's rays.
+    /// in, from clock `now` (its key was seen) once the set-up units are free and that buffer's
+    /// last rays (two origins back) are done reading it, while the lanes go on scanning the
+    /// current buffer's rays.
     fn double_buffered(&mut self, pass: u64, latency: u64, now: u64) {
         let next = 1 - self.clocks.buffer;
         let start = now
@@ -746,14 +830,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let mut finish = now + 1;
         let mut wants_uv_unit = false;
         if !ray.bypass {
-            let frame = ray.frame.filter(|_| self.culls());
-            let stale = match self.key {
-                None => true,
-                Some((o, f)) => o != ray.origin || (frame.is_some() && f != frame),
-            };
-            if stale {
-                let key = (ray.origin, frame);
-                self.setup_pass(mem, count, key, frame.map(axes), now);
+            let key = (ray.origin, ray.frame.filter(|_| self.culls()));
+            if self.stale(&key) {
+                self.setup_pass(mem, count, key, key.1.map(axes), now);
             }
             let culled = self.key.is_some_and(|k| k.1.is_some()) && ray.frame.is_some();
             let bin = if culled {
@@ -803,8 +882,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
 
     /// The planar lanes on one ray: its nearest planar hit and the clock its last lane is
     /// done. The ray goes to one group's lanes (round robin); in a compact build each
-    /// candidate's coarse test runs in its lane and the pairs it cannot decide queue for the
-    /// shared exact unit after that lane's last candidate of the ray.
+    /// candidate's coarse test runs in its lane, the pairs it cannot decide queue for the
+    /// shared exact unit after that lane's last candidate of the ray, and the pairs found
+    /// inside go to the group's plane units (`compact_lanes`).
     fn lanes(&mut self, ray: &RayIn<T>, bin: Option<(u32, u32)>, now: u64) -> (Option<Best>, u64) {
         let banks = self.params.banks() as usize;
         let group = self.clocks.next_group as usize;
@@ -816,17 +896,31 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let compact = self.params.compact;
         let dc = ray.dir.map(|c| c.to_bits() >> COARSE_DIR_SHIFT);
         let c = &self.candidates;
+        let mut inside = 0;
         for &i in c.list(bin.map(|b| b.0)) {
             if ray.skip == Some(i as u32) || bin.is_some_and(|b| !c.in_band(i, b.1)) {
                 continue;
             }
-            counts[i as usize % banks] += 1;
+            let bank = i as usize % banks;
+            counts[bank] += 1;
             let lp = &self.local[i as usize];
             let tok = EdgeStage.eval(&ray.dir, lp);
             if compact && lp.active {
-                match coarse_inside(&dc, lp) {
+                let decided = coarse_inside(&dc, lp);
+                match decided {
                     Some(inside) => debug_assert_eq!(inside, tok.inside, "coarse bound"),
-                    None => exact[i as usize % banks] += lp.sides as u64 * EXACT_CLOCKS_PER_EDGE,
+                    None => {
+                        exact[bank] += exact_pair_clocks(lp.sides);
+                        self.stats.exact_edges += lp.sides as u64;
+                    }
+                }
+                if tok.inside {
+                    self.inside[inside] = InsidePair {
+                        bank: bank as u8,
+                        at: (counts[bank] - 1) as u16,
+                        exact: decided.is_none(),
+                    };
+                    inside += 1;
                 }
             }
             if let Some(t) = DivideStage.eval(tok) {
@@ -841,8 +935,14 @@ impl<T: Copy + Default> IntersectUnit<T> {
             }
         }
         self.stats.candidates += counts.iter().sum::<u64>();
-        self.stats.exact_edges += exact.iter().sum::<u64>();
+        self.stats.inside += inside as u64;
         let (first, mut end) = self.first_clock(now);
+        if compact {
+            let end = self
+                .compact_lanes(group, &counts, &exact, inside, first)
+                .max(end);
+            return (best, end);
+        }
         let lanes = &mut self.bank_free[group * banks..(group + 1) * banks];
         for (b, free) in lanes.iter_mut().enumerate() {
             if counts[b] > 0 {
@@ -857,6 +957,98 @@ impl<T: Copy + Default> IntersectUnit<T> {
             }
         }
         (best, end)
+    }
+
+    /// A compact build's clocks for one ray in `group`, whose lanes have `counts` candidates
+    /// and `exact` clocks of the shared exact unit, and whose first `inside` pairs of
+    /// `self.inside` were found inside: the clock its last lane, exact check or plane unit is
+    /// done. The lanes' pairs go to the group's plane units oldest first (a lane waits with its
+    /// pair while they are busy, which delays its later candidates); the exact unit's pairs
+    /// follow, as it decides them.
+    fn compact_lanes(
+        &mut self,
+        group: usize,
+        counts: &[u64; MAX_LANES as usize],
+        exact: &[u64; MAX_LANES as usize],
+        inside: usize,
+        first: u64,
+    ) -> u64 {
+        let banks = self.params.banks() as usize;
+        let lanes = group * banks..(group + 1) * banks;
+        let mut start = [0u64; MAX_LANES as usize];
+        for (b, free) in self.bank_free[lanes.clone()].iter().enumerate() {
+            start[b] = (*free).max(first);
+        }
+        let pairs = &mut self.inside[..inside];
+        pairs.sort_unstable_by_key(|p| (p.exact, p.bank, p.at));
+        let lane_pairs = pairs.iter().filter(|p| !p.exact).count();
+        let delay = self.plane_pairs(group, &start, lane_pairs);
+        let mut end = first;
+        let mut exact_end = [0u64; MAX_LANES as usize];
+        for (b, free) in self.bank_free[lanes].iter_mut().enumerate() {
+            if counts[b] > 0 {
+                *free = start[b] + counts[b] + delay[b];
+                end = end.max(*free);
+            }
+            if exact[b] > 0 {
+                let at = self.clocks.exact_free.max(*free);
+                self.clocks.exact_free = at + exact[b];
+                exact_end[b] = self.clocks.exact_free;
+            }
+        }
+        for k in lane_pairs..inside {
+            let p = self.inside[k];
+            let taken = plane_take(
+                &mut self.clocks.plane_free[group],
+                exact_end[p.bank as usize],
+            );
+            self.clocks.exact_free = self.clocks.exact_free.max(taken + 1);
+        }
+        let plane = self.clocks.plane_free[group]
+            .iter()
+            .copied()
+            .max()
+            .unwrap_or(0);
+        end.max(self.clocks.exact_free).max(plane)
+    }
+
+    /// The first `n` pairs of `self.inside` (the lanes' own, sorted by bank and place) through
+    /// `group`'s plane units, oldest first: each bank's stall, for lanes that started the ray
+    /// on `start`.
+    fn plane_pairs(
+        &mut self,
+        group: usize,
+        start: &[u64; MAX_LANES as usize],
+        n: usize,
+    ) -> [u64; MAX_LANES as usize] {
+        let pairs = &self.inside[..n];
+        let units = &mut self.clocks.plane_free[group];
+        let mut delay = [0u64; MAX_LANES as usize];
+        // each bank's next pair: its index in `pairs`
+        let mut next = [usize::MAX; MAX_LANES as usize];
+        for (k, p) in pairs.iter().enumerate().rev() {
+            next[p.bank as usize] = k;
+        }
+        let arrival = |k: usize, delay: &[u64; MAX_LANES as usize]| {
+            let b = pairs[k].bank as usize;
+            start[b] + delay[b] + pairs[k].at as u64 + 1
+        };
+        loop {
+            let oldest = (0..MAX_LANES as usize)
+                .filter(|&b| next[b] < n)
+                .min_by_key(|&b| arrival(next[b], &delay));
+            let Some(b) = oldest else {
+                return delay;
+            };
+            let k = next[b];
+            let at = arrival(k, &delay);
+            delay[b] += plane_take(units, at) - at;
+            next[b] = if pairs.get(k + 1).is_some_and(|p| p.bank as usize == b) {
+                k + 1
+            } else {
+                usize::MAX
+            };
+        }
     }
 
     /// The Bezier lane on one ray: its nearest Bezier hit and the clock the lane is done.
@@ -888,9 +1080,25 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 });
             }
         }
-        let start = self.bezier_free.max(first).max(ray.recip_at);
+        let recip = if self.params.compact {
+            self.serial_recip(now)
+        } else {
+            ray.recip_at
+        };
+        let start = self.bezier_free.max(first).max(recip);
         self.bezier_free = start + clocks;
         (best, self.bezier_free)
+    }
+
+    /// A compact build's reciprocal unit for a ray started on `now` whose set-up has Bezier
+    /// slots: one pipelined divider taking a component of d a clock (the wide datapath has
+    /// three a front-end lane, at the ray queue's input, for every ray), so a ray holds it
+    /// three clocks; the clock its three reciprocals are ready. Only the Bezier lane waits for
+    /// them, and it spends at least a clock a Bezier slot on every ray.
+    fn serial_recip(&mut self, now: u64) -> u64 {
+        let start = self.clocks.recip_free.max(now + 1);
+        self.clocks.recip_free = start + 3;
+        start + 2 + bezier::RECIP_LATENCY
     }
 
     /// One Bezier slot: the root slab test, then the engine to its answer; the answer and
