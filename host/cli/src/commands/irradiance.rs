@@ -29,7 +29,7 @@ pub struct IrradianceArgs {
     /// Levels of near-field evaluation: hits within a few grid cells of a query point take the
     /// radiosity computed afresh at the hit (a query of its own, with this many levels less)
     /// instead of the grid's, for corners and contact shadows; 0 reads every hit off the grids.
-    #[arg(long, default_value_t = 1, value_name = "LEVELS")]
+    #[arg(long, default_value_t = 2, value_name = "LEVELS")]
     near: u32,
     /// How close a hit must be to the point to be evaluated afresh, in cells of the grid it
     /// lands on.

@@ -19,7 +19,7 @@ pub use crate::direct::Direct;
 use crate::direct::{applies, Emitters};
 use crate::field::Reflected;
 use crate::radiosity::{combine, Grid};
-use near::{surface_at, NearField};
+use near::{surface_at, Grouping, NearField};
 use relight::Relit;
 
 /// How point queries gather.
@@ -37,7 +37,7 @@ impl Default for QuerySettings {
     fn default() -> Self {
         QuerySettings {
             direct: Direct::Exact,
-            near_levels: 1,
+            near_levels: 2,
             near_cells: near::NEAR,
         }
     }
@@ -135,9 +135,23 @@ impl Gather<'_> {
         let scene = self.backend.scene();
         let near = match levels {
             0 => NearField::default(),
-            _ => NearField::of(scene, self.grids, chunk, &seen, self.near_cells, handled),
+            _ => {
+                let grouping = match levels == self.levels {
+                    true => Grouping::PerQuery,
+                    false => Grouping::Shared,
+                };
+                NearField::of(
+                    scene,
+                    self.grids,
+                    chunk,
+                    &seen,
+                    self.near_cells,
+                    grouping,
+                    handled,
+                )
+            }
         };
-        let values = self.radiosity(&near.points, levels.saturating_sub(1))?;
+        let values = self.per_owner(&near, levels.saturating_sub(1))?;
         let (relit, corrections) = self.relight(&seen, &near, &direct, levels == self.levels)?;
         let mut out = Vec::with_capacity(chunk.len());
         for (k, (seen, d)) in seen.iter().zip(direct).enumerate() {
@@ -220,6 +234,24 @@ impl Gather<'_> {
             }
         }
         Ok(e)
+    }
+
+    /// The near field's evaluations, [`Gather::radiosity`] run over each owner's in turn: a
+    /// query's evaluations then form their own requests one level down, and group their own
+    /// near hits together ([`Grouping::Shared`]) whatever else was asked.
+    fn per_owner(&self, near: &NearField, levels: u32) -> anyhow::Result<Vec<[f64; 3]>> {
+        let mut out = Vec::with_capacity(near.points.len());
+        let mut start = 0;
+        while start < near.points.len() {
+            let owner = near.owners[start];
+            let len = near.owners[start..]
+                .iter()
+                .take_while(|&&o| o == owner)
+                .count();
+            out.extend(self.radiosity(&near.points[start..start + len], levels)?);
+            start += len;
+        }
+        Ok(out)
     }
 
     /// The radiosity at each (side, u, v), evaluated as `E + ρH [+ τH_twin]` from queries at

@@ -19,7 +19,9 @@
 //! near field, `levels − 1` deep). Hits are grouped by the sub-cell of their patch's grid they
 //! fall in ([`SPLIT`] × [`SPLIT`] per cell), and each group is evaluated once, at the mean
 //! (u, v) of its hits: a point the rays saw, so it is never buried under another body, and
-//! one evaluation per sub-cell bounds the work by the near area, not by the rays.
+//! one evaluation per sub-cell bounds the work by the near area, not by the rays. A query's
+//! own near hits are grouped per query ([`Grouping::PerQuery`]); the evaluations' near hits,
+//! one level down, are grouped over all the evaluations of that query ([`Grouping::Shared`]).
 
 use crate::backend::{Query, Seen};
 use crate::grid::Grid;
@@ -42,6 +44,21 @@ pub struct NearField {
     pub hits: Vec<Vec<(usize, usize)>>,
     /// The evaluations: (side, mean u, mean v).
     pub points: Vec<(usize, f32, f32)>,
+    /// Per evaluation, the query whose hits made its group (with [`Grouping::Shared`], the
+    /// first of them): the evaluations of one query are contiguous.
+    pub owners: Vec<usize>,
+}
+
+/// Whose hits one evaluation may serve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Grouping {
+    /// Each query's own (the queries asked: one's answer does not depend on the others').
+    PerQuery,
+    /// Every query of the request: the evaluations one level down of a single query's near
+    /// field, which look at the same few sub-cells by a corner or a block's foot from points a
+    /// few millimetres apart. One evaluation per sub-cell for all of them is what makes a
+    /// second level affordable (per evaluation, it cost minutes on one Cornell-box point).
+    Shared,
 }
 
 impl NearField {
@@ -53,10 +70,12 @@ impl NearField {
         queries: &[Query],
         seen: &[Vec<Seen>],
         cells: f32,
+        grouping: Grouping,
         skip: impl Fn(usize) -> bool,
     ) -> NearField {
-        // (query, side, sub-cell) → (evaluation, Σu, Σv, count): grouped per query, so a
-        // query's answer does not depend on what else is asked with it
+        // (owner, side, sub-cell) → (evaluation, Σu, Σv, count): the owner is the query
+        // (per query, a query's answer does not depend on what else is asked with it) or 0
+        // (shared by the request, which then holds one query's evaluations only)
         let mut groups: BTreeMap<GroupKey, Group> = BTreeMap::new();
         let mut hits = Vec::with_capacity(queries.len());
         for (n, (q, reports)) in queries.iter().zip(seen).enumerate() {
@@ -68,7 +87,11 @@ impl NearField {
                 if skip(s.side) || !is_near(scene, grid.k(), s, q.point, cells) {
                     continue;
                 }
-                let key = (n, s.side, sub_cell(grid.k(), s.u, s.v));
+                let owner = match grouping {
+                    Grouping::PerQuery => n,
+                    Grouping::Shared => 0,
+                };
+                let key = (owner, s.side, sub_cell(grid.k(), s.u, s.v));
                 let next = groups.len();
                 let g = groups.entry(key).or_insert((next, 0.0, 0.0, 0));
                 g.1 += s.u as f64;
@@ -79,11 +102,17 @@ impl NearField {
             hits.push(near);
         }
         let mut points = vec![(0, 0.0, 0.0); groups.len()];
-        for ((_, side, _), (n, su, sv, count)) in groups {
+        let mut owners = vec![0; groups.len()];
+        for ((owner, side, _), (n, su, sv, count)) in groups {
             let c = count as f64;
             points[n] = (side, (su / c) as f32, (sv / c) as f32);
+            owners[n] = owner;
         }
-        NearField { hits, points }
+        NearField {
+            hits,
+            points,
+            owners,
+        }
     }
 }
 
