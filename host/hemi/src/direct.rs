@@ -112,7 +112,8 @@ impl Emitters {
     /// The emitter cells each (point, normal) sees, with their form factors: the geometry and
     /// the shadows, which do not change while the field's sweeps change the emitters' radiosity.
     /// A cell whose shadow ray disagrees with a neighbour's (or with a probe on the lamp's rim)
-    /// holds a shadow's edge, and one ray would count it all in or all out: it is cut into [`EDGE_SPLIT`]² cells with a ray each.
+    /// holds a shadow's edge, and one ray would count it all in or all out: it is cut into
+    /// [`EDGE_SPLIT`]² cells with a ray each.
     pub fn paths(&self, backend: &dyn Backend, at: &[(Vec3, Vec3)]) -> anyhow::Result<DirectPaths> {
         // the cells' form factors are most of the work for a small lamp: every core takes a share
         let cells: Vec<Vec<Cell>> = at.par_iter().map(|&(p, n)| self.cells(p, n)).collect();

@@ -3,10 +3,10 @@
 
 /// Radiosity over one patch as the grid of §4.3: K×K sample points sit at the centres of the
 /// cells of a (K+1)×(K+1) vertex grid; vertex values are the mean of the (up to four) samples
-/// around them, extended quadratically to the patch boundary (the samples padded by a cell whose
-/// value continues the parabola through the three nearest); inside a cell B is bilinear between its
-/// four vertices. Shading is then continuous across the patch (no faceting) and a uniform
-/// patch stays exactly uniform.
+/// around them, extended to the patch boundary (the samples padded by a cell whose value
+/// continues the parabola through the three nearest, or the line through two on a coarse grid);
+/// inside a cell B is bilinear between its four vertices. Shading is then continuous across the
+/// patch (no faceting) and a uniform patch stays exactly uniform.
 #[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
 pub struct Grid {
     k: usize,
@@ -27,14 +27,16 @@ impl Grid {
             }
         }
         // The padding cell takes the value the parabola through the three samples nearest the
-        // boundary has there (a line through two when there are only two): the light towards
-        // a patch's edge curves (a corner's darkening, a lamp's fall), and a line through the
-        // two inner samples overshot it by 2-3 % in the Cornell box's ceiling corners
-        // (docs/ACCURACY.md, "Near field at two levels").
+        // boundary has there: the light towards a patch's edge curves (a corner's darkening, a
+        // lamp's fall), and a line through the two inner samples overshot it by 2-3 % in the
+        // Cornell box's ceiling corners at K = 16 (docs/ACCURACY.md, "Held-out points"). On a
+        // coarse grid the three samples span much of the patch and the parabola follows its
+        // whole curve, not its edge (at K = 6 it darkened the box's wall tops by up to 46/255
+        // in tests/golden), so below PARABOLA_FROM cells the line stays.
         let extend = |f1: [f64; 3], f2: [f64; 3], f3: [f64; 3]| -> [f64; 3] {
             match k {
                 1 => f1,
-                2 => [0, 1, 2].map(|c| 2.0 * f1[c] - f2[c]),
+                k if k < PARABOLA_FROM => [0, 1, 2].map(|c| 2.0 * f1[c] - f2[c]),
                 _ => [0, 1, 2].map(|c| 3.0 * f1[c] - 3.0 * f2[c] + f3[c]),
             }
         };
@@ -99,6 +101,10 @@ impl Grid {
         out
     }
 }
+
+/// The fewest cells a side for which the samples are extended to the boundary by a parabola
+/// (a line below it; see [`Grid::from_samples`]).
+pub const PARABOLA_FROM: usize = 8;
 
 /// The cell of a k-cell grid side that parameter `t` falls in, and where in it (0..1).
 fn locate(k: usize, t: f32) -> (usize, f64) {

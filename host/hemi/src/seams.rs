@@ -1,9 +1,9 @@
 //! Continuity across patch seams: where two patches of one material meet along an edge of a
 //! smooth surface (the teapot's body, a ceiling cut around its lamp), the radiosity is one
-//! function of position, but each patch's grid extends its own samples linearly to its edge
-//! (§4.3), so the two grids disagree there and pass 2 shows a step. Welding gives every grid
-//! vertex on such a seam the mean of the coincident vertices: the field is then continuous
-//! across the seam, as on one patch.
+//! function of position, but each patch's grid extends its own samples to its edge (by a
+//! parabola, §4.3), so the two grids disagree there and pass 2 shows a step. Welding gives
+//! every grid vertex on such a seam the mean of the coincident vertices: the field is then
+//! continuous across the seam, as on one patch.
 //!
 //! Vertices are coincident when their positions agree to a small fraction of the scene's size;
 //! they are welded only between patches of the same material whose normals there agree (a
