@@ -118,8 +118,11 @@ impl Emitters {
         // the cells' form factors are most of the work for a small lamp: every core takes a share
         let cells: Vec<Vec<Cell>> = at.par_iter().map(|&(p, n)| self.cells(p, n)).collect();
         // the cells' centres and their rim probes in one request
-        let probes: Vec<Vec<(usize, Cell)>> =
-            cells.iter().map(|c| rim_probes(&self.list, c)).collect();
+        let probes: Vec<Vec<(usize, Cell)>> = at
+            .iter()
+            .zip(&cells)
+            .map(|(&(p, n), c)| rim_probes(&self.list, c, p, n))
+            .collect();
         let cast: Vec<Vec<Cell>> = cells
             .iter()
             .zip(&probes)
@@ -282,8 +285,10 @@ fn by_neighbours(cells: &[Cell], visible: &[bool]) -> Vec<bool> {
 /// disagrees with its cell's centre marks the cell as on a shadow's edge all the same (on the
 /// Cornell box's floor by the red wall, in the tall block's penumbra, the direct light was 27 %
 /// low without them). The probes are copies of their cell with the centre moved (only the
-/// centre is cast), with the cell's index.
-fn rim_probes(list: &[(usize, Polygon)], cells: &[Cell]) -> Vec<(usize, Cell)> {
+/// centre is cast), with the cell's index. A probe below the point's horizon (`p`, `n`) is not
+/// cast: it cannot be seen, so it would disagree with a visible centre and split a cell whose
+/// clipped form factor is already exact.
+fn rim_probes(list: &[(usize, Polygon)], cells: &[Cell], p: Vec3, n: Vec3) -> Vec<(usize, Cell)> {
     let mut out = Vec::new();
     for (i, c) in cells.iter().enumerate() {
         let Some((_, poly)) = list.get(c.emitter) else {
@@ -301,7 +306,9 @@ fn rim_probes(list: &[(usize, Polygon)], cells: &[Cell]) -> Vec<(usize, Cell)> {
         ];
         for (u, v) in rim.into_iter().flatten() {
             let centre = poly.point(u, v);
-            out.push((i, Cell { centre, ..*c }));
+            if (centre - p).dot(n) > 0.0 {
+                out.push((i, Cell { centre, ..*c }));
+            }
         }
     }
     out
