@@ -68,7 +68,7 @@ impl Layout {
         };
         for ((i, j), c) in corners(k, u, v) {
             let vertex = first + (j * (k + 1) + i) as u32;
-            row.add(vertex, [0, 1, 2].map(|n| (w[n] as f64 * c) as f32));
+            row.add(vertex, w, c);
         }
         Ok(())
     }
@@ -89,9 +89,16 @@ impl Layout {
 
 /// One element's row of T while its rays come in: dense over the layout (so adding is one
 /// index), with the vertices touched listed so that taking the row costs only them.
+///
+/// Rows are grey (one weight for all channels) unless a ray came through a coloured mirror,
+/// so the accumulator keeps one weight a vertex until the first ray whose channels differ and
+/// only then moves to three: a ray then adds to four numbers instead of twelve, in the same
+/// order and with the same roundings, so the row's bits are those of adding per channel.
 #[derive(Clone, Debug)]
 pub struct Accumulator {
-    dense: Vec<[f32; 3]>,
+    grey: Vec<f32>,
+    tinted: Vec<[f32; 3]>,
+    is_tinted: bool,
     touched: Vec<u32>,
 }
 
@@ -99,43 +106,75 @@ impl Accumulator {
     /// An empty row over `vertices` vertices.
     pub fn new(vertices: usize) -> Accumulator {
         Accumulator {
-            dense: vec![[0.0; 3]; vertices],
+            grey: vec![0.0; vertices],
+            tinted: Vec::new(),
+            is_tinted: false,
             touched: Vec::new(),
         }
     }
 
-    fn add(&mut self, vertex: u32, w: [f32; 3]) {
-        let d = &mut self.dense[vertex as usize];
+    fn add(&mut self, vertex: u32, w: [f32; 3], c: f64) {
+        if !self.is_tinted && w[0] == w[1] && w[1] == w[2] {
+            let d = &mut self.grey[vertex as usize];
+            if *d == 0.0 {
+                self.touched.push(vertex);
+            }
+            *d += (w[0] as f64 * c) as f32;
+            return;
+        }
+        if !self.is_tinted {
+            self.switch_to_tinted();
+        }
+        let d = &mut self.tinted[vertex as usize];
         if *d == [0.0; 3] {
             self.touched.push(vertex);
         }
-        for c in 0..3 {
-            d[c] += w[c];
+        for ch in 0..3 {
+            d[ch] += (w[ch] as f64 * c) as f32;
         }
+    }
+
+    /// Moves the grey weights gathered so far to three channels, for a ray whose differ.
+    fn switch_to_tinted(&mut self) {
+        if self.tinted.len() != self.grey.len() {
+            self.tinted = vec![[0.0; 3]; self.grey.len()];
+        }
+        for &v in &self.touched {
+            self.tinted[v as usize] = [std::mem::take(&mut self.grey[v as usize]); 3];
+        }
+        self.is_tinted = true;
     }
 
     /// The row gathered so far, vertices in ascending order, and the accumulator emptied.
     pub fn take(&mut self, blocked: f32) -> TransportRow {
         self.touched.sort_unstable();
         self.touched.dedup();
-        let entries: Vec<(u32, [f32; 3])> = self
-            .touched
-            .drain(..)
-            .map(|v| {
-                let w = std::mem::take(&mut self.dense[v as usize]);
-                (v, w)
-            })
-            .filter(|(_, w)| *w != [0.0; 3])
-            .collect();
-        let grey = entries.iter().all(|(_, w)| w[0] == w[1] && w[1] == w[2]);
-        let weights = match grey {
-            true => {
-                // a fresh buffer: collecting in place would keep the coloured row's allocation
-                let mut grey = Vec::with_capacity(entries.len());
-                grey.extend(entries.iter().map(|&(v, w)| (v, w[0])));
+        let weights = match self.is_tinted {
+            false => {
+                // sized for the touched vertices: the records are what bounds the field's
+                // element count, and a collect through the filter would grow by doubling
+                let mut grey = Vec::with_capacity(self.touched.len());
+                for v in self.touched.drain(..) {
+                    let w = std::mem::take(&mut self.grey[v as usize]);
+                    if w != 0.0 {
+                        grey.push((v, w));
+                    }
+                }
                 Weights::Grey(grey)
             }
-            false => Weights::Tinted(entries),
+            true => {
+                let entries: Vec<(u32, [f32; 3])> = self
+                    .touched
+                    .drain(..)
+                    .map(|v| (v, std::mem::take(&mut self.tinted[v as usize])))
+                    .filter(|(_, w)| *w != [0.0; 3])
+                    .collect();
+                self.is_tinted = false;
+                match entries.iter().all(|(_, w)| w[0] == w[1] && w[1] == w[2]) {
+                    true => Weights::Grey(entries.iter().map(|&(v, w)| (v, w[0])).collect()),
+                    false => Weights::Tinted(entries),
+                }
+            }
         };
         TransportRow { weights, blocked }
     }

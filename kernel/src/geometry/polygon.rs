@@ -121,26 +121,33 @@ impl Polygon {
     pub fn uv_frame(&self) -> Option<UvFrame> {
         let e1 = (self.v[1] - self.v[0]).try_normalize()?;
         let e2 = self.normal.cross(e1);
-        let mut frame = UvFrame {
+        let to2 = |q: Vec3| {
+            let d = q - self.v[0];
+            (d.dot(e1), d.dot(e2))
+        };
+        let (b, c, d) = (to2(self.v[1]), to2(self.v[2]), to2(self.v[3]));
+        // the terms of the inversion that do not depend on the point, computed once per
+        // polygon by the same operations the per-point formulas would use, so the same bits
+        let g = (-b.0 + c.0 - d.0, -b.1 + c.1 - d.1);
+        Some(UvFrame {
             origin: self.v[0],
             e1,
             e2,
             sides: self.sides,
-            b: (0.0, 0.0),
-            c: (0.0, 0.0),
-            d: (0.0, 0.0),
-        };
-        (frame.b, frame.c, frame.d) = (
-            frame.to2(self.v[1]),
-            frame.to2(self.v[2]),
-            frame.to2(self.v[3]),
-        );
-        Some(frame)
+            b,
+            c,
+            d,
+            g,
+            k2: cross2(g, d),
+            ef: cross2(b, d),
+            bc: cross2(b, c),
+        })
     }
 }
 
 /// A polygon's plane in 2-D: its first vertex, two unit axes and the other vertices in them,
-/// which is all [`Polygon::uv_of`] needs besides the point.
+/// with the terms of the inverse map that depend only on the polygon: all that
+/// [`Polygon::uv_of`] needs besides the point.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct UvFrame {
     origin: Vec3,
@@ -150,6 +157,14 @@ pub struct UvFrame {
     b: (f32, f32),
     c: (f32, f32),
     d: (f32, f32),
+    /// P0 − P1 + P2 − P3 in the plane: the bilinear map's twist (zero on a parallelogram).
+    g: (f32, f32),
+    /// g × (P3 − P0): the quadratic's leading coefficient.
+    k2: f32,
+    /// (P1 − P0) × (P3 − P0).
+    ef: f32,
+    /// (P1 − P0) × (P2 − P0): a triangle's doubled area.
+    bc: f32,
 }
 
 impl UvFrame {
@@ -162,9 +177,57 @@ impl UvFrame {
     pub fn uv_of(&self, p: Vec3) -> (f32, f32) {
         let h = self.to2(p);
         if self.sides == 3 {
-            return triangle_uv(self.b, self.c, h);
+            return self.triangle_uv(h);
         }
-        inverse_bilinear(self.b, self.c, self.d, h)
+        self.inverse_bilinear(h)
+    }
+
+    /// Barycentric (u,v) for the collapsed-quad triangle map: v is the weight of P2, u the
+    /// share of P1 along the bottom edge.
+    fn triangle_uv(&self, h: (f32, f32)) -> (f32, f32) {
+        let w1 = cross2(h, self.c) / self.bc;
+        let w2 = cross2(self.b, h) / self.bc;
+        let v = clamp01(w2);
+        let u = if v < 1.0 - 1e-6 { w1 / (1.0 - v) } else { 0.5 };
+        (clamp01(u), v)
+    }
+
+    /// Inverse of the bilinear map with P0 at the origin (Quilez's closed form), all in 2-D:
+    /// with e = P1, f = P3 and g the twist, h = e·u + f·v + g·uv is a quadratic in v.
+    fn inverse_bilinear(&self, h: (f32, f32)) -> (f32, f32) {
+        let (e, f, g, k2) = (self.b, self.d, self.g, self.k2);
+        let k1 = self.ef + cross2(h, g);
+        let k0 = cross2(h, e);
+        let solve_u = |v: f32| {
+            let den = (e.0 + g.0 * v, e.1 + g.1 * v);
+            if den.0.abs() > den.1.abs() {
+                (h.0 - f.0 * v) / den.0
+            } else {
+                (h.1 - f.1 * v) / den.1
+            }
+        };
+        if k2.abs() <= 1e-6 * self.ef.abs() {
+            // a parallelogram (or trapezoid along v): the equation is linear in v
+            let v = -k0 / k1;
+            return (clamp01(solve_u(v)), clamp01(v));
+        }
+        let disc = libm::sqrtf((k1 * k1 - 4.0 * k0 * k2).max(0.0));
+        let mut best = (0.5, 0.5);
+        let mut best_err = f32::INFINITY;
+        for v in [(-k1 - disc) / (2.0 * k2), (-k1 + disc) / (2.0 * k2)] {
+            let u = solve_u(v);
+            let err = (u - clamp01(u)).abs() + (v - clamp01(v)).abs();
+            if err < best_err {
+                best_err = err;
+                best = (clamp01(u), clamp01(v));
+            }
+            if err == 0.0 {
+                // inside the unit square: the other root cannot do better (it would need a
+                // smaller error to be taken), so the hot path of every hit skips its division
+                break;
+            }
+        }
+        best
     }
 }
 
@@ -178,58 +241,6 @@ fn clamp01(x: f32) -> f32 {
     } else {
         x.clamp(0.0, 1.0)
     }
-}
-
-/// Barycentric (u,v) for the collapsed-quad triangle map: v is the weight of P2, u the share of
-/// P1 along the bottom edge.
-fn triangle_uv(b: (f32, f32), c: (f32, f32), h: (f32, f32)) -> (f32, f32) {
-    let det = cross2(b, c);
-    let w1 = cross2(h, c) / det;
-    let w2 = cross2(b, h) / det;
-    let v = clamp01(w2);
-    let u = if v < 1.0 - 1e-6 { w1 / (1.0 - v) } else { 0.5 };
-    (clamp01(u), v)
-}
-
-/// Inverse of the bilinear map with P0 at the origin (Quilez's closed form), all in 2-D.
-fn inverse_bilinear(b: (f32, f32), c: (f32, f32), d: (f32, f32), h: (f32, f32)) -> (f32, f32) {
-    let e = b;
-    let f = d;
-    let g = (-b.0 + c.0 - d.0, -b.1 + c.1 - d.1);
-    let k2 = cross2(g, f);
-    let k1 = cross2(e, f) + cross2(h, g);
-    let k0 = cross2(h, e);
-    let solve_u = |v: f32| {
-        let den = (e.0 + g.0 * v, e.1 + g.1 * v);
-        if den.0.abs() > den.1.abs() {
-            (h.0 - f.0 * v) / den.0
-        } else {
-            (h.1 - f.1 * v) / den.1
-        }
-    };
-    let scale = cross2(e, f).abs();
-    if k2.abs() <= 1e-6 * scale {
-        // a parallelogram (or trapezoid along v): the equation is linear in v
-        let v = -k0 / k1;
-        return (clamp01(solve_u(v)), clamp01(v));
-    }
-    let disc = libm::sqrtf((k1 * k1 - 4.0 * k0 * k2).max(0.0));
-    let mut best = (0.5, 0.5);
-    let mut best_err = f32::INFINITY;
-    for v in [(-k1 - disc) / (2.0 * k2), (-k1 + disc) / (2.0 * k2)] {
-        let u = solve_u(v);
-        let err = (u - clamp01(u)).abs() + (v - clamp01(v)).abs();
-        if err < best_err {
-            best_err = err;
-            best = (clamp01(u), clamp01(v));
-        }
-        if err == 0.0 {
-            // inside the unit square: the other root cannot do better (it would need a
-            // smaller error to be taken), so the hot path of every hit skips its division
-            break;
-        }
-    }
-    best
 }
 
 #[cfg(test)]
