@@ -124,6 +124,34 @@ impl Pending {
     };
 }
 
+/// How a reported ray reached its patch: straight from the hemisphere (or the eye), or through
+/// specular surfaces. A caller that computes some light by other means (the host's exact
+/// direct light from the lamps and from their images in plane mirrors) leaves out the reports
+/// that carry that light, and needs to know which came how.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Via {
+    /// Specular bounces on the way (0: seen directly).
+    pub bounces: u16,
+    /// The patch of the last specular bounce (`u32::MAX` when seen directly).
+    pub last: u32,
+    /// Whether that bounce's frustum was a single ray (a perfect mirror: lobe size 0).
+    pub mirror: bool,
+}
+
+impl Via {
+    /// Seen directly.
+    pub const DIRECT: Via = Via {
+        bounces: 0,
+        last: u32::MAX,
+        mirror: false,
+    };
+
+    /// Seen once through the perfect mirror `patch`, and only through it.
+    pub fn once_in(&self, patch: u32) -> bool {
+        self.bounces == 1 && self.mirror && self.last == patch
+    }
+}
+
 /// Whether a ray's hit must be followed by frustums: a front hit on a reflector, or a hit on
 /// either side of a transmitter.
 pub fn spawns(optics: &Optics<'_>, hit: &Hit) -> bool {
@@ -172,6 +200,19 @@ impl Walker<'_, '_> {
         scale: f32,
         sink: &mut S,
     ) {
+        self.follow_via(accel, origin, dir, hit, scale, &mut |h, w, _| sink(h, w));
+    }
+
+    /// [`Walker::follow`], telling the sink how each report came ([`Via`]).
+    pub fn follow_via<A: Accelerator, S: FnMut(&Hit, [f32; 3], Via)>(
+        &mut self,
+        accel: &mut A,
+        origin: Vec3,
+        dir: Vec3,
+        hit: &Hit,
+        scale: f32,
+        sink: &mut S,
+    ) {
         self.spawn(origin + dir * hit.t, dir, hit, [1.0; 3], 0, scale);
         let mut shot = 0u32;
         while let Some(f) = self.skeleton.top_mut().copied() {
@@ -208,7 +249,12 @@ impl Walker<'_, '_> {
                     return;
                 };
                 if optics.surface(hit.patch).column_for(hit.front).is_some() {
-                    sink(&hit, weight);
+                    let via = Via {
+                        bounces: f.depth,
+                        last: f.from,
+                        mirror: lobe.size == 0,
+                    };
+                    sink(&hit, weight, via);
                 }
                 if spawns(optics, &hit) {
                     match park.get_mut(parked) {

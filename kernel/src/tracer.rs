@@ -17,7 +17,7 @@ use crate::hemisphere::Hemisphere;
 use crate::optics::Optics;
 use crate::rotation::Rotation;
 use crate::skeleton::Skeleton;
-use crate::specular::{spawns, Pending, SpecularStats, Walker};
+use crate::specular::{spawns, Pending, SpecularStats, Via, Walker};
 
 /// What one or more hemisphere shots did.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -171,6 +171,19 @@ pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
     shot: &Shot,
     mut sink: S,
 ) -> ShotStats {
+    shoot_via(accel, hemi, optics, scratch, shot, |h, w, _| sink(h, w))
+}
+
+/// [`shoot`], telling the sink how each report came ([`Via`]): the same calls in the same
+/// order.
+pub fn shoot_via<A: Accelerator, S: FnMut(&Hit, [f32; 3], Via)>(
+    accel: &mut A,
+    hemi: &Hemisphere<'_>,
+    optics: &Optics<'_>,
+    scratch: &mut TraceScratch<'_>,
+    shot: &Shot,
+    mut sink: S,
+) -> ShotStats {
     let Shot {
         origin,
         normal,
@@ -197,7 +210,7 @@ pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
             count(&mut stats, &hit);
             if let Some(h) = hit.filter(diffuse) {
                 let d = rings[j].delta_ff;
-                sink(&h, [d; 3]);
+                sink(&h, [d; 3], Via::DIRECT);
             }
         });
         accel.set_origin_patch(None);
@@ -243,7 +256,7 @@ pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
                 let Some(h) = hit else { return };
                 if first_cast && diffuse(&h) {
                     let d = rings[j].delta_ff;
-                    sink(&h, [d; 3]);
+                    sink(&h, [d; 3], Via::DIRECT);
                 }
                 if spawns(optics, &h) {
                     if seen >= done {
@@ -273,8 +286,8 @@ pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
             let j = p.tag as usize;
             let delta = rings[j].delta_ff;
             let dir = accel.rotate(&rot, hemi.direction(j, p.k));
-            walker.follow(accel, origin, dir, &p.hit, delta, &mut |hh, w| {
-                sink(hh, w.map(|x| x * delta))
+            walker.follow_via(accel, origin, dir, &p.hit, delta, &mut |hh, w, via| {
+                sink(hh, w.map(|x| x * delta), via)
             });
         }
         done += parked;

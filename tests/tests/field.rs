@@ -423,6 +423,80 @@ fn a_lamp_seen_only_along_its_rim_is_not_lost() {
     }
 }
 
+/// [`LAMP`] and a perfect mirror in the plane x = 1.5, facing the lamp, from y = −3 to 4 and z
+/// = 0 to `top`, with k_r = (0.9, 0.8, 0.5): the lamp's image is the square [2, 3] × [0, 1] at
+/// z = 1.
+fn lamp_and_mirror(top: f64) -> Scene {
+    let mirror = format!(
+        "{LAMP}\n[[material]]\nname = \"mirror\"\ndiffuse = [0, 0, 0]\n\
+         specular = [0.9, 0.8, 0.5]\nphong = inf\n\
+         [[quad]]\nname = \"mirror\"\nmaterial = \"mirror\"\n\
+         vertices = [[1.5, -3, 0], [1.5, -3, {top}], [1.5, 4, {top}], [1.5, 4, 0]]\n"
+    );
+    parse(&mirror, "mirror.toml").unwrap()
+}
+
+#[test]
+fn a_lamps_image_in_a_mirror_is_exact_direct_light() {
+    // E = M·F(point → lamp) + k_r·M·F(point → image), both Howell B-3 by superposition: exact
+    // direct light takes the image as a source of its own, the hemisphere sees it through the
+    // mirror's frustums; both must count it once, with the mirror's colour
+    let scene = lamp_and_mirror(3.0);
+    let up = Vec3::new(0.0, 0.0, 1.0);
+    let xy = [(0.5, 0.5), (1.2, 0.2), (0.0, 1.0), (-0.8, 1.7)];
+    let points: Vec<(Vec3, Vec3)> = xy
+        .iter()
+        .map(|&(x, y)| (Vec3::new(x as f32, y as f32, 0.0), up))
+        .collect();
+    let k = [0.9, 0.8, 0.5];
+    for (direct, tolerance) in [(Direct::Exact, 1e-4), (Direct::Hemisphere, 0.05)] {
+        let got = irradiance_at(&scene, &settings(32, 2), 0, direct, &points);
+        let mut worst = 0.0f64;
+        for (&(x, y), e) in xy.iter().zip(&got) {
+            let lamp = element_to_offset_rectangle(-x, -y, 1.0, 1.0, 1.0);
+            let image = element_to_offset_rectangle(2.0 - x, -y, 1.0, 1.0, 1.0);
+            for (c, m) in [1.0, 2.0, 10.0].iter().enumerate() {
+                let want = m * (lamp + k[c] * image);
+                worst = worst.max((e[c] - want).abs() / want);
+            }
+        }
+        println!(
+            "{direct:?} direct light with a mirror at R = 32: worst relative error {worst:.2e}"
+        );
+        assert!(worst < tolerance, "{direct:?}: {worst}");
+    }
+}
+
+#[test]
+fn a_mirrors_outline_cuts_the_lamps_image() {
+    // the mirror ends at z = 0.55: from (0.5, 0.5, 0) the image shows through it only beyond
+    // x = 0.5 + 1/0.55. The cells the outline crosses are split as a shadow's edge, into
+    // columns 1/64 of the lamp wide, each in or out by its centre: the image's light is right
+    // to within the light of a strip half a split column wide on either side of the cut
+    let top = 0.55;
+    let scene = lamp_and_mirror(top);
+    let (x, y) = (0.5, 0.5);
+    let p = (Vec3::new(x as f32, y as f32, 0.0), Vec3::new(0.0, 0.0, 1.0));
+    let got = irradiance_at(&scene, &settings(16, 2), 0, Direct::Exact, &[p])[0];
+    let lamp = element_to_offset_rectangle(-x, -y, 1.0, 1.0, 1.0);
+    let cut = x + (1.5 - x) / top;
+    let image = element_to_offset_rectangle(cut - x, -y, 3.0 - cut, 1.0, 1.0);
+    let half = 1.0 / 128.0;
+    let strip = element_to_offset_rectangle(cut - half - x, -y, 2.0 * half, 1.0, 1.0);
+    for (c, (m, k)) in [(1.0, 0.9), (2.0, 0.8), (10.0, 0.5)]
+        .into_iter()
+        .enumerate()
+    {
+        let err = (got[c] / m - lamp - k * image).abs() / (k * image);
+        println!(
+            "image cut by the mirror's outline, channel {c}: error {err:.2e} of its light \
+             (bound {:.2e})",
+            strip / image
+        );
+        assert!(err < strip / image, "{got:?}: lamp {lamp}, image {image}");
+    }
+}
+
 #[test]
 fn a_querys_answer_does_not_depend_on_the_queries_asked_with_it() {
     // the near field groups hits per query, so batching (or streaming) changes no bit

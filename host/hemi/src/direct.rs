@@ -20,10 +20,11 @@
 //! The rest of the light — everything but the
 //! emitters' own surfaces seen directly — still comes from the hemisphere ([`crate::irradiance`]).
 
-use crate::backend::Backend;
+use crate::backend::{Backend, Skip};
 use crate::grid::Grid;
+use crate::optics::lobe_size;
 use crate::scene::Scene;
-use hemi_kernel::accel::Ray;
+use hemi_kernel::accel::{Hit, Ray};
 use hemi_kernel::geometry::{Polygon, Vec3};
 use hemi_kernel::patch::Shape;
 use rayon::prelude::*;
@@ -40,61 +41,146 @@ pub enum Direct {
 }
 
 /// Whether exact direct light can be had on `backend`'s scene: single rays for the shadows,
-/// and no specular surface (a mirror's image of a lamp only the hemisphere's frustums see, and
-/// a hemisphere's report does not say whether it came through a mirror).
+/// and nothing that transmits specularly (a lamp seen through a sheet of glass is a path the
+/// shadow rays do not follow). Mirrors are allowed: a lamp's image in a perfect plane mirror is
+/// a source of its own ([`Emitters`]), and the light reaching the point through glossy or
+/// curved mirrors, or through more than one mirror, still comes from the hemisphere.
 pub fn applies(backend: &dyn Backend) -> bool {
-    let specular = backend
-        .scene()
-        .materials
-        .iter()
-        .any(|m| m.reflects() || m.transmits());
-    backend.casts_single_rays() && !specular
+    let transmits = backend.scene().materials.iter().any(|m| m.transmits());
+    backend.casts_single_rays() && !transmits
 }
 
 /// Cells per side of an emitter: 64 shadow rays per emitter and point.
 pub const CELLS: u32 = 8;
 
-/// The scene's emitters that direct light is computed for: the polygons that emit.
+/// The scene's sources of direct light: the polygons that emit, and their images in the perfect
+/// plane mirrors in front of which they shine.
+///
+/// A perfect mirror of reflectance k_r shows a point the lamp's image, the lamp reflected
+/// about the mirror's plane, through the mirror's outline: the light of that path is k_r times
+/// what the image would send, with the image's exact form factor, seen where a shadow ray to
+/// the image meets the mirror's front and goes on, reflected, to the lamp (Radiance's virtual
+/// sources). The mirror's outline cuts the image as an occluder's edge cuts a lamp, and the
+/// cells it cuts are split as any shadow's edge is.
 #[derive(Clone, Debug)]
 pub struct Emitters {
-    /// (scene patch, its polygon).
-    list: Vec<(usize, Polygon)>,
-    /// Per scene patch: whether it is one of `list` (its direct light is not gathered again).
-    handled: Vec<bool>,
+    /// The lamps and their images.
+    list: Vec<Source>,
+    /// The reports whose light this computes: the lamps seen directly or in the mirrors of
+    /// `list`.
+    skip: Skip,
     /// How far from a surface a shadow ray starts, and how close to the cell it may end.
     epsilon: f32,
 }
 
+/// A source of direct light: an emitting polygon, or its image in a perfect plane mirror.
+#[derive(Clone, Copy, Debug)]
+struct Source {
+    /// The emitter's scene patch, whose grid gives the light.
+    patch: usize,
+    /// The polygon the cells are cut from: the emitter's, or its image (the emitter's vertices
+    /// reflected, in the same order, so a cell's (u, v) is the emitter's).
+    poly: Polygon,
+    /// The mirror the image is seen in.
+    mirror: Option<Mirror>,
+}
+
+/// A perfect plane mirror.
+#[derive(Clone, Copy, Debug)]
+struct Mirror {
+    /// Its scene patch.
+    patch: usize,
+    /// A point of its plane, and the normal of its reflecting (front) side.
+    point: Vec3,
+    normal: Vec3,
+    /// k_r per channel.
+    k: [f64; 3],
+}
+
+impl Mirror {
+    /// `q` reflected about the mirror's plane.
+    fn reflect(&self, q: Vec3) -> Vec3 {
+        q - self.normal * (2.0 * (q - self.point).dot(self.normal))
+    }
+
+    /// The image of emitter `poly` in the mirror, if some of it is in front of the mirror.
+    fn image(&self, poly: &Polygon) -> Option<Polygon> {
+        let front = poly
+            .v
+            .iter()
+            .any(|&v| (v - self.point).dot(self.normal) > 0.0);
+        front.then(|| Polygon {
+            v: poly.v.map(|v| self.reflect(v)),
+            normal: poly.normal - self.normal * (2.0 * poly.normal.dot(self.normal)),
+            ..*poly
+        })
+    }
+}
+
 impl Emitters {
-    /// The emitting polygons of `scene` (a Bezier emitter stays with the hemisphere).
-    pub fn of(scene: &Scene) -> Emitters {
-        let mut handled = vec![false; scene.patches.len()];
+    /// The emitting polygons of `backend`'s scene (a Bezier emitter stays with the hemisphere),
+    /// and their images in its perfect plane mirrors (polygons whose frustum is a single ray
+    /// at the backend's R, as the tracer shoots them).
+    pub fn of(backend: &dyn Backend) -> Emitters {
+        let scene = backend.scene();
+        let circles = backend.settings().circles;
+        let mut sides = vec![false; scene.patches.len()];
         let mut list = Vec::new();
         for (i, p) in scene.patches.iter().enumerate().take(scene.fronts()) {
             if let Shape::Polygon(poly) = p.shape {
                 let lit = scene.material_of(i).emission.iter().any(|e| *e > 0.0);
                 if lit {
-                    handled[i] = true;
-                    list.push((i, poly));
+                    sides[i] = true;
+                    list.push(Source {
+                        patch: i,
+                        poly,
+                        mirror: None,
+                    });
                 }
             }
         }
-        let epsilon = scene.ray_offset();
+        let mirrors = mirrors(scene, circles);
+        let lamps = list.len();
+        for m in &mirrors {
+            for k in 0..lamps {
+                let lamp = list[k];
+                if let Some(poly) = m.image(&lamp.poly) {
+                    list.push(Source {
+                        poly,
+                        mirror: Some(*m),
+                        ..lamp
+                    });
+                }
+            }
+        }
+        let mut in_mirror = vec![false; scene.patches.len()];
+        for m in &mirrors {
+            in_mirror[m.patch] = true;
+        }
         Emitters {
             list,
-            handled,
-            epsilon,
+            skip: Skip {
+                sides,
+                mirrors: in_mirror,
+            },
+            epsilon: scene.ray_offset(),
         }
     }
 
-    /// Whether the light of scene patch `side` seen directly is computed here.
+    /// Whether scene patch `side` is an emitter whose light is computed here (seen directly,
+    /// or in a perfect mirror).
     pub fn handles(&self, side: usize) -> bool {
-        self.handled.get(side).copied().unwrap_or(false)
+        self.skip.sides.get(side).copied().unwrap_or(false)
     }
 
-    /// Per scene patch, whether its light seen directly is computed here (see [`Emitters::handles`]).
+    /// Per scene patch, whether it is such an emitter ([`Emitters::handles`]).
     pub fn handled(&self) -> &[bool] {
-        &self.handled
+        &self.skip.sides
+    }
+
+    /// The reports of a gather whose light is computed here, and so must be left out of it.
+    pub fn skip(&self) -> &Skip {
+        &self.skip
     }
 
     /// The direct irradiance from every emitter, per channel, at each (point, normal), with
@@ -150,6 +236,10 @@ impl Emitters {
                     .map(|(c, _)| c),
             );
         }
+        let seen = seen
+            .into_iter()
+            .map(|cells| cells.iter().map(Lit::of).collect())
+            .collect();
         Ok(DirectPaths { seen })
     }
 
@@ -176,47 +266,72 @@ impl Emitters {
     }
 
     /// Casts one shadow ray from each point to the centre of each of its cells (all points in
-    /// one request) and says which cells it reached.
+    /// one request) and says which cells it reached. A ray to an image's cell must meet its
+    /// mirror's front first, and a second ray, from there to the emitter's own cell (all of
+    /// them in one more request), must reach it.
     fn shadow_rays(
         &self,
         backend: &dyn Backend,
         at: &[(Vec3, Vec3)],
         cells: &[Vec<Cell>],
     ) -> anyhow::Result<Vec<Vec<bool>>> {
-        let mut rays = Vec::new();
-        for (&(point, normal), cells) in at.iter().zip(cells) {
-            let origin = point + normal * self.epsilon;
-            rays.extend(cells.iter().map(|c| Ray {
-                origin,
-                dir: (c.centre - origin).try_normalize().unwrap_or(normal),
-            }));
+        let origins: Vec<Vec3> = at.iter().map(|&(p, n)| p + n * self.epsilon).collect();
+        let flat: Vec<(Vec3, &Cell)> = origins
+            .iter()
+            .zip(cells)
+            .flat_map(|(&o, cells)| cells.iter().map(move |c| (o, c)))
+            .collect();
+        let rays: Vec<Ray> = flat.iter().map(|&(o, c)| ray_to(o, c.centre)).collect();
+        let hits = backend.nearest(&rays)?;
+        // the rays that went on from a mirror: (index in `flat`, the ray on)
+        let mut on: Vec<(usize, Ray)> = Vec::new();
+        let mut reached = Vec::with_capacity(flat.len());
+        for (i, ((origin, cell), hit)) in flat.iter().zip(&hits).enumerate() {
+            let Some(m) = self.list.get(cell.source).and_then(|s| s.mirror) else {
+                reached.push(self.reaches(*hit, cell.patch, (cell.centre - *origin).length()));
+                continue;
+            };
+            reached.push(false);
+            let to_image = (cell.centre - *origin).length();
+            let Some(h) = hit.filter(|h| h.patch as usize == m.patch && h.front && h.t < to_image)
+            else {
+                continue;
+            };
+            let at_mirror = *origin + rays[i].dir * h.t + m.normal * self.epsilon;
+            on.push((i, ray_to(at_mirror, m.reflect(cell.centre))));
         }
-        let mut hits = backend.nearest(&rays)?.into_iter();
-        let mut out = Vec::with_capacity(at.len());
-        for (&(point, normal), cells) in at.iter().zip(cells) {
-            let origin = point + normal * self.epsilon;
-            let reached = cells.iter().zip(hits.by_ref()).map(|(cell, hit)| {
-                let distance = (cell.centre - origin).length();
-                hit.is_some_and(|h| {
-                    h.patch as usize == cell.patch && h.t > distance - 10.0 * self.epsilon
-                })
-            });
-            out.push(reached.collect());
+        let rays_on: Vec<Ray> = on.iter().map(|&(_, r)| r).collect();
+        for ((i, ray), hit) in on.iter().zip(backend.nearest(&rays_on)?) {
+            let (_, cell) = flat[*i];
+            let lamp = self.list[cell.source]
+                .mirror
+                .map(|m| m.reflect(cell.centre));
+            let distance = lamp.map_or(0.0, |c| (c - ray.origin).length());
+            reached[*i] = self.reaches(hit, cell.patch, distance);
         }
-        Ok(out)
+        let mut reached = reached.into_iter();
+        Ok(cells
+            .iter()
+            .map(|c| reached.by_ref().take(c.len()).collect())
+            .collect())
     }
 
-    /// Every emitter cell in front of the point, with its exact form factor.
+    /// Whether a shadow ray's `hit` is the cell of scene patch `patch` at `distance`.
+    fn reaches(&self, hit: Option<Hit>, patch: usize, distance: f32) -> bool {
+        hit.is_some_and(|h| h.patch as usize == patch && h.t > distance - 10.0 * self.epsilon)
+    }
+
+    /// Every source cell in front of the point, with its exact form factor.
     fn cells(&self, point: Vec3, normal: Vec3) -> Vec<Cell> {
         let mut out = Vec::new();
-        for (emitter, &(patch, poly)) in self.list.iter().enumerate() {
-            // emitters shine from their front only
-            if (point - poly.v[0]).dot(poly.normal) <= 0.0 {
+        for (source, s) in self.list.iter().enumerate() {
+            // emitters shine from their front only (an image from its reflected front)
+            if (point - s.poly.v[0]).dot(s.poly.normal) <= 0.0 {
                 continue;
             }
             for b in 0..CELLS {
                 for a in 0..CELLS {
-                    let cell = cell_of(&poly, (emitter, patch), (a, b), CELLS);
+                    let cell = cell_of(s, source, (a, b), CELLS);
                     out.extend(cell.seen_from(point, normal));
                 }
             }
@@ -226,7 +341,7 @@ impl Emitters {
 
     /// The [`EDGE_SPLIT`]² cells `cell` is cut into, with their form factors from the point.
     fn split(&self, cell: &Cell, point: Vec3, normal: Vec3) -> Vec<Cell> {
-        let Some(&(_, poly)) = self.list.get(cell.emitter) else {
+        let Some(source) = self.list.get(cell.source) else {
             return Vec::new();
         };
         let n = cell.n * EDGE_SPLIT;
@@ -234,9 +349,38 @@ impl Emitters {
         (0..EDGE_SPLIT * EDGE_SPLIT)
             .filter_map(|k| {
                 let (a, b) = (a0 + k % EDGE_SPLIT, b0 + k / EDGE_SPLIT);
-                cell_of(&poly, (cell.emitter, cell.patch), (a, b), n).seen_from(point, normal)
+                cell_of(source, cell.source, (a, b), n).seen_from(point, normal)
             })
             .collect()
+    }
+}
+
+/// The perfect plane mirrors of `scene` at R = `circles`: front polygons whose material
+/// reflects with a single-ray frustum ([`lobe_size`] 0, as the tracer shoots them).
+fn mirrors(scene: &Scene, circles: u32) -> Vec<Mirror> {
+    let mut out = Vec::new();
+    for (i, p) in scene.patches.iter().enumerate().take(scene.fronts()) {
+        let m = scene.material_of(i);
+        if !m.reflects() || lobe_size(m, circles) != 0 {
+            continue;
+        }
+        if let Shape::Polygon(poly) = p.shape {
+            out.push(Mirror {
+                patch: i,
+                point: poly.v[0],
+                normal: poly.normal,
+                k: m.specular,
+            });
+        }
+    }
+    out
+}
+
+/// The ray from `origin` towards `target`.
+fn ray_to(origin: Vec3, target: Vec3) -> Ray {
+    Ray {
+        origin,
+        dir: (target - origin).try_normalize().unwrap_or(Vec3::Z),
     }
 }
 
@@ -261,7 +405,7 @@ fn by_neighbours(cells: &[Cell], visible: &[bool]) -> Vec<bool> {
     let verdict: std::collections::HashMap<(usize, u32, u32), bool> = cells
         .iter()
         .zip(visible)
-        .map(|(c, &v)| ((c.patch, c.a, c.b), v))
+        .map(|(c, &v)| ((c.source, c.a, c.b), v))
         .collect();
     cells
         .iter()
@@ -271,7 +415,7 @@ fn by_neighbours(cells: &[Cell], visible: &[bool]) -> Vec<bool> {
             [(a - 1, b), (a + 1, b), (a, b - 1), (a, b + 1)]
                 .iter()
                 .filter(|(x, y)| *x >= 0 && *y >= 0)
-                .filter_map(|&(x, y)| verdict.get(&(c.patch, x as u32, y as u32)))
+                .filter_map(|&(x, y)| verdict.get(&(c.source, x as u32, y as u32)))
                 .any(|&w| w != v)
         })
         .collect()
@@ -288,10 +432,10 @@ fn by_neighbours(cells: &[Cell], visible: &[bool]) -> Vec<bool> {
 /// centre is cast), with the cell's index. A probe below the point's horizon (`p`, `n`) is not
 /// cast: it cannot be seen, so it would disagree with a visible centre and split a cell whose
 /// clipped form factor is already exact.
-fn rim_probes(list: &[(usize, Polygon)], cells: &[Cell], p: Vec3, n: Vec3) -> Vec<(usize, Cell)> {
+fn rim_probes(list: &[Source], cells: &[Cell], p: Vec3, n: Vec3) -> Vec<(usize, Cell)> {
     let mut out = Vec::new();
     for (i, c) in cells.iter().enumerate() {
-        let Some((_, poly)) = list.get(c.emitter) else {
+        let Some(Source { poly, .. }) = list.get(c.source) else {
             continue;
         };
         let d = 1.0 / c.n as f32;
@@ -317,7 +461,29 @@ fn rim_probes(list: &[(usize, Polygon)], cells: &[Cell], p: Vec3, n: Vec3) -> Ve
 /// The emitter cells some points see (after their shadow rays), with their form factors.
 #[derive(Clone, Debug)]
 pub struct DirectPaths {
-    seen: Vec<Vec<Cell>>,
+    seen: Vec<Vec<Lit>>,
+}
+
+/// What a point keeps of a cell it sees: whose light, where on the emitter, and how much of it
+/// arrives (`k · F_cell` per channel). The geometry is not kept: a field holds these for every
+/// element, and only the emitters' radiosity changes between its sweeps.
+#[derive(Clone, Copy, Debug)]
+struct Lit {
+    patch: u32,
+    u: f32,
+    v: f32,
+    share: [f64; 3],
+}
+
+impl Lit {
+    fn of(cell: &Cell) -> Lit {
+        Lit {
+            patch: cell.patch as u32,
+            u: cell.u,
+            v: cell.v,
+            share: cell.weight.map(|k| k * cell.form_factor),
+        }
+    }
 }
 
 impl DirectPaths {
@@ -342,17 +508,18 @@ impl DirectPaths {
         }
     }
 
-    /// Each point's direct irradiance, `Σ_cells F_cell · B_emitter(u, v)` over the cells it
-    /// sees, with the emitters' radiosity read off `grids`.
+    /// Each point's direct irradiance, `Σ_cells k · F_cell · B_emitter(u, v)` over the cells it
+    /// sees (k the mirror's reflectance for an image's cell, else 1), with the emitters'
+    /// radiosity read off `grids`.
     pub fn irradiance(&self, grids: &[Grid]) -> anyhow::Result<Vec<[f64; 3]>> {
         self.seen
             .iter()
             .map(|cells| {
                 let mut e = [0.0f64; 3];
                 for cell in cells {
-                    let b = crate::grid::grid_of(grids, cell.patch)?.at(cell.u, cell.v);
+                    let b = crate::grid::grid_of(grids, cell.patch as usize)?.at(cell.u, cell.v);
                     for c in 0..3 {
-                        e[c] += cell.form_factor * b[c];
+                        e[c] += cell.share[c] * b[c];
                     }
                 }
                 Ok(e)
@@ -361,12 +528,14 @@ impl DirectPaths {
     }
 }
 
-/// One cell of an emitter: cell (a, b) of its n×n lattice in (u, v).
+/// One cell of a source: cell (a, b) of its n×n lattice in (u, v).
 #[derive(Clone, Copy, Debug)]
 struct Cell {
-    /// Index into [`Emitters`]' list, and the scene patch.
-    emitter: usize,
+    /// Index into [`Emitters`]' list, and the emitter's scene patch.
+    source: usize,
     patch: usize,
+    /// What the path passes on per channel: a mirror's k_r for an image's cell, else 1.
+    weight: [f64; 3],
     a: u32,
     b: u32,
     n: u32,
@@ -393,8 +562,9 @@ impl Cell {
 /// 1/([`CELLS`]·`EDGE_SPLIT`) of the emitter.
 pub const EDGE_SPLIT: u32 = 8;
 
-/// Cell (a, b) of the n×n lattice of `poly`'s (u,v) map (emitter `emitter`, scene patch `patch`).
-fn cell_of(poly: &Polygon, (emitter, patch): (usize, usize), (a, b): (u32, u32), n: u32) -> Cell {
+/// Cell (a, b) of the n×n lattice of source `s`'s (u,v) map (`source` its index).
+fn cell_of(s: &Source, source: usize, (a, b): (u32, u32), n: u32) -> Cell {
+    let poly = &s.poly;
     let d = 1.0 / n as f32;
     let (u0, v0) = (a as f32 * d, b as f32 * d);
     let corners = [
@@ -405,8 +575,9 @@ fn cell_of(poly: &Polygon, (emitter, patch): (usize, usize), (a, b): (u32, u32),
     ];
     let (u, v) = (u0 + 0.5 * d, v0 + 0.5 * d);
     Cell {
-        emitter,
-        patch,
+        source,
+        patch: s.patch,
+        weight: s.mirror.map_or([1.0; 3], |m| m.k),
         a,
         b,
         n,

@@ -1,7 +1,7 @@
 //! The kernel's optics table for a scene: which patches are diffuse (and their form-factor
 //! columns), and the specular lobes cut from the hemisphere of a run (paper §3.3).
 
-use crate::scene::Scene;
+use crate::scene::{Material, Scene};
 use anyhow::{anyhow, Result};
 use hemi_kernel::frustum::{lobe_weights, size_for_angle, size_for_phong};
 use hemi_kernel::hemisphere::Hemisphere;
@@ -52,6 +52,16 @@ pub struct SceneOptics {
     pub circles: u32,
 }
 
+/// The frustum size k of specular material `m` on a hemisphere of `circles` circles: from its
+/// `frustum` angle if the scene gives one, else from its Phong power. 0 is a single ray (a
+/// perfect mirror's, or a lobe narrower than a ring).
+pub fn lobe_size(m: &Material, circles: u32) -> u32 {
+    match m.frustum_deg {
+        Some(deg) => size_for_angle(deg as f32, circles),
+        None => size_for_phong(m.phong as f32, circles),
+    }
+}
+
 impl SceneOptics {
     /// Builds the table: columns for the diffuse patches in scene order (the back sides of
     /// translucent sheets last, as in the scene), one lobe per specular material (its frustum size from `frustum` degrees if given, else from `phong`).
@@ -65,10 +75,7 @@ impl SceneOptics {
                 continue;
             }
             let n = m.phong as f32;
-            let size = match m.frustum_deg {
-                Some(deg) => size_for_angle(deg as f32, circles),
-                None => size_for_phong(n, circles),
-            };
+            let size = lobe_size(m, circles);
             let first = weights.len();
             weights.resize(first + size as usize + 1, 0.0);
             lobe_weights(hemi, n, size, &mut weights[first..])

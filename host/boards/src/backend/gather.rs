@@ -7,7 +7,7 @@ use super::Boards;
 use crate::index::{seen_patch, BoardPatch};
 use crate::protocol::require;
 use anyhow::{bail, Context, Result};
-use hemi::backend::{Query, Seen};
+use hemi::backend::{Path, Query, Seen};
 use hemi_kernel::hemisphere::rays_on_ring;
 use hemi_kernel::link::Feature;
 use hemi_kernel::link::{Request, Response, WeightedHit, MAX_HITS, MAX_WEIGHTED};
@@ -50,6 +50,7 @@ impl Boards<'_> {
                         u: hit.u,
                         v: hit.v,
                         weight,
+                        path: Path::Direct,
                     });
                 }
             }
@@ -100,6 +101,8 @@ impl Boards<'_> {
                     u: hit.u,
                     v: hit.v,
                     weight: hit.weight,
+                    // a weighted report does not say whether it came through a mirror
+                    path: Path::Other,
                 })
             })
             .collect()

@@ -10,7 +10,7 @@ mod trace;
 use crate::farm::{Farm, Setup};
 use crate::protocol::require;
 use anyhow::{Context, Result};
-use hemi::backend::{Backend, Gathered, Progress, Query, RowSink, Seen};
+use hemi::backend::{Backend, Gathered, Progress, Query, RowSink, Seen, Skip};
 use hemi::grid::Grid;
 use hemi::optics::SceneOptics;
 use hemi::scene::Scene;
@@ -213,7 +213,7 @@ impl Backend for Boards<'_> {
         &self,
         _shots: &[Shot],
         _grids: &[Grid],
-        _skip: &[bool],
+        _skip: &Skip,
         _done: &Progress<'_>,
     ) -> Result<Vec<Gathered>> {
         anyhow::bail!(

@@ -6,7 +6,7 @@
 use super::Boards;
 use crate::index::{seen_patch, BoardPatch};
 use anyhow::{bail, Context, Result};
-use hemi::backend::{Progress, RowSink, Seen};
+use hemi::backend::{Path, Progress, RowSink, Seen};
 use hemi_kernel::camera::Camera;
 use hemi_kernel::link::{Request, Response, WeightedHit, MAX_HITS, MAX_WEIGHTED};
 use hemi_kernel::specular::SpecularStats;
@@ -97,6 +97,7 @@ impl Boards<'_> {
                     u: hit.u,
                     v: hit.v,
                     weight: [1.0; 3],
+                    path: Path::Other,
                 };
                 out[(p / w - rows.start) as usize].push((p, seen));
             }
@@ -175,6 +176,7 @@ impl Boards<'_> {
             u: hit.u,
             v: hit.v,
             weight: hit.weight,
+            path: Path::Other,
         };
         Ok((y * w + x, seen))
     }

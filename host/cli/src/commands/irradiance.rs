@@ -21,9 +21,9 @@ pub struct IrradianceArgs {
     #[command(flatten)]
     field: FieldArgs,
     /// Where the lamps' direct light comes from: exact form factors to the emitting polygons
-    /// with shadow rays, or the hemisphere's rays (as all other light). Exact needs single rays
-    /// (not boards) and a scene without mirrors; elsewhere the hemisphere is used, said on
-    /// stderr.
+    /// (and to their images in perfect plane mirrors) with shadow rays, or the hemisphere's
+    /// rays (as all other light). Exact needs single rays (not boards) and a scene where
+    /// nothing transmits specularly; elsewhere the hemisphere is used, said on stderr.
     #[arg(long, value_enum, default_value = "exact")]
     direct: DirectArg,
     /// Levels of near-field evaluation: hits within a few grid cells of a query point take the
@@ -75,7 +75,8 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
         DirectArg::Exact => {
             eprintln!(
                 "irradiance: direct light from the hemisphere (exact direct light needs single \
-                 rays, which boards do not cast, and a scene without specular surfaces)"
+                 rays, which boards do not cast, and a scene where nothing transmits \
+                 specularly)"
             );
             Direct::Hemisphere
         }

@@ -2,7 +2,7 @@
 //! the soft engine or the accelerator model ([`Engines`]).
 
 use super::TouchedRow;
-use super::{Backend, Gathered, Progress, Query, RowSink, Seen};
+use super::{Backend, Gathered, Path, Progress, Query, RowSink, Seen, Skip};
 use crate::grid::Grid;
 use crate::method::{Method, Shooter};
 use crate::optics::{pending_for, SceneOptics, Scratch};
@@ -19,7 +19,7 @@ use hemi_kernel::optics::Optics;
 use hemi_kernel::patch::Patch;
 use hemi_kernel::pixels::trace_pixels;
 use hemi_kernel::rotation::{spin_for_sample, Rotation};
-use hemi_kernel::specular::SpecularStats;
+use hemi_kernel::specular::{SpecularStats, Via};
 use hemi_kernel::tracer::{self, ShotStats};
 use rayon::prelude::*;
 use std::ops::Range;
@@ -171,18 +171,18 @@ impl<'s, E: Engines> InProcess<'s, E> {
             y * w..(y + 1) * w,
             spp,
             dirs,
-            |p, _s, hit, weight| seen.push((p, self.seen(hit, weight))),
+            |p, _s, hit, weight| seen.push((p, self.seen(hit, weight, Path::Other))),
         );
         (seen, stats)
     }
 
-    /// One shot's `Σ w · B(hit)` over `grids`, hits on `skip`ped sides left out.
+    /// One shot's `Σ w · B(hit)` over `grids`, the reports `skip` leaves out left out.
     fn gather_field_at(
         &self,
         state: &mut (E::Engine<'_>, Scratch),
         s: &Shot,
         grids: &[Grid],
-        skip: &[bool],
+        skip: &Skip,
     ) -> Result<Gathered> {
         let mut h = [0.0f64; 3];
         let blocked = self.field_hits(state, s, skip, |seen| {
@@ -193,13 +193,14 @@ impl<'s, E: Engines> InProcess<'s, E> {
         Ok(Gathered { light: h, blocked })
     }
 
-    /// One shot's row of the element transport over `layout`, hits on `skip`ped sides left out.
+    /// One shot's row of the element transport over `layout`, the reports `skip` leaves out
+    /// left out.
     fn transport_at(
         &self,
         (state, row): &mut ((E::Engine<'_>, Scratch), Accumulator),
         s: &Shot,
         layout: &Layout,
-        skip: &[bool],
+        skip: &Skip,
     ) -> Result<TransportRow> {
         let blocked = self.field_hits(state, s, skip, |seen| {
             layout.add(row, seen.side, (seen.u, seen.v), seen.weight)
@@ -208,13 +209,13 @@ impl<'s, E: Engines> InProcess<'s, E> {
     }
 
     /// Casts a shot's hemisphere as pass 1 does (its spin, its origin patch, through specular
-    /// surfaces, with (u,v)) and hands `each` what every ray saw, sides `skip` says left out;
+    /// surfaces, with (u,v)) and hands `each` what every ray saw but what `skip` leaves out;
     /// returns the fraction of rays that met the back of an opaque patch ([`Gathered::blocked`]).
     fn field_hits(
         &self,
         (accel, scratch): &mut (E::Engine<'_>, Scratch),
         s: &Shot,
-        skip: &[bool],
+        skip: &Skip,
         mut each: impl FnMut(Seen) -> Result<()>,
     ) -> Result<f32> {
         let shot = tracer::Shot {
@@ -226,15 +227,15 @@ impl<'s, E: Engines> InProcess<'s, E> {
         };
         let (hemi, optics) = (self.hemi.view(), self.optics.view());
         let mut failed = None;
-        let stats = tracer::shoot(
+        let stats = tracer::shoot_via(
             accel,
             &hemi,
             &optics,
             &mut scratch.view(),
             &shot,
-            |hit, w| {
-                let seen = self.seen(hit, w);
-                if failed.is_some() || skip.get(seen.side).copied().unwrap_or(false) {
+            |hit, w, via| {
+                let seen = self.seen(hit, w, Path::of(via));
+                if failed.is_some() || skip.leaves_out(&seen) {
                     return;
                 }
                 if let Err(e) = each(seen) {
@@ -248,12 +249,13 @@ impl<'s, E: Engines> InProcess<'s, E> {
         }
     }
 
-    fn seen(&self, hit: &Hit, weight: [f32; 3]) -> Seen {
+    fn seen(&self, hit: &Hit, weight: [f32; 3], path: Path) -> Seen {
         Seen {
             side: self.scene.side_seen(hit.patch, hit.front),
             u: hit.u,
             v: hit.v,
             weight,
+            path,
         }
     }
 }
@@ -362,9 +364,8 @@ impl<E: Engines> Backend for InProcess<'_, E> {
                     };
                     let mut seen = Vec::new();
                     let (hemi, optics) = (self.hemi.view(), self.optics.view());
-                    tracer::shoot(accel, &hemi, &optics, &mut scratch.view(), &shot, |h, w| {
-                        seen.push(self.seen(h, w))
-                    });
+                    let mut sink = |h: &Hit, w, via: Via| seen.push(self.seen(h, w, Path::of(via)));
+                    tracer::shoot_via(accel, &hemi, &optics, &mut scratch.view(), &shot, &mut sink);
                     seen
                 },
             )
@@ -376,7 +377,7 @@ impl<E: Engines> Backend for InProcess<'_, E> {
         &self,
         shots: &[Shot],
         grids: &[Grid],
-        skip: &[bool],
+        skip: &Skip,
         done: &Progress<'_>,
     ) -> Result<Vec<Gathered>> {
         let pending = pending_for(&self.hemi.view());
@@ -402,7 +403,7 @@ impl<E: Engines> Backend for InProcess<'_, E> {
         &self,
         shots: &[Shot],
         layout: &Layout,
-        skip: &[bool],
+        skip: &Skip,
         done: &Progress<'_>,
     ) -> Result<Option<Vec<TransportRow>>> {
         let pending = pending_for(&self.hemi.view());

@@ -30,7 +30,7 @@ use anyhow::Result;
 use hemi_kernel::accel::{Hit, Ray};
 use hemi_kernel::camera::Camera;
 use hemi_kernel::geometry::Vec3;
-use hemi_kernel::specular::SpecularStats;
+use hemi_kernel::specular::{SpecularStats, Via};
 use hemi_kernel::tracer::ShotStats;
 use std::ops::Range;
 
@@ -50,6 +50,58 @@ pub struct Seen {
     pub v: f32,
     /// Weight per channel.
     pub weight: [f32; 3],
+    /// How the ray got there.
+    pub path: Path,
+}
+
+/// How a reported ray reached the side it saw.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Path {
+    /// Straight from the hemisphere's centre (or the eye).
+    Direct,
+    /// Through one perfect mirror, this scene patch, and nothing else.
+    Mirror(usize),
+    /// Through other specular surfaces, or more of them (or a backend that does not say).
+    Other,
+}
+
+impl Path {
+    /// The path of a kernel report ([`Via`]).
+    pub fn of(via: Via) -> Path {
+        match via.bounces {
+            0 => Path::Direct,
+            1 if via.mirror => Path::Mirror(via.last as usize),
+            _ => Path::Other,
+        }
+    }
+}
+
+/// Which reports a gather leaves out: those that carry light computed by other means (the
+/// lamps' exact direct light, [`crate::direct`]): hits on `sides` seen directly, or once
+/// through a perfect mirror among `mirrors` (whose images of the lamps are computed too).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Skip {
+    /// Per scene patch: its light seen directly is computed otherwise.
+    pub sides: Vec<bool>,
+    /// Per scene patch: a perfect mirror through which the light of `sides` is computed too.
+    pub mirrors: Vec<bool>,
+}
+
+impl Skip {
+    /// Leaves nothing out.
+    pub fn none() -> Skip {
+        Skip::default()
+    }
+
+    /// Whether the report `s` is left out.
+    pub fn leaves_out(&self, s: &Seen) -> bool {
+        let lit = self.sides.get(s.side).copied().unwrap_or(false);
+        lit && match s.path {
+            Path::Direct => true,
+            Path::Mirror(m) => self.mirrors.get(m).copied().unwrap_or(false),
+            Path::Other => false,
+        }
+    }
 }
 
 impl Seen {
@@ -128,25 +180,25 @@ pub trait Backend: Sync {
     /// per shot and channel `H = Σ_k w_k · B_side(k)(u_k, v_k)`, summed in tracer order. This is
     /// the element-to-element transport of [`crate::field`], from the same rays as pass 1's
     /// rows but with the light's variation across each patch; `done` gets shots as they finish.
-    /// Hits on a side whose `skip` entry is true are left out (the emitters whose direct light
+    /// Reports `skip` leaves out are left out (the emitters whose direct light
     /// [`crate::direct`] computes exactly).
     fn gather_field(
         &self,
         shots: &[Shot],
         grids: &[Grid],
-        skip: &[bool],
+        skip: &Skip,
         done: &Progress<'_>,
     ) -> Result<Vec<Gathered>>;
 
     /// Records the element transport of every shot ([`crate::transport`]): the weight its
     /// hemisphere, cast as [`Backend::gather_field`] casts it, gives each vertex of `layout`,
-    /// hits on `skip`ped sides left out, so the field's sweeps need no rays. `None` if this
+    /// reports `skip` leaves out left out, so the field's sweeps need no rays. `None` if this
     /// backend does not record it (the sweeps then re-cast through `gather_field`).
     fn transport(
         &self,
         shots: &[Shot],
         layout: &Layout,
-        skip: &[bool],
+        skip: &Skip,
         done: &Progress<'_>,
     ) -> Result<Option<Vec<TransportRow>>> {
         let _ = (shots, layout, skip, done);

@@ -27,7 +27,7 @@
 mod fill;
 pub mod refine;
 
-use crate::backend::{Backend, Gathered, Progress};
+use crate::backend::{Backend, Gathered, Progress, Skip};
 use crate::direct::{self, Direct, DirectPaths, Emitters};
 use crate::grid::Grid;
 use crate::pass1::FormFactors;
@@ -157,11 +157,11 @@ pub fn solve_field_with(
     let shots = element_shots(&index, &ff.elements);
     let parts = SceneParts::new(scene, ff.channels());
     let system = parts.system(ff.channels())?;
-    let emitters =
-        (settings.direct == Direct::Exact && direct::applies(backend)).then(|| Emitters::of(scene));
+    let emitters = (settings.direct == Direct::Exact && direct::applies(backend))
+        .then(|| Emitters::of(backend));
     let skip = emitters
         .as_ref()
-        .map_or(vec![false; scene.patches.len()], |e| e.handled().to_vec());
+        .map_or_else(Skip::none, |e| e.skip().clone());
     let points: Vec<_> = shots
         .iter()
         .map(|s| (s.point.position, s.point.normal))
@@ -268,7 +268,7 @@ fn record(
     backend: &dyn Backend,
     shots: &[Shot],
     layout: &Layout,
-    skip: &[bool],
+    skip: &Skip,
     settings: &FieldSettings,
     progress: &Progress<'_>,
 ) -> anyhow::Result<(Option<Vec<TransportRow>>, Sweeps)> {

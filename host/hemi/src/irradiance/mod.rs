@@ -72,8 +72,8 @@ pub fn irradiance(
     queries: &[Query],
     settings: &QuerySettings,
 ) -> anyhow::Result<Vec<[f64; 3]>> {
-    let emitters = (settings.direct == Direct::Exact && applies(backend))
-        .then(|| Emitters::of(backend.scene()));
+    let emitters =
+        (settings.direct == Direct::Exact && applies(backend)).then(|| Emitters::of(backend));
     let gather = Gather {
         backend,
         grids: light.grids,
@@ -131,7 +131,7 @@ impl Gather<'_> {
             }
             None => vec![[0.0; 3]; chunk.len()],
         };
-        let handled = |side| self.emitters.is_some_and(|em| em.handles(side));
+        let handled = |s: &Seen| self.emitters.is_some_and(|em| em.skip().leaves_out(s));
         let scene = self.backend.scene();
         let near = match levels {
             0 => NearField::default(),
@@ -207,7 +207,7 @@ impl Gather<'_> {
             seen,
             &scale,
             budget,
-            |k, r, s| em.handles(s.side) || in_near[k].contains(&r),
+            |k, r, s| em.skip().leaves_out(s) || in_near[k].contains(&r),
         );
         let corrections = relit.corrections(self.backend, em, self.grids, direct)?;
         Ok((relit, corrections))
@@ -218,7 +218,7 @@ impl Gather<'_> {
     fn sum(&self, seen: &[Seen], fresh: &[Fresh]) -> anyhow::Result<[f64; 3]> {
         let mut e = [0.0f64; 3];
         for (s, f) in seen.iter().zip(fresh) {
-            if self.emitters.is_some_and(|em| em.handles(s.side)) {
+            if self.emitters.is_some_and(|em| em.skip().leaves_out(s)) {
                 continue;
             }
             let l = match f {

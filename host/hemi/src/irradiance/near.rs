@@ -63,7 +63,7 @@ pub enum Grouping {
 
 impl NearField {
     /// Finds the near hits of each query in `seen` (its hemisphere's reports) on `grids`,
-    /// leaving out the sides `skip` says are handled otherwise.
+    /// leaving out the reports `skip` says are handled otherwise.
     pub fn of(
         scene: &Scene,
         grids: &[Grid],
@@ -71,7 +71,7 @@ impl NearField {
         seen: &[Vec<Seen>],
         cells: f32,
         grouping: Grouping,
-        skip: impl Fn(usize) -> bool,
+        skip: impl Fn(&Seen) -> bool,
     ) -> NearField {
         // (owner, side, sub-cell) → (evaluation, Σu, Σv, count): the owner is the query
         // (per query, a query's answer does not depend on what else is asked with it) or 0
@@ -84,7 +84,7 @@ impl NearField {
                 let Some(grid) = grids.get(s.side) else {
                     continue;
                 };
-                if skip(s.side) || !is_near(scene, grid.k(), s, q.point, cells) {
+                if skip(s) || !is_near(scene, grid.k(), s, q.point, cells) {
                     continue;
                 }
                 let owner = match grouping {
