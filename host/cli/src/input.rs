@@ -137,8 +137,10 @@ impl<R: BufRead> Lines<R> {
             let Ok(line) = std::str::from_utf8(&self.buf) else {
                 return Some(Err(anyhow::anyhow!("line {n}: not UTF-8 text")));
             };
-            let line = line.trim();
-            if !line.is_empty() && !line.starts_with('#') {
+            // a `#` starts a comment, on a line of its own or after the numbers (a point file
+            // labels its points so)
+            let line = line.split('#').next().unwrap_or_default().trim();
+            if !line.is_empty() {
                 return Some(parse_record(line, n).and_then(|r| self.within_reach(r, n)));
             }
         }
@@ -253,7 +255,7 @@ mod tests {
 
     #[test]
     fn comments_and_blank_lines_are_skipped_and_lines_numbered() {
-        let r = records("# points\n\n0 0 0 0 0 2\n0 0 0 0 0 0\n1 2 x 0 0 1\n");
+        let r = records("# points\n\n0 0 0 0 0 2  # up\n0 0 0 0 0 0\n1 2 x 0 0 1 # bad\n");
         assert_eq!(r.len(), 3);
         let o = Vec3::ZERO;
         assert_eq!(

@@ -2,12 +2,14 @@
 
 use crate::input::serve;
 use crate::options::{FieldArgs, SolverArgs};
-use crate::pipeline::RunArgs;
+use crate::engine::Running;
+use crate::pipeline::{Prepared, RunArgs};
 use anyhow::Result;
 use clap::Args;
 use hemi::backend::Query;
 use hemi::direct::{applies as exact_direct_applies, Direct};
 use hemi::irradiance::{Light, QuerySettings};
+use hemi::settings::Pass1Settings;
 use std::io::Write;
 
 /// Irradiance at points read from stdin (`x y z dx dy dz` per line, the convention of
@@ -35,6 +37,10 @@ pub struct IrradianceArgs {
     /// lands on.
     #[arg(long, default_value_t = hemi::irradiance::near::NEAR, value_name = "CELLS")]
     near_cells: f32,
+    /// Circles R of each query's own hemisphere (its near field's evaluations keep pass 1's):
+    /// by default twice pass 1's, at most 1024. Boards cast queries with pass 1's R.
+    #[arg(long, value_name = "R")]
+    query_circles: Option<u32>,
 }
 
 /// The most `--near` levels.
@@ -66,9 +72,14 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
         "--near-cells {}: must be a number of grid cells in (0, {MOST_CELLS}]",
         args.near_cells
     );
+    anyhow::ensure!(
+        !(args.run.on_boards() && args.query_circles.is_some()),
+        "--query-circles: boards cast queries with pass 1's hemisphere (--circles)"
+    );
     let field = args.field.settings(args.run.on_boards())?;
     let run = args.run.prepare(|_| Ok(()))?;
     let backend = run.engine.backend(&run.scene, &run.settings)?;
+    let own = own_backend(&args, &run)?;
     let solved = args.run.solve(&backend, &args.solver, Some(field))?;
     let direct = match args.direct {
         DirectArg::Exact if exact_direct_applies(backend.get()) => Direct::Exact,
@@ -99,7 +110,10 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
             grids: &solved.grids,
             direct: solved.direct.as_ref(),
         };
-        for e in hemi::irradiance::irradiance(backend.get(), light, &queries, &settings)? {
+        let own = own.as_ref().map_or(backend.get(), |b| b.get());
+        let answers =
+            hemi::irradiance::irradiance_with(backend.get(), own, light, &queries, &settings)?;
+        for e in answers {
             writeln!(out, "{}", rgb(e))?;
         }
         Ok(())
@@ -112,6 +126,34 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
         "pass 1 and queries",
     );
     Ok(())
+}
+
+/// The most circles of a query's own hemisphere (as `--circles`).
+const MOST_QUERY_CIRCLES: u32 = 1024;
+
+/// The backend the queries cast their own hemispheres on, where it differs from pass 1's: the
+/// same engine with `--query-circles` (default twice pass 1's R, within
+/// [`MOST_QUERY_CIRCLES`]); `None` on boards, or where the R is pass 1's.
+fn own_backend<'s>(args: &IrradianceArgs, run: &'s Prepared) -> Result<Option<Running<'s>>> {
+    let circles = run.settings.circles;
+    let own = match args.query_circles {
+        Some(r) => {
+            anyhow::ensure!(
+                (2..=MOST_QUERY_CIRCLES).contains(&r),
+                "--query-circles {r}: must be between 2 and {MOST_QUERY_CIRCLES}"
+            );
+            r
+        }
+        None => (2 * circles).min(MOST_QUERY_CIRCLES),
+    };
+    if args.run.on_boards() || own == circles {
+        return Ok(None);
+    }
+    let settings = Pass1Settings {
+        circles: own,
+        ..run.settings
+    };
+    Ok(Some(run.engine.backend(&run.scene, &settings)?))
 }
 
 /// One answer line: `r g b`.

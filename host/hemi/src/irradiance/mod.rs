@@ -72,10 +72,30 @@ pub fn irradiance(
     queries: &[Query],
     settings: &QuerySettings,
 ) -> anyhow::Result<Vec<[f64; 3]>> {
+    irradiance_with(backend, backend, light, queries, settings)
+}
+
+/// [`irradiance`], the queries' own hemispheres cast on `own` (a backend for the same scene
+/// with a finer hemisphere than pass 1's), everything else (the near field's evaluations, the
+/// shadow rays) on `backend`.
+///
+/// A query's answer is one hemisphere, which quantises what it sees: at a point lit from
+/// close by (a block's face millimetres above the floor, whose near field fills half the
+/// hemisphere at grazing angles) that is a per cent or more, which the field's refinement does
+/// not move (docs/ACCURACY.md, "Held-out points"). A finer hemisphere for the query itself
+/// costs rays once per query; its near field's evaluations keep pass 1's.
+pub fn irradiance_with(
+    backend: &dyn Backend,
+    own: &dyn Backend,
+    light: Light<'_>,
+    queries: &[Query],
+    settings: &QuerySettings,
+) -> anyhow::Result<Vec<[f64; 3]>> {
     let emitters =
         (settings.direct == Direct::Exact && applies(backend)).then(|| Emitters::of(backend));
     let gather = Gather {
         backend,
+        own,
         grids: light.grids,
         direct: light.direct.filter(|_| emitters.is_some()),
         emitters: emitters.as_ref(),
@@ -103,6 +123,8 @@ const QUERIES_PER_REQUEST: usize = 64;
 /// What every level of a query's gather shares.
 struct Gather<'a> {
     backend: &'a dyn Backend,
+    /// Where the queries asked cast their own hemispheres.
+    own: &'a dyn Backend,
     grids: &'a [Grid],
     direct: Option<&'a Reflected>,
     emitters: Option<&'a Emitters>,
@@ -123,7 +145,11 @@ impl Gather<'_> {
 
     /// One request's queries: their hemispheres, their direct light and their near fields.
     fn request(&self, chunk: &[Query], levels: u32) -> anyhow::Result<Vec<[f64; 3]>> {
-        let seen = self.backend.gather(chunk)?;
+        let caster = match levels == self.levels {
+            true => self.own,
+            false => self.backend,
+        };
+        let seen = caster.gather(chunk)?;
         let direct = match self.emitters {
             Some(em) => {
                 let at: Vec<_> = chunk.iter().map(|q| (q.point, q.normal)).collect();
