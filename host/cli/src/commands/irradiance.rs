@@ -1,8 +1,8 @@
 //! `hemi irradiance`: the solved field gathered at points read from stdin.
 
+use crate::engine::Running;
 use crate::input::serve;
 use crate::options::{FieldArgs, SolverArgs};
-use crate::engine::Running;
 use crate::pipeline::{Prepared, RunArgs};
 use anyhow::Result;
 use clap::Args;
@@ -29,12 +29,13 @@ pub struct IrradianceArgs {
     #[arg(long, value_enum, default_value = "exact")]
     direct: DirectArg,
     /// Levels of near-field evaluation: hits within a few grid cells of a query point take the
-    /// radiosity computed afresh at the hit (a query of its own, with this many levels less)
-    /// instead of the grid's, for corners and contact shadows; 0 reads every hit off the grids.
-    #[arg(long, default_value_t = 2, value_name = "LEVELS")]
+    /// radiosity computed afresh at the hit (a query of its own, with one level less, whose
+    /// near field reaches half as far) instead of the grid's, for corners and contact shadows;
+    /// 0 reads every hit off the grids.
+    #[arg(long, default_value_t = 4, value_name = "LEVELS")]
     near: u32,
     /// How close a hit must be to the point to be evaluated afresh, in cells of the grid it
-    /// lands on.
+    /// lands on (at the first level; each level below, half as close).
     #[arg(long, default_value_t = hemi::irradiance::near::NEAR, value_name = "CELLS")]
     near_cells: f32,
     /// Circles R of each query's own hemisphere (its near field's evaluations keep pass 1's):
@@ -44,7 +45,7 @@ pub struct IrradianceArgs {
 }
 
 /// The most `--near` levels.
-const MOST_NEAR: u32 = 4;
+const MOST_NEAR: u32 = 8;
 
 /// The widest near field, in grid cells (`--near-cells`): past a patch's few cells every hit
 /// would be evaluated afresh.

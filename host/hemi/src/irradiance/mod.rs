@@ -29,7 +29,8 @@ pub struct QuerySettings {
     pub direct: Direct,
     /// How many levels of near-field evaluation ([`near`]): 0 reads every hit off the grids.
     pub near_levels: u32,
-    /// How close a hit must be to be evaluated afresh, in cell sizes of its grid.
+    /// How close a hit must be to a query asked to be evaluated afresh, in cell sizes of its
+    /// grid (each level below reaches [`near::SHRINK`] times as far as the one above).
     pub near_cells: f32,
 }
 
@@ -37,7 +38,7 @@ impl Default for QuerySettings {
     fn default() -> Self {
         QuerySettings {
             direct: Direct::Exact,
-            near_levels: 2,
+            near_levels: 4,
             near_cells: near::NEAR,
         }
     }
@@ -171,7 +172,7 @@ impl Gather<'_> {
                     self.grids,
                     chunk,
                     &seen,
-                    self.near_cells,
+                    self.near_cells * near::SHRINK.powi((self.levels - levels) as i32),
                     grouping,
                     handled,
                 )

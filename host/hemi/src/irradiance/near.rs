@@ -34,6 +34,14 @@ use std::collections::BTreeMap;
 /// cell sizes (√area / K) of the grid it lands on.
 pub const NEAR: f32 = 3.0;
 
+/// How far each level's near field reaches, as a fraction of the level above's: the light a
+/// grid cannot carry is closest to a contact line or a corner, so the deeper levels look only
+/// there. At the floor 1 mm in front of the Cornell box's short block (Radiance 6.0a, 1,024
+/// estimates) two levels of 3 cells read +1.0 / +3.3 / +4.2 %; four levels of 3, 1.5, 0.75
+/// and 0.38 cells read +0.0 / +0.9 / +1.4 %, for 1.6 s more than two (docs/ACCURACY.md,
+/// "Mirror images, finer queries, deeper near fields").
+pub const SHRINK: f32 = 0.5;
+
 /// Sub-cells per cell side the near hits are grouped by.
 pub const SPLIT: u32 = 4;
 
