@@ -145,11 +145,6 @@ impl Via {
         last: u32::MAX,
         mirror: false,
     };
-
-    /// Seen once through the perfect mirror `patch`, and only through it.
-    pub fn once_in(&self, patch: u32) -> bool {
-        self.bounces == 1 && self.mirror && self.last == patch
-    }
 }
 
 /// Whether a ray's hit must be followed by frustums: a front hit on a reflector, or a hit on

@@ -427,13 +427,53 @@ fn a_lamp_seen_only_along_its_rim_is_not_lost() {
 /// = 0 to `top`, with k_r = (0.9, 0.8, 0.5): the lamp's image is the square [2, 3] × [0, 1] at
 /// z = 1.
 fn lamp_and_mirror(top: f64) -> Scene {
+    lamp_and_reflector(top, "inf")
+}
+
+/// [`lamp_and_mirror`] with the reflector's Phong power `phong`.
+fn lamp_and_reflector(top: f64, phong: &str) -> Scene {
     let mirror = format!(
         "{LAMP}\n[[material]]\nname = \"mirror\"\ndiffuse = [0, 0, 0]\n\
-         specular = [0.9, 0.8, 0.5]\nphong = inf\n\
+         specular = [0.9, 0.8, 0.5]\nphong = {phong}\n\
          [[quad]]\nname = \"mirror\"\nmaterial = \"mirror\"\n\
          vertices = [[1.5, -3, 0], [1.5, -3, {top}], [1.5, 4, {top}], [1.5, 4, 0]]\n"
     );
     parse(&mirror, "mirror.toml").unwrap()
+}
+
+#[test]
+fn a_narrow_glossy_lobe_is_gathered_once_at_every_r() {
+    // Phong 10⁴ is a single-ray frustum at R = 32 and a ring of rays at R = 64: its lamp light
+    // must come from the hemisphere at both, never also from an image (the queries' own
+    // hemisphere, finer than pass 1's, would then count it twice)
+    let scene = lamp_and_reflector(3.0, "10000");
+    let (x, y) = (0.5, 0.5);
+    let p = Query {
+        point: Vec3::new(x as f32, y as f32, 0.0),
+        normal: Vec3::new(0.0, 0.0, 1.0),
+    };
+    let coarse = soft(&scene, &settings(32, 2)).unwrap();
+    let fine = soft(&scene, &settings(64, 2)).unwrap();
+    let ff = form_factors(&coarse, &|_| {}).unwrap();
+    let sol = gauss_seidel_scene(&scene, ff.channels(), &Default::default()).unwrap();
+    let field = FieldSettings::default();
+    let field = solve_field(&coarse, &ff, &sol, &field, &|_| {}).unwrap();
+    let query = QuerySettings {
+        near_levels: 0,
+        ..QuerySettings::default()
+    };
+    let light = hemi::irradiance::Light::of(&field.grids);
+    let got = hemi::irradiance::irradiance_with(&coarse, &fine, light, &[p], &query).unwrap()[0];
+    let lamp = element_to_offset_rectangle(-x, -y, 1.0, 1.0, 1.0);
+    let image = element_to_offset_rectangle(2.0 - x, -y, 1.0, 1.0, 1.0);
+    for (c, (m, k)) in [(1.0, 0.9), (2.0, 0.8), (10.0, 0.5)]
+        .into_iter()
+        .enumerate()
+    {
+        let err = (got[c] / m - lamp - k * image).abs() / (lamp + k * image);
+        println!("narrow lobe, queried at R = 64 over R = 32, channel {c}: error {err:.2e}");
+        assert!(err < 0.05, "{got:?}: lamp {lamp}, image {image}");
+    }
 }
 
 #[test]

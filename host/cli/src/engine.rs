@@ -215,9 +215,14 @@ impl Running<'_> {
             return;
         };
         let p = cfg.params;
+        // single rays (`trace`) cast no hemisphere: no per-hemisphere figure then
+        let per_hemisphere = match hemispheres {
+            0 => String::new(),
+            n => format!(", {:.0} cycles/hemisphere", cycles as f64 / n as f64),
+        };
         eprintln!(
             "model ({} CORDIC iterations, {}-bit words; {} lanes, {} sectors, {} rays/clock): \
-             {what}: {cycles} cycles for {rays} rays = {:.2} cycles/ray, {:.0} cycles/hemisphere; \
+             {what}: {cycles} cycles for {rays} rays = {:.2} cycles/ray{per_hemisphere}; \
              {:.3} s at {clock_mhz} MHz",
             cfg.iterations,
             cfg.width,
@@ -225,7 +230,6 @@ impl Running<'_> {
             p.sectors,
             p.rays_per_clock,
             cycles as f64 / rays.max(1) as f64,
-            cycles as f64 / hemispheres.max(1) as f64,
             cycles as f64 / (clock_mhz * 1e6)
         );
     }

@@ -303,19 +303,20 @@ fn field_grids(
     solver: Solver,
 ) -> Result<(FormFactors, Solution, Vec<Grid>, Option<Reflected>)> {
     let scene = backend.get().scene();
-    // the bar counts hemispheres: refinement shoots up to its budget's new elements, and the
-    // transport's record casts each element once (re-cast sweeps, past the record's budget,
-    // cast them once a sweep and run past the total)
+    // the bar counts hemispheres: the transport's record casts each element once, and a
+    // refinement round shoots its new elements (at most the budget's) and records them all
+    // again; what refinement will choose is not known here, so the total is that bound, and
+    // work past it (re-cast sweeps, past the record's budget, cast every element a sweep)
+    // raises the total rather than running past it
     let now = ff.elements.len() as u64;
-    let most = match field.refine.rounds {
+    let total = match field.refine.rounds {
         0 => now,
-        _ => field
-            .refine
-            .max_elements
-            .map_or(2 * now, |m| m as u64)
-            .max(now),
+        _ => {
+            let most = field.refine.max_elements.map_or(2 * now, |m| m as u64);
+            now + 2 * most.max(now)
+        }
     };
-    let bar = bar(2 * most - now, "field");
+    let bar = bar(total, "field");
     let t0 = std::time::Instant::now();
     let quiet = |ff: &FormFactors| {
         let parts = SceneParts::new(scene, ff.channels());
@@ -327,6 +328,10 @@ fn field_grids(
         )
     };
     let on = |n: u64| {
+        let to = bar.position() + n;
+        if bar.length().is_some_and(|len| to > len) {
+            bar.set_length(to);
+        }
         bar.inc(n);
     };
     let refined = hemi::field::refine::refine_field(
@@ -390,9 +395,15 @@ fn report_field(
         ),
         Some(Sweeps::Recast) | None => "each sweep re-cast".to_string(),
     };
+    // where the lamps' light is exact, the grids' largest misses are at shadows' edges, which
+    // the queries and pass 2 relight: the figure is the grids', not the answers'
+    let relit = match f.direct {
+        Some(_) => ", before shadows' edges are relit",
+        None => "",
+    };
     let worst = match refined.worst {
         Some((i, e)) => format!(
-            ", worst estimated grid error {:.1} % ({})",
+            ", worst estimated grid error {:.1} % ({}{relit})",
             100.0 * e,
             scene.patches[i].name
         ),

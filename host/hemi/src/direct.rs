@@ -17,12 +17,12 @@
 //! (the paper screen's cube, under the screen's top) is off by tens of per cent: it is cut
 //! into [`EDGE_SPLIT`]² cells with a ray each, so a penumbra is resolved to 1/64 of the lamp.
 //! A sliver along the lamp's rim, which no cell centre sees, is found by probes on the rim.
-//! The rest of the light — everything but the
-//! emitters' own surfaces seen directly — still comes from the hemisphere ([`crate::irradiance`]).
+//! A lamp's image in a perfect plane mirror is a source of the same kind ([`Emitters`]). The
+//! rest of the light — everything but the emitters seen directly or once in such a mirror —
+//! still comes from the hemisphere ([`crate::irradiance`]).
 
 use crate::backend::{Backend, Skip};
 use crate::grid::Grid;
-use crate::optics::lobe_size;
 use crate::scene::Scene;
 use hemi_kernel::accel::{Hit, Ray};
 use hemi_kernel::geometry::{Polygon, Vec3};
@@ -103,12 +103,14 @@ impl Mirror {
         q - self.normal * (2.0 * (q - self.point).dot(self.normal))
     }
 
-    /// The image of emitter `poly` in the mirror, if some of it is in front of the mirror.
-    fn image(&self, poly: &Polygon) -> Option<Polygon> {
+    /// The image of emitter `poly` in the mirror, if some of it is in front of the mirror by
+    /// more than `epsilon` (a lamp in the mirror's own plane, or a mirror that emits, has no
+    /// image but one made of rounding).
+    fn image(&self, poly: &Polygon, epsilon: f32) -> Option<Polygon> {
         let front = poly
             .v
             .iter()
-            .any(|&v| (v - self.point).dot(self.normal) > 0.0);
+            .any(|&v| (v - self.point).dot(self.normal) > epsilon);
         front.then(|| Polygon {
             v: poly.v.map(|v| self.reflect(v)),
             normal: poly.normal - self.normal * (2.0 * poly.normal.dot(self.normal)),
@@ -118,12 +120,10 @@ impl Mirror {
 }
 
 impl Emitters {
-    /// The emitting polygons of `backend`'s scene (a Bezier emitter stays with the hemisphere),
-    /// and their images in its perfect plane mirrors (polygons whose frustum is a single ray
-    /// at the backend's R, as the tracer shoots them).
-    pub fn of(backend: &dyn Backend) -> Emitters {
-        let scene = backend.scene();
-        let circles = backend.settings().circles;
+    /// The emitting polygons of `scene` (a Bezier emitter stays with the hemisphere), and their
+    /// images in its perfect plane mirrors ([`mirrors`]).
+    pub fn of(scene: &Scene) -> Emitters {
+        let epsilon = scene.ray_offset();
         let mut sides = vec![false; scene.patches.len()];
         let mut list = Vec::new();
         for (i, p) in scene.patches.iter().enumerate().take(scene.fronts()) {
@@ -139,12 +139,12 @@ impl Emitters {
                 }
             }
         }
-        let mirrors = mirrors(scene, circles);
+        let mirrors = mirrors(scene);
         let lamps = list.len();
         for m in &mirrors {
             for k in 0..lamps {
                 let lamp = list[k];
-                if let Some(poly) = m.image(&lamp.poly) {
+                if let Some(poly) = m.image(&lamp.poly, epsilon) {
                     list.push(Source {
                         poly,
                         mirror: Some(*m),
@@ -163,7 +163,7 @@ impl Emitters {
                 sides,
                 mirrors: in_mirror,
             },
-            epsilon: scene.ray_offset(),
+            epsilon,
         }
     }
 
@@ -355,13 +355,16 @@ impl Emitters {
     }
 }
 
-/// The perfect plane mirrors of `scene` at R = `circles`: front polygons whose material
-/// reflects with a single-ray frustum ([`lobe_size`] 0, as the tracer shoots them).
-fn mirrors(scene: &Scene, circles: u32) -> Vec<Mirror> {
+/// The perfect plane mirrors of `scene`: front polygons whose material reflects with an
+/// infinite Phong power and no frustum angle of its own, whose frustum is then a single ray at
+/// every R ([`crate::optics::lobe_size`] 0) — the queries' own hemispheres may be finer than
+/// pass 1's, and a lobe that is a single ray at one R and a ring at another would have its
+/// light both imaged and gathered.
+fn mirrors(scene: &Scene) -> Vec<Mirror> {
     let mut out = Vec::new();
     for (i, p) in scene.patches.iter().enumerate().take(scene.fronts()) {
         let m = scene.material_of(i);
-        if !m.reflects() || lobe_size(m, circles) != 0 {
+        if !m.reflects() || !m.phong.is_infinite() || m.frustum_deg.is_some() {
             continue;
         }
         if let Shape::Polygon(poly) = p.shape {

@@ -90,9 +90,9 @@ impl Layout {
 /// One element's row of T while its rays come in: dense over the layout (so adding is one
 /// index), with the vertices touched listed so that taking the row costs only them.
 ///
-/// Rows are grey (one weight for all channels) unless a ray came through a coloured mirror,
-/// so the accumulator keeps one weight a vertex until the first ray whose channels differ and
-/// only then moves to three: a ray then adds to four numbers instead of twelve, in the same
+/// Rows are grey (one weight for all channels) unless a ray came through a coloured specular
+/// surface (a mirror or a sheet of glass), so the accumulator keeps one weight a vertex until
+/// the first ray whose channels differ and only then moves to three: a ray then adds to four numbers instead of twelve, in the same
 /// order and with the same roundings, so the row's bits are those of adding per channel.
 #[derive(Clone, Debug)]
 pub struct Accumulator {
@@ -140,7 +140,12 @@ impl Accumulator {
             self.tinted = vec![[0.0; 3]; self.grey.len()];
         }
         for &v in &self.touched {
-            self.tinted[v as usize] = [std::mem::take(&mut self.grey[v as usize]); 3];
+            // a vertex is listed again when a zero weight came first: only its first listing
+            // moves its weight, and the others must not overwrite it with the zero left behind
+            let g = std::mem::take(&mut self.grey[v as usize]);
+            if g != 0.0 {
+                self.tinted[v as usize] = [g; 3];
+            }
         }
         self.is_tinted = true;
     }
@@ -190,8 +195,8 @@ pub struct TransportRow {
 }
 
 /// A row's (vertex, weight) entries, vertices ascending: one weight for all channels unless a
-/// coloured mirror on some ray's way made them differ, which halves the memory of the common
-/// row (the record is what bounds the field's element count, `--field-mib`).
+/// coloured specular surface on some ray's way made them differ, which halves the memory of
+/// the common row (the record is what bounds the field's element count, `--field-mib`).
 #[derive(Clone, Debug, PartialEq)]
 enum Weights {
     Grey(Vec<(u32, f32)>),
@@ -299,5 +304,42 @@ mod tests {
         let h = grey.gather(&layout.values(&grids));
         assert!(h[0] > 0.0 && h[0] != h[1]);
         assert!(layout.add(&mut acc, 2, (0.5, 0.5), [1.0; 3]).is_err());
+    }
+
+    #[test]
+    fn a_tinted_ray_after_zero_weights_keeps_every_grey_weight() {
+        // a hit on a grid line gives two of its corners weight 0, which lists them before any
+        // weight arrives; a later grey ray lists them again, and the switch to three channels
+        // for a tinted ray must move their weight once, not overwrite it with the zero
+        let grid = Grid::from_samples(
+            2,
+            &[
+                [1.0, 2.0, 3.0],
+                [2.0, 1.0, 0.5],
+                [0.0, 4.0, 1.0],
+                [3.0, 3.0, 3.0],
+            ],
+        );
+        let grids = [grid];
+        let layout = Layout::of(&grids).unwrap();
+        let rays = [
+            ((0.5, 0.25), [0.5; 3]),
+            ((0.75, 0.25), [0.25; 3]),
+            ((0.6, 0.4), [1.0, 0.5, 0.25]),
+        ];
+        let mut acc = Accumulator::new(layout.len());
+        let mut want = [0.0f64; 3];
+        for &(uv, w) in &rays {
+            layout.add(&mut acc, 0, uv, w).unwrap();
+            let b = grids[0].at(uv.0, uv.1);
+            for c in 0..3 {
+                want[c] += w[c] as f64 * b[c];
+            }
+        }
+        let got = acc.take(0.0).gather(&layout.values(&grids));
+        assert!(
+            (0..3).all(|c| (got[c] - want[c]).abs() < 1e-6),
+            "{got:?} vs {want:?}"
+        );
     }
 }

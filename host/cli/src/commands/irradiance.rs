@@ -102,7 +102,9 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
     let stdin = std::io::BufReader::new(std::io::stdin());
     // a zero direction is rtrace's request for a flush, answered with a zero record
     let reach = hemi::scene::range::Reach::of(backend.get().scene());
+    let mut asked = 0u64;
     let answered = serve(stdin, out, &rgb([0.0; 3]), reach, |rays, out| {
+        asked += rays.len() as u64;
         let queries: Vec<Query> = rays
             .iter()
             .map(|&(point, normal)| Query { point, normal })
@@ -121,11 +123,14 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
     });
     backend.board_report(args.run.engine.boards.board_stats, "after the queries");
     answered?;
-    backend.report_model(
-        solved.hemispheres,
-        args.run.engine.model.clock_mhz,
-        "pass 1 and queries",
-    );
+    let clock = args.run.engine.model.clock_mhz;
+    match &own {
+        Some(own) => {
+            backend.report_model(solved.hemispheres, clock, "pass 1 and the near fields");
+            own.report_model(asked, clock, "the queries' own hemispheres");
+        }
+        None => backend.report_model(solved.hemispheres, clock, "pass 1 and queries"),
+    }
     Ok(())
 }
 

@@ -158,7 +158,7 @@ pub fn solve_field_with(
     let parts = SceneParts::new(scene, ff.channels());
     let system = parts.system(ff.channels())?;
     let emitters = (settings.direct == Direct::Exact && direct::applies(backend))
-        .then(|| Emitters::of(backend));
+        .then(|| Emitters::of(backend.scene()));
     let skip = emitters
         .as_ref()
         .map_or_else(Skip::none, |e| e.skip().clone());

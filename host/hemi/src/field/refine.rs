@@ -111,7 +111,7 @@ pub fn refine_field(
     let scene = backend.scene();
     let budget = refine.max_elements.unwrap_or(2 * ff.elements.len());
     let emitters = (settings.direct == Direct::Exact && direct::applies(backend))
-        .then(|| Emitters::of(backend));
+        .then(|| Emitters::of(backend.scene()));
     let mut paths = match &emitters {
         Some(e) => Some(e.paths(backend, &points(&ff.elements))?),
         None => None,
@@ -170,7 +170,10 @@ fn points(elements: &[ElementRow]) -> Vec<(Vec3, Vec3)> {
 
 /// The element values the rounds judge: (4.2) from the patch solution, with the lamps' light
 /// from their exact paths instead of the hemisphere's rays where exact direct light applies
-/// (so the hemisphere's quantisation of a small lamp is not taken for a gradient).
+/// (so the hemisphere's quantisation of a small lamp is not taken for a gradient). A pass-1
+/// row's lamp column sums every path to the lamp, through glossy and several mirrors too, of
+/// which the exact paths hold only the direct and once-mirrored ones: in a scene with a
+/// reflector the rows are taken as they are.
 fn lit_values(
     scene: &Scene,
     index: &ElementIndex,
@@ -179,7 +182,8 @@ fn lit_values(
     emitters: Option<&Emitters>,
     paths: Option<&DirectPaths>,
 ) -> anyhow::Result<Vec<[f64; 3]>> {
-    let (Some(emitters), Some(paths)) = (emitters, paths) else {
+    let reflects = scene.materials.iter().any(|m| m.reflects());
+    let (Some(emitters), Some(paths), false) = (emitters, paths, reflects) else {
         return Ok(index.values(scene, elements, &sol.radiosity));
     };
     let grids = index.grids(scene, &index.values(scene, elements, &sol.radiosity));

@@ -92,8 +92,8 @@ pub fn irradiance_with(
     queries: &[Query],
     settings: &QuerySettings,
 ) -> anyhow::Result<Vec<[f64; 3]>> {
-    let emitters =
-        (settings.direct == Direct::Exact && applies(backend)).then(|| Emitters::of(backend));
+    let emitters = (settings.direct == Direct::Exact && applies(backend))
+        .then(|| Emitters::of(backend.scene()));
     let gather = Gather {
         backend,
         own,

@@ -80,7 +80,7 @@ pub fn render(
     let emitters = light
         .direct
         .filter(|_| applies(backend))
-        .map(|d| (d, Emitters::of(backend)));
+        .map(|d| (d, Emitters::of(backend.scene())));
     let to_relight: Mutex<Vec<relit::Hit>> = Mutex::new(Vec::new());
     let sink = |y: u32, seen: &[(u32, Seen)]| {
         let shaded = shade_row(&rows, grids, y, w, seen, spp);
