@@ -600,7 +600,7 @@ fn options_that_would_be_ignored_are_refused_or_warned_about() {
     refused(
         "near",
         &["irradiance", "--near", "4294967295"],
-        &["--near 4294967295: at most 4"],
+        &["--near 4294967295: at most 8"],
     );
     refused(
         "clock",
