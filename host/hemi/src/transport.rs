@@ -250,11 +250,9 @@ impl TransportRow {
 mod tests {
     use super::*;
 
-    #[test]
-    fn a_recorded_row_gathers_what_the_grids_interpolate() {
-        // two grids, rays at a few (u, v): Σ w·B(u,v) read off the grids equals the row's
-        // product with the vertex values
-        let a = Grid::from_samples(
+    /// A 2×2 grid whose channels vary differently.
+    fn coloured_2x2() -> Grid {
+        Grid::from_samples(
             2,
             &[
                 [1.0, 2.0, 3.0],
@@ -262,7 +260,14 @@ mod tests {
                 [0.0, 4.0, 1.0],
                 [3.0, 3.0, 3.0],
             ],
-        );
+        )
+    }
+
+    #[test]
+    fn a_recorded_row_gathers_what_the_grids_interpolate() {
+        // two grids, rays at a few (u, v): Σ w·B(u,v) read off the grids equals the row's
+        // product with the vertex values
+        let a = coloured_2x2();
         let b = Grid::from_samples(1, &[[0.25, 0.5, 0.75]]);
         let grids = [a, b];
         let layout = Layout::of(&grids).unwrap();
@@ -311,15 +316,7 @@ mod tests {
         // a hit on a grid line gives two of its corners weight 0, which lists them before any
         // weight arrives; a later grey ray lists them again, and the switch to three channels
         // for a tinted ray must move their weight once, not overwrite it with the zero
-        let grid = Grid::from_samples(
-            2,
-            &[
-                [1.0, 2.0, 3.0],
-                [2.0, 1.0, 0.5],
-                [0.0, 4.0, 1.0],
-                [3.0, 3.0, 3.0],
-            ],
-        );
+        let grid = coloured_2x2();
         let grids = [grid];
         let layout = Layout::of(&grids).unwrap();
         let rays = [
