@@ -121,7 +121,7 @@ impl Mirror {
 
 impl Emitters {
     /// The emitting polygons of `scene` (a Bezier emitter stays with the hemisphere), and their
-    /// images in its perfect plane mirrors ([`mirrors`]).
+    /// images in its perfect plane mirrors (infinite Phong power, no frustum angle of their own).
     pub fn of(scene: &Scene) -> Emitters {
         let epsilon = scene.ray_offset();
         let mut sides = vec![false; scene.patches.len()];

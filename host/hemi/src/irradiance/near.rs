@@ -38,8 +38,8 @@ pub const NEAR: f32 = 3.0;
 /// grid cannot carry is closest to a contact line or a corner, so the deeper levels look only
 /// there. At the floor 1 mm in front of the Cornell box's short block (Radiance 6.0a, 1,024
 /// estimates) two levels of 3 cells read +1.0 / +3.3 / +4.2 %; four levels of 3, 1.5, 0.75
-/// and 0.38 cells read +0.0 / +0.9 / +1.4 %, for 1.6 s more than two (docs/ACCURACY.md,
-/// "Mirror images, finer queries, deeper near fields").
+/// and 0.38 cells read +0.1 / +1.0 / +1.5 % (docs/ACCURACY.md, "Mirror images, finer
+/// queries, deeper near fields"), with [`SHARED_BUDGET`] bounding what the levels below cost.
 pub const SHRINK: f32 = 0.5;
 
 /// Sub-cells per cell side the near hits are grouped by.
@@ -101,20 +101,36 @@ impl NearField {
                 };
                 let key = (owner, s.side, sub_cell(grid.k(), s.u, s.v));
                 let next = groups.len();
-                let g = groups.entry(key).or_insert((next, 0.0, 0.0, 0));
+                let g = groups.entry(key).or_insert((next, 0.0, 0.0, 0, 0.0));
                 g.1 += s.u as f64;
                 g.2 += s.v as f64;
                 g.3 += 1;
+                g.4 += s.weight.iter().fold(0.0f32, |a, &w| a.max(w)) as f64;
                 near.push((r, g.0));
             }
             hits.push(near);
         }
-        let mut points = vec![(0, 0.0, 0.0); groups.len()];
-        let mut owners = vec![0; groups.len()];
-        for ((owner, side, _), (n, su, sv, count)) in groups {
+        let kept = match grouping {
+            Grouping::PerQuery => (0..groups.len()).map(Some).collect(),
+            Grouping::Shared => heaviest(&groups, SHARED_BUDGET),
+        };
+        for near in &mut hits {
+            near.retain_mut(|(_, g)| match kept[*g] {
+                Some(k) => {
+                    *g = k;
+                    true
+                }
+                None => false,
+            });
+        }
+        let n = kept.iter().flatten().count();
+        let mut points = vec![(0, 0.0, 0.0); n];
+        let mut owners = vec![0; n];
+        for ((owner, side, _), (g, su, sv, count, _)) in groups {
+            let Some(k) = kept[g] else { continue };
             let c = count as f64;
-            points[n] = (side, (su / c) as f32, (sv / c) as f32);
-            owners[n] = owner;
+            points[k] = (side, (su / c) as f32, (sv / c) as f32);
+            owners[k] = owner;
         }
         NearField {
             hits,
@@ -124,11 +140,37 @@ impl NearField {
     }
 }
 
+/// The most evaluations one request's shared near field makes (the levels below a query's
+/// own): on a coarse grid (a room's floor, 0.75 m cells) a few cells take in metres of
+/// surface, and each level below would multiply the sub-cells evaluated; past this many, the
+/// ones its rays weigh least read their grids.
+pub const SHARED_BUDGET: usize = 64;
+
+/// Per group (by its index), its new index if it is among the `budget` heaviest (by the rays'
+/// weight, ties to the earlier group), numbered in the groups' order; `None` if not.
+fn heaviest(groups: &BTreeMap<GroupKey, Group>, budget: usize) -> Vec<Option<usize>> {
+    let mut by_weight: Vec<(usize, f64)> = groups.values().map(|g| (g.0, g.4)).collect();
+    by_weight.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
+    let mut keep = vec![false; groups.len()];
+    for &(g, _) in by_weight.iter().take(budget) {
+        keep[g] = true;
+    }
+    let mut next = 0;
+    keep.iter()
+        .map(|&k| {
+            k.then(|| {
+                next += 1;
+                next - 1
+            })
+        })
+        .collect()
+}
+
 /// A group of near hits: (query, side, sub-cell).
 type GroupKey = (usize, usize, u32);
 
-/// What is known of a group: (its evaluation's index, Σu, Σv, hits).
-type Group = (usize, f64, f64, u32);
+/// What is known of a group: (its evaluation's index, Σu, Σv, hits, Σ of its rays' weights).
+type Group = (usize, f64, f64, u32, f64);
 
 /// Whether `s` landed within `near` cell sizes of `point`.
 fn is_near(scene: &Scene, k: usize, s: &Seen, point: Vec3, near: f32) -> bool {
