@@ -472,7 +472,9 @@ fn a_narrow_glossy_lobe_is_gathered_once_at_every_r() {
     {
         let err = (got[c] / m - lamp - k * image).abs() / (lamp + k * image);
         println!("narrow lobe, queried at R = 64 over R = 32, channel {c}: error {err:.2e}");
-        assert!(err < 0.05, "{got:?}: lamp {lamp}, image {image}");
+        // gathered once it is within 0.1 %; imaged as well (a mirror judged by its lobe at
+        // pass 1's R) it was 4.9 % high
+        assert!(err < 0.01, "{got:?}: lamp {lamp}, image {image}");
     }
 }
 
