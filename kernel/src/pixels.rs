@@ -76,7 +76,7 @@ pub fn trace_pixels<A: Accelerator, F: FnMut(u32, u32, &Hit, [f32; 3])>(
             let i = q.tag;
             let (p, s) = (start + i / spp, i % spp);
             let dir = dirs[i as usize];
-            walker.follow(accel, camera.eye, dir, &q.hit, 1.0, &mut |h, w| {
+            walker.follow(accel, camera.eye, dir, &q.hit, 1.0, &mut |h, w, _| {
                 sink(p, s, h, w)
             });
         }

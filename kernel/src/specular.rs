@@ -176,9 +176,10 @@ pub struct Walker<'w, 's> {
 
 impl Walker<'_, '_> {
     /// Follows everything a primary ray along `dir` does after `hit`: pushes the frustums the
-    /// hit spawns and shoots the whole tree (§6.2), calling `sink(hit, weight)` for every
+    /// hit spawns and shoots the whole tree (§6.2), calling `sink(hit, weight, via)` for every
     /// frustum ray that reaches the front of a diffuse patch, `weight` per channel relative to
-    /// the primary ray. `scale` converts relative weights to the caller's units for the stats.
+    /// the primary ray, `via` how it came ([`Via`]). `scale` converts relative weights to the
+    /// caller's units for the stats.
     ///
     /// A frustum is shot whole, as rings 0..=k of the hemisphere turned onto its axis, through
     /// the engine's shared-origin ring path (the same one the hemisphere takes, so an engine
@@ -186,20 +187,7 @@ impl Walker<'_, '_> {
     /// surfaces are parked and pushed as new frames once the frustum is done; the newest frame
     /// is shot next, so the tree is walked depth first and the stack holds the frustums still
     /// to shoot, deepest on top.
-    pub fn follow<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
-        &mut self,
-        accel: &mut A,
-        origin: Vec3,
-        dir: Vec3,
-        hit: &Hit,
-        scale: f32,
-        sink: &mut S,
-    ) {
-        self.follow_via(accel, origin, dir, hit, scale, &mut |h, w, _| sink(h, w));
-    }
-
-    /// [`Walker::follow`], telling the sink how each report came ([`Via`]).
-    pub fn follow_via<A: Accelerator, S: FnMut(&Hit, [f32; 3], Via)>(
+    pub fn follow<A: Accelerator, S: FnMut(&Hit, [f32; 3], Via)>(
         &mut self,
         accel: &mut A,
         origin: Vec3,

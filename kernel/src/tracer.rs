@@ -107,7 +107,7 @@ pub fn shoot_hemisphere<A: Accelerator, R: FormRow + ?Sized>(
         origin_patch,
         want_uv: false,
     };
-    shoot(accel, hemi, optics, scratch, &shot, |hit, w| {
+    shoot(accel, hemi, optics, scratch, &shot, |hit, w, _| {
         if let Some(c) = optics.surface(hit.patch).column_for(hit.front) {
             row.add(c as usize, w);
         }
@@ -159,24 +159,12 @@ pub struct Shot {
     pub want_uv: bool,
 }
 
-/// The general hemisphere shot: calls `sink(hit, weight)` for every ray, direct or through
+/// The general hemisphere shot: calls `sink(hit, weight, via)` for every ray, direct or through
 /// frustums, that reaches the front of a diffuse patch, `weight` per channel being the ray's δD
-/// times what the specular path passed on. [`shoot_hemisphere`] sums these into a form-factor
-/// row; irradiance queries weight them with the radiosity where they land.
-pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3])>(
-    accel: &mut A,
-    hemi: &Hemisphere<'_>,
-    optics: &Optics<'_>,
-    scratch: &mut TraceScratch<'_>,
-    shot: &Shot,
-    mut sink: S,
-) -> ShotStats {
-    shoot_via(accel, hemi, optics, scratch, shot, |h, w, _| sink(h, w))
-}
-
-/// [`shoot`], telling the sink how each report came ([`Via`]): the same calls in the same
-/// order.
-pub fn shoot_via<A: Accelerator, S: FnMut(&Hit, [f32; 3], Via)>(
+/// times what the specular path passed on and `via` how it came ([`Via`]). [`shoot_hemisphere`]
+/// sums these into a form-factor row; irradiance queries weight them with the radiosity where
+/// they land, leaving out what the host's exact direct light covers.
+pub fn shoot<A: Accelerator, S: FnMut(&Hit, [f32; 3], Via)>(
     accel: &mut A,
     hemi: &Hemisphere<'_>,
     optics: &Optics<'_>,
@@ -286,7 +274,7 @@ pub fn shoot_via<A: Accelerator, S: FnMut(&Hit, [f32; 3], Via)>(
             let j = p.tag as usize;
             let delta = rings[j].delta_ff;
             let dir = accel.rotate(&rot, hemi.direction(j, p.k));
-            walker.follow_via(accel, origin, dir, &p.hit, delta, &mut |hh, w, via| {
+            walker.follow(accel, origin, dir, &p.hit, delta, &mut |hh, w, via| {
                 sink(hh, w.map(|x| x * delta), via)
             });
         }

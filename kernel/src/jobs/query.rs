@@ -79,7 +79,7 @@ impl AccelJob for QueryJob<'_> {
             self.optics,
             &mut self.scratch,
             &self.shot,
-            |h, weight| reports.report(0, h, weight),
+            |h, weight, _| reports.report(0, h, weight),
         )
     }
 }

@@ -227,7 +227,7 @@ impl<'s, E: Engines> InProcess<'s, E> {
         };
         let (hemi, optics) = (self.hemi.view(), self.optics.view());
         let mut failed = None;
-        let stats = tracer::shoot_via(
+        let stats = tracer::shoot(
             accel,
             &hemi,
             &optics,
@@ -365,7 +365,7 @@ impl<E: Engines> Backend for InProcess<'_, E> {
                     let mut seen = Vec::new();
                     let (hemi, optics) = (self.hemi.view(), self.optics.view());
                     let mut sink = |h: &Hit, w, via: Via| seen.push(self.seen(h, w, Path::of(via)));
-                    tracer::shoot_via(accel, &hemi, &optics, &mut scratch.view(), &shot, &mut sink);
+                    tracer::shoot(accel, &hemi, &optics, &mut scratch.view(), &shot, &mut sink);
                     seen
                 },
             )
