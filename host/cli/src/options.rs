@@ -354,8 +354,11 @@ impl SamplingArgs {
     /// The settings, checked, K defaulting to 16 (2 when `adaptive`); `--quality` is applied by
     /// [`QualityArgs::for_scene`] once the scene is loaded.
     pub fn settings(&self, adaptive: bool) -> Result<Pass1Settings> {
-        if self.circles < 2 || self.circles > 1024 {
-            bail!("--circles {}: must be between 2 and 1024", self.circles);
+        if self.circles < 2 || self.circles > MOST_CIRCLES {
+            bail!(
+                "--circles {}: must be between 2 and {MOST_CIRCLES}",
+                self.circles
+            );
         }
         if matches!(self.delta, DeltaArg::Paper) && !matches!(self.method, MethodArg::Hemisphere) {
             eprintln!(
@@ -723,6 +726,9 @@ impl FieldArgs {
         })
     }
 }
+
+/// The most circles R of a hemisphere (`--circles`, and a query's own, `--query-circles`).
+pub const MOST_CIRCLES: u32 = 1024;
 
 /// A comma-separated list of numbers (`--circles 16,32,64`), with the option named in errors.
 pub fn list<T: std::str::FromStr>(option: &str, s: &str) -> Result<Vec<T>> {

@@ -283,31 +283,26 @@ impl Emitters {
             .collect();
         let rays: Vec<Ray> = flat.iter().map(|&(o, c)| ray_to(o, c.centre)).collect();
         let hits = backend.nearest(&rays)?;
-        // the rays that went on from a mirror: (index in `flat`, the ray on)
-        let mut on: Vec<(usize, Ray)> = Vec::new();
+        // the rays that go on from a mirror: (index in `flat`, the ray on, the distance on)
+        let mut on: Vec<(usize, Ray, f32)> = Vec::new();
         let mut reached = Vec::with_capacity(flat.len());
         for (i, ((origin, cell), hit)) in flat.iter().zip(&hits).enumerate() {
-            let Some(m) = self.list.get(cell.source).and_then(|s| s.mirror) else {
-                reached.push(self.reaches(*hit, cell.patch, (cell.centre - *origin).length()));
+            let distance = (cell.centre - *origin).length();
+            let Some(m) = self.list[cell.source].mirror else {
+                reached.push(self.reaches(*hit, cell.patch, distance));
                 continue;
             };
             reached.push(false);
-            let to_image = (cell.centre - *origin).length();
-            let Some(h) = hit.filter(|h| h.patch as usize == m.patch && h.front && h.t < to_image)
-            else {
-                continue;
-            };
-            let at_mirror = *origin + rays[i].dir * h.t + m.normal * self.epsilon;
-            on.push((i, ray_to(at_mirror, m.reflect(cell.centre))));
+            let in_mirror = |h: &Hit| h.patch as usize == m.patch && h.front && h.t < distance;
+            if let Some(h) = hit.filter(in_mirror) {
+                let at_mirror = *origin + rays[i].dir * h.t + m.normal * self.epsilon;
+                let lamp = m.reflect(cell.centre);
+                on.push((i, ray_to(at_mirror, lamp), (lamp - at_mirror).length()));
+            }
         }
-        let rays_on: Vec<Ray> = on.iter().map(|&(_, r)| r).collect();
-        for ((i, ray), hit) in on.iter().zip(backend.nearest(&rays_on)?) {
-            let (_, cell) = flat[*i];
-            let lamp = self.list[cell.source]
-                .mirror
-                .map(|m| m.reflect(cell.centre));
-            let distance = lamp.map_or(0.0, |c| (c - ray.origin).length());
-            reached[*i] = self.reaches(hit, cell.patch, distance);
+        let rays_on: Vec<Ray> = on.iter().map(|&(_, r, _)| r).collect();
+        for (&(i, _, distance), hit) in on.iter().zip(backend.nearest(&rays_on)?) {
+            reached[i] = self.reaches(hit, flat[i].1.patch, distance);
         }
         let mut reached = reached.into_iter();
         Ok(cells

@@ -92,8 +92,9 @@ impl Layout {
 ///
 /// Rows are grey (one weight for all channels) unless a ray came through a coloured specular
 /// surface (a mirror or a sheet of glass), so the accumulator keeps one weight a vertex until
-/// the first ray whose channels differ and only then moves to three: a ray then adds to four numbers instead of twelve, in the same
-/// order and with the same roundings, so the row's bits are those of adding per channel.
+/// the first ray whose channels differ and only then moves to three: a ray then adds to four
+/// numbers instead of twelve, in the same order and with the same roundings, so the row's bits
+/// are those of adding per channel.
 #[derive(Clone, Debug)]
 pub struct Accumulator {
     grey: Vec<f32>,
@@ -154,11 +155,12 @@ impl Accumulator {
     pub fn take(&mut self, blocked: f32) -> TransportRow {
         self.touched.sort_unstable();
         self.touched.dedup();
+        // sized for the touched vertices: the records are what bounds the field's element
+        // count, and a collect through a filter would grow by doubling
+        let n = self.touched.len();
         let weights = match self.is_tinted {
             false => {
-                // sized for the touched vertices: the records are what bounds the field's
-                // element count, and a collect through the filter would grow by doubling
-                let mut grey = Vec::with_capacity(self.touched.len());
+                let mut grey = Vec::with_capacity(n);
                 for v in self.touched.drain(..) {
                     let w = std::mem::take(&mut self.grey[v as usize]);
                     if w != 0.0 {
@@ -168,12 +170,13 @@ impl Accumulator {
                 Weights::Grey(grey)
             }
             true => {
-                let entries: Vec<(u32, [f32; 3])> = self
-                    .touched
-                    .drain(..)
-                    .map(|v| (v, std::mem::take(&mut self.tinted[v as usize])))
-                    .filter(|(_, w)| *w != [0.0; 3])
-                    .collect();
+                let mut entries = Vec::with_capacity(n);
+                for v in self.touched.drain(..) {
+                    let w = std::mem::take(&mut self.tinted[v as usize]);
+                    if w != [0.0; 3] {
+                        entries.push((v, w));
+                    }
+                }
                 self.is_tinted = false;
                 match entries.iter().all(|(_, w)| w[0] == w[1] && w[1] == w[2]) {
                     true => Weights::Grey(entries.iter().map(|&(v, w)| (v, w[0])).collect()),

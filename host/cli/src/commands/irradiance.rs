@@ -2,7 +2,7 @@
 
 use crate::engine::Running;
 use crate::input::serve;
-use crate::options::{FieldArgs, SolverArgs};
+use crate::options::{FieldArgs, SolverArgs, MOST_CIRCLES};
 use crate::pipeline::{Prepared, RunArgs};
 use anyhow::Result;
 use clap::Args;
@@ -134,23 +134,20 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
     Ok(())
 }
 
-/// The most circles of a query's own hemisphere (as `--circles`).
-const MOST_QUERY_CIRCLES: u32 = 1024;
-
 /// The backend the queries cast their own hemispheres on, where it differs from pass 1's: the
 /// same engine with `--query-circles` (default twice pass 1's R, within
-/// [`MOST_QUERY_CIRCLES`]); `None` on boards, or where the R is pass 1's.
+/// [`MOST_CIRCLES`]); `None` on boards, or where the R is pass 1's.
 fn own_backend<'s>(args: &IrradianceArgs, run: &'s Prepared) -> Result<Option<Running<'s>>> {
     let circles = run.settings.circles;
     let own = match args.query_circles {
         Some(r) => {
             anyhow::ensure!(
-                (2..=MOST_QUERY_CIRCLES).contains(&r),
-                "--query-circles {r}: must be between 2 and {MOST_QUERY_CIRCLES}"
+                (2..=MOST_CIRCLES).contains(&r),
+                "--query-circles {r}: must be between 2 and {MOST_CIRCLES}"
             );
             r
         }
-        None => (2 * circles).min(MOST_QUERY_CIRCLES),
+        None => (2 * circles).min(MOST_CIRCLES),
     };
     if args.run.on_boards() || own == circles {
         return Ok(None);

@@ -157,8 +157,8 @@ pub fn solve_field_with(
     let shots = element_shots(&index, &ff.elements);
     let parts = SceneParts::new(scene, ff.channels());
     let system = parts.system(ff.channels())?;
-    let emitters = (settings.direct == Direct::Exact && direct::applies(backend))
-        .then(|| Emitters::of(backend.scene()));
+    let emitters =
+        (settings.direct == Direct::Exact && direct::applies(backend)).then(|| Emitters::of(scene));
     let skip = emitters
         .as_ref()
         .map_or_else(Skip::none, |e| e.skip().clone());

@@ -110,8 +110,8 @@ pub fn refine_field(
 ) -> anyhow::Result<Refined> {
     let scene = backend.scene();
     let budget = refine.max_elements.unwrap_or(2 * ff.elements.len());
-    let emitters = (settings.direct == Direct::Exact && direct::applies(backend))
-        .then(|| Emitters::of(backend.scene()));
+    let emitters =
+        (settings.direct == Direct::Exact && direct::applies(backend)).then(|| Emitters::of(scene));
     let mut paths = match &emitters {
         Some(e) => Some(e.paths(backend, &points(&ff.elements))?),
         None => None,

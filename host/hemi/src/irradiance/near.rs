@@ -111,7 +111,7 @@ impl NearField {
             hits.push(near);
         }
         let kept = match grouping {
-            Grouping::PerQuery => (0..groups.len()).map(Some).collect(),
+            Grouping::PerQuery => heaviest(&groups, usize::MAX),
             Grouping::Shared => heaviest(&groups, SHARED_BUDGET),
         };
         for near in &mut hits {
@@ -149,21 +149,18 @@ pub const SHARED_BUDGET: usize = 64;
 /// Per group (by its index), its new index if it is among the `budget` heaviest (by the rays'
 /// weight, ties to the earlier group), numbered in the groups' order; `None` if not.
 fn heaviest(groups: &BTreeMap<GroupKey, Group>, budget: usize) -> Vec<Option<usize>> {
+    if groups.len() <= budget {
+        return (0..groups.len()).map(Some).collect();
+    }
     let mut by_weight: Vec<(usize, f64)> = groups.values().map(|g| (g.0, g.4)).collect();
     by_weight.sort_by(|a, b| b.1.total_cmp(&a.1).then(a.0.cmp(&b.0)));
-    let mut keep = vec![false; groups.len()];
-    for &(g, _) in by_weight.iter().take(budget) {
-        keep[g] = true;
+    let mut chosen: Vec<usize> = by_weight.iter().take(budget).map(|&(g, _)| g).collect();
+    chosen.sort_unstable();
+    let mut kept = vec![None; groups.len()];
+    for (k, g) in chosen.into_iter().enumerate() {
+        kept[g] = Some(k);
     }
-    let mut next = 0;
-    keep.iter()
-        .map(|&k| {
-            k.then(|| {
-                next += 1;
-                next - 1
-            })
-        })
-        .collect()
+    kept
 }
 
 /// A group of near hits: (query, side, sub-cell).
