@@ -127,8 +127,9 @@ impl Pending {
 /// How a reported ray reached its patch: straight from the hemisphere (or the eye), or through
 /// specular surfaces. A caller that computes some light by other means (the host's exact
 /// direct light from the lamps and from their images in plane mirrors) leaves out the reports
-/// that carry that light, and needs to know which came how.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// that carry that light, and needs to know which came how (a board sends it with each report,
+/// protocol 5).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Via {
     /// Specular bounces on the way (0: seen directly).
     pub bounces: u16,

@@ -257,6 +257,23 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
                     normal,
                     skip,
                 } => self.job(id, |e| e.query(*point, *normal, *skip)),
+                Request::Hemisphere {
+                    origin,
+                    normal,
+                    spin,
+                    origin_patch,
+                    skip,
+                } => {
+                    let shot = crate::tracer::Shot {
+                        origin: *origin,
+                        normal: *normal,
+                        spin: *spin,
+                        origin_patch: origin_patch.map(u32::from),
+                        want_uv: true,
+                    };
+                    self.job(id, |e| e.hemisphere(&shot, *skip))
+                }
+                Request::Cast { rays } => self.job(id, |e| e.cast(rays)),
                 _ => return None,
             }
         };

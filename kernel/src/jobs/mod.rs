@@ -1,6 +1,7 @@
 //! A board's job engine: the uploaded scene and its optics table, the hemisphere table, the
 //! tracer's scratch and skeleton stack, all in bounded `heapless` storage, and the jobs of the
-//! link (shoot, shoot a level, trace, trace a row, query, gather) over any accelerator.
+//! link (shoot, shoot a level, trace, trace a row, query, gather, hemisphere, cast) over any
+//! accelerator.
 //!
 //! It lives in the kernel (like the link's [`LinkServer`](crate::link::LinkServer), which hands
 //! it the requests beyond the link's own through [`JobHandler`](crate::link::JobHandler)) so the
@@ -12,16 +13,18 @@
 //! - `platform`: the machine's clock and stack ([`Platform`]);
 //! - `engine`: the [`Engine`] and its dispatch, `upload`: the scene upload, `config`: the
 //!   settings, `store`: the tracer's scratch;
-//! - one file per job: `shoot` (`Shoot` and `ShootLevel`), `trace`, `trace_row`, `query`,
-//!   `gather`, with `reports`, how their hits are put on the wire.
+//! - one file per job: `shoot` (`Shoot` and `ShootLevel`), `trace`, `trace_row`, `hemisphere`
+//!   (`Query` and `Hemisphere`: one whole hemisphere, a window of its reports), `gather`,
+//!   `cast`, with `reports`, how their hits are put on the wire.
 
 mod capacity;
+mod cast;
 mod config;
 mod engine;
 mod gather;
+mod hemisphere;
 mod platform;
 mod provider;
-mod query;
 mod reports;
 mod shoot;
 mod store;

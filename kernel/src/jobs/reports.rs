@@ -1,5 +1,5 @@
 //! How the tracer's hits become the wire's: a nearest hit as a [`RayHit`], and the window of
-//! weighted reports a `TraceRow` or `Query` answer carries.
+//! weighted reports a `TraceRow` answer carries, and the sides the windows of reports name.
 
 use crate::accel::Hit;
 use crate::link::message::{RayHit, WeightedHit, WeightedHits};
@@ -30,19 +30,12 @@ impl<'a> Reports<'a> {
     }
 
     /// Counts a report of ray `ray` reaching `h` with `weight`; kept from `skip` on while the
-    /// answer has room. The patch it names is the patch for its front, `patches` + the patch
-    /// for the back side of a translucent sheet (the only backs the tracer reports;
-    /// [`Feature::BackSides`](crate::link::Feature::BackSides)).
+    /// answer has room, naming its side as [`side_index`] does.
     pub(super) fn report(&mut self, ray: u16, h: &Hit, weight: [f32; 3]) {
         if self.out.total >= self.skip {
-            let patch = if h.front {
-                h.patch as usize
-            } else {
-                self.patches + h.patch as usize
-            };
             let _ = self.out.hits.push(WeightedHit {
                 ray,
-                patch: patch as u16,
+                patch: side_index(h, self.patches),
                 u: h.u,
                 v: h.v,
                 weight,
@@ -50,4 +43,16 @@ impl<'a> Reports<'a> {
         }
         self.out.total = self.out.total.saturating_add(1);
     }
+}
+
+/// The side a report names on the wire: its patch for a front, `patches` + its patch for the
+/// back side of a translucent sheet (the only backs the tracer reports;
+/// [`Feature::BackSides`](crate::link::Feature::BackSides)).
+pub(super) fn side_index(h: &Hit, patches: usize) -> u16 {
+    let side = if h.front {
+        h.patch as usize
+    } else {
+        patches + h.patch as usize
+    };
+    side as u16
 }

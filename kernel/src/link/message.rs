@@ -15,6 +15,7 @@ use crate::geometry::Vec3;
 use crate::hemisphere::DeltaRule;
 use crate::optics::Surface;
 use crate::patch::Patch;
+use crate::specular::Via;
 
 /// Version of the wire protocol. Bumped on any incompatible change to an existing message, and
 /// when messages are appended (so a host knows which a board understands).
@@ -26,9 +27,12 @@ use crate::patch::Patch;
 /// - 4: `ShootLevel` (pass-1 jobs on a lattice of any k, for adaptive sampling) and `Query`
 ///   (irradiance through specular surfaces); every message of version 3 is unchanged. The
 ///   optics table is read as this build encodes it, with the back sides of translucent sheets.
+/// - 5: `Hemisphere` (the field's element transport: a sample point's whole hemisphere, with
+///   how each report came) and `Cast` (single rays with their distances: exact direct light's
+///   shadow rays, `hemi trace`); every message of version 4 is unchanged.
 ///
 /// [`Feature`] names each of these, and [`HelloInfo::supports`] says whether a link has it.
-pub const PROTOCOL_VERSION: u16 = 4;
+pub const PROTOCOL_VERSION: u16 = 5;
 /// The oldest protocol this build still speaks: the handshake settles on the older of the two
 /// sides' versions if it is at least this, and the host sends only that version's messages.
 pub const MIN_PROTOCOL_VERSION: u16 = 2;
@@ -47,6 +51,9 @@ pub const MAX_LOBE_CHUNK: usize = 16;
 /// Largest number of ray hits in one [`Response::Hits`]: each is at most 12 bytes on the wire
 /// (option tag, patch varint ≤ 2, front flag, u and v as f32), so 80 fit one frame.
 pub const MAX_HITS: usize = 80;
+/// Largest number of rays in one [`Request::Cast`]: each is 24 bytes on the wire (origin and
+/// direction as f32), so 40 fit one frame; each answer is at most 18 bytes.
+pub const MAX_CAST: usize = 40;
 
 /// Host → board.
 #[expect(
@@ -224,11 +231,37 @@ pub enum Request {
         /// Reports already received.
         skip: u16,
     },
+    // ---- protocol 5 ----
+    /// The field's hemisphere job (protocol 5): the whole hemisphere of a sample point as pass 1
+    /// casts it (placed at `origin` around `normal`, turned by `spin`, leaving out
+    /// `origin_patch`), in one `tracer::shoot` call, every ray or frustum ray that reaches a
+    /// diffuse side reported with its weight and how it got there ([`PathHit`]). Answered
+    /// [`Response::Paths`] with reports `skip ..` (at most [`MAX_PATHS`]), the total and the
+    /// shot's ray counts, so the host asks again with a larger `skip` for the rest (the
+    /// hemisphere is shot again). A frame of at most 40 bytes.
+    Hemisphere {
+        /// The sample point.
+        origin: Vec3,
+        /// The surface normal there.
+        normal: Vec3,
+        /// The hemisphere's turn about the normal (`rotation::spin_for_sample`), in radians.
+        spin: f32,
+        /// The patch the point lies on, which its rays do not see.
+        origin_patch: Option<u16>,
+        /// Reports already received.
+        skip: u16,
+    },
+    /// Single rays (protocol 5): the nearest hit of each, with its distance. Answered
+    /// [`Response::Nearest`] in ray order.
+    Cast {
+        /// (origin, direction) of each ray, at most [`MAX_CAST`].
+        rays: Vec<(Vec3, Vec3), MAX_CAST>,
+    },
 }
 
 impl Request {
     /// Number of variants: variant indices at or above it are unknown to this build.
-    pub const VARIANTS: u32 = 21;
+    pub const VARIANTS: u32 = 23;
 }
 
 /// Board → host. Every response carries the id of the request it answers (see `codec`).
@@ -284,11 +317,65 @@ pub enum Response {
     TraceStats(TraceStats),
     /// Answer to [`Request::TraceRow`].
     Weighted(WeightedHits),
+    // ---- protocol 5 ----
+    /// Answer to [`Request::Hemisphere`].
+    Paths(PathHits),
+    /// Answer to [`Request::Cast`]: the nearest hit of every ray, in request order.
+    Nearest(Vec<Option<CastHit>, MAX_CAST>),
 }
 
 impl Response {
     /// Number of variants: variant indices at or above it are unknown to this build.
-    pub const VARIANTS: u32 = 14;
+    pub const VARIANTS: u32 = 16;
+}
+
+/// Largest number of reports in one [`Response::Paths`]: each is at most 32 bytes on the wire
+/// (a [`WeightedHit`] without its ray, and the bounces, last patch and mirror flag of its
+/// path), so 30 fit one frame with the counts.
+pub const MAX_PATHS: usize = 30;
+
+/// The reports of one [`Request::Hemisphere`] job, a window at a time.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct PathHits {
+    /// Reports of the whole hemisphere.
+    pub total: u32,
+    /// Rays of the hemisphere cast (its own, not the frustums').
+    pub rays: u32,
+    /// Of those, the rays whose nearest hit is the back of a patch.
+    pub back_hits: u32,
+    /// Reports `skip .. skip + hits.len()`, in the order the tracer made them.
+    pub hits: Vec<PathHit, MAX_PATHS>,
+}
+
+/// A ray of a hemisphere (or a frustum ray it spawned) that reached a diffuse side, and how.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PathHit {
+    /// Patch index; the board's patch count plus the index for the back side of a translucent
+    /// sheet.
+    pub patch: u16,
+    /// Parametric u.
+    pub u: f32,
+    /// Parametric v.
+    pub v: f32,
+    /// Weight per channel (δD times what the specular surfaces on the way passed on).
+    pub weight: [f32; 3],
+    /// How it got there: the tracer's [`Via`].
+    pub via: Via,
+}
+
+/// A single ray's nearest hit as the link carries it, with its distance.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CastHit {
+    /// Patch index.
+    pub patch: u16,
+    /// Whether the front side was hit.
+    pub front: bool,
+    /// Distance along the ray (the direction as sent, not normalised).
+    pub t: f32,
+    /// Parametric u.
+    pub u: f32,
+    /// Parametric v.
+    pub v: f32,
 }
 
 /// Largest number of reports in one [`Response::Weighted`]: each is at most 26 bytes on the wire
@@ -513,11 +600,15 @@ pub enum Feature {
     ShootLevel,
     /// Irradiance through specular surfaces (`Query`, v4).
     Query,
+    /// The field's element transport, hemispheres with their paths (`Hemisphere`, v5).
+    Paths,
+    /// Single rays with their distances (`Cast`, v5).
+    Cast,
 }
 
 impl Feature {
     /// Every feature, oldest first.
-    pub const ALL: [Feature; 10] = [
+    pub const ALL: [Feature; 12] = [
         Feature::Jobs,
         Feature::Tracing,
         Feature::Cordic,
@@ -528,6 +619,8 @@ impl Feature {
         Feature::BackSides,
         Feature::ShootLevel,
         Feature::Query,
+        Feature::Paths,
+        Feature::Cast,
     ];
 
     /// The protocol version that added it (see [`PROTOCOL_VERSION`] for each version's list).
@@ -540,6 +633,7 @@ impl Feature {
             | Feature::LobeTable
             | Feature::TraceRow => 3,
             Feature::OpticsTable | Feature::BackSides | Feature::ShootLevel | Feature::Query => 4,
+            Feature::Paths | Feature::Cast => 5,
         }
     }
 
@@ -556,6 +650,8 @@ impl Feature {
             Feature::BackSides => "back sides of translucent sheets",
             Feature::ShootLevel => "adaptive sampling (ShootLevel jobs)",
             Feature::Query => "irradiance through mirrors (Query jobs)",
+            Feature::Paths => "the field's hemispheres (Hemisphere jobs)",
+            Feature::Cast => "single rays (Cast jobs)",
         }
     }
 }

@@ -30,9 +30,9 @@ pub use frame::{
     MAX_FRAME_LEN, MAX_PAYLOAD_LEN, MAX_STUFFED_LEN, MAX_WIRE_LEN,
 };
 pub use message::{
-    AccelKind, Capacities, EngineStats, ErrorCode, Feature, HelloInfo, JobConfig, LinkStats,
-    RayHit, Request, Response, Rows, TraceSettings, TraceStats, WeightedHit, WeightedHits,
-    BUILD_LEN, MAX_BULK, MAX_HITS, MAX_LOBE_CHUNK, MAX_ROWS, MAX_ROW_ENTRIES, MAX_WEIGHTED,
-    MIN_PROTOCOL_VERSION, PROTOCOL_VERSION,
+    AccelKind, Capacities, CastHit, EngineStats, ErrorCode, Feature, HelloInfo, JobConfig,
+    LinkStats, PathHit, PathHits, RayHit, Request, Response, Rows, TraceSettings, TraceStats,
+    WeightedHit, WeightedHits, BUILD_LEN, MAX_BULK, MAX_CAST, MAX_HITS, MAX_LOBE_CHUNK, MAX_PATHS,
+    MAX_ROWS, MAX_ROW_ENTRIES, MAX_WEIGHTED, MIN_PROTOCOL_VERSION, PROTOCOL_VERSION,
 };
 pub use server::{JobHandler, LinkServer, NoEngine};

@@ -203,15 +203,23 @@ fn messages_round_trip() {
 fn variant_counts_match_the_enums() {
     // The last variant's index must be VARIANTS - 1, else "unsupported" detection is wrong.
     let mut buf = [0u8; 128];
-    let last = Request::Query {
+    let last = Request::Cast {
+        rays: heapless::Vec::new(),
+    };
+    let tag = postcard::to_slice(&last, &mut buf).unwrap()[0];
+    assert_eq!(u32::from(tag), Request::VARIANTS - 1);
+    let last = Response::Nearest(heapless::Vec::new());
+    let tag = postcard::to_slice(&last, &mut buf).unwrap()[0];
+    assert_eq!(u32::from(tag), Response::VARIANTS - 1);
+    // protocol 4's last messages keep theirs
+    let query = Request::Query {
         point: crate::geometry::Vec3::ZERO,
         normal: crate::geometry::Vec3::Z,
         skip: 0,
     };
-    let tag = postcard::to_slice(&last, &mut buf).unwrap()[0];
-    assert_eq!(u32::from(tag), Request::VARIANTS - 1);
+    assert_eq!(postcard::to_slice(&query, &mut buf).unwrap()[0], 20);
     let tag = postcard::to_slice(&Response::Weighted(Default::default()), &mut buf).unwrap()[0];
-    assert_eq!(u32::from(tag), Response::VARIANTS - 1);
+    assert_eq!(tag, 13);
     // protocol 2's messages keep their indices (appended, never inserted)
     let tag = postcard::to_slice(&Request::EngineStats, &mut buf).unwrap()[0];
     assert_eq!(tag, 12);
@@ -458,6 +466,57 @@ fn job_requests_fit_16_bytes_on_the_wire() {
         encode_request(1 << 21, &gather, &mut out).unwrap(),
     );
     assert!(q <= 40 && g <= 40, "Query {q} bytes, Gather {g}");
+    // The field's hemisphere job adds a spin and an origin patch.
+    let hemisphere = Request::Hemisphere {
+        origin: point,
+        normal: point,
+        spin: 6.2,
+        origin_patch: Some(u16::MAX),
+        skip: u16::MAX,
+    };
+    let h = encode_request(u32::MAX, &hemisphere, &mut out).unwrap();
+    assert!(h <= 48, "Hemisphere {h} bytes");
+}
+
+#[test]
+fn the_largest_messages_of_protocol_5_fit_a_frame() {
+    // Every field at its widest varint, every float with all bits set in the stuffing's worst
+    // pattern: a full Cast, its full answer, and a full window of path reports.
+    use crate::geometry::Vec3;
+    use crate::specular::Via;
+    let mut out = [0u8; MAX_WIRE_LEN];
+    let v = Vec3::new(-1.0e30, 3.3e-30, f32::MAX);
+    let cast = Request::Cast {
+        rays: core::iter::repeat_n((v, v), MAX_CAST).collect(),
+    };
+    assert!(encode_request(u32::MAX, &cast, &mut out).is_ok());
+    let hit = CastHit {
+        patch: u16::MAX,
+        front: true,
+        t: f32::MAX,
+        u: -1.0e30,
+        v: 3.3e-30,
+    };
+    let nearest = Response::Nearest(core::iter::repeat_n(Some(hit), MAX_CAST).collect());
+    assert!(encode_response(u32::MAX, &nearest, &mut out).is_ok());
+    let path = PathHit {
+        patch: u16::MAX,
+        u: f32::MAX,
+        v: -1.0e30,
+        weight: [3.3e-30; 3],
+        via: Via {
+            bounces: u16::MAX,
+            last: u32::MAX,
+            mirror: true,
+        },
+    };
+    let paths = Response::Paths(PathHits {
+        total: u32::MAX,
+        rays: u32::MAX,
+        back_hits: u32::MAX,
+        hits: core::iter::repeat_n(path, MAX_PATHS).collect(),
+    });
+    assert!(encode_response(u32::MAX, &paths, &mut out).is_ok());
 }
 
 #[test]
