@@ -179,45 +179,37 @@ impl<'s, E: Engines> InProcess<'s, E> {
     /// One shot's `Σ w · B(hit)` over `grids`, the reports `skip` leaves out left out.
     fn gather_field_at(
         &self,
-        state: &mut (E::Engine<'_>, Scratch),
+        (state, seen): &mut ((E::Engine<'_>, Scratch), Vec<Seen>),
         s: &Shot,
         grids: &[Grid],
         skip: &Skip,
     ) -> Result<Gathered> {
-        let mut h = [0.0f64; 3];
-        let blocked = self.field_hits(state, s, skip, |seen| {
-            let l = seen.light(grids)?;
-            (0..3).for_each(|c| h[c] += l[c]);
-            Ok(())
-        })?;
-        Ok(Gathered { light: h, blocked })
+        let blocked = self.field_reports(state, s, seen);
+        super::gathered(grids, seen, skip, blocked)
     }
 
     /// One shot's row of the element transport over `layout`, the reports `skip` leaves out
     /// left out.
     fn transport_at(
         &self,
-        (state, row): &mut ((E::Engine<'_>, Scratch), Accumulator),
+        (state, seen, row): &mut ((E::Engine<'_>, Scratch), Vec<Seen>, Accumulator),
         s: &Shot,
         layout: &Layout,
         skip: &Skip,
     ) -> Result<TransportRow> {
-        let blocked = self.field_hits(state, s, skip, |seen| {
-            layout.add(row, seen.side, (seen.u, seen.v), seen.weight)
-        })?;
-        Ok(row.take(blocked))
+        let blocked = self.field_reports(state, s, seen);
+        super::transport_row(layout, row, seen, skip, blocked)
     }
 
     /// Casts a shot's hemisphere as pass 1 does (its spin, its origin patch, through specular
-    /// surfaces, with (u,v)) and hands `each` what every ray saw but what `skip` leaves out;
-    /// returns the fraction of rays that met the back of an opaque patch ([`Gathered::blocked`]).
-    fn field_hits(
+    /// surfaces, with (u,v)) and puts what every ray saw into `seen`, in tracer order; returns
+    /// the fraction of rays that met the back of an opaque patch ([`Gathered::blocked`]).
+    fn field_reports(
         &self,
         (accel, scratch): &mut (E::Engine<'_>, Scratch),
         s: &Shot,
-        skip: &Skip,
-        mut each: impl FnMut(Seen) -> Result<()>,
-    ) -> Result<f32> {
+        seen: &mut Vec<Seen>,
+    ) -> f32 {
         let shot = tracer::Shot {
             origin: s.point.position,
             normal: s.point.normal,
@@ -226,27 +218,16 @@ impl<'s, E: Engines> InProcess<'s, E> {
             want_uv: true,
         };
         let (hemi, optics) = (self.hemi.view(), self.optics.view());
-        let mut failed = None;
+        seen.clear();
         let stats = tracer::shoot(
             accel,
             &hemi,
             &optics,
             &mut scratch.view(),
             &shot,
-            |hit, w, via| {
-                let seen = self.seen(hit, w, Path::of(via));
-                if failed.is_some() || skip.leaves_out(&seen) {
-                    return;
-                }
-                if let Err(e) = each(seen) {
-                    failed = Some(e);
-                }
-            },
+            |hit, w, via| seen.push(self.seen(hit, w, Path::of(via))),
         );
-        match failed {
-            Some(e) => Err(e),
-            None => Ok(stats.back_hits as f32 / stats.rays.max(1) as f32),
-        }
+        stats.back_hits as f32 / stats.rays.max(1) as f32
     }
 
     fn seen(&self, hit: &Hit, weight: [f32; 3], path: Path) -> Seen {
@@ -385,10 +366,11 @@ impl<E: Engines> Backend for InProcess<'_, E> {
             .par_iter()
             .map_init(
                 || {
-                    (
+                    let engine = (
                         self.engine(),
                         Scratch::new(pending, &self.settings.specular),
-                    )
+                    );
+                    (engine, Vec::new())
                 },
                 |state, s| {
                     let h = self.gather_field_at(state, s, grids, skip);
@@ -415,7 +397,7 @@ impl<E: Engines> Backend for InProcess<'_, E> {
                         self.engine(),
                         Scratch::new(pending, &self.settings.specular),
                     );
-                    (engine, Accumulator::new(layout.len()))
+                    (engine, Vec::new(), Accumulator::new(layout.len()))
                 },
                 |state, s| {
                     let row = self.transport_at(state, s, layout, skip);

@@ -25,7 +25,7 @@ use crate::grid::Grid;
 use crate::scene::Scene;
 use crate::settings::Pass1Settings;
 use crate::shots::{ElementRow, Shot};
-use crate::transport::{Layout, TransportRow};
+use crate::transport::{Accumulator, Layout, TransportRow};
 use anyhow::Result;
 use hemi_kernel::accel::{Hit, Ray};
 use hemi_kernel::camera::Camera;
@@ -126,6 +126,33 @@ pub struct Gathered {
     /// sample point buried in another body (a floor's point under a block), whose value is
     /// then not the surface's.
     pub blocked: f32,
+}
+
+/// What one shot of [`Backend::gather_field`] gathers from its reports `seen` (in tracer
+/// order, `blocked` from its ray counts): the sum every backend makes the same way, so a board
+/// gives the in-process engine's bits.
+pub fn gathered(grids: &[Grid], seen: &[Seen], skip: &Skip, blocked: f32) -> Result<Gathered> {
+    let mut light = [0.0f64; 3];
+    for s in seen.iter().filter(|s| !skip.leaves_out(s)) {
+        let l = s.light(grids)?;
+        (0..3).for_each(|c| light[c] += l[c]);
+    }
+    Ok(Gathered { light, blocked })
+}
+
+/// One shot's row of [`Backend::transport`] from its reports `seen` (in tracer order), made in
+/// `row` (left empty for the next shot): the record every backend makes the same way.
+pub fn transport_row(
+    layout: &Layout,
+    row: &mut Accumulator,
+    seen: &[Seen],
+    skip: &Skip,
+    blocked: f32,
+) -> Result<TransportRow> {
+    for s in seen.iter().filter(|s| !skip.leaves_out(s)) {
+        layout.add(row, s.side, (s.u, s.v), s.weight)?;
+    }
+    Ok(row.take(blocked))
 }
 
 /// An irradiance query: a point and the normal of the surface it is on.
