@@ -23,3 +23,8 @@ pub fn require(farm: &Farm, feature: Feature, what: &str) -> Result<()> {
         None => Ok(()),
     }
 }
+
+/// Whether every connected board of `farm` has `feature`.
+pub fn supports(farm: &Farm, feature: Feature) -> bool {
+    farm.hellos().iter().flatten().all(|h| h.supports(feature))
+}

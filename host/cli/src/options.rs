@@ -631,10 +631,9 @@ fn refuse_over(
 pub struct FieldArgs {
     /// Element-level gather sweeps after the patch solve: each element gathers the radiosity
     /// field at its hemisphere's hits instead of patch averages (0: the paper's element values
-    /// (4.2) from the patch solution); they stop at --gather-tolerance [default: 20 in-process, 0
-    /// on boards, which cannot yet].
-    #[arg(long)]
-    pub gather: Option<u32>,
+    /// (4.2) from the patch solution); they stop at --gather-tolerance.
+    #[arg(long, default_value_t = DEFAULT_SWEEPS, value_name = "SWEEPS")]
+    pub gather: u32,
     /// Stop the sweeps when no element value changes by more than this fraction of the largest.
     #[arg(long, default_value_t = 1e-4)]
     pub gather_tolerance: f64,
@@ -645,9 +644,9 @@ pub struct FieldArgs {
     pub field_mib: u64,
     /// Rounds of refinement by the field's own error: patches whose grid is estimated to miss
     /// their light by more than --refine-tolerance are sampled twice as finely and the field
-    /// solved again (0: the field at pass 1's sampling) [default: 2 in-process, 0 on boards].
-    #[arg(long, value_name = "ROUNDS")]
-    pub refine: Option<u32>,
+    /// solved again (0: the field at pass 1's sampling).
+    #[arg(long, default_value_t = DEFAULT_REFINE_ROUNDS, value_name = "ROUNDS")]
+    pub refine: u32,
     /// The grid error (a fraction of the light) refinement aims at.
     #[arg(long, default_value_t = 0.01, value_name = "FRACTION")]
     pub refine_tolerance: f64,
@@ -667,23 +666,9 @@ const DEFAULT_SWEEPS: u32 = 20;
 const DEFAULT_REFINE_ROUNDS: u32 = 2;
 
 impl FieldArgs {
-    /// The settings, checked; `boards` says whether the run is on boards (no sweeps by default).
-    pub fn settings(&self, boards: bool) -> Result<hemi::field::FieldSettings> {
-        let sweeps = match (self.gather, boards) {
-            (Some(n), true) if n > 0 => bail!(
-                "--gather {n}: the element-level field gather runs in-process only (boards have \
-                 no job for it yet: it needs the radiosity grids on the board); use --gather 0 \
-                 with boards"
-            ),
-            (Some(n), _) => n,
-            (None, false) => DEFAULT_SWEEPS,
-            (None, true) => {
-                eprintln!(
-                    "element field: no gather sweeps on boards (--gather 0), the paper's (4.2)"
-                );
-                0
-            }
-        };
+    /// The settings, checked.
+    pub fn settings(&self) -> Result<hemi::field::FieldSettings> {
+        let sweeps = self.gather;
         if sweeps > 1000 {
             bail!("--gather {sweeps}: must be at most 1000 sweeps");
         }
@@ -698,15 +683,13 @@ impl FieldArgs {
             tolerance: self.gather_tolerance,
             direct: hemi::direct::Direct::Exact,
             transport_bytes: self.field_mib.saturating_mul(1 << 20),
-            refine: self.refine(boards)?,
+            refine: self.refine()?,
         })
     }
 
     /// The refinement settings, checked.
-    fn refine(&self, boards: bool) -> Result<hemi::field::refine::RefineSettings> {
-        let rounds = self
-            .refine
-            .unwrap_or(if boards { 0 } else { DEFAULT_REFINE_ROUNDS });
+    fn refine(&self) -> Result<hemi::field::refine::RefineSettings> {
+        let rounds = self.refine;
         if rounds > 8 {
             bail!(
                 "--refine {rounds}: must be at most 8 rounds (each quadruples a patch's elements)"

@@ -1,11 +1,14 @@
 //! Irradiance queries on boards: `Gather` jobs over the rings of the hemisphere in a diffuse
-//! scene, `Query` jobs through specular surfaces (protocol 4: the board shoots the whole
-//! hemisphere in one `tracer::shoot` call, as the in-process engines do, so frustums are spun
-//! and parked alike, and answers the weighted reports a window at a time).
+//! scene; through specular surfaces, the whole hemisphere in one `tracer::shoot` call on the
+//! board, as the in-process engines shoot it (so frustums are spun and parked alike), its
+//! reports back a window at a time: `Hemisphere` jobs, which say how each report came (protocol
+//! 5, so exact direct light can leave out the lamps' images in mirrors), or on older boards
+//! `Query` jobs (protocol 4), which do not.
 
+use super::field::Placed;
 use super::Boards;
 use crate::index::{seen_patch, BoardPatch};
-use crate::protocol::require;
+use crate::protocol::{require, supports};
 use anyhow::{bail, Context, Result};
 use hemi::backend::{Path, Query, Seen};
 use hemi_kernel::hemisphere::rays_on_ring;
@@ -16,6 +19,16 @@ impl Boards<'_> {
     /// What the hemisphere at `q` reached, in tracer order.
     pub(super) fn gather_one(&self, q: &Query) -> Result<Vec<Seen>> {
         if self.farm.specular() {
+            if supports(self.farm, Feature::Paths) {
+                let placed = Placed {
+                    origin: q.point,
+                    normal: q.normal,
+                    spin: 0.0,
+                    origin_patch: None,
+                };
+                let mut reports = self.hemispheres(&[placed])?;
+                return Ok(reports.pop().map(|(seen, _)| seen).unwrap_or_default());
+            }
             return self.query(q);
         }
         let circles = self.settings.circles;

@@ -3,6 +3,7 @@
 //! a board running the same kernel on the same accelerator gives the same bits as
 //! `--backend model` (or `soft`): the passes themselves are the library's, written once.
 
+mod field;
 mod gather;
 mod shoot;
 mod trace;
@@ -16,6 +17,7 @@ use hemi::optics::SceneOptics;
 use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
 use hemi::shots::{ElementRow, Shot};
+use hemi::transport::{Accumulator, Layout, TransportRow};
 use hemi_kernel::accel::{Hit, Ray};
 use hemi_kernel::camera::Camera;
 use hemi_kernel::hemisphere::OwnedHemisphere;
@@ -198,27 +200,46 @@ impl Backend for Boards<'_> {
         queries.iter().map(|q| self.gather_one(q)).collect()
     }
 
-    fn nearest(&self, _rays: &[Ray]) -> Result<Vec<Option<Hit>>> {
-        anyhow::bail!(
-            "trace: boards answer form-factors, solve, irradiance and render; use --backend soft \
-             or model"
-        )
+    fn nearest(&self, rays: &[Ray]) -> Result<Vec<Option<Hit>>> {
+        self.cast(rays)
     }
 
     fn casts_single_rays(&self) -> bool {
-        false
+        crate::protocol::supports(self.farm, Feature::Cast)
     }
 
     fn gather_field(
         &self,
-        _shots: &[Shot],
-        _grids: &[Grid],
-        _skip: &Skip,
-        _done: &Progress<'_>,
+        shots: &[Shot],
+        grids: &[Grid],
+        skip: &Skip,
+        done: &Progress<'_>,
     ) -> Result<Vec<Gathered>> {
-        anyhow::bail!(
-            "the element-level field gather (--gather) runs in-process only: boards have no job \
-             for it yet (it needs the radiosity grids on the board); use --gather 0 with boards"
-        )
+        let gathered = self
+            .field_reports(shots)?
+            .iter()
+            .map(|(seen, blocked)| hemi::backend::gathered(grids, seen, skip, *blocked))
+            .collect();
+        done(shots.len() as u64);
+        gathered
+    }
+
+    fn transport(
+        &self,
+        shots: &[Shot],
+        layout: &Layout,
+        skip: &Skip,
+        done: &Progress<'_>,
+    ) -> Result<Option<Vec<TransportRow>>> {
+        let mut row = Accumulator::new(layout.len());
+        let rows = self
+            .field_reports(shots)?
+            .iter()
+            .map(|(seen, blocked)| {
+                hemi::backend::transport_row(layout, &mut row, seen, skip, *blocked)
+            })
+            .collect::<Result<_>>()?;
+        done(shots.len() as u64);
+        Ok(Some(rows))
     }
 }

@@ -24,8 +24,9 @@ pub struct IrradianceArgs {
     field: FieldArgs,
     /// Where the lamps' direct light comes from: exact form factors to the emitting polygons
     /// (and to their images in perfect plane mirrors) with shadow rays, or the hemisphere's
-    /// rays (as all other light). Exact needs single rays (not boards) and a scene where
-    /// nothing transmits specularly; elsewhere the hemisphere is used, said on stderr.
+    /// rays (as all other light). Exact needs single rays (boards of protocol 5 cast them) and a
+    /// scene where nothing transmits specularly; elsewhere the hemisphere is used, said on
+    /// stderr.
     #[arg(long, value_enum, default_value = "exact")]
     direct: DirectArg,
     /// Levels of near-field evaluation: hits within a few grid cells of a query point take the
@@ -77,7 +78,7 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
         !(args.run.on_boards() && args.query_circles.is_some()),
         "--query-circles: boards cast queries with pass 1's hemisphere (--circles)"
     );
-    let field = args.field.settings(args.run.on_boards())?;
+    let field = args.field.settings()?;
     let run = args.run.prepare(|_| Ok(()))?;
     let backend = run.engine.backend(&run.scene, &run.settings)?;
     let own = own_backend(&args, &run)?;
@@ -87,7 +88,7 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
         DirectArg::Exact => {
             eprintln!(
                 "irradiance: direct light from the hemisphere (exact direct light needs single \
-                 rays, which boards do not cast, and a scene where nothing transmits \
+                 rays, which boards cast from protocol 5 on, and a scene where nothing transmits \
                  specularly)"
             );
             Direct::Hemisphere

@@ -83,7 +83,7 @@ pub fn run(args: RenderArgs, out: &mut impl Write) -> Result<()> {
             path.display()
         );
     }
-    let field = args.field.settings(args.run.on_boards())?;
+    let field = args.field.settings()?;
     let run = args.run.prepare(|scene| {
         scene.camera = Some(args.view.camera(scene.camera.as_ref())?);
         let camera = hemi::render::camera_of(scene)?;

@@ -51,7 +51,7 @@ pub fn run(args: SolveArgs, out: &mut impl Write) -> Result<()> {
         "--exposure must be a finite number of stops"
     );
     let field = match export {
-        true => Some(args.field.settings(args.run.on_boards())?),
+        true => Some(args.field.settings()?),
         false => None,
     };
     let run = args.run.prepare(|_| Ok(()))?;
