@@ -2,9 +2,7 @@
 //! run needs it (boards connected, QEMU booted), then made into the library's backend for the
 //! scene and settings of the run.
 
-use crate::options::{
-    BoardAccelArg, BoardArgs, EngineArgs, InProcessArg, InProcessArgs, ModelArgs,
-};
+use crate::options::{BoardAccelArg, BoardArgs, EngineArgs, ModelArgs};
 use anyhow::{bail, Result};
 use hemi::backend::{Backend, InProcess, Model, Soft};
 use hemi::scene::Scene;
@@ -101,16 +99,6 @@ impl Choice {
                     accel,
                 }
             }
-        })
-    }
-}
-
-impl InProcessArgs {
-    /// The engine, checked.
-    pub fn open(&self) -> Result<Engine> {
-        Ok(match self.backend {
-            InProcessArg::Soft => Engine::Soft,
-            InProcessArg::Model => Engine::Model(self.model.config()?),
         })
     }
 }

@@ -134,25 +134,6 @@ pub struct EngineArgs {
     pub boards: BoardArgs,
 }
 
-/// The in-process engines only (`hemi trace`: boards answer no single rays).
-#[derive(Args, Clone, Debug)]
-pub struct InProcessArgs {
-    /// Ray engine.
-    #[arg(long, value_enum, default_value = "soft")]
-    pub backend: InProcessArg,
-    #[command(flatten)]
-    pub model: ModelArgs,
-}
-
-/// An in-process ray engine.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum InProcessArg {
-    /// The kernel in f32 on all cores.
-    Soft,
-    /// The cycle-level model of the accelerator.
-    Model,
-}
-
 impl ModelArgs {
     /// Whether any option of the modelled accelerator differs from its default: on the soft
     /// backend they would do nothing, which is said rather than passed over.

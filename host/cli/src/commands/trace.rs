@@ -1,7 +1,7 @@
 //! `hemi trace`: the nearest hit of rays read from stdin.
 
 use crate::input::serve;
-use crate::options::{InProcessArgs, LimitArgs};
+use crate::options::{EngineArgs, LimitArgs};
 use anyhow::Result;
 use clap::Args;
 use hemi::settings::Pass1Settings;
@@ -15,21 +15,30 @@ pub struct TraceArgs {
     /// The scene file (TOML; OBJ/MTL and BPT geometry may be included from it).
     scene: PathBuf,
     #[command(flatten)]
-    engine: InProcessArgs,
+    engine: EngineArgs,
     #[command(flatten)]
     limits: LimitArgs,
 }
 
+/// The hemisphere a backend for single rays is made with: it casts none, so the smallest
+/// table any board holds.
+const CIRCLES: u32 = 8;
+
 /// Runs `hemi trace`, writing to `out` each answer as soon as its line is read.
 pub fn run(args: TraceArgs, out: &mut impl Write) -> Result<()> {
-    let engine = args.engine.open()?;
+    let choice = args.engine.check()?;
+    choice.warn_unused(&args.engine.model);
     let scene = args.limits.load(&args.scene)?;
-    // single rays need no hemisphere of the user's: the default one is only built
-    let backend = engine.backend(&scene, &Pass1Settings::default())?;
+    let engine = choice.open(&args.engine.model, &args.engine.boards)?;
+    let settings = Pass1Settings {
+        circles: CIRCLES,
+        ..Pass1Settings::default()
+    };
+    let backend = engine.backend(&scene, &settings)?;
     let stdin = std::io::BufReader::new(std::io::stdin());
     // a zero direction is rtrace's request for a flush: it has no hit
     let reach = hemi::scene::range::Reach::of(&scene);
-    serve(stdin, out, "miss", reach, |rays, out| {
+    let answered = serve(stdin, out, "miss", reach, |rays, out| {
         let rays: Vec<Ray> = rays
             .iter()
             .map(|&(origin, dir)| Ray { origin, dir })
@@ -44,7 +53,9 @@ pub fn run(args: TraceArgs, out: &mut impl Write) -> Result<()> {
             }
         }
         Ok(())
-    })?;
+    });
+    backend.board_report(args.engine.boards.board_stats, "after the rays");
+    answered?;
     backend.report_model(0, args.engine.model.clock_mhz, "trace");
     Ok(())
 }

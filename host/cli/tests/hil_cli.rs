@@ -1,4 +1,6 @@
-//! Hardware-in-the-loop over QEMU: the firmware's defmt log, decoded, through `--firmware-log`.
+//! Hardware-in-the-loop over QEMU through the CLI: the firmware's defmt log, decoded, through
+//! `--firmware-log`; and `hemi trace` on a board (protocol 5's `Cast` jobs), line for line the
+//! model's.
 //!
 //! The firmware logs its boot line at `info` level, which defmt keeps only because
 //! `.cargo/config.toml` sets `DEFMT_LOG`; the host decodes it with the booted ELF's table. So a
@@ -9,7 +11,7 @@
 
 mod common;
 
-use common::TWO_SQUARES;
+use common::{run, TWO_SQUARES};
 use std::path::PathBuf;
 use std::process::Command;
 use std::sync::OnceLock;
@@ -65,7 +67,7 @@ fn boot_line(text: &str) -> Option<&str> {
 
 #[test]
 fn board_info_prints_the_decoded_info_line_only_when_asked() {
-    if !qemu_or_skip("hil_firmware_log") {
+    if !qemu_or_skip("hil_cli") {
         return;
     }
     let (stdout, stderr) = hemi(&["board", "info", "--backend", "qemu", "--firmware-log"]);
@@ -88,7 +90,7 @@ fn board_info_prints_the_decoded_info_line_only_when_asked() {
 
 #[test]
 fn a_farm_run_writes_the_decoded_log_to_a_file() {
-    if !qemu_or_skip("hil_firmware_log") {
+    if !qemu_or_skip("hil_cli") {
         return;
     }
     let dir = std::env::temp_dir().join(format!("hemi-fwlog-{}", std::process::id()));
@@ -111,4 +113,34 @@ fn a_farm_run_writes_the_decoded_log_to_a_file() {
     let text = std::fs::read_to_string(&log).unwrap();
     assert!(boot_line(&text).is_some(), "log file:\n{text}");
     assert!(boot_line(&stderr).is_none(), "the log went to stderr too");
+}
+
+#[test]
+fn trace_on_a_qemu_board_prints_the_models_hits() {
+    if !qemu_or_skip("hil_cli") {
+        return;
+    }
+    // rays from above the Cornell box's blocks in 60 directions (more than one Cast job), and
+    // one that leaves through the open front: every line the model's, to the last digit
+    let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/cornell.toml");
+    let mut rays = String::new();
+    for i in 0..60 {
+        let a = i as f64 * 0.41;
+        let line = format!("278 450 279 {} {} {}\n", a.cos(), (a * 0.7).sin(), a.sin());
+        rays.push_str(&line);
+    }
+    rays.push_str("278 450 279 0 0 -1\n");
+    let trace = |backend: &[&str]| {
+        let mut args = vec!["trace", scene];
+        args.extend_from_slice(backend);
+        let (ok, out, err) = run(&args, &rays);
+        assert!(ok, "{backend:?}: {err}");
+        out
+    };
+    let want = trace(&["--backend", "model"]);
+    let got = trace(&["--backend", "qemu", "--firmware", firmware()]);
+    assert_eq!(got, want);
+    assert_eq!(got.lines().count(), 61);
+    assert!(got.lines().filter(|l| *l != "miss").count() >= 40, "{got}");
+    assert!(got.lines().last() == Some("miss"), "{got}");
 }
