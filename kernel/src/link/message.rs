@@ -51,9 +51,11 @@ pub const MAX_LOBE_CHUNK: usize = 16;
 /// Largest number of ray hits in one [`Response::Hits`]: each is at most 12 bytes on the wire
 /// (option tag, patch varint ≤ 2, front flag, u and v as f32), so 80 fit one frame.
 pub const MAX_HITS: usize = 80;
-/// Largest number of rays in one [`Request::Cast`]: each is 24 bytes on the wire (origin and
-/// direction as f32), so 40 fit one frame; each answer is at most 18 bytes.
-pub const MAX_CAST: usize = 40;
+/// Largest number of rays in one [`Request::Cast`]: each takes 24 bytes (origin and direction
+/// as f32), so 20 keep the request no larger in memory than the link test's `Sink`, and the
+/// slot a board decodes every request into does not grow (a 64 KiB board's stack has about
+/// 1.6 KiB to spare with the teapot); each answer is at most 18 bytes on the wire.
+pub const MAX_CAST: usize = 20;
 
 /// Host → board.
 #[expect(

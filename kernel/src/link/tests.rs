@@ -574,3 +574,21 @@ fn features_are_supported_from_the_version_that_added_them() {
     assert!(hello.supports(Feature::Tracing) && !hello.supports(Feature::ShootLevel));
     assert!(hello.supports(Feature::Jobs));
 }
+
+#[test]
+fn protocol_5_does_not_grow_the_boards_message_slots() {
+    // A board decodes each request into one stack slot and builds its answer in another; with
+    // the teapot a 64 KiB board has about 1.6 KiB of stack to spare, so protocol 5's messages
+    // must not make either larger than protocol 4's largest (the link test's `Sink` and the
+    // `Hits` of 80 rays)
+    assert!(
+        core::mem::size_of::<Request>() <= 528,
+        "{}",
+        core::mem::size_of::<Request>()
+    );
+    assert!(
+        core::mem::size_of::<Response>() <= 1176,
+        "{}",
+        core::mem::size_of::<Response>()
+    );
+}
