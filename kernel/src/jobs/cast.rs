@@ -11,6 +11,9 @@ use crate::geometry::Vec3;
 use crate::link::message::{CastHit, ErrorCode, Response, MAX_CAST};
 
 impl<P: AccelProvider, T: Platform> Engine<P, T> {
+    /// The nearest hit of each of `rays`. Not inlined into the request dispatch: its answer
+    /// then only takes stack while it runs.
+    #[inline(never)]
     pub(super) fn cast(&mut self, rays: &[(Vec3, Vec3)]) -> Result<(Response, Work), ErrorCode> {
         self.ready()?;
         if rays.is_empty() {

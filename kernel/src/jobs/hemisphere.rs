@@ -29,7 +29,10 @@ struct Window {
 
 impl<P: AccelProvider, T: Platform> Engine<P, T> {
     /// The weighted reports of an irradiance hemisphere at `point` around `normal`, from `skip`
-    /// on.
+    /// on. Not inlined into the request dispatch, as none of these jobs is: their answers
+    /// (about 1 KiB) then only take stack while they run, not under every other job (a 64 KiB
+    /// board's stack is tight with the teapot).
+    #[inline(never)]
     pub(super) fn query(
         &mut self,
         point: Vec3,
@@ -60,6 +63,7 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
 
     /// The reports, with their paths, of the hemisphere of a sample point (`shot`), from
     /// `skip` on.
+    #[inline(never)]
     pub(super) fn hemisphere(
         &mut self,
         shot: &Shot,
@@ -85,9 +89,8 @@ impl<P: AccelProvider, T: Platform> Engine<P, T> {
         Ok((Response::Paths(out), work))
     }
 
-    /// Shoots `shot`'s whole hemisphere and keeps its reports `skip .. skip + limit`. Not
-    /// inlined into the request dispatch: its walker and scratch then only take stack while a
-    /// hemisphere runs, not under every other job (a board's stack is tight with the teapot).
+    /// Shoots `shot`'s whole hemisphere and keeps its reports `skip .. skip + limit` (its own
+    /// frame, under either job's, holds the walker and the scratch).
     #[inline(never)]
     fn hemisphere_window(
         &mut self,
