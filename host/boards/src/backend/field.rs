@@ -12,12 +12,13 @@ use super::Boards;
 use crate::index::BoardPatch;
 use crate::protocol::require;
 use anyhow::{bail, Context, Result};
-use hemi::backend::{Path, Seen};
+use hemi::backend::{Path, Progress, Seen};
 use hemi::shots::Shot;
 use hemi_kernel::accel::{Hit, Ray};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::link::{Feature, PathHit, PathHits, Request, Response, MAX_CAST, MAX_PATHS};
 use hemi_kernel::rotation::spin_for_sample;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// What one shot's hemisphere reached, in tracer order, and the fraction of its rays that met
 /// the back of an opaque patch first.
@@ -34,8 +35,12 @@ pub(super) struct Placed {
 
 impl Boards<'_> {
     /// The reports of every shot's hemisphere, cast as pass 1 casts it (its spin, its origin
-    /// patch).
-    pub(super) fn field_reports(&self, shots: &[Shot]) -> Result<Vec<Reports>> {
+    /// patch); `done` gets shots as their last window arrives.
+    pub(super) fn field_reports(
+        &self,
+        shots: &[Shot],
+        done: &Progress<'_>,
+    ) -> Result<Vec<Reports>> {
         let placed = shots
             .iter()
             .map(|s| {
@@ -48,12 +53,17 @@ impl Boards<'_> {
                 })
             })
             .collect::<Result<Vec<_>>>()?;
-        self.hemispheres(&placed)
+        self.hemispheres(&placed, done)
     }
 
     /// The reports of every hemisphere of `placed`: the first window of each, then the rest of
-    /// every one's windows, each round spread over the farm.
-    pub(super) fn hemispheres(&self, placed: &[Placed]) -> Result<Vec<Reports>> {
+    /// every one's windows, each round spread over the farm; `done` gets hemispheres as their
+    /// last window arrives.
+    pub(super) fn hemispheres(
+        &self,
+        placed: &[Placed],
+        done: &Progress<'_>,
+    ) -> Result<Vec<Reports>> {
         require(self.farm, Feature::Paths, "the element field on boards")?;
         self.current()?;
         let first = placed
@@ -74,8 +84,25 @@ impl Boards<'_> {
                 hits: w.hits.to_vec(),
             });
         }
+        // windows still to come per hemisphere: one read whole counts now, the others as their
+        // last window arrives
+        let left: Vec<AtomicUsize> = (0..placed.len()).map(|_| AtomicUsize::new(0)).collect();
+        rest.iter()
+            .for_each(|(i, _)| _ = left[*i].fetch_add(1, Ordering::Relaxed));
+        done(
+            left.iter()
+                .filter(|l| l.load(Ordering::Relaxed) == 0)
+                .count() as u64,
+        );
+        let last = |j: usize| {
+            if let Some((i, _)) = rest.get(j) {
+                if left[*i].fetch_sub(1, Ordering::Relaxed) == 1 {
+                    done(1);
+                }
+            }
+        };
         let jobs: Vec<Request> = rest.iter().map(|(_, r)| r.clone()).collect();
-        for ((i, _), answer) in rest.iter().zip(self.farm.run(&jobs, &|_| {})?) {
+        for ((i, _), answer) in rest.iter().zip(self.farm.run(&jobs, &last)?) {
             let w = paths(answer)?;
             let whole = &mut windows[*i];
             anyhow::ensure!(

@@ -26,7 +26,7 @@ impl Boards<'_> {
                     spin: 0.0,
                     origin_patch: None,
                 };
-                let mut reports = self.hemispheres(&[placed])?;
+                let mut reports = self.hemispheres(&[placed], &|_| {})?;
                 return Ok(reports.pop().map(|(seen, _)| seen).unwrap_or_default());
             }
             return self.query(q);

@@ -215,13 +215,10 @@ impl Backend for Boards<'_> {
         skip: &Skip,
         done: &Progress<'_>,
     ) -> Result<Vec<Gathered>> {
-        let gathered = self
-            .field_reports(shots)?
+        self.field_reports(shots, done)?
             .iter()
             .map(|(seen, blocked)| hemi::backend::gathered(grids, seen, skip, *blocked))
-            .collect();
-        done(shots.len() as u64);
-        gathered
+            .collect()
     }
 
     fn transport(
@@ -233,13 +230,12 @@ impl Backend for Boards<'_> {
     ) -> Result<Option<Vec<TransportRow>>> {
         let mut row = Accumulator::new(layout.len());
         let rows = self
-            .field_reports(shots)?
+            .field_reports(shots, done)?
             .iter()
             .map(|(seen, blocked)| {
                 hemi::backend::transport_row(layout, &mut row, seen, skip, *blocked)
             })
             .collect::<Result<_>>()?;
-        done(shots.len() as u64);
         Ok(Some(rows))
     }
 }
