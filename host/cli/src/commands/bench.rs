@@ -256,7 +256,7 @@ pub struct PaperFig9Bench {
     #[arg(default_value = "scenes/cornell.toml")]
     scene: PathBuf,
     /// The two patches.
-    #[arg(long, default_value = "floor,red_wall")]
+    #[arg(long, default_value = "floor,red_wall/0")]
     patches: String,
     /// K.
     #[arg(long, default_value_t = 8)]

@@ -282,7 +282,7 @@ fn patches(
     for (_, entry) in entries {
         match entry {
             Entry::Poly(p, kind, n) => {
-                patches.push(polygon(cx, p.get_ref(), kind, n, by_name, &mut names)?)
+                patches.extend(polygon(cx, p.get_ref(), kind, n, by_name, &mut names)?)
             }
             Entry::Obj(o) => load_obj(
                 cx,
@@ -367,7 +367,16 @@ fn bezier(
     })
 }
 
-/// One `[[quad]]` (n = 4) or `[[triangle]]` (n = 3), checked.
+/// A quad whose vertices lie further than this fraction of its size from the plane through
+/// its first vertex (with its diagonals' normal) is loaded as two triangles, P0 P1 P2 and
+/// P0 P2 P3, as Radiance takes such a polygon: one plane would put some vertices off the
+/// surface. The published Cornell box's red wall is warped by 0.20 % (1.6 mm); as one plane
+/// its corners sat 1.6 mm from where Radiance has them, which read +1.0 and +1.8 % red at
+/// points 3 mm from them (docs/ACCURACY.md, "The warped red wall").
+pub const WARP: f64 = 1e-4;
+
+/// One `[[quad]]` (n = 4) or `[[triangle]]` (n = 3), checked: one patch, or two triangles
+/// `name/0` and `name/1` for a quad warped past [`WARP`].
 fn polygon(
     cx: &Ctx<'_>,
     r: &RawPolygon,
@@ -375,7 +384,7 @@ fn polygon(
     n: usize,
     by_name: &HashMap<String, usize>,
     names: &mut HashMap<String, ()>,
-) -> Result<ScenePatch> {
+) -> Result<Vec<ScenePatch>> {
     let name = claim_name(cx, &r.name, &format!("{kind}.name"), names)?;
     let material = cx.material_named(by_name, &r.material, &format!("{kind}.material"))?;
     let key = format!("{kind}.vertices");
@@ -409,12 +418,76 @@ fn polygon(
     if let Some(why) = too_small(size, reach) {
         return Err(cx.err(at, &key, format!("patch `{name}` {why}")));
     }
+    if n == 4 && warp(&pts) > WARP {
+        // checked whole first (a warp past 1 %, a concave quad are refused as for any quad)
+        planar(cx, &at, &key, &name, Polygon::quad(pts))?;
+        let halves = [[pts[0], pts[1], pts[2]], [pts[0], pts[2], pts[3]]];
+        return halves
+            .into_iter()
+            .enumerate()
+            .map(|(i, t)| {
+                let piece = format!("{name}/{i}");
+                if names.insert(piece.clone(), ()).is_some() {
+                    return Err(cx.err(at.clone(), &key, format!("patch `{piece}` defined twice")));
+                }
+                let polygon = planar(cx, &at, &key, &piece, Polygon::triangle(t))?;
+                Ok(opaque(piece, material, polygon))
+            })
+            .collect();
+    }
     let polygon = if n == 4 {
         Polygon::quad(pts)
     } else {
         Polygon::triangle([pts[0], pts[1], pts[2]])
+    };
+    let polygon = planar(cx, &at, &key, &name, polygon)?;
+    Ok(vec![opaque(name, material, polygon)])
+}
+
+/// How far the furthest vertex of a quad lies from the plane through its first vertex with its
+/// diagonals' normal, as a fraction of its size (0 for a degenerate quad, refused later).
+fn warp(v: &[Vec3; 4]) -> f64 {
+    let d = |a: Vec3| [a.x as f64, a.y as f64, a.z as f64];
+    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
+    let (p, q) = (sub(d(v[2]), d(v[0])), sub(d(v[3]), d(v[1])));
+    let n = [
+        p[1] * q[2] - p[2] * q[1],
+        p[2] * q[0] - p[0] * q[2],
+        p[0] * q[1] - p[1] * q[0],
+    ];
+    let len = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
+    let (ln, size) = (len(n), v.iter().map(|w| len(sub(d(*w), d(v[0])))).fold(0.0, f64::max));
+    if ln == 0.0 || size == 0.0 {
+        return 0.0;
     }
-    .map_err(|e| {
+    v.iter()
+        .map(|w| {
+            let e = sub(d(*w), d(v[0]));
+            (e[0] * n[0] + e[1] * n[1] + e[2] * n[2]).abs() / ln / size
+        })
+        .fold(0.0, f64::max)
+}
+
+/// An opaque scene patch of `polygon`.
+fn opaque(name: String, material: usize, polygon: Polygon) -> ScenePatch {
+    ScenePatch {
+        name,
+        material,
+        area: polygon.area,
+        shape: Shape::Polygon(polygon),
+        sides: Sides::Opaque,
+    }
+}
+
+/// `polygon`, or the error of the patch `name` at `at` that says why it is not one.
+fn planar(
+    cx: &Ctx<'_>,
+    at: &std::ops::Range<usize>,
+    key: &str,
+    name: &str,
+    polygon: Result<Polygon, PolygonError>,
+) -> Result<Polygon> {
+    polygon.map_err(|e| {
         let why = match e {
             PolygonError::NotFinite => "has a NaN or infinite coordinate",
             PolygonError::Degenerate => "is degenerate: zero area or collinear vertices",
@@ -423,14 +496,7 @@ fn polygon(
             }
             PolygonError::NotConvex => "is not convex, or its vertices are not in order around it",
         };
-        cx.err(at, &key, format!("patch `{name}` {why}"))
-    })?;
-    Ok(ScenePatch {
-        name,
-        material,
-        area: polygon.area,
-        shape: Shape::Polygon(polygon),
-        sides: Sides::Opaque,
+        cx.err(at.clone(), key, format!("patch `{name}` {why}"))
     })
 }
 
