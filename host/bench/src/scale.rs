@@ -1,5 +1,6 @@
 //! Scenes at growing scale, for pass 1's cost against the patch count (docs/PERFORMANCE.md,
-//! "Pass 1 at scale"): the Cornell box with every quad cut n × n (19 n² patches), and a closed
+//! "Pass 1 at scale"): the Cornell box with every polygon cut n × n (20 n² patches: its warped
+//! red wall loads as two triangles, `hemi::scene::load::WARP`), and a closed
 //! room of 12 quads holding a tessellated sphere. Each scene is written as scene TOML, so
 //! `hemi form-factors` reads the very file the benchmark measured, and optionally as a ray file
 //! that the Embree comparison (`host/bench/embree/`) casts: the same geometry, the same sample
@@ -91,6 +92,35 @@ fn grid_point(v: &[Vec3; 4], i: usize, j: usize, n: usize) -> Vec3 {
     }
 }
 
+/// Triangle `v` cut into n² triangles of the same facing, named `name/i.j.k`: its edges are
+/// cut at [`edge_point`], as its neighbours' are.
+fn cut_triangle(out: &mut String, name: &str, material: &str, v: &[Vec3], n: usize) {
+    let (a, b, c) = (v[0], v[1], v[2]);
+    // i steps along a → b, j along a → c
+    let at = |i: usize, j: usize| match (i, j) {
+        (_, 0) => edge_point(a, b, i, n),
+        (0, _) => edge_point(a, c, j, n),
+        _ if i + j == n => edge_point(b, c, j, n),
+        _ => a + (b - a) * (i as f32 / n as f32) + (c - a) * (j as f32 / n as f32),
+    };
+    for j in 0..n {
+        for i in 0..n - j {
+            let up = [at(i, j), at(i + 1, j), at(i, j + 1)];
+            push_patch(out, "triangle", &format!("{name}/{i}.{j}.0"), material, &up);
+            if i + j + 1 < n {
+                let down = [at(i + 1, j), at(i + 1, j + 1), at(i, j + 1)];
+                push_patch(
+                    out,
+                    "triangle",
+                    &format!("{name}/{i}.{j}.1"),
+                    material,
+                    &down,
+                );
+            }
+        }
+    }
+}
+
 fn push_materials(out: &mut String, scene: &Scene) -> Result<()> {
     for m in &scene.materials {
         ensure!(
@@ -120,7 +150,7 @@ fn push_patch(out: &mut String, kind: &str, name: &str, material: &str, v: &[Vec
     );
 }
 
-/// `base` with every quad cut into n × n quads (triangles and curved patches are kept whole).
+/// `base` with every quad cut into n × n quads and every triangle into n × n triangles.
 pub fn subdivided(base: &Scene, n: usize) -> Result<String> {
     ensure!((1..=64).contains(&n), "subdivision n must be in 1..=64");
     let mut out = format!(
@@ -133,7 +163,7 @@ pub fn subdivided(base: &Scene, n: usize) -> Result<String> {
             anyhow::bail!("the scale series cuts polygon scenes only (`{}`)", p.name);
         };
         if poly.sides == 3 {
-            push_patch(&mut out, "triangle", &p.name, material, poly.vertices());
+            cut_triangle(&mut out, &p.name, material, poly.vertices(), n);
             continue;
         }
         for j in 0..n {
@@ -591,5 +621,26 @@ mod tests {
             assert_eq!(edge_point(a, b, i, 7), edge_point(b, a, 7 - i, 7));
         }
         assert_eq!(edge_point(a, b, 7, 7), b);
+    }
+
+    #[test]
+    fn a_cut_triangle_is_n_squared_triangles_covering_its_area() {
+        let v = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(0.0, 3.0, 0.0),
+        ];
+        let mut out = String::from("[[material]]\nname = \"m\"\ndiffuse = [0.5, 0.5, 0.5]\n\n");
+        cut_triangle(&mut out, "t", "m", &v, 5);
+        let scene = hemi::scene::parse(&out, "cut.toml").unwrap();
+        assert_eq!(scene.patches.len(), 25);
+        let area: f32 = scene.patches.iter().map(|p| p.area).sum();
+        assert!((area - 3.0).abs() < 1e-4, "{area}");
+        // every piece faces as the triangle does (the loader refuses none as inverted)
+        let normal = |p: &hemi::scene::ScenePatch| match &p.shape {
+            Shape::Polygon(q) => q.normal,
+            _ => panic!("a polygon"),
+        };
+        assert!(scene.patches.iter().all(|p| normal(p).z > 0.99));
     }
 }

@@ -46,7 +46,7 @@ pub enum BenchCommand {
     /// Pass-1 hemisphere rays per second of the soft backend on SCENE, on 1 thread and on all,
     /// printed as one machine-readable line per run.
     Rays(RaysBench),
-    /// Pass 1 against the patch count: the Cornell box with its quads cut n × n and a closed
+    /// Pass 1 against the patch count: the Cornell box with its polygons cut n × n and a closed
     /// room holding a tessellated sphere, generated, written as scene files (--write-dir) and
     /// ray files for the Embree comparison (--rays-dir), and timed: a markdown table.
     Scale(ScaleBench),
@@ -458,10 +458,10 @@ impl RaysBench {
 /// scale").
 #[derive(Args)]
 pub struct ScaleBench {
-    /// The scene whose quads are cut n × n.
+    /// The scene whose polygons are cut n × n.
     #[arg(long, default_value = "scenes/cornell.toml")]
     base: PathBuf,
-    /// Comma-separated n of the cut boxes (19 n² patches); empty for none.
+    /// Comma-separated n of the cut boxes (20 n² patches); empty for none.
     #[arg(long, default_value = "1,2,4,8,16")]
     cuts: String,
     /// Comma-separated triangle counts of the spheres in the closed room; empty for none.
