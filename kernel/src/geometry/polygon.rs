@@ -40,6 +40,24 @@ impl Polygon {
         Self::build(v, 4)
     }
 
+    /// How far the furthest vertex of quad `v` lies from the plane through `v[0]` with the
+    /// diagonals' normal, as a fraction of the quad's size (its largest distance from `v[0]`);
+    /// 0 for a degenerate quad. [`Polygon::quad`] refuses more than 1 %; a scene loader may cut
+    /// a quad warped less than that into two triangles.
+    pub fn warp(v: &[Vec3; 4]) -> f32 {
+        let scale = v.iter().fold(0.0f32, |m, p| m.max((*p - v[0]).length()));
+        let Some(normal) = (v[2] - v[0]).cross(v[3] - v[1]).try_normalize() else {
+            return 0.0;
+        };
+        if scale.is_nan() || scale <= 0.0 {
+            return 0.0;
+        }
+        let off = v
+            .iter()
+            .fold(0.0f32, |m, p| m.max((*p - v[0]).dot(normal).abs()));
+        off / scale
+    }
+
     /// A triangle.
     pub fn triangle(v: [Vec3; 3]) -> Result<Polygon, PolygonError> {
         Self::build([v[0], v[1], v[2], v[2]], 3)
@@ -61,15 +79,14 @@ impl Polygon {
             return Err(PolygonError::Degenerate);
         }
         let normal = cross / (2.0 * area);
+        // Measured scene data is rarely exactly planar (the published Cornell box's red wall is
+        // warped by 0.20 % of its size): warps up to 1 % are taken as planar with the
+        // diagonals' normal; more is refused.
+        if sides == 4 && Self::warp(&v) > 1e-2 {
+            return Err(PolygonError::NotPlanar);
+        }
         if sides == 4 {
             for i in 0..4 {
-                let off = (v[i] - v[0]).dot(normal).abs();
-                // Measured scene data is rarely exactly planar (the published Cornell box's red
-                // wall is warped by 0.4 % of its size): warps up to 1 % are taken as planar with
-                // the diagonals' normal; more is refused.
-                if off > 1e-2 * scale {
-                    return Err(PolygonError::NotPlanar);
-                }
                 let e0 = v[(i + 1) % 4] - v[i];
                 let e1 = v[(i + 2) % 4] - v[(i + 1) % 4];
                 if e0.cross(e1).dot(normal) <= 1e-7 * scale * scale {

@@ -418,7 +418,7 @@ fn polygon(
     if let Some(why) = too_small(size, reach) {
         return Err(cx.err(at, &key, format!("patch `{name}` {why}")));
     }
-    if n == 4 && warp(&pts) > WARP {
+    if n == 4 && f64::from(Polygon::warp(&pts)) > WARP {
         // checked whole first (a warp past 1 %, a concave quad are refused as for any quad)
         planar(cx, &at, &key, &name, Polygon::quad(pts))?;
         let halves = [[pts[0], pts[1], pts[2]], [pts[0], pts[2], pts[3]]];
@@ -442,35 +442,6 @@ fn polygon(
     };
     let polygon = planar(cx, &at, &key, &name, polygon)?;
     Ok(vec![opaque(name, material, polygon)])
-}
-
-/// How far the furthest vertex of a quad lies from the plane through its first vertex with its
-/// diagonals' normal, as a fraction of its size (0 for a degenerate quad, refused later).
-fn warp(v: &[Vec3; 4]) -> f64 {
-    let d = |a: Vec3| [a.x as f64, a.y as f64, a.z as f64];
-    let sub = |a: [f64; 3], b: [f64; 3]| [a[0] - b[0], a[1] - b[1], a[2] - b[2]];
-    let (p, q) = (sub(d(v[2]), d(v[0])), sub(d(v[3]), d(v[1])));
-    let n = [
-        p[1] * q[2] - p[2] * q[1],
-        p[2] * q[0] - p[0] * q[2],
-        p[0] * q[1] - p[1] * q[0],
-    ];
-    let len = |a: [f64; 3]| (a[0] * a[0] + a[1] * a[1] + a[2] * a[2]).sqrt();
-    let (ln, size) = (
-        len(n),
-        v.iter()
-            .map(|w| len(sub(d(*w), d(v[0]))))
-            .fold(0.0, f64::max),
-    );
-    if ln == 0.0 || size == 0.0 {
-        return 0.0;
-    }
-    v.iter()
-        .map(|w| {
-            let e = sub(d(*w), d(v[0]));
-            (e[0] * n[0] + e[1] * n[1] + e[2] * n[2]).abs() / ln / size
-        })
-        .fold(0.0, f64::max)
 }
 
 /// An opaque scene patch of `polygon`.
