@@ -151,8 +151,8 @@ impl AccelJob for HemisphereJob<'_> {
             &mut self.scratch,
             &self.shot,
             |h: &Hit, weight, via: Via| {
-                let kept = window.total - window.skip.min(window.total);
-                if window.total >= window.skip && (kept as usize) < window.limit {
+                // kept from `skip` on while the window has room
+                if window.total >= window.skip && window.hits.len() < window.limit {
                     let _ = window.hits.push(PathHit {
                         patch: side_index(h, patches),
                         u: h.u,

@@ -71,11 +71,13 @@ impl Boards<'_> {
             .map(|p| hemisphere_job(p, 0))
             .collect::<Result<Vec<_>>>()?;
         let mut windows = Vec::with_capacity(placed.len());
-        let mut rest = Vec::new();
+        // the remaining windows' jobs, and the hemisphere each is of
+        let (mut rest, mut owner) = (Vec::new(), Vec::new());
         for (i, answer) in self.farm.run(&first, &|_| {})?.into_iter().enumerate() {
             let w = paths(answer)?;
             for skip in (MAX_PATHS..w.total as usize).step_by(MAX_PATHS) {
-                rest.push((i, hemisphere_job(&placed[i], skip)?));
+                rest.push(hemisphere_job(&placed[i], skip)?);
+                owner.push(i);
             }
             windows.push(Window {
                 total: w.total,
@@ -87,24 +89,24 @@ impl Boards<'_> {
         // windows still to come per hemisphere: one read whole counts now, the others as their
         // last window arrives
         let left: Vec<AtomicUsize> = (0..placed.len()).map(|_| AtomicUsize::new(0)).collect();
-        rest.iter()
-            .for_each(|(i, _)| _ = left[*i].fetch_add(1, Ordering::Relaxed));
+        owner
+            .iter()
+            .for_each(|&i| _ = left[i].fetch_add(1, Ordering::Relaxed));
         done(
             left.iter()
                 .filter(|l| l.load(Ordering::Relaxed) == 0)
                 .count() as u64,
         );
         let last = |j: usize| {
-            if let Some((i, _)) = rest.get(j) {
-                if left[*i].fetch_sub(1, Ordering::Relaxed) == 1 {
+            if let Some(&i) = owner.get(j) {
+                if left[i].fetch_sub(1, Ordering::Relaxed) == 1 {
                     done(1);
                 }
             }
         };
-        let jobs: Vec<Request> = rest.iter().map(|(_, r)| r.clone()).collect();
-        for ((i, _), answer) in rest.iter().zip(self.farm.run(&jobs, &last)?) {
+        for (&i, answer) in owner.iter().zip(self.farm.run(&rest, &last)?) {
             let w = paths(answer)?;
-            let whole = &mut windows[*i];
+            let whole = &mut windows[i];
             anyhow::ensure!(
                 (w.total, w.rays, w.back_hits) == (whole.total, whole.rays, whole.back_hits),
                 "a hemisphere's reports changed between jobs"
