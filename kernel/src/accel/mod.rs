@@ -8,6 +8,7 @@
 
 pub mod bvh;
 pub mod either;
+pub mod simd;
 pub mod soft;
 
 use crate::geometry::Vec3;

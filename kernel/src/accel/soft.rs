@@ -22,6 +22,8 @@
 
 #[cfg(not(target_os = "none"))]
 use super::bvh::Bvh;
+#[cfg(not(target_os = "none"))]
+use super::simd::{SimdLoop, Vectorizer};
 use super::{Accelerator, Hit, Ray};
 use crate::geometry::{Bezier, Polygon, Subdivision, Vec3};
 #[cfg(not(target_os = "none"))]
@@ -132,11 +134,12 @@ impl LocalPatch {
         let h = poly.normal.dot(poly.v[0] - origin);
         let sides = poly.sides as usize;
         let mut local = [Vec3::ZERO; 4];
-        let mut scale = 0.0f32;
-        for (l, v) in local.iter_mut().zip(poly.v.iter()).take(sides) {
+        let mut length = [0.0f32; 4];
+        for ((l, n), v) in local.iter_mut().zip(&mut length).zip(&poly.v).take(sides) {
             *l = turn(*v - origin);
-            scale = scale.max(l.length());
+            *n = l.length();
         }
+        let scale = length.iter().fold(0.0f32, |m, &n| m.max(n));
         // An origin in the patch's plane (its own patch, coplanar neighbours) can only graze it.
         // (written so that a NaN distance also counts as "in the plane")
         if h.abs().is_nan() || h.abs() <= 1e-6 * scale {
@@ -162,15 +165,18 @@ impl LocalPatch {
             return lp;
         }
         // Bounding cone: a convex polygon lies in the cone of its vertex directions when α < 90°.
+        // (each vertex's direction computed once: the same bits as before, for half the work)
+        let mut unit = [Vec3::ZERO; 4];
         let mut sum = Vec3::ZERO;
-        for l in local.iter().take(sides) {
-            sum += *l / l.length();
+        for ((u, l), n) in unit.iter_mut().zip(&local).zip(&length).take(sides) {
+            *u = *l / *n;
+            sum += *u;
         }
         match sum.try_normalize() {
             Some(axis) => {
                 let mut cos_alpha = 1.0f32;
-                for l in local.iter().take(sides) {
-                    cos_alpha = cos_alpha.min(axis.dot(*l / l.length()));
+                for u in unit.iter().take(sides) {
+                    cos_alpha = cos_alpha.min(axis.dot(*u));
                 }
                 // widen a little so that rounding never culls a ray the exact test would accept
                 cos_alpha -= 1e-4;
@@ -265,14 +271,17 @@ impl LocalPatch {
         }
         // fast_acos errs by at most 6.7e-5 rad; the margin keeps the interval conservative
         let half = fast_acos(q.min(1.0)) + 2e-4;
-        let dphi = core::f32::consts::TAU / n as f32;
-        let lo = libm::ceilf((self.axis_phi - half) / dphi - 0.5) as i64;
-        let hi = libm::floorf((self.axis_phi + half) / dphi - 0.5) as i64;
+        // rays per radian, multiplied where dividing by the spacing cost two divisions a ring:
+        // the rounding moves an end by ~1e-5 of a spacing, far inside the margin above, and a
+        // ray the interval leaves out is outside the (widened) cone, so it cannot hit the patch
+        let per_radian = n as f32 * (1.0 / core::f32::consts::TAU);
+        let lo = ceil_to_int((self.axis_phi - half) * per_radian - 0.5);
+        let hi = floor_to_int((self.axis_phi + half) * per_radian - 0.5);
         if hi < lo {
             return None;
         }
         let len = (hi - lo + 1).min(n);
-        Some((lo.rem_euclid(n), len))
+        Some((wrap(lo, n), len))
     }
 }
 
@@ -325,6 +334,54 @@ fn ring_offset(ring: &Ring, j: usize) -> usize {
     }
 }
 
+/// `libm::ceilf(x) as i64` for every x (NaN to 0, saturating at the ends) without libm's
+/// software rounding, which was a tenth of the ring intervals' time: the cast truncates
+/// toward zero, and one comparison corrects it.
+#[inline]
+fn ceil_to_int(x: f32) -> i64 {
+    let i = x as i64;
+    if (i as f32) < x {
+        i.saturating_add(1)
+    } else {
+        i
+    }
+}
+
+/// `libm::floorf(x) as i64` for every x, as [`ceil_to_int`].
+#[inline]
+fn floor_to_int(x: f32) -> i64 {
+    let i = x as i64;
+    if (i as f32) > x {
+        i.saturating_sub(1)
+    } else {
+        i
+    }
+}
+
+/// `k.rem_euclid(n)` for n > 0 without a 64-bit division where k is within a turn of the ring
+/// (the ring intervals' starts always are): a division was a fifth of their time.
+#[inline]
+fn wrap(k: i64, n: i64) -> i64 {
+    match k {
+        _ if (0..n).contains(&k) => k,
+        _ if (-n..0).contains(&k) => k + n,
+        _ if (n..2 * n).contains(&k) => k - n,
+        _ => k.rem_euclid(n),
+    }
+}
+
+/// `(start / quarter, start % quarter)` for a ray index of a ring of four quarters (`start`
+/// below 4 · `quarter`), by comparisons instead of two 64-bit divisions per patch and ring.
+#[inline(always)]
+fn quarter_and_offset(start: i64, quarter: i64) -> (i64, i64) {
+    if !(0..4 * quarter).contains(&start) {
+        return (start / quarter, start % quarter);
+    }
+    let q =
+        (start >= quarter) as i64 + (start >= 2 * quarter) as i64 + (start >= 3 * quarter) as i64;
+    (q, start - q * quarter)
+}
+
 /// arccos by Abramowitz & Stegun 4.4.45, |error| ≤ 6.7·10⁻⁵ rad on [−1, 1]: the cone culling only
 /// needs a bound, and libm's correctly rounded `acosf` was a tenth of the pass-1 time.
 #[inline]
@@ -349,7 +406,48 @@ struct Coefficients {
 /// Written without branches in the loop body so that it vectorises.
 #[cfg(test)]
 mod tests {
-    use super::fast_acos;
+    use super::{ceil_to_int, fast_acos, floor_to_int, quarter_and_offset, wrap};
+
+    /// Every f32 bit pattern of a sweep, the ends and NaN round as libm's do.
+    #[test]
+    fn rounding_to_int_is_libms() {
+        let special = [
+            0.0f32,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            f32::MIN,
+            9.3e18,
+            -9.3e18,
+            8_388_609.0,
+        ];
+        let sweep = (0..2_000_000u32).map(|i| f32::from_bits(i.wrapping_mul(2_147_483_647)));
+        for x in special.into_iter().chain(sweep) {
+            assert_eq!(ceil_to_int(x), libm::ceilf(x) as i64, "ceil {x:e}");
+            assert_eq!(floor_to_int(x), libm::floorf(x) as i64, "floor {x:e}");
+        }
+    }
+
+    #[test]
+    fn wrapping_and_quarters_are_the_divisions() {
+        for n in [1i64, 4, 8, 12, 256] {
+            for k in -3 * n..3 * n {
+                assert_eq!(wrap(k, n), k.rem_euclid(n), "wrap {k} {n}");
+                let quarter = (n / 4).max(1);
+                assert_eq!(
+                    quarter_and_offset(k, quarter),
+                    (k / quarter, k % quarter),
+                    "quarter {k} {quarter}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn fast_acos_stays_within_its_bound() {
@@ -393,8 +491,7 @@ fn scan_ring(
     let quarter = hemi.quarter_of(ring);
     let quarter_n = (ring.count / 4).max(1) as i64;
     let mut remaining = len;
-    let mut q = start / quarter_n;
-    let mut r = start % quarter_n;
+    let (mut q, mut r) = quarter_and_offset(start, quarter_n);
     while remaining > 0 {
         let seg = remaining.min(quarter_n - r);
         let k0 = (q * quarter_n + r) as usize;
@@ -477,6 +574,8 @@ pub struct SoftAccelerator<'p, 's> {
 #[derive(Clone, Copy, Debug)]
 struct PatchMajor<'s> {
     tree: Option<Bvh<'s>>,
+    /// The ring scans run with the widest SIMD the CPU has.
+    simd: Vectorizer,
 }
 
 const NO_HIT: u32 = u32::MAX;
@@ -532,7 +631,10 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
     /// order.
     #[cfg(not(target_os = "none"))]
     pub fn with_patch_major(mut self, tree: Option<Bvh<'s>>) -> Self {
-        self.patch_major = Some(PatchMajor { tree });
+        self.patch_major = Some(PatchMajor {
+            tree,
+            simd: Vectorizer::detect(),
+        });
         self
     }
 
@@ -667,8 +769,27 @@ impl<'p, 's> SoftAccelerator<'p, 's> {
         Some((h.t, h.u, h.v, front))
     }
 
-    /// The full hit for a winning (id, t) of a bundle; (u,v) only when asked for.
+    /// The full hit for a winning (id, t) of a bundle; (u,v) only when asked for. Inlined for
+    /// pass 1's every ray (a polygon, no (u,v): the side is the set-up's), the rest called.
+    #[inline(always)]
     fn resolve(&self, tagged: u32, t: f32, origin: Vec3, dir: Vec3, want_uv: bool) -> Hit {
+        if !want_uv && tagged & BACK == 0 {
+            if let Some(Shape::Polygon(_)) = self.patches.get(tagged as usize).map(|p| &p.shape) {
+                return Hit {
+                    patch: tagged,
+                    t,
+                    u: 0.0,
+                    v: 0.0,
+                    front: self.scratch.local[tagged as usize].front(),
+                };
+            }
+        }
+        self.resolve_in_full(tagged, t, origin, dir, want_uv)
+    }
+
+    /// [`SoftAccelerator::resolve`]'s general case.
+    #[inline(never)]
+    fn resolve_in_full(&self, tagged: u32, t: f32, origin: Vec3, dir: Vec3, want_uv: bool) -> Hit {
         let id = tagged & !BACK;
         let patch = &self.patches[id as usize];
         let (mut u, mut v) = (0.0, 0.0);
@@ -986,10 +1107,10 @@ impl SoftAccelerator<'_, '_> {
         self.scratch.best_id[from..to].fill(NO_HIT);
         match walk.tree {
             Some(tree) => tree.visit_above(origin, rot.apply(Vec3::Z), |id| {
-                self.scan_patch(id, origin, rot, hemi, rings.clone())
+                self.scan_patch(walk.simd, id, origin, rot, hemi, rings.clone())
             }),
             None => (0..self.patches.len() as u32)
-                .for_each(|id| self.scan_patch(id, origin, rot, hemi, rings.clone())),
+                .for_each(|id| self.scan_patch(walk.simd, id, origin, rot, hemi, rings.clone())),
         }
         for j in rings {
             let ring = table[j];
@@ -1014,6 +1135,7 @@ impl SoftAccelerator<'_, '_> {
     /// One polygon's rays over `rings`, kept where nearer than what the buffer holds.
     fn scan_patch(
         &mut self,
+        simd: Vectorizer,
         id: u32,
         origin: Vec3,
         rot: &Rotation,
@@ -1031,17 +1153,55 @@ impl SoftAccelerator<'_, '_> {
         if !lp.active {
             return;
         }
-        let table = hemi.rings();
-        for j in lp.ring_span(table, rings) {
+        simd.run(PatchScan {
+            lp: &lp,
+            id,
+            hemi,
+            rings,
+            best_t: &mut *self.scratch.best_t,
+            best_id: &mut *self.scratch.best_id,
+        })
+    }
+}
+
+/// One polygon's rays of a whole-hemisphere buffer, as [`SoftAccelerator::scan_patch`] hands
+/// them to the [`Vectorizer`].
+#[cfg(not(target_os = "none"))]
+struct PatchScan<'a, 'h> {
+    lp: &'a LocalPatch,
+    id: u32,
+    hemi: &'a Hemisphere<'h>,
+    rings: Range<usize>,
+    best_t: &'a mut [f32],
+    best_id: &'a mut [u32],
+}
+
+#[cfg(not(target_os = "none"))]
+impl SimdLoop for PatchScan<'_, '_> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let table = self.hemi.rings();
+        for j in self.lp.ring_span(table, self.rings) {
             let ring = table[j];
-            let Some((start, len)) = lp.ring_interval(&ring, j) else {
+            let Some((start, len)) = self.lp.ring_interval(&ring, j) else {
                 continue;
             };
             let at = ring_offset(&ring, j);
             let n = ring.count as usize;
-            let best_t = &mut self.scratch.best_t[at..at + n];
-            let best_id = &mut self.scratch.best_id[at..at + n];
-            scan_ring(&lp, id, hemi, &ring, j, (start, len), best_t, best_id);
+            let best_t = &mut self.best_t[at..at + n];
+            let best_id = &mut self.best_id[at..at + n];
+            scan_ring(
+                self.lp,
+                self.id,
+                self.hemi,
+                &ring,
+                j,
+                (start, len),
+                best_t,
+                best_id,
+            );
         }
     }
 }

@@ -40,6 +40,7 @@ impl TouchedRow {
 }
 
 impl FormRow for TouchedRow {
+    #[inline]
     fn add(&mut self, column: usize, w: [f32; 3]) {
         let Some(slot) = self.dense.get_mut(column) else {
             return;
