@@ -490,6 +490,9 @@ pub struct ScaleBench {
     /// into this folder.
     #[arg(long, value_name = "DIR")]
     svg_dir: Option<PathBuf>,
+    /// Time each scene's pass 1 (and each Embree mode) this many times and keep the fastest.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=100))]
+    repeat: u32,
 }
 
 impl ScaleBench {
@@ -560,13 +563,15 @@ impl ScaleBench {
                 .map(|i| hemi::shots::sample_count(&scene, i, settings.samples))
                 .sum();
             let rays = hemi_kernel::hemisphere::ray_count(settings.circles);
-            let bar = crate::progress::bar_of_rays(hemispheres as u64, &name, rays.into());
-            let run = scale::measure(&scene, &settings, &|n| bar.inc(n))?;
+            let repeat = self.repeat as usize;
+            let all = (hemispheres * repeat) as u64;
+            let bar = crate::progress::bar_of_rays(all, &name, rays.into());
+            let run = scale::measure_best(&scene, &settings, repeat, &|n| bar.inc(n))?;
             bar.finish_and_clear();
             let embree = match (&self.embree, &rays_file) {
                 (Some(program), Some(file)) => {
                     let threads = rayon::current_num_threads();
-                    Some(scale::run_embree(program, file, threads)?)
+                    Some(scale::run_embree(program, file, threads, repeat)?)
                 }
                 _ => None,
             };
