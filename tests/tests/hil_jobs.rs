@@ -209,11 +209,13 @@ fn assert_same_field(
     want
 }
 
-/// Point queries as `hemi irradiance` makes them (exact direct light with shadow rays,
-/// shadows' edges relit, `near_levels` of near field) through the boards equal the in-process
-/// model's, bit for bit; returns them. Each near-field level below the first is the same
-/// requests again, and the default four cost about 200 s a query on a QEMU board at R = 8
-/// (every evaluation its own hemisphere and shadow rays).
+/// Point queries as `hemi irradiance` makes them (each query's own hemisphere at twice pass
+/// 1's R, exact direct light with shadow rays, shadows' edges relit, `near_levels` of near
+/// field) through the boards equal the in-process model's, bit for bit; returns them. On the
+/// boards the queries' own hemispheres are a second backend on the same farm, so the boards
+/// are configured for 2R and back for every request. Each near-field level below the first is
+/// the same requests again, and the default four cost about 200 s a query on a QEMU board at
+/// R = 8 (every evaluation its own hemisphere and shadow rays).
 fn assert_same_full_irradiance(
     farm: &Farm,
     scene: &Scene,
@@ -226,15 +228,25 @@ fn assert_same_full_irradiance(
         grids: &field.grids,
         direct: field.direct.as_ref(),
     };
-    let gather = |b: &dyn Backend| {
+    let gather = |b: &dyn Backend, own: &dyn Backend| {
         let settings = QuerySettings {
             near_levels,
             ..QuerySettings::default()
         };
-        hemi::irradiance::irradiance(b, light, queries, &settings).unwrap()
+        hemi::irradiance::irradiance_with(b, own, light, queries, &settings).unwrap()
     };
-    let want = gather(&model(scene, settings, config));
-    let got = gather(&boards(farm, scene, settings));
+    let own_settings = Pass1Settings {
+        circles: 2 * settings.circles,
+        ..*settings
+    };
+    let want = gather(
+        &model(scene, settings, config),
+        &model(scene, &own_settings, config),
+    );
+    let got = gather(
+        &boards(farm, scene, settings),
+        &boards(farm, scene, &own_settings),
+    );
     let bits =
         |e: &[[f64; 3]]| -> Vec<[u64; 3]> { e.iter().map(|x| x.map(f64::to_bits)).collect() };
     assert_eq!(bits(&got), bits(&want));

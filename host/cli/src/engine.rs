@@ -163,6 +163,17 @@ impl Engine {
     }
 }
 
+impl Engine {
+    /// The largest hemisphere (circles R) every board of the farm builds; `None` in process
+    /// (or before any board answered).
+    pub fn most_circles(&self) -> Option<u32> {
+        match self {
+            Engine::Boards { farm, .. } => farm.capacities().map(|c| u32::from(c.max_circles)),
+            _ => None,
+        }
+    }
+}
+
 impl Running<'_> {
     /// The library's view.
     pub fn get(&self) -> &dyn Backend {

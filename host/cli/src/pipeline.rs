@@ -69,11 +69,6 @@ impl RunArgs {
         })
     }
 
-    /// Whether the run is on boards.
-    pub fn on_boards(&self) -> bool {
-        matches!(self.engine.check(), Ok(crate::engine::Choice::Boards(_)))
-    }
-
     /// Pass 1 and the solve of a prepared run on `backend` (see [`solve`]).
     pub fn solve(
         &self,

@@ -40,7 +40,8 @@ pub struct IrradianceArgs {
     #[arg(long, default_value_t = hemi::irradiance::near::NEAR, value_name = "CELLS")]
     near_cells: f32,
     /// Circles R of each query's own hemisphere (its near field's evaluations keep pass 1's):
-    /// by default twice pass 1's, at most 1024. Boards cast queries with pass 1's R.
+    /// by default twice pass 1's, at most 1024, and on boards at most what they build (the
+    /// boards are configured for it while they cast the queries' hemispheres).
     #[arg(long, value_name = "R")]
     query_circles: Option<u32>,
 }
@@ -73,10 +74,6 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
         args.near_cells.is_finite() && args.near_cells > 0.0 && args.near_cells <= MOST_CELLS,
         "--near-cells {}: must be a number of grid cells in (0, {MOST_CELLS}]",
         args.near_cells
-    );
-    anyhow::ensure!(
-        !(args.run.on_boards() && args.query_circles.is_some()),
-        "--query-circles: boards cast queries with pass 1's hemisphere (--circles)"
     );
     let field = args.field.settings()?;
     let run = args.run.prepare(|_| Ok(()))?;
@@ -136,8 +133,10 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
 }
 
 /// The backend the queries cast their own hemispheres on, where it differs from pass 1's: the
-/// same engine with `--query-circles` (default twice pass 1's R, within
-/// [`MOST_CIRCLES`]); `None` on boards, or where the R is pass 1's.
+/// same engine with `--query-circles` (default twice pass 1's R, within [`MOST_CIRCLES`] and,
+/// on boards, within the hemispheres they build); `None` where the R is pass 1's. On boards it
+/// is a second backend on the same farm: each switch between the two sends the boards the
+/// other's configuration (the scene stays), so a request of queries costs two.
 fn own_backend<'s>(args: &IrradianceArgs, run: &'s Prepared) -> Result<Option<Running<'s>>> {
     let circles = run.settings.circles;
     let own = match args.query_circles {
@@ -146,11 +145,19 @@ fn own_backend<'s>(args: &IrradianceArgs, run: &'s Prepared) -> Result<Option<Ru
                 (2..=MOST_CIRCLES).contains(&r),
                 "--query-circles {r}: must be between 2 and {MOST_CIRCLES}"
             );
+            if let Some(most) = run.engine.most_circles().filter(|&m| r > m) {
+                anyhow::bail!(
+                    "--query-circles {r}: the boards build hemispheres of at most {most} circles"
+                );
+            }
             r
         }
-        None => (2 * circles).min(MOST_CIRCLES),
+        None => {
+            let most = run.engine.most_circles().unwrap_or(MOST_CIRCLES);
+            (2 * circles).min(MOST_CIRCLES).min(most).max(circles)
+        }
     };
-    if args.run.on_boards() || own == circles {
+    if own == circles {
         return Ok(None);
     }
     let settings = Pass1Settings {
