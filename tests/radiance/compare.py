@@ -410,7 +410,9 @@ def reference(conv, points, opts):
             print(f"- Radiance: {saved['version']}; `{saved['command']}`, {opts.repeats} "
                   f"estimates per point: {saved['wall']:.1f} s wall (read from {opts.reference})")
             return [(m, s) for m, s in saved["stats"]]
-        print(f"- {opts.reference} holds another run: running rtrace again", file=sys.stderr)
+        # a reference of other points or settings is minutes of rtrace: never overwritten
+        sys.exit(f"compare.py: {opts.reference} holds a run of other input (scene, points, "
+                 f"options or repeats); give another --reference file, or delete this one")
     env = find_radiance()
     with tempfile.TemporaryDirectory(prefix="hemi-radiance-") as tmp:
         stats, wall, cmd = run_rtrace(conv.text(), points, opts.repeats, opts.rtrace_args, env,
@@ -496,8 +498,10 @@ def main_options(argv=None):
     ap.add_argument("--write-rad", type=Path, help="also write the converted scene here")
     ap.add_argument("--reference", type=Path,
                     help="Radiance's results as JSON: read from this file when it holds a run "
-                         "of the same scene text, points, options and repeats, else computed and "
-                         "written there (so hemi's settings can be iterated against one run)")
+                         "of the same scene text, points, options and repeats, computed and "
+                         "written there when it does not exist (so hemi's settings can be "
+                         "iterated against one run); a file of another run is an error, never "
+                         "overwritten")
     ap.add_argument("--no-offset", dest="offset", action="store_false",
                     help="do not move points back by rtrace -I's 1e-4 look-ahead")
     ap.add_argument("--no-emitter-reflect", dest="emitter_reflect", action="store_false",
