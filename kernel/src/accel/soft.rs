@@ -272,8 +272,9 @@ impl LocalPatch {
         // fast_acos errs by at most 6.7e-5 rad; the margin keeps the interval conservative
         let half = fast_acos(q.min(1.0)) + 2e-4;
         // rays per radian, multiplied where dividing by the spacing cost two divisions a ring:
-        // the rounding moves an end by ~1e-5 of a spacing, far inside the margin above, and a
-        // ray the interval leaves out is outside the (widened) cone, so it cannot hit the patch
+        // the rounding moves an end by a few ulps of the ray index (under 1e-5 rad), far inside
+        // the margin above, and a ray the interval leaves out is outside the widened cone, so
+        // it cannot hit the patch
         let per_radian = n as f32 * (1.0 / core::f32::consts::TAU);
         let lo = ceil_to_int((self.axis_phi - half) * per_radian - 0.5);
         let hi = floor_to_int((self.axis_phi + half) * per_radian - 0.5);
