@@ -274,11 +274,11 @@ fn run() {
             AccelKind::Model,
             "QEMU builds run the HDL model"
         );
-        // the QEMU model build has RAM for hemispheres up to R = 128 (kernel `large-engine`)
+        // the QEMU model build has RAM for hemispheres up to R = 256 (kernel `large-engine`)
         assert_eq!(
             hello.caps,
             Capacities {
-                max_circles: 128,
+                max_circles: 256,
                 ..ENGINE_CAPACITIES
             }
         );

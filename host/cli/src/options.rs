@@ -632,7 +632,7 @@ pub struct FieldArgs {
     #[arg(long, default_value_t = 0.01, value_name = "FRACTION")]
     pub refine_tolerance: f64,
     /// The most elements (sample points, all patches together) refinement may reach [default:
-    /// twice pass 1's, so refinement at most doubles the field's cost].
+    /// 11/4 of pass 1's].
     #[arg(long, value_name = "N")]
     pub max_elements: Option<usize>,
 }

@@ -249,20 +249,20 @@ pub fn solve(
     })
 }
 
-/// The elements refinement may reach: `--max-elements` when given, else twice pass 1's; in
+/// The elements refinement may reach: `--max-elements` when given, else [`default_budget`]; in
 /// both cases no more than the rows `limit` bytes (`--matrix-mib`) leave room for at pass 1's
 /// mean row size (said on stderr when that is the bound).
 fn element_budget(scene: &Scene, ff: &FormFactors, field: &FieldSettings, limit: u64) -> usize {
     let now = ff.elements.len();
     let asked = field.refine.max_elements;
     if field.refine.rounds == 0 || now == 0 {
-        return asked.unwrap_or(2 * now);
+        return asked.unwrap_or(default_budget(now));
     }
     let rows = hemi::footprint::Footprint::of(scene).rows(&ff.elements);
     let held = rows + ff.matrix_bytes() as u64;
     let each = rows.div_ceil(now as u64).max(1);
     let room = now.saturating_add((limit.saturating_sub(held) / each) as usize);
-    let wanted = asked.unwrap_or(2 * now);
+    let wanted = asked.unwrap_or(default_budget(now));
     if wanted <= now {
         eprintln!(
             "field refinement: none, --max-elements {wanted} is not above pass 1's {now} elements"
@@ -271,7 +271,7 @@ fn element_budget(scene: &Scene, ff: &FormFactors, field: &FieldSettings, limit:
     if wanted > room {
         let what = match asked {
             Some(m) => format!("{m} (--max-elements)"),
-            None => format!("{wanted} (twice pass 1's {now})"),
+            None => format!("{wanted} (11/4 of pass 1's {now})"),
         };
         eprintln!(
             "field refinement: at most {room} elements instead of {what}: pass 1 holds {:.1} MiB of \
@@ -282,6 +282,15 @@ fn element_budget(scene: &Scene, ff: &FormFactors, field: &FieldSettings, limit:
         );
     }
     wanted.min(room)
+}
+
+/// Elements refinement may reach by default: 11/4 of pass 1's `now`. Twice pass 1's ran out
+/// before the floor in front of the Cornell box's short block was split finely enough (its
+/// last round left 13 cells over the tolerance), which read +1.1 to +2.1 % too bright there
+/// against Radiance; 11/4 keeps the Cornell field within 10 s on a 2-core machine
+/// (docs/ACCURACY.md, "Four times the query's circles").
+fn default_budget(now: usize) -> usize {
+    now.saturating_mul(11) / 4
 }
 
 /// Bytes in a MiB, for messages.
@@ -307,7 +316,10 @@ fn field_grids(
     let total = match field.refine.rounds {
         0 => now,
         _ => {
-            let most = field.refine.max_elements.map_or(2 * now, |m| m as u64);
+            let most = field
+                .refine
+                .max_elements
+                .map_or(default_budget(now as usize) as u64, |m| m as u64);
             now + 2 * most.max(now)
         }
     };

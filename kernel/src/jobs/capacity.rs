@@ -12,18 +12,19 @@ pub const ENGINE_MAX_PATCHES: usize = 48;
 /// Largest hemisphere (circles R) a board's engine builds. R = 64 (the host's default) would need
 /// 9 KiB more for the quarter table, which a 64 KiB part cannot spare next to the stack the
 /// Bezier subdivision needs (docs/PERFORMANCE.md, firmware RAM); builds with RAM to spare
-/// (feature `large-engine`: QEMU's model builds) take R ≤ 128.
+/// (feature `large-engine`: QEMU's model builds) take R ≤ 256, so that a query's own
+/// hemisphere at four times the host's default R fits (325 KiB of quarter table).
 #[cfg(not(feature = "large-engine"))]
 pub const ENGINE_MAX_CIRCLES: usize = 48;
 /// Largest hemisphere (circles R) a board's engine builds (feature `large-engine`).
 #[cfg(feature = "large-engine")]
-pub const ENGINE_MAX_CIRCLES: usize = 128;
+pub const ENGINE_MAX_CIRCLES: usize = 256;
 /// Quarter-table entries of the largest hemisphere: `hemisphere::quarter_len(48)`.
 #[cfg(not(feature = "large-engine"))]
 pub const ENGINE_MAX_QUARTER: usize = 1442;
-/// Quarter-table entries of the largest hemisphere: `hemisphere::quarter_len(128)`.
+/// Quarter-table entries of the largest hemisphere: `hemisphere::quarter_len(256)`.
 #[cfg(feature = "large-engine")]
-pub const ENGINE_MAX_QUARTER: usize = 10372;
+pub const ENGINE_MAX_QUARTER: usize = 41599;
 /// Rays on the largest ring of the largest hemisphere (4R): the soft engine's per-ring scratch.
 pub const ENGINE_MAX_RING: usize = 4 * ENGINE_MAX_CIRCLES;
 /// Jobs a host may keep in flight: their requests (≤ 16 bytes each) sit in the board's receive
