@@ -184,7 +184,7 @@ fn refinement_keeps_within_the_memory_pass_1_left() {
     assert_eq!(out.split_whitespace().count(), 3, "{out}");
     assert!(err.contains("field refinement: at most"), "{err}");
     assert!(
-        err.contains("elements instead of 12928 (twice pass 1's 6464): pass 1 holds"),
+        err.contains("elements instead of 17776 (11/4 of pass 1's 6464): pass 1 holds"),
         "{err}"
     );
     assert!(err.contains("(--matrix-mib 1 raises it)"), "{err}");
