@@ -8,6 +8,7 @@ use crate::progress::{bar, bar_of_rays};
 use anyhow::Result;
 use clap::Args;
 use hemi::adaptive::{AdaptiveSettings, PatchReport, Progress};
+use hemi::field::refine::default_budget;
 use hemi::field::{FieldSettings, Reflected, Sweeps};
 use hemi::on_demand::{grids_streaming, solve_streaming, RowShooter};
 use hemi::pass1::FormFactors;
@@ -249,7 +250,8 @@ pub fn solve(
     })
 }
 
-/// The elements refinement may reach: `--max-elements` when given, else [`default_budget`]; in
+/// The elements refinement may reach: `--max-elements` when given, else the library's
+/// [`default_budget`]; in
 /// both cases no more than the rows `limit` bytes (`--matrix-mib`) leave room for at pass 1's
 /// mean row size (said on stderr when that is the bound).
 fn element_budget(scene: &Scene, ff: &FormFactors, field: &FieldSettings, limit: u64) -> usize {
@@ -282,15 +284,6 @@ fn element_budget(scene: &Scene, ff: &FormFactors, field: &FieldSettings, limit:
         );
     }
     wanted.min(room)
-}
-
-/// Elements refinement may reach by default: 11/4 of pass 1's `now`. Twice pass 1's ran out
-/// before the floor in front of the Cornell box's short block was split finely enough (its
-/// last round left 13 cells over the tolerance), which read +1.1 to +2.1 % too bright there
-/// against Radiance; 11/4 keeps the Cornell field within 10 s on a 2-core machine
-/// (docs/ACCURACY.md, "Four times the query's circles").
-fn default_budget(now: usize) -> usize {
-    now.saturating_mul(11) / 4
 }
 
 /// Bytes in a MiB, for messages.

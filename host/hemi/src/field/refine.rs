@@ -43,12 +43,22 @@ pub struct RefineSettings {
     pub tolerance: f64,
     /// The least light an error is relative to, as a fraction of the patch's mean.
     pub floor: f64,
-    /// The most elements the scene may reach (all patches together); `None`: twice pass 1's,
-    /// so that refinement at most doubles the cost of the field, whatever a ray costs in the
-    /// scene (a Bezier patch's hemisphere costs tens of a polygon scene's).
+    /// The most elements the scene may reach (all patches together); `None`:
+    /// [`default_budget`] of pass 1's, so that refinement multiplies the cost of the field by a
+    /// bounded factor, whatever a ray costs in the scene (a Bezier patch's hemisphere costs
+    /// tens of a polygon scene's).
     pub max_elements: Option<usize>,
     /// The most cells per side one patch may reach.
     pub max_side: u32,
+}
+
+/// Elements refinement may reach when not told: 11/4 of pass 1's `elements`. Twice pass 1's
+/// ran out before the floor in front of the Cornell box's short block was split finely enough
+/// (its last round left 13 cells over the tolerance), which read +1.1 to +2.1 % too bright
+/// there against Radiance; 11/4 keeps the Cornell field within 10 s on a 2-core machine
+/// (docs/ACCURACY.md, "Four times the query's circles").
+pub fn default_budget(elements: usize) -> usize {
+    elements.saturating_mul(11) / 4
 }
 
 impl Default for RefineSettings {
@@ -109,7 +119,9 @@ pub fn refine_field(
     progress: &Progress<'_>,
 ) -> anyhow::Result<Refined> {
     let scene = backend.scene();
-    let budget = refine.max_elements.unwrap_or(2 * ff.elements.len());
+    let budget = refine
+        .max_elements
+        .unwrap_or(default_budget(ff.elements.len()));
     let emitters =
         (settings.direct == Direct::Exact && direct::applies(backend)).then(|| Emitters::of(scene));
     let mut paths = match &emitters {
