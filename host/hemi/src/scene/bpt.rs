@@ -154,14 +154,12 @@ pub fn load_bpt(
     let (scale, translate) = cx.placement(&b.scale, &b.translate, "bpt")?;
     let mut skipped = Vec::new();
     for (i, cp) in list.iter().enumerate() {
-        let name = format!("{}/{i}", b.name.get_ref());
-        if names.insert(name.clone(), ()).is_some() {
-            return Err(cx.err(
-                b.name.span(),
-                "bpt.name",
-                format!("patch `{name}` defined twice"),
-            ));
-        }
+        let name = cx.claim_piece(
+            b.name.span(),
+            "bpt.name",
+            names,
+            format!("{}/{i}", b.name.get_ref()),
+        )?;
         match bezier_patch(name, material, cp, scale, translate, b.flip) {
             Ok(p) => patches.push(p),
             Err(Reject::Range(e)) => return Err(fail(format!("patch {i}: {e}"))),

@@ -52,6 +52,21 @@ impl Ctx<'_> {
             None => Ok(()),
         }
     }
+    /// Claims `name`, one of the patches an entry makes of itself (`<entry>/<index>`: a
+    /// `[[bpt]]`'s, a warped quad's halves), for the entry at `span`; a name taken already is
+    /// refused, not shadowed.
+    pub(super) fn claim_piece(
+        &self,
+        span: Range<usize>,
+        key: &str,
+        names: &mut HashMap<String, ()>,
+        name: String,
+    ) -> Result<String> {
+        if names.insert(name.clone(), ()).is_some() {
+            return Err(self.err(span, key, format!("patch `{name}` defined twice")));
+        }
+        Ok(name)
+    }
     pub(super) fn line(&self, span: Range<usize>) -> usize {
         self.src[..span.start.min(self.src.len())]
             .matches('\n')

@@ -426,10 +426,7 @@ fn polygon(
             .into_iter()
             .enumerate()
             .map(|(i, t)| {
-                let piece = format!("{name}/{i}");
-                if names.insert(piece.clone(), ()).is_some() {
-                    return Err(cx.err(at.clone(), &key, format!("patch `{piece}` defined twice")));
-                }
+                let piece = cx.claim_piece(at.clone(), &key, names, format!("{name}/{i}"))?;
                 let polygon = planar(cx, &at, &key, &piece, Polygon::triangle(t))?;
                 Ok(opaque(piece, material, polygon))
             })
