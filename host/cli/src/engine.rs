@@ -161,9 +161,7 @@ impl Engine {
             }
         })
     }
-}
 
-impl Engine {
     /// The largest hemisphere (circles R) every board of the farm builds; `None` in process
     /// (or before any board answered).
     pub fn most_circles(&self) -> Option<u32> {
