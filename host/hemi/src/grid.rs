@@ -1,6 +1,8 @@
 //! The radiosity over one patch as a function of (u, v): the vertex grid of paper §4.3, built
 //! from the patch's K×K element values and interpolated bilinearly.
 
+use crate::contact::{crosses, Cut};
+
 /// Radiosity over one patch as the grid of §4.3: K×K sample points sit at the centres of the
 /// cells of a (K+1)×(K+1) vertex grid; vertex values are the mean of the (up to four) samples
 /// around them, extended to the patch boundary (the samples padded by a cell whose value
@@ -11,11 +13,86 @@
 pub struct Grid {
     k: usize,
     vertices: Vec<[f64; 3]>,
+    /// Lines across the patch not to blend across ([`crate::contact`]).
+    #[serde(default)]
+    cuts: Cuts,
+}
+
+/// The lines across a patch that its grid does not blend across, and the cells they may
+/// touch (only there is a blend checked against them).
+#[derive(Clone, Debug, Default, serde::Serialize, serde::Deserialize)]
+pub struct Cuts {
+    lines: Vec<Cut>,
+    /// Per cell (v-major), whether a line's box touches it; empty when there are no lines.
+    cells: Vec<bool>,
+}
+
+impl Cuts {
+    /// `lines` over a k×k grid.
+    fn new(k: usize, lines: &[Cut]) -> Cuts {
+        if lines.is_empty() {
+            return Cuts::default();
+        }
+        let h = 1.0 / k as f64;
+        let cells = (0..k * k)
+            .map(|q| {
+                let (a, b) = ((q % k) as f64 * h, (q / k) as f64 * h);
+                lines.iter().any(|[p, r]| {
+                    p[0].min(r[0]) <= a + h
+                        && p[0].max(r[0]) >= a
+                        && p[1].min(r[1]) <= b + h
+                        && p[1].max(r[1]) >= b
+                })
+            })
+            .collect();
+        Cuts {
+            lines: lines.to_vec(),
+            cells,
+        }
+    }
+
+    /// Whether the path from `a` to `b` crosses a line.
+    fn blocks(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+        self.lines.iter().any(|c| crosses(a, b, c))
+    }
+
+    /// The four vertices and weights that blend (u, v) on a k×k grid: [`corners`], but in a
+    /// cell a line may touch a vertex across a line from (u, v) gets no weight, and the others
+    /// share its weight in proportion (all four keep theirs if every one is across).
+    pub fn blend(&self, k: usize, u: f32, v: f32) -> [((usize, usize), f64); 4] {
+        let mut c = corners(k, u, v);
+        let ((a, b), _) = c[0];
+        if !self.cells.get(b * k + a).copied().unwrap_or(false) {
+            return c;
+        }
+        let at = [f64::from(u).clamp(0.0, 1.0), f64::from(v).clamp(0.0, 1.0)];
+        let seen =
+            c.map(|((i, j), _)| !self.blocks(at, [i as f64 / k as f64, j as f64 / k as f64]));
+        let kept: f64 = c
+            .iter()
+            .zip(seen)
+            .filter(|(_, s)| *s)
+            .map(|(c, _)| c.1)
+            .sum();
+        if kept > 0.0 && seen.contains(&false) {
+            for (c, s) in c.iter_mut().zip(seen) {
+                c.1 = if s { c.1 / kept } else { 0.0 };
+            }
+        }
+        c
+    }
 }
 
 impl Grid {
     /// Builds the vertex grid from K×K element values (v-major: index b·K + a).
     pub fn from_samples(k: usize, samples: &[[f64; 3]]) -> Grid {
+        Grid::with_cuts(k, samples, &[])
+    }
+
+    /// [`Grid::from_samples`] on a patch crossed by `lines` ([`crate::contact`]): a vertex is
+    /// the mean of the samples around it on its own side of them, and a point blends the
+    /// vertices on its side ([`Cuts::blend`]).
+    pub fn with_cuts(k: usize, samples: &[[f64; 3]], lines: &[Cut]) -> Grid {
         assert_eq!(samples.len(), k * k, "K×K samples");
         // Pad the samples by one cell on every side with linear extrapolation (one cell is
         // enough: a vertex only touches its four neighbouring cells).
@@ -54,21 +131,43 @@ impl Grid {
                 pad[(k + 1 - k3) * w + a],
             );
         }
+        let cuts = Cuts::new(k, lines);
         let vertices = (0..=k)
             .flat_map(|j| (0..=k).map(move |i| (i, j)))
             .map(|(i, j)| {
                 // vertex (i, j) is the corner shared by padded cells (i|i+1, j|j+1)
+                let around = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)];
+                let vertex = [i as f64 / k as f64, j as f64 / k as f64];
+                let centre =
+                    |a: usize, b: usize| [(a as f64 - 0.5) / k as f64, (b as f64 - 0.5) / k as f64];
+                let near: Vec<_> = around
+                    .into_iter()
+                    .filter(|&(a, b)| !cuts.blocks(centre(a, b), vertex))
+                    .collect();
                 let mut v = [0.0; 3];
-                for (a, b) in [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)] {
-                    for c in 0..3 {
-                        v[c] += 0.25 * pad[b * w + a][c];
+                if near.len() == 4 || near.is_empty() {
+                    for (a, b) in around {
+                        for c in 0..3 {
+                            v[c] += 0.25 * pad[b * w + a][c];
+                        }
+                    }
+                } else {
+                    for &(a, b) in &near {
+                        for c in 0..3 {
+                            v[c] += pad[b * w + a][c] / near.len() as f64;
+                        }
                     }
                 }
                 // extrapolation must not make radiosity negative
                 v.map(|x| x.max(0.0))
             })
             .collect();
-        Grid { k, vertices }
+        Grid { k, vertices, cuts }
+    }
+
+    /// The lines this grid does not blend across.
+    pub fn cuts(&self) -> &Cuts {
+        &self.cuts
     }
 
     /// K: the grid has K×K cells, one per sample point.
@@ -89,6 +188,16 @@ impl Grid {
     /// B at (u, v).
     pub fn at(&self, u: f32, v: f32) -> [f64; 3] {
         let k = self.k;
+        if !self.cuts.lines.is_empty() {
+            let mut out = [0.0; 3];
+            for ((i, j), w) in self.cuts.blend(k, u, v) {
+                let b = self.vertex(i, j);
+                for c in 0..3 {
+                    out[c] += w * b[c];
+                }
+            }
+            return out;
+        }
         let (a, fa) = locate(k, u);
         let (b, fb) = locate(k, v);
         let at = |i: usize, j: usize| self.vertices[j * (k + 1) + i];
@@ -172,6 +281,41 @@ pub fn grid_of(grids: &[Grid], side: usize) -> anyhow::Result<&Grid> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A wall standing across the patch at u = 0.52 (between samples): dark before it, bright
+    /// behind. Blended, the dark side reads light from behind the wall up to a cell away;
+    /// cut, each side reads only its own samples, and the blend's weights (what the transport
+    /// records) give the same values as `at`.
+    #[test]
+    fn a_cut_keeps_each_side_to_its_own_light() {
+        let k = 10;
+        let samples: Vec<[f64; 3]> = (0..k * k)
+            .map(|q| if (q % k) < 5 { [0.1; 3] } else { [2.0; 3] })
+            .collect();
+        let cut = [[0.52, 0.2], [0.52, 0.8]];
+        let blended = Grid::from_samples(k, &samples);
+        let cut_grid = Grid::with_cuts(k, &samples, &[cut]);
+        let dark_side = (0.51, 0.5);
+        assert!(
+            blended.at(dark_side.0, dark_side.1)[0] > 0.5,
+            "the leak this prevents"
+        );
+        let dark = cut_grid.at(dark_side.0, dark_side.1)[0];
+        assert!((dark - 0.1).abs() < 1e-12, "{dark}");
+        let bright = cut_grid.at(0.53, 0.5)[0];
+        assert!((bright - 2.0).abs() < 1e-12, "{bright}");
+        // beyond the cut's ends the grid blends as before
+        assert_eq!(cut_grid.at(0.51, 0.05), blended.at(0.51, 0.05));
+        for (u, v) in [(0.51, 0.5), (0.53, 0.45), (0.31, 0.77), (0.52, 0.9)] {
+            let by_weights: f64 = cut_grid
+                .cuts()
+                .blend(k, u, v)
+                .iter()
+                .map(|((i, j), w)| w * cut_grid.vertex(*i, *j)[0])
+                .sum();
+            assert!((by_weights - cut_grid.at(u, v)[0]).abs() < 1e-12);
+        }
+    }
 
     #[test]
     fn uniform_samples_give_a_uniform_grid() {

@@ -11,6 +11,7 @@
 pub mod adaptive;
 pub mod analytic;
 pub mod backend;
+pub mod contact;
 pub mod direct;
 pub mod export;
 pub mod field;

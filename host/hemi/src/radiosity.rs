@@ -1,6 +1,7 @@
 //! From patch radiosities back to the elements (4.2), gathered into the vertex grids of paper
 //! §4.3 ([`Grid`]) that pass 2 and the irradiance queries interpolate.
 
+use crate::contact::Cut;
 pub use crate::grid::{grid_of, Grid};
 use crate::pass1::FormFactors;
 use crate::scene::{Material, Scene};
@@ -57,10 +58,15 @@ pub fn patch_gather(row: &[(u32, [f32; 3])], radiosity: &[[f64; 3]], skip: &[boo
 /// 4×4 on a Bezier patch, or the last level of adaptive sampling); a pure specular patch has
 /// no elements and no diffuse radiosity but its emission (a constant grid).
 pub fn patch_grid(scene: &Scene, i: usize, values: &[[f64; 3]]) -> Grid {
+    patch_grid_cut(scene, i, values, &[])
+}
+
+/// [`patch_grid`] on a patch crossed by `cuts` (where other surfaces stand on it).
+fn patch_grid_cut(scene: &Scene, i: usize, values: &[[f64; 3]], cuts: &[Cut]) -> Grid {
     if values.is_empty() {
         Grid::from_samples(1, &[scene.material_of(i).emission])
     } else {
-        Grid::from_samples((values.len() as f64).sqrt().round() as usize, values)
+        Grid::with_cuts((values.len() as f64).sqrt().round() as usize, values, cuts)
     }
 }
 
@@ -72,6 +78,8 @@ pub struct ElementIndex {
     first: Vec<usize>,
     /// Elements per patch.
     count: Vec<usize>,
+    /// The lines across each patch its grid does not blend across ([`crate::contact`]).
+    cuts: Vec<Vec<Cut>>,
 }
 
 impl ElementIndex {
@@ -83,7 +91,11 @@ impl ElementIndex {
             first[e.patch] = first[e.patch].min(k);
             count[e.patch] += 1;
         }
-        ElementIndex { first, count }
+        ElementIndex {
+            first,
+            count,
+            cuts: crate::contact::cuts(scene),
+        }
     }
 
     /// The elements of patch `i`, as a range of the list.
@@ -127,7 +139,7 @@ impl ElementIndex {
     /// The grid of every scene patch from element values in the list's order.
     pub fn grids(&self, scene: &Scene, values: &[[f64; 3]]) -> Vec<Grid> {
         (0..scene.patches.len())
-            .map(|i| patch_grid(scene, i, &values[self.range(i)]))
+            .map(|i| patch_grid_cut(scene, i, &values[self.range(i)], &self.cuts[i]))
             .collect()
     }
 }

@@ -3,7 +3,7 @@
 //!
 //! A gather sweep of the element field ([`crate::field`]) sums, over the rays of an element's
 //! hemisphere, `w_k · B_side(u_k, v_k)`, and `B(u, v)` is bilinear in the four vertices around
-//! the hit ([`crate::grid::corners`]). So the sum is linear in the vertex values,
+//! the hit ([`crate::grid::Cuts::blend`]). So the sum is linear in the vertex values,
 //!
 //! ```text
 //!     H_e = Σ_k w_k Σ_corners c_k,v B_v = Σ_v T_ev B_v,    T_ev = Σ_k w_k c_k,v,
@@ -16,7 +16,7 @@
 //! times the vertices each sees; [`Layout`] numbers the vertices and the field falls back to
 //! re-casting when T would not fit its budget.
 
-use crate::grid::{corners, Grid};
+use crate::grid::{Cuts, Grid};
 
 /// Every vertex of every patch grid, numbered: patch `side`'s (K+1)² vertices from
 /// `first[side]`, v-major as [`Grid::vertex`].
@@ -24,6 +24,8 @@ use crate::grid::{corners, Grid};
 pub struct Layout {
     first: Vec<u32>,
     k: Vec<usize>,
+    /// Each grid's lines not to blend across.
+    cuts: Vec<Cuts>,
     len: usize,
 }
 
@@ -32,6 +34,7 @@ impl Layout {
     /// 32-bit indices number.
     pub fn of(grids: &[Grid]) -> anyhow::Result<Layout> {
         let (mut first, mut k, mut len) = (Vec::new(), Vec::new(), 0usize);
+        let cuts = grids.iter().map(|g| g.cuts().clone()).collect();
         for g in grids {
             first.push(u32::try_from(len)?);
             k.push(g.k());
@@ -41,7 +44,12 @@ impl Layout {
             u32::try_from(len).is_ok(),
             "{len} grid vertices: more than the element transport numbers"
         );
-        Ok(Layout { first, k, len })
+        Ok(Layout {
+            first,
+            k,
+            cuts,
+            len,
+        })
     }
 
     /// Vertices in all.
@@ -66,7 +74,7 @@ impl Layout {
         let (Some(&first), Some(&k)) = (self.first.get(side), self.k.get(side)) else {
             anyhow::bail!("a backend reported a hit on unknown patch {side}");
         };
-        for ((i, j), c) in corners(k, u, v) {
+        for ((i, j), c) in self.cuts[side].blend(k, u, v) {
             let vertex = first + (j * (k + 1) + i) as u32;
             row.add(vertex, w, c);
         }
