@@ -308,11 +308,11 @@ fn merge_latency(lanes: u32) -> u64 {
 }
 
 /// Latency of the set-up pipe after its last patch: the edge normals' products, and with
-/// culling the corners' dot products with the axes, the vectoring CORDIC and the sector
-/// compare.
+/// culling the corners' dot products with the axes, the azimuth's vectoring CORDIC and the
+/// polar one chained after it (it takes the azimuth's magnitude), and the sector compare.
 fn setup_latency(culling: bool) -> u64 {
     if culling {
-        crate::cordic::CordicConfig::DEFAULT.latency() as u64 + 4
+        2 * cull::CULL_CORDIC.latency() as u64 + 4
     } else {
         2
     }
@@ -794,7 +794,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.local[i] = lp;
         let reach = match axes {
             Some(ax) => {
-                let r = self.cull.reach(&a[..sides], &lp.e[..sides], ax);
+                let r = self.cull.reach(&a[..sides], &lp.ce[..sides], ax);
                 let st = &mut self.stats;
                 st.culled_patches += 1;
                 let bands = (r.band_hi - r.band_lo) as u64 + 1;
