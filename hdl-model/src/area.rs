@@ -215,8 +215,9 @@ pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 /// The compact datapath: per lane the coarse edge test (twelve 18 × 18 products, one DSP tile
 /// each, and the bound's adders and compares); per ray group [`PLANE_UNITS`] plane units
 /// (n · d, divider, running minimum) fed with the pairs its lanes find inside; one shared
-/// exact edge unit (an edge a clock: three 32 × 62 products, and the six 34 × 34 products
-/// that recompute its normal from the corners); one set-up unit per bank (the wide datapath's); local memory, candidate bitmaps and
+/// exact edge unit (one 34 × 62 multiplier, a product a clock: the six products that recompute
+/// an edge's normal from the corners, then the three of its dot product with d); one set-up
+/// unit per bank (the wide datapath's); local memory, candidate bitmaps and
 /// exact words double-buffered, each lane's words for its bank (so once per ray group).
 fn compact_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     let mut p = Proxy::default();
@@ -256,22 +257,20 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     plane.reg(units * 80);
     plane.reg(l * (16 + 3 * 32 + H_BITS + 8 + 1));
     plane.add(l, 8);
-    // the shared exact edge unit: an edge a clock, its normal recomputed from the corners
-    // (a = v − O, the cross product, the origin-wide shift and the side's sign), its queue of
-    // undecided pairs
+    // the shared exact edge unit: one 34 × 62 multiplier, a product a clock (an edge's normal
+    // recomputed from the corners, a = v − O, then its dot product with d), the cross
+    // product's subtraction, the origin-wide shift (six levels of 2:1 multiplexers on 68 bits,
+    // a LUT4 a bit a level, counted as adders), the side's sign (a negation) and the dot
+    // product's accumulator; its queue of undecided pairs, the corners and the normal
     let mut exact = Proxy::default();
-    exact.mul(3, 32, 62);
-    exact.add(3, 94);
-    exact.reg(3 * 94 + 32 * 3);
-    exact.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4);
-    exact.mul(6, 34, 34);
+    exact.mul(1, 34, 62);
     exact.add(3, 34);
-    exact.add(3, 68);
-    // the shift: six levels of 2:1 multiplexers a component (a LUT4 a bit a level, counted as
-    // adders); the sign: a negation
-    exact.add(3 * 6, 68);
-    exact.add(3, 62);
-    exact.reg(4 * 3 * 34 + 3 * 68);
+    exact.add(1, 68);
+    exact.add(6, 68);
+    exact.add(1, 62);
+    exact.add(1, 98);
+    exact.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4);
+    exact.reg(4 * 3 * 34 + 3 * 68 + 2 * 68 + 98);
     let mut setup = Proxy::default();
     setup_units(&mut setup, params, b);
     if params.sectors > 0 {

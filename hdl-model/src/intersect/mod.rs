@@ -252,11 +252,14 @@ fn coarse_inside(d: &[i32; 3], lp: &LocalPatch) -> Option<bool> {
 /// Clocks the shared exact edge unit takes for one pair of a patch of `sides` corners. The
 /// exact edge normals are not stored (they would take as much block RAM as the lanes' words):
 /// the unit reads the slot's corners from patch memory, a corner a clock as the set-up units
-/// do, and then takes an edge a clock, its normal a_i × a_{i+1} recomputed exactly as the
-/// set-up pass forms it (six 34 × 34 products, the origin-wide shift, the side's sign) and
-/// dotted with d (three 32 × 62 products): the same integers as the model's stored `e`.
+/// do, and recomputes each edge's normal a_i × a_{i+1} exactly as the set-up pass forms it (the
+/// origin-wide shift, the side's sign) and dots it with d, on one 34 × 62 multiplier a product
+/// a clock (since issue 19's fourth round; nine multipliers, an edge a clock, before): six
+/// products of the cross product and three of the dot product, nine clocks an edge, the corner
+/// reads overlapping them but for the first edge's two. The same integers as the model's
+/// stored `e`. The unit is busy for about 0.02 clocks a ray (docs/PERFORMANCE.md).
 fn exact_pair_clocks(sides: u8) -> u64 {
-    2 * sides as u64
+    9 * sides as u64 + 2
 }
 
 /// Stage 2: t = h / (n · d) as Q8.24, or "no hit" (t ≤ 0, parallel, out of range).
