@@ -195,6 +195,17 @@ fn gain_digits(cfg: CordicConfig) -> u32 {
 /// container is only that).
 const H_BITS: u64 = 64;
 
+/// Bits of the plane divider's subtractors, divisor and partial remainders: the divisor is n · d
+/// with |n · d| ≤ |n||d| < 1.01 · 2^60 (two unit vectors in Q2.30), every remainder is below it,
+/// so 64 bits hold them (the model's 128-bit containers are only that; counted as 98 before
+/// issue 19's fourth round).
+const DIV_BITS: u64 = 64;
+
+/// Register bits of a divider stage: remainder and divisor ([`DIV_BITS`] each), the dividend's
+/// bits still to come down (h · 2^30 for a 32-bit t) and the quotient's bits so far, which
+/// share 32 bits (one shifts in as the other shifts out), and the pair's 16-bit tag.
+const DIV_STAGE_BITS: u64 = 2 * DIV_BITS + 32 + 16;
+
 /// Width of a lane's local-memory word: four edge normals (3 × 62 bits), the normal (3 × 32),
 /// h and the flags.
 const LOCAL_WORD: u64 = 4 * 3 * 62 + 3 * 32 + H_BITS + 4;
@@ -249,8 +260,8 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     let mut plane = Proxy::default();
     plane.mul(3 * units as u32, 32, 32);
     plane.add(units * 2, 94);
-    plane.add(units * crate::intersect::DIV_LATENCY as u64, 98);
-    plane.reg(units * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
+    plane.add(units * crate::intersect::DIV_LATENCY as u64, DIV_BITS);
+    plane.reg(units * crate::intersect::DIV_LATENCY as u64 * DIV_STAGE_BITS);
     plane.add(units, 64);
     plane.reg(units * (94 + 64 + 64));
     plane.add(units, 64 + 16);
@@ -402,8 +413,8 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
         p.mul(3, 32, 32);
     }
     p.add(l * (4 * 2 + 2), 94);
-    p.add(l * crate::intersect::DIV_LATENCY as u64, 98);
-    p.reg(l * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
+    p.add(l * crate::intersect::DIV_LATENCY as u64, DIV_BITS);
+    p.reg(l * crate::intersect::DIV_LATENCY as u64 * DIV_STAGE_BITS);
     p.add(l, 64);
     p.reg(l * (4 * 94 + 64 + 64));
     setup_units(&mut p, params, l);
