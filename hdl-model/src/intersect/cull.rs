@@ -26,8 +26,8 @@
 //!    the poles): along an edge from p to q of length ℓ ≤ |θ_p − θ_q| + |φ_q − φ_p|, θ stays
 //!    above (θ_p + θ_q − ℓ)/2, so above min − |Δφ|/2 of its ends (an arc bulges towards the
 //!    pole); with the pole inside, from 0. Above, θ is at most the corners' largest (since
-//!    issue 19's fourth round; before, max + |Δφ|/2): an arc between directions above the
-//!    horizon does not dip below the larger θ of its ends ([`polar_range`]). The range, widened
+//!    issue 19's fourth round; before, max + |Δφ|/2): along an arc between directions above the
+//!    horizon θ stays at or below the larger θ of its ends (`polar_range`). The range, widened
 //!    by [`MARGIN`], gives the patch's bands among [`BANDS`] equal bands of θ over [0, π/2].
 //!
 //! A lane is handed the patches whose sector range holds the ray's sector and whose band range
