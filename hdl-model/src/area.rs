@@ -210,10 +210,12 @@ const DIV_STAGE_BITS: u64 = 2 * DIV_BITS + 32 + 16;
 /// h and the flags.
 const LOCAL_WORD: u64 = 4 * 3 * 62 + 3 * 32 + H_BITS + 4;
 
-/// Width of a compact lane's local-memory word: four coarse edge normals (3 × 18 bits) with
-/// their Σ|e'_c| (20 bits), the normal (3 × 32) and h that the lane hands its group's plane
-/// unit with a pair found inside, and the flags.
-const COARSE_WORD: u64 = 4 * (3 * 18 + 20) + 3 * 32 + H_BITS + 4;
+/// Width of a compact lane's local-memory word: four coarse edge normals (3 × 18 bits), h that
+/// the lane hands its group's plane unit with a pair found inside, and the flags. Since issue
+/// 19's fourth round the lane forms each edge's Σ|e'_c| itself and the plane unit reads n from
+/// its group's normal memory ([`crate::intersect::NORMAL_READ`]): before, the word held both
+/// (4 × 20 + 3 × 32 bits more, 460 instead of 284).
+const COARSE_WORD: u64 = 4 * 3 * 18 + H_BITS + 4;
 
 /// The ray datapath of `params` at CORDIC `cfg` (the part the build parameters change).
 pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
@@ -247,15 +249,18 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
         params.banks() as u64,
     );
     // coarse test: A (two adds of 38 bits), A against ±B (two compares of 38), B (Σ|d'| once a
-    // ray plus Σ|e'| from memory: one add of 20) per edge
+    // ray plus Σ|e'|: one add of 20) per edge; Σ|e'| from the word's e' (three negations of 18
+    // bits and two adds of 20 an edge)
     let mut coarse = Proxy::default();
     coarse.mul(12 * l as u32, 18, 18);
     coarse.add(l * 4 * 5, 38);
     coarse.add(g * 5, 18);
+    coarse.add(l * 4 * 3, 18);
+    coarse.add(l * 4 * 2, 20);
     coarse.reg(l * (4 * 3 * 18 + 4 * 38 + 3 * 18));
     // the plane units, PLANE_UNITS a ray group: n · d, divider, running minimum (as the wide
     // datapath's lane has them) and the min tree; each lane's hand-off register (its pair's
-    // slot, n and h from its word) and the oldest-first arbiter's compares of ray tags
+    // slot and h from its word) and the oldest-first arbiter's compares of ray tags
     let units = params.ray_groups as u64 * PLANE_UNITS as u64;
     let mut plane = Proxy::default();
     plane.mul(3 * units as u32, 32, 32);
@@ -266,7 +271,9 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     plane.reg(units * (94 + 64 + 64));
     plane.add(units, 64 + 16);
     plane.reg(units * 80);
-    plane.reg(l * (16 + 3 * 32 + H_BITS + 8 + 1));
+    plane.reg(l * (16 + H_BITS + 8 + 1));
+    // the normal read from the group's normal memory, registered
+    plane.reg(units * 3 * 32);
     plane.add(l, 8);
     // the shared exact edge unit: one 34 × 62 multiplier, a product a clock (an edge's normal
     // recomputed from the corners, a = v − O, then its dot product with d), the cross
@@ -305,8 +312,9 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
 /// The compact datapath's memories, double-buffered where the set-up pass writes them (the
 /// next origin's pass fills the other half): each lane's coarse words for its bank, the sector
 /// and band bitmaps per bank and group (a lane walks its ray's sector row ANDed with its band
-/// row, so a patch outside the ray's band costs it no clock), and patch memory (the exact unit
-/// recomputes the exact edge normals from it).
+/// row, so a patch outside the ray's band costs it no clock), patch memory (the exact unit
+/// recomputes the exact edge normals from it) and each ray group's normal memory (single:
+/// n does not depend on the origin).
 fn compact_memories(params: &Params) -> Proxy {
     let mut p = Proxy::default();
     let slots = params.capacity() as u64;
@@ -314,6 +322,10 @@ fn compact_memories(params: &Params) -> Proxy {
         p.mem(2 * params.bank_slots as u64, COARSE_WORD);
     }
     p.mem(slots * 16, 32);
+    // each ray group's normal memory (n of every slot, written with patch memory)
+    for _ in 0..params.ray_groups {
+        p.mem(slots, 3 * 32);
+    }
     if params.sectors > 0 {
         for _ in 0..params.banks() * params.ray_groups {
             p.mem(2 * params.sectors as u64, params.bank_slots as u64);

@@ -29,9 +29,9 @@
 //! 3. the lane's running minimum, then the min tree over lanes (`merge_latency` clocks).
 //!
 //! On the compact datapath a lane has only the edge stage (a coarse test, the undecided pairs
-//! to a shared exact unit): the pairs it finds inside go, with the n and h of the lane's word,
-//! to one of its ray group's [`PLANE_UNITS`] plane units, which hold the n · d, the divider and
-//! the group's running minimum; a lane whose pair finds them busy waits with it.
+//! to a shared exact unit): the pairs it finds inside go, with the h of the lane's word,
+//! to one of its ray group's [`PLANE_UNITS`] plane units, which read the slot's n from the
+//! group's normal memory and hold the n · d, the divider and the group's running minimum; a lane whose pair finds them busy waits with it.
 //!
 //! Then the (u,v) pipe ([`uv`]) locates the hit point on the hit patch. Widths: coordinates Q8.24
 //! (32 bits), a_i 34 bits, e_i ≤ 62 bits (an origin-wide truncation keeps far origins in range),
@@ -338,10 +338,17 @@ fn engine(subdiv: SubdivConfig, compact: bool) -> BezierEngine {
 pub const UV_UNITS: usize = 2;
 
 /// Plane units of each ray group in a compact build: the lanes test edges only, and hand each
-/// pair they find inside (with its slot's n and h from the lane's word) to one of their group's
-/// plane units, which forms n · d, divides and keeps the group's running minimum. A pair takes
-/// a plane unit one clock; a lane whose pair finds them busy holds it and stalls.
+/// pair they find inside (with its slot's h from the lane's word) to one of their group's
+/// plane units, which reads the slot's n from the group's normal memory ([`NORMAL_READ`]),
+/// forms n · d, divides and keeps the group's running minimum. A pair takes a plane unit one
+/// clock; a lane whose pair finds them busy holds it and stalls.
 pub const PLANE_UNITS: usize = 1;
+
+/// Clocks a compact build's plane unit spends reading a pair's unit normal n from its ray
+/// group's normal memory (one read a clock, pipelined: latency only). Since issue 19's fourth
+/// round n is not in the lanes' words (it does not depend on the origin, so one memory a group,
+/// written with patch memory, holds it once instead of twice in every lane).
+pub const NORMAL_READ: u64 = 1;
 
 /// Most ray groups (CAPS_LANES holds groups − 1 in four bits).
 const MAX_GROUPS: usize = 16;
@@ -867,7 +874,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
     /// for every ray, or the compact datapath's first free iterative (u,v) unit for a planar hit
     /// that wants (u,v) (the others pass it by).
     fn retire_clock(&mut self, finish: u64, wants_uv_unit: bool) -> u64 {
-        let base = finish + merge_latency(self.params.banks()) + DIV_LATENCY as u64;
+        // a compact build's plane unit reads its pair's n from its group's normal memory first
+        let read_n = self.params.compact as u64 * NORMAL_READ;
+        let base = finish + merge_latency(self.params.banks()) + DIV_LATENCY as u64 + read_n;
         let depth = self.depth as u64;
         if !self.params.compact {
             return base + depth + 1;
