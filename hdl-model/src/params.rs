@@ -54,7 +54,7 @@ impl Params {
     /// The default build: 8 lanes in 2 ray groups of 4 banks of 512 slots (2,048 patches), 32
     /// sectors (and the culling unit's 16 polar bands), 2 rays per clock, the compact datapath:
     /// the fewest lanes that cast the Cornell box at under 1 cycle a ray and its 1,216-patch
-    /// subdivision at under 4 (docs/PERFORMANCE.md: 0.85 and 3.86–3.90 by `form-factors` since
+    /// subdivision at under 4 (docs/PERFORMANCE.md: 0.85 and 3.84–3.90 by `form-factors` since
     /// issue 19's fourth round, whose culling hands the lanes fewer candidates; 10 lanes before,
     /// when 8 needed 4.02; 6 lanes need 4.84). Its area proxy does not fit an ECP5-85k (`area`;
     /// of the builds docs/PERFORMANCE.md tabulates, one lane does).
