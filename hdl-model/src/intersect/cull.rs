@@ -52,8 +52,9 @@
 //! add about 2^-15, and [`MARGIN`] is 2^-7 rad: 2^-9 (the exact products' margin, which covers
 //! the rotator) plus more than those errors. A test (`narrow_reach_holds_the_wide_one`) checks
 //! on random patches, origins and frames that the reach holds the one the exact products and
-//! the 32-bit vectorings give, and (`culled_rays_inside_a_patch_are_handed_it`) that a ray
-//! inside a patch's pyramid is in its reach.
+//! the 32-bit vectorings give (with the same polar bound and near-axis bands, at the old
+//! margin and near-axis threshold), and (`culled_rays_inside_a_patch_are_handed_it`) that a
+//! ray inside a patch's pyramid is in its reach.
 //!
 //! Why the margin is safe against the rotator: everything the test compares is within about
 //! 2^-21 rad of exact (the rotator's truncation, the axes'), and an azimuth error is at most the
