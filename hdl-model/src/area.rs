@@ -9,6 +9,11 @@
 //! - an a×b multiplier takes ⌈a/18⌉·⌈b/18⌉ DSP tiles while the part has tiles left (the
 //!   datapath's multipliers first, in the order they are listed), else a·b LUT4s (an array
 //!   multiplier: one full adder per partial-product bit);
+//! - a multiplier by a constant fixed at build time (the gain compensation of the culling
+//!   unit's vectorings, whose CORDIC is not the CONFIG register's) is a shift-and-add tree: one
+//!   w-bit adder per nonzero digit of the constant's canonical signed-digit form but one (the
+//!   rotators' and the angle unit's gain constants are chosen by CONFIG.ITER at run time, so
+//!   theirs stay multipliers);
 //! - a register bit is a flip-flop;
 //! - a memory of depth d and width w is ⌈w/36⌉·⌈d/512⌉ block RAMs (512 × 36 per EBR), or
 //!   ⌈d·w/16⌉ LUT4s of distributed RAM when it holds under 2 kbit;
@@ -22,6 +27,7 @@
 extern crate alloc;
 
 use crate::cordic::CordicConfig;
+use crate::intersect::cull::{BANDS, CULL_CORDIC};
 use crate::intersect::{PLANE_UNITS, UV_UNITS};
 use crate::params::Params;
 use alloc::vec::Vec;
@@ -99,13 +105,14 @@ impl Proxy {
         self.reg(count * (n + 2) * 3 * w);
     }
 
-    /// A pipelined vectoring CORDIC of `cfg` whose magnitude is used (`magnitude`: the x
-    /// output's gain multiplier) or not (the angle alone needs no gain stage).
+    /// A pipelined vectoring CORDIC of `cfg`, fixed at build time, whose magnitude is used
+    /// (`magnitude`: the x output's gain compensation, a multiply by the constant 1/K_n) or not
+    /// (the angle alone needs no gain stage).
     fn vectoring(&mut self, cfg: CordicConfig, count: u64, magnitude: bool) {
         let (n, w) = (cfg.iterations as u64, cfg.width as u64);
         self.add(count * 3 * (n + 1), w);
         if magnitude {
-            self.mul(count as u32, cfg.width, cfg.width);
+            self.add(count * (gain_digits(cfg) as u64 - 1), w);
         }
         self.reg(count * (n + 2) * 3 * w);
     }
@@ -157,14 +164,58 @@ impl Proxy {
     }
 }
 
-/// Width of a lane's local-memory word: four edge normals (3 × 62 bits), the normal (3 × 32),
-/// h (98) and the flags.
-const LOCAL_WORD: u64 = 4 * 3 * 62 + 3 * 32 + 98 + 4;
+/// Nonzero digits of the canonical signed-digit (non-adjacent) form of `c`.
+fn csd_digits(mut c: u64) -> u32 {
+    let mut digits = 0;
+    while c != 0 {
+        if c & 1 == 1 {
+            digits += 1;
+            // a run of ones ends in −1 (the form's digit is 2 − (c mod 4))
+            if c & 2 == 2 {
+                c += 1;
+            } else {
+                c -= 1;
+            }
+        }
+        c >>= 1;
+    }
+    digits
+}
 
-/// Width of a compact lane's local-memory word: four coarse edge normals (3 × 18 bits) with
-/// their Σ|e'_c| (20 bits), the normal (3 × 32) and h (98) that the lane hands its group's plane
-/// unit with a pair found inside, and the flags.
-const COARSE_WORD: u64 = 4 * (3 * 18 + 20) + 3 * 32 + 98 + 4;
+/// Nonzero signed digits of a CORDIC's gain constant 1/K_n as its gain stage holds it (Q2.(W−2),
+/// rounded).
+fn gain_digits(cfg: CordicConfig) -> u32 {
+    let drop = 62 - (cfg.width - 2);
+    let q62 = crate::cordic::rom::INV_GAIN_Q62[cfg.iterations as usize];
+    csd_digits((q62 + (1 << (drop - 1))) >> drop).max(1)
+}
+
+/// Bits of h in a lane's word: |h| = |n · a| ≤ |n| |a| < 1.01 · √3 · 2^62 < 2^63 (n a unit
+/// normal in Q2.30, a = v − O of two Q8.24 words), a 64-bit signed integer (the model's 128-bit
+/// container is only that).
+const H_BITS: u64 = 64;
+
+/// Bits of the plane divider's subtractors, divisor and partial remainders: the divisor is n · d
+/// with |n · d| ≤ |n||d| < 1.01 · 2^60 (two unit vectors in Q2.30), every remainder is below it,
+/// so 64 bits hold them (the model's 128-bit containers are only that; counted as 98 before
+/// issue 19's fourth round).
+const DIV_BITS: u64 = 64;
+
+/// Register bits of a divider stage: remainder and divisor ([`DIV_BITS`] each), the dividend's
+/// bits still to come down (h · 2^30 for a 32-bit t) and the quotient's bits so far, which
+/// share 32 bits (one shifts in as the other shifts out), and the pair's 16-bit tag.
+const DIV_STAGE_BITS: u64 = 2 * DIV_BITS + 32 + 16;
+
+/// Width of a lane's local-memory word: four edge normals (3 × 62 bits), the normal (3 × 32),
+/// h and the flags.
+const LOCAL_WORD: u64 = 4 * 3 * 62 + 3 * 32 + H_BITS + 4;
+
+/// Width of a compact lane's local-memory word: four coarse edge normals (3 × 18 bits), h that
+/// the lane hands its group's plane unit with a pair found inside, and the flags. Since issue
+/// 19's fourth round the lane forms each edge's Σ|e'_c| itself and the plane unit reads n from
+/// its group's normal memory ([`crate::intersect::NORMAL_READ`]): before, the word held both
+/// (4 × 20 + 3 × 32 bits more, 460 instead of 284).
+const COARSE_WORD: u64 = 4 * 3 * 18 + H_BITS + 4;
 
 /// The ray datapath of `params` at CORDIC `cfg` (the part the build parameters change).
 pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
@@ -177,8 +228,9 @@ pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 /// The compact datapath: per lane the coarse edge test (twelve 18 × 18 products, one DSP tile
 /// each, and the bound's adders and compares); per ray group [`PLANE_UNITS`] plane units
 /// (n · d, divider, running minimum) fed with the pairs its lanes find inside; one shared
-/// exact edge unit (an edge a clock: three 32 × 62 products, and the six 34 × 34 products
-/// that recompute its normal from the corners); one set-up unit per bank (the wide datapath's); local memory, candidate bitmaps and
+/// exact edge unit (one 34 × 62 multiplier, a product a clock: the six products that recompute
+/// an edge's normal from the corners, then the three of its dot product with d); one set-up
+/// unit per bank (the wide datapath's); local memory, candidate bitmaps and
 /// exact words double-buffered, each lane's words for its bank (so once per ray group).
 fn compact_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     let mut p = Proxy::default();
@@ -197,49 +249,52 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
         params.banks() as u64,
     );
     // coarse test: A (two adds of 38 bits), A against ±B (two compares of 38), B (Σ|d'| once a
-    // ray plus Σ|e'| from memory: one add of 20) per edge
+    // ray plus Σ|e'|: one add of 20) per edge; Σ|e'| from the word's e' (three negations of 18
+    // bits and two adds of 20 an edge)
     let mut coarse = Proxy::default();
     coarse.mul(12 * l as u32, 18, 18);
     coarse.add(l * 4 * 5, 38);
     coarse.add(g * 5, 18);
+    coarse.add(l * 4 * 3, 18);
+    coarse.add(l * 4 * 2, 20);
     coarse.reg(l * (4 * 3 * 18 + 4 * 38 + 3 * 18));
     // the plane units, PLANE_UNITS a ray group: n · d, divider, running minimum (as the wide
     // datapath's lane has them) and the min tree; each lane's hand-off register (its pair's
-    // slot, n and h from its word) and the oldest-first arbiter's compares of ray tags
+    // slot and h from its word) and the oldest-first arbiter's compares of ray tags
     let units = params.ray_groups as u64 * PLANE_UNITS as u64;
     let mut plane = Proxy::default();
     plane.mul(3 * units as u32, 32, 32);
     plane.add(units * 2, 94);
-    plane.add(units * crate::intersect::DIV_LATENCY as u64, 98);
-    plane.reg(units * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
+    plane.add(units * crate::intersect::DIV_LATENCY as u64, DIV_BITS);
+    plane.reg(units * crate::intersect::DIV_LATENCY as u64 * DIV_STAGE_BITS);
     plane.add(units, 64);
     plane.reg(units * (94 + 64 + 64));
     plane.add(units, 64 + 16);
     plane.reg(units * 80);
-    plane.reg(l * (16 + 3 * 32 + 98 + 8 + 1));
+    plane.reg(l * (16 + H_BITS + 8 + 1));
+    // the normal read from the group's normal memory, registered
+    plane.reg(units * 3 * 32);
     plane.add(l, 8);
-    // the shared exact edge unit: an edge a clock, its normal recomputed from the corners
-    // (a = v − O, the cross product, the origin-wide shift and the side's sign), its queue of
-    // undecided pairs
+    // the shared exact edge unit: one 34 × 62 multiplier, a product a clock (an edge's normal
+    // recomputed from the corners, a = v − O, then its dot product with d), the cross
+    // product's subtraction, the origin-wide shift (six levels of 2:1 multiplexers on 68 bits,
+    // a LUT4 a bit a level, counted as adders), the side's sign (a negation) and the dot
+    // product's accumulator; its queue of undecided pairs, the corners and the normal
     let mut exact = Proxy::default();
-    exact.mul(3, 32, 62);
-    exact.add(3, 94);
-    exact.reg(3 * 94 + 32 * 3);
-    exact.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4);
-    exact.mul(6, 34, 34);
+    exact.mul(1, 34, 62);
     exact.add(3, 34);
-    exact.add(3, 68);
-    // the shift: six levels of 2:1 multiplexers a component (a LUT4 a bit a level, counted as
-    // adders); the sign: a negation
-    exact.add(3 * 6, 68);
-    exact.add(3, 62);
-    exact.reg(4 * 3 * 34 + 3 * 68);
+    exact.add(1, 68);
+    exact.add(6, 68);
+    exact.add(1, 62);
+    exact.add(1, 98);
+    exact.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4);
+    exact.reg(4 * 3 * 34 + 3 * 68 + 2 * 68 + 98);
     let mut setup = Proxy::default();
     setup_units(&mut setup, params, b);
     if params.sectors > 0 {
         // a corner a clock needs its polar vectoring too, chained after the azimuth's (its
         // angle alone is used)
-        setup.vectoring(CordicConfig::DEFAULT, b, false);
+        setup.vectoring(CULL_CORDIC, b, false);
     }
     let mut front = Proxy::default();
     front_end(&mut front, params, cfg);
@@ -256,8 +311,10 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
 
 /// The compact datapath's memories, double-buffered where the set-up pass writes them (the
 /// next origin's pass fills the other half): each lane's coarse words for its bank, the sector
-/// bitmaps per bank and group, and patch memory (the exact unit recomputes the exact edge
-/// normals from it).
+/// and band bitmaps per bank and group (a lane walks its ray's sector row ANDed with its band
+/// row, so a patch outside the ray's band costs it no clock), patch memory (the exact unit
+/// recomputes the exact edge normals from it) and each ray group's normal memory (single:
+/// n does not depend on the origin).
 fn compact_memories(params: &Params) -> Proxy {
     let mut p = Proxy::default();
     let slots = params.capacity() as u64;
@@ -265,9 +322,14 @@ fn compact_memories(params: &Params) -> Proxy {
         p.mem(2 * params.bank_slots as u64, COARSE_WORD);
     }
     p.mem(slots * 16, 32);
+    // each ray group's normal memory (n of every slot, written with patch memory)
+    for _ in 0..params.ray_groups {
+        p.mem(slots, 3 * 32);
+    }
     if params.sectors > 0 {
         for _ in 0..params.banks() * params.ray_groups {
             p.mem(2 * params.sectors as u64, params.bank_slots as u64);
+            p.mem(2 * BANDS as u64, params.bank_slots as u64);
         }
     }
     p
@@ -275,9 +337,13 @@ fn compact_memories(params: &Params) -> Proxy {
 
 /// Set-up units, one per bank, a corner per clock: a × b (6 products of 34 × 34) and h (one
 /// 32 × 34 product a clock, accumulated over the patch's three or four corner clocks), and with
-/// culling the corner's three dot products with the axes, its edge normal's with the frame's
-/// axis (three 62 × 32) and the azimuth's vectoring CORDIC (the magnitude feeds the polar
-/// vectoring); the rays' sector and band vectorings, `rays_per_clock` of each.
+/// culling (`intersect::cull`, on 18-bit words) the corner's block-floating-point shift into 18
+/// bits, its three dot products with the axes (nine 18 × 18) and their error bounds, its edge's
+/// coarse normal dotted with the frame's axis (three 18 × 18) and its bound, the shift into the
+/// vectoring's 27 bits, the azimuth's vectoring CORDIC (the magnitude feeds the polar
+/// vectoring), the arc and band bounds and the constant multiplies that turn angles into
+/// sectors and bands; the rays' sector and band vectorings and constant multiplies,
+/// `rays_per_clock` of each.
 fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
     for _ in 0..banks {
         p.mul(6, 34, 34);
@@ -288,16 +354,36 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
     p.reg(banks * 1024);
     if params.sectors > 0 {
         for _ in 0..banks {
-            p.mul(9, 34, 32);
-            p.mul(3, 62, 32);
+            p.mul(9, 18, 18);
+            p.mul(3, 18, 18);
         }
-        // e · w: its sum, and its compare against |e|∞ 2^-10
-        p.add(banks * 3, 94);
-        p.vectoring(CordicConfig::DEFAULT, banks, true);
+        // the corner into 18 bits: its leading one (as a 34-bit adder) and three shifters of
+        // six levels of 2:1 multiplexers on 34 bits (a LUT4 a bit a level, counted as adders)
+        p.add(banks, 34);
+        p.add(banks * 3 * 6, 34);
+        // f = ã · x̃: two adds of 36 bits a component; the bounds Σ(|ã| + |x̃| + 1): three
+        // negations and two adds for Σ|ã|, three adds of the frame's Σ|x̃| + 3
+        p.add(banks * 3 * 2, 36);
+        p.add(banks * 8, 20);
+        // |f|∞ and the largest bound, the horizon and near-axis compares (twelve of 36 bits)
+        p.add(banks * 12, 36);
+        // into the vectoring's 27 bits: leading one and three shifters of four levels
+        p.add(banks, 36);
+        p.add(banks * 3 * 4, 27);
+        // ce · w̃ (two adds of 36 bits), its bound (five of 20), ±bound and the two compares
+        p.add(banks * 2, 36);
+        p.add(banks * 5, 20);
+        p.add(banks * 4, 37);
+        p.vectoring(CULL_CORDIC, banks, true);
+        // the arc's and the bands' bounds (angle compares and halvings)
         p.add(banks * 8, 32);
+        // sector and band of the arc's two ends and the band range's two: four multiplies by a
+        // constant (S / 2π, 32 / π) of 16 significant bits, six adders of 32 bits each
+        p.add(banks * 4 * 6, 32);
         let rays = params.rays_per_clock as u64;
-        p.vectoring(CordicConfig::DEFAULT, rays, true);
-        p.vectoring(CordicConfig::DEFAULT, rays, false);
+        p.vectoring(CULL_CORDIC, rays, true);
+        p.vectoring(CULL_CORDIC, rays, false);
+        p.add(rays * 2 * 6, 32);
     }
 }
 
@@ -339,8 +425,8 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
         p.mul(3, 32, 32);
     }
     p.add(l * (4 * 2 + 2), 94);
-    p.add(l * crate::intersect::DIV_LATENCY as u64, 98);
-    p.reg(l * crate::intersect::DIV_LATENCY as u64 * (98 + 98 + 32 + 16));
+    p.add(l * crate::intersect::DIV_LATENCY as u64, DIV_BITS);
+    p.reg(l * crate::intersect::DIV_LATENCY as u64 * DIV_STAGE_BITS);
     p.add(l, 64);
     p.reg(l * (4 * 94 + 64 + 64));
     setup_units(&mut p, params, l);
@@ -361,6 +447,7 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     if params.sectors > 0 {
         for _ in 0..l {
             p.mem(params.sectors as u64, params.bank_slots as u64);
+            p.mem(BANDS as u64, params.bank_slots as u64);
         }
     }
     queues(&mut p, l);
@@ -412,4 +499,21 @@ pub fn on_ecp5(params: &Params, cfg: CordicConfig, uv_depth: u32) -> (Fpga, Fpga
     let ray = ray_datapath(params, cfg).ecp5(ECP5_85K.dsps);
     let fixed = fixed_units(cfg, uv_depth, params.compact).ecp5(ECP5_85K.dsps - ray.dsps);
     (ray, fixed)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn signed_digits() {
+        // 7 = 8 − 1, 0b1011 = 16 − 4 − 1, 0b101 = 4 + 1
+        assert_eq!(csd_digits(7), 2);
+        assert_eq!(csd_digits(0b1011), 3);
+        assert_eq!(csd_digits(0b101), 2);
+        assert_eq!(csd_digits(0), 0);
+        assert_eq!(csd_digits(u32::MAX as u64), 2);
+        // the culling unit's gain constant has far fewer digits than its width
+        assert!(gain_digits(CULL_CORDIC) < CULL_CORDIC.width / 2);
+    }
 }

@@ -51,15 +51,15 @@ pub struct Params {
 }
 
 impl Params {
-    /// The default build: 10 lanes in 2 ray groups of 5 banks of 512 slots (2,560 patches), 32
+    /// The default build: 8 lanes in 2 ray groups of 4 banks of 512 slots (2,048 patches), 32
     /// sectors (and the culling unit's 16 polar bands), 2 rays per clock, the compact datapath:
     /// the fewest lanes that cast the Cornell box at under 1 cycle a ray and its 1,216-patch
-    /// subdivision at under 4 (docs/PERFORMANCE.md; with a set-up unit a bank taking a corner a
-    /// clock, 8 lanes in 4 banks need 4.02 on the latter). Its area proxy does not fit an
-    /// ECP5-85k (`area`; of the builds docs/PERFORMANCE.md tabulates only one lane without
-    /// culling does).
+    /// subdivision at under 4 (docs/PERFORMANCE.md: 0.85 and 3.84–3.90 by `form-factors` since
+    /// issue 19's fourth round, whose culling hands the lanes fewer candidates; 10 lanes before,
+    /// when 8 needed 4.02; 6 lanes need 4.84). Its area proxy does not fit an ECP5-85k (`area`;
+    /// of the builds docs/PERFORMANCE.md tabulates, one lane does).
     pub const DEFAULT: Params = Params {
-        lanes: 10,
+        lanes: 8,
         sectors: 32,
         rays_per_clock: 2,
         bank_slots: 512,

@@ -11,22 +11,24 @@
 //!
 //! 1. the corners in the frame: f_i = (a_i · u, a_i · v, a_i · w) with u, v, w = R x̂, R ŷ, R ẑ,
 //!    the frame's axes as the rotator turns them (three directions through the rotator per
-//!    frame; three dot products per corner);
-//! 2. **below the horizon** if every corner has f_i · ẑ < −|f_i|∞ 2^-10: a hemisphere ray
+//!    frame; three dot products per corner, on narrow words: below);
+//! 2. **below the horizon** if every corner has f_i · ẑ < −|f_i|∞ 2^-9: a hemisphere ray
 //!    (d_ref · ẑ ≥ 0) cannot reach it;
 //! 3. **full** (every sector) if the pyramid contains the axis or comes within 2^-10 of it (every
-//!    e_i · w > −|e_i|∞ 2^-10, or every one < |e_i|∞ 2^-10), or if a corner lies within 2^-6 of
-//!    the axis, where its azimuth is ill-conditioned;
+//!    e_i · w > −|e_i|∞ 2^-10, or every one < |e_i|∞ 2^-10), or if a corner may lie within 2^-4
+//!    of the axis, where its azimuth is ill-conditioned (its bands then from the first);
 //! 4. otherwise the azimuths φ_i = atan2(f_i.y, f_i.x) (a vectoring CORDIC of the unit's own,
-//!    24 iterations on 32 bits), their smallest enclosing arc widened by [`MARGIN`] on each side,
+//!    18 iterations on 24 bits), their smallest enclosing arc widened by [`MARGIN`] on each side,
 //!    and the sectors its ends fall in.
 //!
 //! 5. **polar bands**: the corners' polar angles θ_i (a second vectoring, of (z, ρ)), and the
 //!    polygon's θ range bounded from its boundary (θ has no extremum inside the polygon but at
-//!    the pole): along an edge from p to q of length ℓ ≤ |θ_p − θ_q| + |φ_q − φ_p|, θ stays
-//!    within (θ_p + θ_q ∓ ℓ)/2, so within [min − |Δφ|/2, max + |Δφ|/2] of its ends; with the
-//!    pole inside, from 0. The range, widened by [`MARGIN`], gives the patch's bands among
-//!    [`BANDS`] equal bands of θ over [0, π/2].
+//!    the poles): along an edge from p to q of length ℓ ≤ |θ_p − θ_q| + |φ_q − φ_p|, θ stays
+//!    above (θ_p + θ_q − ℓ)/2, so above min − |Δφ|/2 of its ends (an arc bulges towards the
+//!    pole); with the pole inside, from 0. Above, θ is at most the corners' largest (since
+//!    issue 19's fourth round; before, max + |Δφ|/2): along an arc between directions above the
+//!    horizon θ stays at or below the larger θ of its ends (`polar_range`). The range, widened
+//!    by [`MARGIN`], gives the patch's bands among [`BANDS`] equal bands of θ over [0, π/2].
 //!
 //! A lane is handed the patches whose sector range holds the ray's sector and whose band range
 //! holds its band (in hardware: a sector bitmap AND a band bitmap, walked by a priority
@@ -35,18 +37,52 @@
 //! below the horizon and rays not rotated by a frame (TRACE entries) are not culled: they are
 //! handed every active patch.
 //!
-//! Why the margin is safe: everything the test compares is within about 2^-21 rad of exact (the
-//! rotator's truncation, the axes' and the vectoring's), and an azimuth error is at most the
-//! direction error over sin θ, so within 2^-16 rad for the rays that are culled; [`MARGIN`] is
-//! 2^-9 rad, and culling is applied only with CORDIC words of at least
+//! **Narrow arithmetic.** Culling only has to be conservative: a lane's candidates may be a
+//! superset of the patches a ray can meet, since the edge test decides the hits. So the set-up
+//! units form the corner transform and the axis test from 18-bit signed words (one 18 × 18
+//! product each, a DSP tile or 324 LUT4s, instead of 34 × 32 and 62 × 32 ones): each corner
+//! vector by a power of two of its own (only its direction matters), the axes as Q2.16
+//! (`>> 14`), the edge normals as the lanes' coarse words. With floor truncation the exact
+//! value (scaled) is within B = Σ(|x'| + |y'| + 1) of the narrow dot product (as for the coarse
+//! edge test, `intersect::coarse_sign`), and every decision is widened by that bound: a patch is
+//! below the horizon only if certainly so (and by 2^-9 instead of 2^-10), a corner counts as
+//! next to the axis if it may be within 2^-4 of it plus B, the axis test's thresholds are moved
+//! out by B. The corners' direction error is then at most B/ρ ≤ 2^-7.8 rad in azimuth (|ã|∞ ≥
+//! 2^16, ρ ≥ 2^-4 |f|∞) and less in θ, the vectorings (18 iterations on 24 bits, [`CULL_CORDIC`])
+//! add about 2^-15, and [`MARGIN`] is 2^-7 rad: 2^-9 (the exact products' margin, which covers
+//! the rotator) plus more than those errors. A test (`narrow_reach_holds_the_wide_one`) checks
+//! on random patches, origins and frames that the reach holds the one the exact products and
+//! the 32-bit vectorings give (with the same polar bound and near-axis bands, at the old
+//! margin and near-axis threshold), and (`culled_rays_inside_a_patch_are_handed_it`) that a
+//! ray inside a patch's pyramid is in its reach.
+//!
+//! Why the margin is safe against the rotator: everything the test compares is within about
+//! 2^-21 rad of exact (the rotator's truncation, the axes'), and an azimuth error is at most the
+//! direction error over sin θ, so within 2^-16 rad for the rays that are culled (rays within
+//! 2^-5 of the pole are not), and culling is applied only with CORDIC words of at least
 //! [`MIN_CULL_WIDTH`] bits. Culling therefore only removes patches the edge test would reject:
 //! every hit is the one the full scan finds, which the tests check against the unculled model.
 
 use crate::cordic::{CordicConfig, CordicPipe, CordicSlot, Mode};
 use crate::format::{Angle, Unit};
 
-/// The widening of a wedge on each side, in Q3.29 radians: 2^-9 rad.
-pub const MARGIN: i64 = 1 << 20;
+/// The widening of a wedge (and a band range) on each side, in Q3.29 radians: 2^-7 rad (see
+/// the module doc, "Narrow arithmetic").
+pub const MARGIN: i64 = 1 << 22;
+/// The culling unit's vectoring CORDIC (corners' and rays' azimuths and polar angles): 18
+/// iterations on 24-bit words.
+pub const CULL_CORDIC: CordicConfig = CordicConfig {
+    iterations: 18,
+    width: 24,
+};
+/// Bits dropped from the frame's axes (Q2.30) for the corner transform and the axis test:
+/// Q2.16 words of 18 bits.
+const AXIS_SHIFT: u32 = 14;
+/// Width of the corner transform's and the axis test's operands (signed).
+const NARROW_BITS: u32 = 18;
+/// A corner that may lie within 2^-NEAR_AXIS (of |f|∞) of the axis puts the patch in every
+/// sector.
+const NEAR_AXIS: u32 = 4;
 /// π in Q3.29.
 const PI: i64 = 1_686_629_713;
 /// Polar bands of θ over [0, π/2].
@@ -104,7 +140,7 @@ impl CullUnit {
     pub fn new(sectors: u32) -> Self {
         CullUnit {
             sectors,
-            vector: CordicPipe::new(Mode::Vector, CordicConfig::DEFAULT),
+            vector: CordicPipe::new(Mode::Vector, CULL_CORDIC),
         }
     }
 
@@ -150,58 +186,70 @@ impl CullUnit {
     }
 
     /// The wedge of a planar patch with corner vectors `a` (Q8.24, relative to the origin) and
-    /// edge normals `e` (inside iff d · e ≥ 0), in the frame with axes `axes` (u, v, w: Q2.30).
-    pub fn reach(&self, a: &[[i64; 3]], e: &[[i64; 3]], axes: &[[Unit; 3]; 3]) -> Reach {
-        let ax = axes.map(|v| v.map(|c| c.to_bits() as i128));
-        let dot = |p: &[i64; 3], q: &[i128; 3]| -> i128 {
-            (0..3).map(|c| p[c] as i128 * q[c]).sum::<i128>()
-        };
-        // corners in the frame (Q8.24, the products shifted back by the axes' 30 bits)
-        let mut f = [[0i128; 3]; 4];
-        for (fi, ai) in f.iter_mut().zip(a) {
-            *fi = [0, 1, 2].map(|k| dot(ai, &ax[k]) >> 30);
+    /// coarse edge normals `ce` (the lanes' 18-bit words: e = 2^s·(ce + r), 0 ≤ r_c < 1, inside
+    /// iff d · e ≥ 0), in the frame with axes `axes` (u, v, w: Q2.30).
+    ///
+    /// Every product is of two 18-bit signed words (module doc, "Narrow arithmetic"), and every
+    /// decision is widened by the bound on its error, so the reach holds the reach the exact
+    /// products would give (`narrow_reach_holds_the_wide_one`).
+    pub fn reach(&self, a: &[[i64; 3]], ce: &[[i32; 3]], axes: &[[Unit; 3]; 3]) -> Reach {
+        let ax = axes.map(|v| v.map(|c| (c.to_bits() >> AXIS_SHIFT) as i64));
+        // corners in the frame, each on its own scale: f = ã · x̃ within b of the exact
+        // (a · x) / 2^(k + AXIS_SHIFT), componentwise
+        let mut f = [[0i64; 3]; 4];
+        let mut b = [[0i64; 3]; 4];
+        for ((fi, bi), ai) in f.iter_mut().zip(b.iter_mut()).zip(a) {
+            let w = block18(ai);
+            for k in 0..3 {
+                fi[k] = (0..3).map(|c| w[c] * ax[k][c]).sum();
+                bi[k] = (0..3).map(|c| w[c].abs() + ax[k][c].abs() + 1).sum();
+            }
         }
-        let f = &f[..a.len()];
-        let norm = |v: &[i128; 3]| v.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
-        if f.iter().all(|v| v[2] < -((norm(v) >> 10) as i128)) {
+        let (f, b) = (&f[..a.len()], &b[..a.len()]);
+        let norm = |v: &[i64; 3]| v.iter().map(|c| c.abs()).max().unwrap_or(0);
+        // below the horizon only if certainly so: z + b < −(|f|∞ + b) 2^-9
+        if f.iter()
+            .zip(b)
+            .all(|(v, e)| v[2] + e[2] < -((norm(v) + norm(e)) >> 9))
+        {
             return Reach {
                 wedge: Wedge::Below,
                 ..Reach::ALL
             };
         }
-        // corners in spherical coordinates (a corner next to the axis: no useful bound)
+        // corners in spherical coordinates (a corner that may be within 2^-NEAR_AXIS of the
+        // axis has no useful azimuth: every sector, bands from 0)
         let (mut phi, mut theta) = ([0i64; 4], [0i64; 4]);
-        for ((p, t), v) in phi.iter_mut().zip(theta.iter_mut()).zip(f) {
-            let rho = v[0].unsigned_abs().max(v[1].unsigned_abs());
-            if rho == 0 || rho < norm(v) >> 6 {
-                return Reach::ALL;
-            }
+        let mut near = false;
+        for (((p, t), v), e) in phi.iter_mut().zip(theta.iter_mut()).zip(f).zip(b) {
+            let rho = v[0].abs().max(v[1].abs());
+            let (n, eb) = (norm(v), norm(e));
+            near |= rho < eb + ((n + eb) >> NEAR_AXIS);
             // block floating point: the largest component into 27 bits (the angles ignore the
             // scale; the vectorings' gain of 1.65 on |v| ≤ √3 · 2^27 stays inside Q2.30)
-            let shift = (128 - norm(v).leading_zeros()).saturating_sub(27);
+            let shift = (64 - n.leading_zeros()).saturating_sub(27);
             let (az, r) = self.vector((v[0] >> shift) as i32, (v[1] >> shift) as i32);
             *p = az;
             *t = self.vector((v[2] >> shift) as i32, r).0;
         }
-        let (phi, theta) = (&phi[..f.len()], &theta[..f.len()]);
-        let (mut lo_t, mut hi_t) = (i64::MAX, i64::MIN);
-        for k in 0..f.len() {
-            let j = (k + 1) % f.len();
-            let bulge = wrap(phi[j] - phi[k]).abs() / 2;
-            lo_t = lo_t.min(theta[k].min(theta[j]) - bulge);
-            hi_t = hi_t.max(theta[k].max(theta[j]) + bulge);
-        }
-        // the axis (+z or −z) inside the pyramid, or within 2^-10 of it: every sector
+        let phi = &phi[..f.len()];
+        let (lo_t, hi_t) = polar_range(phi, &theta[..f.len()]);
+        // the axis (+z or −z) inside the pyramid, or within 2^-10 of it: every sector. From
+        // the coarse edge words and w̃ = w / 2^AXIS_SHIFT: e · w / 2^(s + AXIS_SHIFT) is within
+        // B = Σ(|ce| + |w̃| + 1) of A = ce · w̃, and |e|∞ 2^-10 / 2^(s + AXIS_SHIFT) is below
+        // (|ce|∞ + 1) 2^6, so the exact test's pos (neg) implies A + B > −(|ce|∞ + 1) 2^6
+        // (A − B < (|ce|∞ + 1) 2^6)
+        let w = ax[2];
         let (mut pos, mut neg) = (true, true);
-        for ei in e {
-            let s = dot(ei, &ax[2]);
-            let m = (ei.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0) as i128) << 20;
-            pos &= s > -m;
-            neg &= s < m;
+        for ei in ce {
+            let e = ei.map(|c| c as i64);
+            let dot: i64 = (0..3).map(|c| e[c] * w[c]).sum();
+            let bound: i64 = (0..3).map(|c| e[c].abs() + w[c].abs() + 1).sum();
+            let m = (norm(&e) + 1) << 6;
+            pos &= dot + bound > -m;
+            neg &= dot - bound < m;
         }
-        if pos {
-            lo_t = 0;
-        }
+        let lo_t = if pos || near { 0 } else { lo_t };
         let band_lo = Self::band_of(lo_t - MARGIN) as u8;
         let band_hi = Self::band_of(hi_t + MARGIN) as u8;
         let full = Reach {
@@ -209,7 +257,7 @@ impl CullUnit {
             band_lo,
             band_hi,
         };
-        if pos || neg {
+        if pos || neg || near {
             return full;
         }
         let (mut lo, mut hi) = (0i64, 0i64);
@@ -234,6 +282,43 @@ impl CullUnit {
     }
 }
 
+/// The polar range of a patch from its corners' azimuths and polar angles (Q3.29 bits). Below:
+/// along an edge from p to q (a great-circle arc of length ℓ ≤ |θ_p − θ_q| + |φ_q − φ_p|) θ
+/// stays above (θ_p + θ_q − ℓ)/2, so above min − |Δφ|/2 (the arc bulges towards the pole);
+/// the pole itself is the axis test's. Above: if every corner is above the horizon, so is the
+/// whole pyramid (its directions are the corners' positive combinations), and on a great circle
+/// z = A cos(s − s0) has no minimum inside an arc shorter than π whose ends have z ≥ 0, nor z a
+/// minimum inside the polygon but at −z: θ is at most the corners' largest; if a corner is below
+/// the horizon, that largest is above π/2 and the band is the last anyway. An azimuth of a
+/// corner next to the axis is unreliable, which widens only the lower bound (the caller takes
+/// it from 0 then).
+fn polar_range(phi: &[i64], theta: &[i64]) -> (i64, i64) {
+    let (mut lo_t, mut hi_t) = (i64::MAX, i64::MIN);
+    for k in 0..phi.len() {
+        let j = (k + 1) % phi.len();
+        let bulge = wrap(phi[j] - phi[k]).abs() / 2;
+        lo_t = lo_t.min(theta[k].min(theta[j]) - bulge);
+        hi_t = hi_t.max(theta[k]);
+    }
+    (lo_t, hi_t)
+}
+
+/// A corner vector as 18-bit signed words by a power of two of its own (the transform needs
+/// only its direction): the largest component into [2^16, 2^17), shifted up exactly or down
+/// by a floor, so v / 2^k = w + r with 0 ≤ r_c < 1.
+fn block18(v: &[i64; 3]) -> [i64; 3] {
+    let m = v.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
+    if m == 0 {
+        return [0; 3];
+    }
+    let bits = 64 - m.leading_zeros();
+    if bits > NARROW_BITS - 1 {
+        v.map(|c| c >> (bits - (NARROW_BITS - 1)))
+    } else {
+        v.map(|c| c << (NARROW_BITS - 1 - bits))
+    }
+}
+
 /// An angle difference (Q3.29 bits) into (−π, π].
 fn wrap(d: i64) -> i64 {
     if d > PI {
@@ -242,5 +327,333 @@ fn wrap(d: i64) -> i64 {
         d + 2 * PI
     } else {
         d
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    extern crate std;
+    use super::*;
+    use crate::intersect::coarse_edge;
+    use std::vec;
+    use std::vec::Vec;
+
+    /// The exact products' margin (2^-9 rad), before the narrow arithmetic.
+    const WIDE_MARGIN: i64 = 1 << 20;
+
+    /// The reach as the exact products (34 × 32 and 62 × 32) and 32-bit vectorings of 24
+    /// iterations gave it before the narrow arithmetic (its margin 2^-9, a corner next to the
+    /// axis within 2^-6), with the same polar bound and near-axis bands as the narrow unit:
+    /// the reference the narrow unit must hold.
+    #[allow(
+        clippy::needless_range_loop,
+        reason = "the reference is the code it replaced, as it was"
+    )]
+    fn reach_wide(unit: &CullUnit, a: &[[i64; 3]], e: &[[i64; 3]], axes: &[[Unit; 3]; 3]) -> Reach {
+        let ax = axes.map(|v| v.map(|c| c.to_bits() as i128));
+        let dot = |p: &[i64; 3], q: &[i128; 3]| -> i128 {
+            (0..3).map(|c| p[c] as i128 * q[c]).sum::<i128>()
+        };
+        // corners in the frame (Q8.24, the products shifted back by the axes' 30 bits)
+        let mut f = [[0i128; 3]; 4];
+        for (fi, ai) in f.iter_mut().zip(a) {
+            *fi = [0, 1, 2].map(|k| dot(ai, &ax[k]) >> 30);
+        }
+        let f = &f[..a.len()];
+        let norm = |v: &[i128; 3]| v.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
+        if f.iter().all(|v| v[2] < -((norm(v) >> 10) as i128)) {
+            return Reach {
+                wedge: Wedge::Below,
+                ..Reach::ALL
+            };
+        }
+        // corners in spherical coordinates (a corner next to the axis: no useful azimuth)
+        let (mut phi, mut theta) = ([0i64; 4], [0i64; 4]);
+        let mut near = false;
+        for ((p, t), v) in phi.iter_mut().zip(theta.iter_mut()).zip(f) {
+            let rho = v[0].unsigned_abs().max(v[1].unsigned_abs());
+            near |= rho == 0 || rho < norm(v) >> 6;
+            // block floating point: the largest component into 27 bits (the angles ignore the
+            // scale; the vectorings' gain of 1.65 on |v| ≤ √3 · 2^27 stays inside Q2.30)
+            let shift = (128 - norm(v).leading_zeros()).saturating_sub(27);
+            let (az, r) = unit.vector((v[0] >> shift) as i32, (v[1] >> shift) as i32);
+            *p = az;
+            *t = unit.vector((v[2] >> shift) as i32, r).0;
+        }
+        let phi = &phi[..f.len()];
+        let (mut lo_t, hi_t) = polar_range(phi, &theta[..f.len()]);
+        // the axis (+z or −z) inside the pyramid, or within 2^-10 of it: every sector
+        let (mut pos, mut neg) = (true, true);
+        for ei in e {
+            let s = dot(ei, &ax[2]);
+            let m = (ei.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0) as i128) << 20;
+            pos &= s > -m;
+            neg &= s < m;
+        }
+        if pos || near {
+            lo_t = 0;
+        }
+        let band_lo = CullUnit::band_of(lo_t - WIDE_MARGIN) as u8;
+        let band_hi = CullUnit::band_of(hi_t + WIDE_MARGIN) as u8;
+        let full = Reach {
+            wedge: Wedge::Full,
+            band_lo,
+            band_hi,
+        };
+        if pos || neg || near {
+            return full;
+        }
+        let (mut lo, mut hi) = (0i64, 0i64);
+        for p in &phi[1..] {
+            let d = wrap(p - phi[0]);
+            lo = lo.min(d);
+            hi = hi.max(d);
+        }
+        if hi - lo + 2 * WIDE_MARGIN >= PI {
+            return full;
+        }
+        let s_lo = unit.sector_of(phi[0] + lo - WIDE_MARGIN);
+        let s_hi = unit.sector_of(phi[0] + hi + WIDE_MARGIN);
+        let len = (s_hi + unit.sectors - s_lo) % unit.sectors + 1;
+        Reach {
+            wedge: Wedge::Sectors {
+                lo: s_lo as u8,
+                len: len as u8,
+            },
+            ..full
+        }
+    }
+
+    /// A xorshift stream, for reproducible geometry.
+    struct Rng(u64);
+    impl Rng {
+        fn next(&mut self) -> u64 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            self.0
+        }
+        /// Uniform in [0, 1).
+        fn unit(&mut self) -> f64 {
+            (self.next() >> 11) as f64 / (1u64 << 53) as f64
+        }
+        /// Uniform in [−1, 1).
+        fn sym(&mut self) -> f64 {
+            2.0 * self.unit() - 1.0
+        }
+    }
+
+    type V = [f64; 3];
+    fn cross(u: V, v: V) -> V {
+        [
+            u[1] * v[2] - u[2] * v[1],
+            u[2] * v[0] - u[0] * v[2],
+            u[0] * v[1] - u[1] * v[0],
+        ]
+    }
+    fn dot(u: V, v: V) -> f64 {
+        u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+    }
+    fn unit(v: V) -> V {
+        let l = dot(v, v).sqrt();
+        v.map(|c| c / l)
+    }
+
+    /// A random case: corner vectors (Q8.24, from the origin), exact edge normals (inside iff
+    /// d · e ≥ 0), the frame's axes (Q2.30 and f64), the corners in f64; `None` when the origin
+    /// is (nearly) in the patch's plane.
+    #[allow(clippy::type_complexity, reason = "a test case, destructured at once")]
+    fn case(
+        rng: &mut Rng,
+    ) -> Option<(Vec<[i64; 3]>, Vec<[i64; 3]>, [[Unit; 3]; 3], [V; 3], Vec<V>)> {
+        // a random rotation (unit quaternion) for the frame
+        let q = unit4([rng.sym(), rng.sym(), rng.sym(), rng.sym()]);
+        let [w0, x, y, z] = q;
+        let rot = [
+            [
+                1.0 - 2.0 * (y * y + z * z),
+                2.0 * (x * y + w0 * z),
+                2.0 * (x * z - w0 * y),
+            ],
+            [
+                2.0 * (x * y - w0 * z),
+                1.0 - 2.0 * (x * x + z * z),
+                2.0 * (y * z + w0 * x),
+            ],
+            [
+                2.0 * (x * z + w0 * y),
+                2.0 * (y * z - w0 * x),
+                1.0 - 2.0 * (x * x + y * y),
+            ],
+        ];
+        let axes = rot.map(|r| r.map(Unit::from_num));
+        // an origin and a patch of any size from 2^-9 to 2 units, near or far
+        let o: V = [rng.sym(), rng.sym(), rng.sym()];
+        let c: V = [rng.sym(), rng.sym(), rng.sym()].map(|v| 2.0 * v);
+        let size = (2.0f64).powf(-9.0 + 10.0 * rng.unit());
+        let p: V = [rng.sym(), rng.sym(), rng.sym()].map(|v| v * size);
+        let r: V = [rng.sym(), rng.sym(), rng.sym()].map(|v| v * size);
+        let corners: Vec<V> = if rng.next().is_multiple_of(3) {
+            vec![c, add(c, p), add(c, r)]
+        } else {
+            vec![
+                sub(sub(c, p), r),
+                sub(add(c, p), r),
+                add(add(c, p), r),
+                add(sub(c, p), r),
+            ]
+        };
+        let fix = |v: f64| (v * (1u64 << 24) as f64).round() as i64;
+        let oi = o.map(fix);
+        let a: Vec<[i64; 3]> = corners
+            .iter()
+            .map(|v| core::array::from_fn(|k| fix(v[k]) - oi[k]))
+            .collect();
+        let n = cross(sub(corners[1], corners[0]), sub(corners[2], corners[0]));
+        let h = dot(unit(n), sub(corners[0], o));
+        if h.abs() < 1e-6 {
+            return None;
+        }
+        let s = if h > 0.0 { 1i128 } else { -1 };
+        let m = a.len();
+        let e: Vec<[i64; 3]> = (0..m)
+            .map(|k| {
+                let (u, v) = (a[k].map(|c| c as i128), a[(k + 1) % m].map(|c| c as i128));
+                [
+                    u[1] * v[2] - u[2] * v[1],
+                    u[2] * v[0] - u[0] * v[2],
+                    u[0] * v[1] - u[1] * v[0],
+                ]
+                .map(|c| (c * s) as i64)
+            })
+            .collect();
+        // the inside is where d · e ≥ 0: flip all if the centroid is outside
+        let g: [i128; 3] = core::array::from_fn(|k| a.iter().map(|v| v[k] as i128).sum());
+        let ge: i128 = (0..3).map(|k| g[k] * e[0][k] as i128).sum();
+        let e = if ge < 0 {
+            e.iter().map(|v| v.map(|c| -c)).collect()
+        } else {
+            e
+        };
+        let rel: Vec<V> = corners.iter().map(|v| sub(*v, o)).collect();
+        Some((a, e, axes, rot, rel))
+    }
+    fn add(u: V, v: V) -> V {
+        [u[0] + v[0], u[1] + v[1], u[2] + v[2]]
+    }
+    fn sub(u: V, v: V) -> V {
+        [u[0] - v[0], u[1] - v[1], u[2] - v[2]]
+    }
+    fn unit4(q: [f64; 4]) -> [f64; 4] {
+        let l = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+        q.map(|c| c / l)
+    }
+
+    fn sector_mask(r: &Reach, sectors: u32) -> u64 {
+        match r.wedge {
+            Wedge::Below => 0,
+            Wedge::Full => u64::MAX >> (64 - sectors),
+            Wedge::Sectors { lo, len } => (0..len as u32)
+                .map(|k| 1u64 << ((lo as u32 + k) % sectors))
+                .fold(0, |m, b| m | b),
+        }
+    }
+
+    /// The narrow unit's reach holds the exact products' on random patches (triangles and
+    /// quads of every size, near and far), origins and frames: never below the horizon where
+    /// that one is not, every sector and band of it.
+    #[test]
+    fn narrow_reach_holds_the_wide_one() {
+        let mut rng = Rng(0x2545_f491_4f6c_dd1d);
+        let (mut cases, mut sectored) = (0u32, 0u32);
+        for sectors in [8u32, 32, 64] {
+            let narrow = CullUnit::new(sectors);
+            let wide = CullUnit {
+                sectors,
+                vector: CordicPipe::new(Mode::Vector, CordicConfig::DEFAULT),
+            };
+            for _ in 0..40_000 {
+                let Some((a, e, axes, _, _)) = case(&mut rng) else {
+                    continue;
+                };
+                let ce: Vec<[i32; 3]> = e.iter().map(coarse_edge).collect();
+                let w = reach_wide(&wide, &a, &e, &axes);
+                let n = narrow.reach(&a, &ce, &axes);
+                cases += 1;
+                if w.wedge == Wedge::Below {
+                    continue;
+                }
+                sectored += matches!(w.wedge, Wedge::Sectors { .. }) as u32;
+                let (mw, mn) = (sector_mask(&w, sectors), sector_mask(&n, sectors));
+                assert_eq!(mw & !mn, 0, "sectors: wide {w:?} narrow {n:?} a {a:?}");
+                assert!(
+                    n.band_lo <= w.band_lo && n.band_hi >= w.band_hi,
+                    "bands: wide {w:?} narrow {n:?} a {a:?}"
+                );
+            }
+        }
+        assert!(
+            cases > 100_000 && sectored > 20_000,
+            "{cases} cases, {sectored} in sectors"
+        );
+    }
+
+    /// A culled ray through a point of a patch is handed the patch: its sector and band are in
+    /// the patch's reach (points near the edges and corners included).
+    #[test]
+    fn culled_rays_inside_a_patch_are_handed_it() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        let unit32 = CullUnit::new(32);
+        let mut culled = 0u32;
+        for _ in 0..20_000 {
+            let Some((a, e, axes, rot, rel)) = case(&mut rng) else {
+                continue;
+            };
+            let ce: Vec<[i32; 3]> = e.iter().map(coarse_edge).collect();
+            let reach = unit32.reach(&a, &ce, &axes);
+            let mask = sector_mask(&reach, 32);
+            for _ in 0..8 {
+                // a point of the patch: weights of the corners, some of them tiny
+                let mut wts: Vec<f64> = rel
+                    .iter()
+                    .map(|_| {
+                        let u = rng.unit();
+                        if rng.next().is_multiple_of(3) {
+                            u * 1e-4
+                        } else {
+                            u
+                        }
+                    })
+                    .collect();
+                let sum: f64 = wts.iter().sum();
+                wts.iter_mut().for_each(|w| *w /= sum);
+                let p: V = (0..3)
+                    .map(|k| rel.iter().zip(&wts).map(|(v, w)| v[k] * w).sum())
+                    .collect::<Vec<f64>>()
+                    .try_into()
+                    .unwrap();
+                let d = unit(p);
+                // the exact edge test on d as the rotator hands it (Q2.30)
+                let dq = d.map(|c| (c * (1u64 << 30) as f64).round() as i128);
+                let inside = e
+                    .iter()
+                    .all(|v| (0..3).map(|k| dq[k] * v[k] as i128).sum::<i128>() >= 0);
+                // the ray's reference direction: d in the frame
+                let d_ref = rot.map(|axis| Unit::from_num(dot(axis, d)));
+                let Some((s, b)) = unit32.ray_bin(d_ref) else {
+                    continue;
+                };
+                if !inside {
+                    continue;
+                }
+                culled += 1;
+                assert!(
+                    mask & 1 << s != 0
+                        && (reach.band_lo as u32..=reach.band_hi as u32).contains(&b),
+                    "ray in sector {s} band {b}, reach {reach:?}, a {a:?}"
+                );
+            }
+        }
+        assert!(culled > 20_000, "{culled} culled rays inside");
     }
 }

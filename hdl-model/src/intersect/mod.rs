@@ -29,9 +29,9 @@
 //! 3. the lane's running minimum, then the min tree over lanes (`merge_latency` clocks).
 //!
 //! On the compact datapath a lane has only the edge stage (a coarse test, the undecided pairs
-//! to a shared exact unit): the pairs it finds inside go, with the n and h of the lane's word,
-//! to one of its ray group's [`PLANE_UNITS`] plane units, which hold the n · d, the divider and
-//! the group's running minimum; a lane whose pair finds them busy waits with it.
+//! to a shared exact unit): the pairs it finds inside go, with the h of the lane's word,
+//! to one of its ray group's [`PLANE_UNITS`] plane units, which read the slot's n from the
+//! group's normal memory and hold the n · d, the divider and the group's running minimum; a lane whose pair finds them busy waits with it.
 //!
 //! Then the (u,v) pipe ([`uv`]) locates the hit point on the hit patch. Widths: coordinates Q8.24
 //! (32 bits), a_i 34 bits, e_i ≤ 62 bits (an origin-wide truncation keeps far origins in range),
@@ -252,11 +252,14 @@ fn coarse_inside(d: &[i32; 3], lp: &LocalPatch) -> Option<bool> {
 /// Clocks the shared exact edge unit takes for one pair of a patch of `sides` corners. The
 /// exact edge normals are not stored (they would take as much block RAM as the lanes' words):
 /// the unit reads the slot's corners from patch memory, a corner a clock as the set-up units
-/// do, and then takes an edge a clock, its normal a_i × a_{i+1} recomputed exactly as the
-/// set-up pass forms it (six 34 × 34 products, the origin-wide shift, the side's sign) and
-/// dotted with d (three 32 × 62 products): the same integers as the model's stored `e`.
+/// do, and recomputes each edge's normal a_i × a_{i+1} exactly as the set-up pass forms it (the
+/// origin-wide shift, the side's sign) and dots it with d, on one 34 × 62 multiplier a product
+/// a clock (since issue 19's fourth round; nine multipliers, an edge a clock, before): six
+/// products of the cross product and three of the dot product, nine clocks an edge, the corner
+/// reads overlapping them but for the first edge's two. The same integers as the model's
+/// stored `e`. The unit is busy for about 0.02 clocks a ray (docs/PERFORMANCE.md).
 fn exact_pair_clocks(sides: u8) -> u64 {
-    2 * sides as u64
+    9 * sides as u64 + 2
 }
 
 /// Stage 2: t = h / (n · d) as Q8.24, or "no hit" (t ≤ 0, parallel, out of range).
@@ -308,11 +311,11 @@ fn merge_latency(lanes: u32) -> u64 {
 }
 
 /// Latency of the set-up pipe after its last patch: the edge normals' products, and with
-/// culling the corners' dot products with the axes, the vectoring CORDIC and the sector
-/// compare.
+/// culling the corners' dot products with the axes, the azimuth's vectoring CORDIC and the
+/// polar one chained after it (it takes the azimuth's magnitude), and the sector compare.
 fn setup_latency(culling: bool) -> u64 {
     if culling {
-        crate::cordic::CordicConfig::DEFAULT.latency() as u64 + 4
+        2 * cull::CULL_CORDIC.latency() as u64 + 4
     } else {
         2
     }
@@ -335,10 +338,17 @@ fn engine(subdiv: SubdivConfig, compact: bool) -> BezierEngine {
 pub const UV_UNITS: usize = 2;
 
 /// Plane units of each ray group in a compact build: the lanes test edges only, and hand each
-/// pair they find inside (with its slot's n and h from the lane's word) to one of their group's
-/// plane units, which forms n · d, divides and keeps the group's running minimum. A pair takes
-/// a plane unit one clock; a lane whose pair finds them busy holds it and stalls.
+/// pair they find inside (with its slot's h from the lane's word) to one of their group's
+/// plane units, which reads the slot's n from the group's normal memory ([`NORMAL_READ`]),
+/// forms n · d, divides and keeps the group's running minimum. A pair takes a plane unit one
+/// clock; a lane whose pair finds them busy holds it and stalls.
 pub const PLANE_UNITS: usize = 1;
+
+/// Clocks a compact build's plane unit spends reading a pair's unit normal n from its ray
+/// group's normal memory (one read a clock, pipelined: latency only). Since issue 19's fourth
+/// round n is not in the lanes' words (it does not depend on the origin, so one memory a group,
+/// written with patch memory, holds it once instead of twice in every lane).
+pub const NORMAL_READ: u64 = 1;
 
 /// Most ray groups (CAPS_LANES holds groups − 1 in four bits).
 const MAX_GROUPS: usize = 16;
@@ -794,7 +804,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.local[i] = lp;
         let reach = match axes {
             Some(ax) => {
-                let r = self.cull.reach(&a[..sides], &lp.e[..sides], ax);
+                let r = self.cull.reach(&a[..sides], &lp.ce[..sides], ax);
                 let st = &mut self.stats;
                 st.culled_patches += 1;
                 let bands = (r.band_hi - r.band_lo) as u64 + 1;
@@ -864,7 +874,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
     /// for every ray, or the compact datapath's first free iterative (u,v) unit for a planar hit
     /// that wants (u,v) (the others pass it by).
     fn retire_clock(&mut self, finish: u64, wants_uv_unit: bool) -> u64 {
-        let base = finish + merge_latency(self.params.banks()) + DIV_LATENCY as u64;
+        // a compact build's plane unit reads its pair's n from its group's normal memory first
+        let read_n = self.params.compact as u64 * NORMAL_READ;
+        let base = finish + merge_latency(self.params.banks()) + DIV_LATENCY as u64 + read_n;
         let depth = self.depth as u64;
         if !self.params.compact {
             return base + depth + 1;

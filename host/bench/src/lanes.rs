@@ -223,16 +223,27 @@ fn default_parts(out: &mut impl Write) -> Result<()> {
             f.luts, f.ffs, f.dsps, f.brams
         )
     };
+    let mut total = area::Fpga::default();
+    let mut sum = |f: area::Fpga| {
+        total.luts += f.luts;
+        total.ffs += f.ffs;
+        total.dsps += f.dsps;
+        total.brams += f.brams;
+    };
     for (name, part) in area::compact_parts(&p, CordicConfig::DEFAULT) {
         let f = part.ecp5(dsps);
         dsps -= f.dsps;
+        sum(f);
         row(name, f)?;
     }
     let fixed = area::fixed_units(CordicConfig::DEFAULT, 16, p.compact).ecp5(dsps);
+    sum(fixed);
     row(
         "fixed units (angle unit, (u,v) units, Bezier engine)",
         fixed,
     )?;
+    row("total (each row with its own 10 % for control)", total)?;
+    row("ECP5-85k", area::ECP5_85K)?;
     Ok(())
 }
 
