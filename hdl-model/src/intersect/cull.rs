@@ -250,14 +250,19 @@ impl CullUnit {
             neg &= dot - bound < m;
         }
         let lo_t = if pos || near { 0 } else { lo_t };
-        let band_lo = Self::band_of(lo_t - MARGIN) as u8;
-        let band_hi = Self::band_of(hi_t + MARGIN) as u8;
+        self.reach_of(phi, (lo_t, hi_t), pos || neg || near, MARGIN)
+    }
+
+    /// The reach of a patch whose corners lie at azimuths `phi` and between polar angles
+    /// `lo_t..hi_t`, each widened by `margin`: its bands, and its sectors unless the patch
+    /// surrounds the axis (`around`) or spans half a turn or more.
+    fn reach_of(&self, phi: &[i64], (lo_t, hi_t): (i64, i64), around: bool, margin: i64) -> Reach {
         let full = Reach {
             wedge: Wedge::Full,
-            band_lo,
-            band_hi,
+            band_lo: Self::band_of(lo_t - margin) as u8,
+            band_hi: Self::band_of(hi_t + margin) as u8,
         };
-        if pos || neg || near {
+        if around {
             return full;
         }
         let (mut lo, mut hi) = (0i64, 0i64);
@@ -266,11 +271,11 @@ impl CullUnit {
             lo = lo.min(d);
             hi = hi.max(d);
         }
-        if hi - lo + 2 * MARGIN >= PI {
+        if hi - lo + 2 * margin >= PI {
             return full;
         }
-        let s_lo = self.sector_of(phi[0] + lo - MARGIN);
-        let s_hi = self.sector_of(phi[0] + hi + MARGIN);
+        let s_lo = self.sector_of(phi[0] + lo - margin);
+        let s_hi = self.sector_of(phi[0] + hi + margin);
         let len = (s_hi + self.sectors - s_lo) % self.sectors + 1;
         Reach {
             wedge: Wedge::Sectors {
@@ -393,35 +398,7 @@ mod tests {
         if pos || near {
             lo_t = 0;
         }
-        let band_lo = CullUnit::band_of(lo_t - WIDE_MARGIN) as u8;
-        let band_hi = CullUnit::band_of(hi_t + WIDE_MARGIN) as u8;
-        let full = Reach {
-            wedge: Wedge::Full,
-            band_lo,
-            band_hi,
-        };
-        if pos || neg || near {
-            return full;
-        }
-        let (mut lo, mut hi) = (0i64, 0i64);
-        for p in &phi[1..] {
-            let d = wrap(p - phi[0]);
-            lo = lo.min(d);
-            hi = hi.max(d);
-        }
-        if hi - lo + 2 * WIDE_MARGIN >= PI {
-            return full;
-        }
-        let s_lo = unit.sector_of(phi[0] + lo - WIDE_MARGIN);
-        let s_hi = unit.sector_of(phi[0] + hi + WIDE_MARGIN);
-        let len = (s_hi + unit.sectors - s_lo) % unit.sectors + 1;
-        Reach {
-            wedge: Wedge::Sectors {
-                lo: s_lo as u8,
-                len: len as u8,
-            },
-            ..full
-        }
+        unit.reach_of(phi, (lo_t, hi_t), pos || neg || near, WIDE_MARGIN)
     }
 
     /// A xorshift stream, for reproducible geometry.
