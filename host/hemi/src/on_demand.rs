@@ -140,13 +140,14 @@ pub fn unreached(scene: &Scene, sol: &Solution) -> usize {
 /// two sides are shot together and both grids formed from the two sets of rows.
 pub fn grids_streaming(shooter: &mut RowShooter<'_>, sol: &Solution) -> Result<Vec<Grid>> {
     let scene = shooter.scene();
+    let cuts = crate::contact::cuts(scene);
     let grid = |i: usize, rows: &[ElementRow], twin_rows: &[ElementRow]| {
         let samples: Vec<[f64; 3]> = rows
             .iter()
             .enumerate()
             .map(|(q, e)| element_value(scene, e, twin_rows.get(q), &sol.radiosity))
             .collect();
-        patch_grid(scene, i, &samples)
+        patch_grid(scene, i, &samples, &cuts[i])
     };
     let n = scene.patches.len();
     let mut grids: Vec<Option<Grid>> = vec![None; n];

@@ -56,13 +56,10 @@ pub fn patch_gather(row: &[(u32, [f32; 3])], radiosity: &[[f64; 3]], skip: &[boo
 
 /// The grid of patch `i` from its element values (k×k, v-major; K = √count: K×K on a polygon,
 /// 4×4 on a Bezier patch, or the last level of adaptive sampling); a pure specular patch has
-/// no elements and no diffuse radiosity but its emission (a constant grid).
-pub fn patch_grid(scene: &Scene, i: usize, values: &[[f64; 3]]) -> Grid {
-    patch_grid_cut(scene, i, values, &[])
-}
-
-/// [`patch_grid`] on a patch crossed by `cuts` (where other surfaces stand on it).
-fn patch_grid_cut(scene: &Scene, i: usize, values: &[[f64; 3]], cuts: &[Cut]) -> Grid {
+/// no elements and no diffuse radiosity but its emission (a constant grid). The grid does not
+/// blend across `cuts`, the lines where other surfaces stand on the patch
+/// ([`crate::contact::cuts`]).
+pub fn patch_grid(scene: &Scene, i: usize, values: &[[f64; 3]], cuts: &[Cut]) -> Grid {
     if values.is_empty() {
         Grid::from_samples(1, &[scene.material_of(i).emission])
     } else {
@@ -139,7 +136,7 @@ impl ElementIndex {
     /// The grid of every scene patch from element values in the list's order.
     pub fn grids(&self, scene: &Scene, values: &[[f64; 3]]) -> Vec<Grid> {
         (0..scene.patches.len())
-            .map(|i| patch_grid_cut(scene, i, &values[self.range(i)], &self.cuts[i]))
+            .map(|i| patch_grid(scene, i, &values[self.range(i)], &self.cuts[i]))
             .collect()
     }
 }
