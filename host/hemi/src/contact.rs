@@ -33,43 +33,57 @@ const BORDER: f64 = 1e-3;
 /// The cuts across each patch of `scene` (empty lists for most), in scene order.
 pub fn cuts(scene: &Scene) -> Vec<Vec<Cut>> {
     let polys: Vec<Option<&Polygon>> = scene.patches.iter().map(|p| p.polygon()).collect();
-    let mut out = vec![Vec::new(); polys.len()];
     if polys.len() > MAX_PATCHES {
-        return out;
+        return vec![Vec::new(); polys.len()];
     }
-    let size = scene_size(&polys);
+    let tol = scene_size(&polys) * ON_PLANE;
     let boxes: Vec<Option<(Vec3, Vec3)>> = polys.iter().map(|p| p.map(bounds)).collect();
-    for (i, receiver) in polys.iter().enumerate() {
-        let Some(receiver) = receiver else { continue };
-        let Some(frame) = receiver.uv_frame() else {
-            continue;
-        };
-        let near = |b: &(Vec3, Vec3)| overlaps(b, &boxes[i].unwrap_or(*b), size * ON_PLANE);
-        for (j, other) in polys.iter().enumerate() {
-            let Some(other) = other else { continue };
-            if j == i || !boxes[j].as_ref().is_some_and(near) {
-                continue;
-            }
-            // a coplanar neighbour's edges are the receiver's own border, or a decal
-            if f64::from(receiver.normal.dot(other.normal)).abs() > 0.999 {
-                continue;
-            }
-            for edge in edges(other) {
-                let on = |p: Vec3| {
-                    f64::from(receiver.normal.dot(p - receiver.v[0])).abs() <= size * ON_PLANE
-                };
-                let tol = size * ON_PLANE;
-                if !(on(edge[0]) && on(edge[1])) || along_border(receiver, edge, tol) {
-                    continue;
-                }
-                let cut = edge.map(|p| {
-                    let (u, v) = frame.uv_of(p);
-                    [f64::from(u), f64::from(v)]
+    (0..polys.len())
+        .map(|i| {
+            let (Some(receiver), Some(bounds)) = (polys[i], boxes[i]) else {
+                return Vec::new();
+            };
+            let others = polys
+                .iter()
+                .zip(&boxes)
+                .enumerate()
+                .filter_map(|(j, pair)| match pair {
+                    (Some(p), Some(b)) if j != i && overlaps(b, &bounds, tol) => Some(*p),
+                    _ => None,
                 });
-                let seen = out[i].contains(&cut) || out[i].contains(&[cut[1], cut[0]]);
-                if crosses_inside(&cut) && !seen {
-                    out[i].push(cut);
-                }
+            cuts_across(receiver, others, tol)
+        })
+        .collect()
+}
+
+/// The cuts `others` (the polygons near it) make across `receiver`: their edges within `tol`
+/// of its plane, not along its own edges, from polygons not coplanar with it (a coplanar
+/// neighbour's edges are the receiver's own border, or a decal).
+fn cuts_across<'p>(
+    receiver: &Polygon,
+    others: impl Iterator<Item = &'p Polygon>,
+    tol: f64,
+) -> Vec<Cut> {
+    let Some(frame) = receiver.uv_frame() else {
+        return Vec::new();
+    };
+    let on = |p: Vec3| f64::from(receiver.normal.dot(p - receiver.v[0])).abs() <= tol;
+    let mut out: Vec<Cut> = Vec::new();
+    for other in others {
+        if f64::from(receiver.normal.dot(other.normal)).abs() > 0.999 {
+            continue;
+        }
+        for edge in edges(other) {
+            if !(on(edge[0]) && on(edge[1])) || along_border(receiver, edge, tol) {
+                continue;
+            }
+            let cut = edge.map(|p| {
+                let (u, v) = frame.uv_of(p);
+                [f64::from(u), f64::from(v)]
+            });
+            let seen = out.contains(&cut) || out.contains(&[cut[1], cut[0]]);
+            if crosses_inside(&cut) && !seen {
+                out.push(cut);
             }
         }
     }

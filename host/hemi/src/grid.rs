@@ -56,13 +56,17 @@ impl Cuts {
         self.lines.iter().any(|c| crosses(a, b, c))
     }
 
+    /// Whether a line may touch cell (a, b) of a k-cell-a-side grid.
+    fn touches(&self, k: usize, (a, b): (usize, usize)) -> bool {
+        self.cells.get(b * k + a).copied().unwrap_or(false)
+    }
+
     /// The four vertices and weights that blend (u, v) on a k×k grid: [`corners`], but in a
     /// cell a line may touch a vertex across a line from (u, v) gets no weight, and the others
     /// share its weight in proportion (all four keep theirs if every one is across).
     pub fn blend(&self, k: usize, u: f32, v: f32) -> [((usize, usize), f64); 4] {
         let mut c = corners(k, u, v);
-        let ((a, b), _) = c[0];
-        if !self.cells.get(b * k + a).copied().unwrap_or(false) {
+        if !self.touches(k, c[0].0) {
             return c;
         }
         let at = [f64::from(u).clamp(0.0, 1.0), f64::from(v).clamp(0.0, 1.0)];
@@ -136,25 +140,24 @@ impl Grid {
             .flat_map(|j| (0..=k).map(move |i| (i, j)))
             .map(|(i, j)| {
                 // vertex (i, j) is the corner shared by padded cells (i|i+1, j|j+1)
+                // on a cut patch, only the samples on the vertex's side of the lines
                 let around = [(i, j), (i + 1, j), (i, j + 1), (i + 1, j + 1)];
                 let vertex = [i as f64 / k as f64, j as f64 / k as f64];
                 let centre =
                     |a: usize, b: usize| [(a as f64 - 0.5) / k as f64, (b as f64 - 0.5) / k as f64];
-                let near: Vec<_> = around
-                    .into_iter()
-                    .filter(|&(a, b)| !cuts.blocks(centre(a, b), vertex))
-                    .collect();
+                let side = around.map(|(a, b)| !cuts.blocks(centre(a, b), vertex));
+                let count = side.iter().filter(|s| **s).count();
                 let mut v = [0.0; 3];
-                if near.len() == 4 || near.is_empty() {
+                if count == 4 || count == 0 {
                     for (a, b) in around {
                         for c in 0..3 {
                             v[c] += 0.25 * pad[b * w + a][c];
                         }
                     }
                 } else {
-                    for &(a, b) in &near {
+                    for ((a, b), _) in around.into_iter().zip(side).filter(|(_, s)| *s) {
                         for c in 0..3 {
-                            v[c] += pad[b * w + a][c] / near.len() as f64;
+                            v[c] += pad[b * w + a][c] / count as f64;
                         }
                     }
                 }
@@ -188,7 +191,9 @@ impl Grid {
     /// B at (u, v).
     pub fn at(&self, u: f32, v: f32) -> [f64; 3] {
         let k = self.k;
-        if !self.cuts.lines.is_empty() {
+        let (a, fa) = locate(k, u);
+        let (b, fb) = locate(k, v);
+        if self.cuts.touches(k, (a, b)) {
             let mut out = [0.0; 3];
             for ((i, j), w) in self.cuts.blend(k, u, v) {
                 let b = self.vertex(i, j);
@@ -198,8 +203,6 @@ impl Grid {
             }
             return out;
         }
-        let (a, fa) = locate(k, u);
-        let (b, fb) = locate(k, v);
         let at = |i: usize, j: usize| self.vertices[j * (k + 1) + i];
         let mut out = [0.0; 3];
         for (c, o) in out.iter_mut().enumerate() {

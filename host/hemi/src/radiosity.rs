@@ -7,6 +7,7 @@ use crate::pass1::FormFactors;
 use crate::scene::{Material, Scene};
 use crate::shots::ElementRow;
 use crate::solve::Solution;
+use std::sync::OnceLock;
 
 /// The value of one element (4.2) from what it gathered, `B_iq = E_i + ρ_i H_iq` per channel,
 /// plus `τ_i H_tq` on a side of a translucent sheet (`through`, what its twin's element at the
@@ -75,8 +76,9 @@ pub struct ElementIndex {
     first: Vec<usize>,
     /// Elements per patch.
     count: Vec<usize>,
-    /// The lines across each patch its grid does not blend across ([`crate::contact`]).
-    cuts: Vec<Vec<Cut>>,
+    /// The lines across each patch its grid does not blend across ([`crate::contact`]),
+    /// found when the first grids are made (an index used only for its ranges never looks).
+    cuts: OnceLock<Vec<Vec<Cut>>>,
 }
 
 impl ElementIndex {
@@ -91,7 +93,7 @@ impl ElementIndex {
         ElementIndex {
             first,
             count,
-            cuts: crate::contact::cuts(scene),
+            cuts: OnceLock::new(),
         }
     }
 
@@ -135,8 +137,9 @@ impl ElementIndex {
 
     /// The grid of every scene patch from element values in the list's order.
     pub fn grids(&self, scene: &Scene, values: &[[f64; 3]]) -> Vec<Grid> {
+        let cuts = self.cuts.get_or_init(|| crate::contact::cuts(scene));
         (0..scene.patches.len())
-            .map(|i| patch_grid(scene, i, &values[self.range(i)], &self.cuts[i]))
+            .map(|i| patch_grid(scene, i, &values[self.range(i)], &cuts[i]))
             .collect()
     }
 }
