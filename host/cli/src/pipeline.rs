@@ -251,9 +251,8 @@ pub fn solve(
 }
 
 /// The elements refinement may reach: `--max-elements` when given, else the library's
-/// [`default_budget`]; in
-/// both cases no more than the rows `limit` bytes (`--matrix-mib`) leave room for at pass 1's
-/// mean row size (said on stderr when that is the bound).
+/// [`default_budget`]; in both cases no more than the rows `limit` bytes (`--matrix-mib`)
+/// leave room for at pass 1's mean row size (said on stderr when that is the bound).
 fn element_budget(scene: &Scene, ff: &FormFactors, field: &FieldSettings, limit: u64) -> usize {
     let now = ff.elements.len();
     let asked = field.refine.max_elements;
