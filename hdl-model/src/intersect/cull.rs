@@ -340,6 +340,7 @@ mod tests {
     extern crate std;
     use super::*;
     use crate::intersect::coarse_edge;
+    use crate::intersect::tests::Rng;
     use std::vec;
     use std::vec::Vec;
 
@@ -399,25 +400,6 @@ mod tests {
             lo_t = 0;
         }
         unit.reach_of(phi, (lo_t, hi_t), pos || neg || near, WIDE_MARGIN)
-    }
-
-    /// A xorshift stream, for reproducible geometry.
-    struct Rng(u64);
-    impl Rng {
-        fn next(&mut self) -> u64 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            self.0
-        }
-        /// Uniform in [0, 1).
-        fn unit(&mut self) -> f64 {
-            (self.next() >> 11) as f64 / (1u64 << 53) as f64
-        }
-        /// Uniform in [−1, 1).
-        fn sym(&mut self) -> f64 {
-            2.0 * self.unit() - 1.0
-        }
     }
 
     type V = [f64; 3];

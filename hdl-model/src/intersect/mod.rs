@@ -29,9 +29,10 @@
 //! 3. the lane's running minimum, then the min tree over lanes (`merge_latency` clocks).
 //!
 //! On the compact datapath a lane has only the edge stage (a coarse test, the undecided pairs
-//! to a shared exact unit): the pairs it finds inside go, with the h of the lane's word,
-//! to one of its ray group's [`PLANE_UNITS`] plane units, which read the slot's n from the
-//! group's normal memory and hold the n · d, the divider and the group's running minimum; a lane whose pair finds them busy waits with it.
+//! to a shared exact unit): the pairs it finds inside go, with the h of the lane's word, to one
+//! of its ray group's [`PLANE_UNITS`] plane units, which read the slot's n from the group's
+//! normal memory and hold the n · d, the divider and the group's running minimum; a lane whose
+//! pair finds them busy waits with it.
 //!
 //! Then the (u,v) pipe ([`uv`]) locates the hit point on the hit patch. Widths: coordinates Q8.24
 //! (32 bits), a_i 34 bits, e_i ≤ 62 bits (an origin-wide truncation keeps far origins in range),
@@ -1209,10 +1210,10 @@ impl<T: Copy + Default> IntersectUnit<T> {
 mod tests {
     use super::*;
 
-    /// A xorshift stream, for reproducible vectors.
-    struct Rng(u64);
+    /// A xorshift stream, for reproducible vectors and geometry (the culling unit's tests too).
+    pub(super) struct Rng(pub(super) u64);
     impl Rng {
-        fn next(&mut self) -> u64 {
+        pub(super) fn next(&mut self) -> u64 {
             self.0 ^= self.0 << 13;
             self.0 ^= self.0 >> 7;
             self.0 ^= self.0 << 17;
@@ -1221,6 +1222,14 @@ mod tests {
         /// A signed value of `bits` bits at most.
         fn signed(&mut self, bits: u32) -> i64 {
             (self.next() as i64) >> (64 - bits)
+        }
+        /// Uniform in [0, 1).
+        pub(super) fn unit(&mut self) -> f64 {
+            (self.next() >> 11) as f64 / (1u64 << 53) as f64
+        }
+        /// Uniform in [−1, 1).
+        pub(super) fn sym(&mut self) -> f64 {
+            2.0 * self.unit() - 1.0
         }
     }
 
