@@ -7,6 +7,7 @@ use anyhow::{ensure, Result};
 use hemi::scene::Scene;
 use hemi_kernel::accel::bvh::{self, Bvh, Node};
 use hemi_kernel::accel::soft::{LocalPatch, SoftAccelerator, SoftScratch};
+use hemi_kernel::accel::wide_bvh::{self, WideNode};
 use hemi_kernel::accel::{Accelerator, Hit, Ray};
 use hemi_kernel::geometry::{Aabb, Vec3};
 use std::io::Write;
@@ -81,7 +82,13 @@ pub fn single_rays(scene: &Scene, rays: usize, out: &mut impl Write) -> Result<(
     };
     let (linear_s, linear_b, linear) = run(None)?;
     let (tree_s, tree_b, treed) = run(Some(Bvh::from_parts(&nodes, &order)))?;
+    let mut wide = vec![WideNode::default(); wide_bvh::nodes_for(n)];
+    let used = wide_bvh::widen(&Bvh::from_parts(&nodes, &order), &mut wide)
+        .map_err(|e| anyhow::anyhow!("wide BVH: {e:?}"))?;
+    let wide_tree = Bvh::from_parts(&nodes, &order).with_wide(&wide[..used]);
+    let (wide_s, wide_b, widened) = run(Some(wide_tree))?;
     let same = linear.iter().zip(&treed).filter(|(a, b)| a == b).count();
+    let same_wide = linear.iter().zip(&widened).filter(|(a, b)| a == b).count();
     let linear = &linear[..ray_set.len()];
     let hit = linear.iter().filter(|h| h.is_some()).count();
     writeln!(
@@ -98,7 +105,11 @@ pub fn single_rays(scene: &Scene, rays: usize, out: &mut impl Write) -> Result<(
     )?;
     writeln!(out, "|---|---|---|---|")?;
     let m = ray_set.len() as f64;
-    for (label, s, b) in [("linear scan", linear_s, linear_b), ("BVH", tree_s, tree_b)] {
+    for (label, s, b) in [
+        ("linear scan", linear_s, linear_b),
+        ("BVH", tree_s, tree_b),
+        ("BVH, four children a node", wide_s, wide_b),
+    ] {
         writeln!(
             out,
             "| {label} | {:.3} M | {:.2} | {:.3} M |",
@@ -115,10 +126,18 @@ pub fn single_rays(scene: &Scene, rays: usize, out: &mut impl Write) -> Result<(
         linear_b / tree_b,
         2 * ray_set.len()
     )?;
+    writeln!(
+        out,
+        "four children / two: {:.2}x single rays, {:.2}x bundles; identical hits: {same_wide} of {}",
+        tree_s / wide_s,
+        tree_b / wide_b,
+        2 * ray_set.len()
+    )?;
     ensure!(
-        same == 2 * ray_set.len(),
-        "the tree and the linear scan disagree on {} rays",
-        2 * ray_set.len() - same
+        same == 2 * ray_set.len() && same_wide == same,
+        "the trees and the linear scan disagree on {} and {} rays",
+        2 * ray_set.len() - same,
+        2 * ray_set.len() - same_wide
     );
     Ok(())
 }

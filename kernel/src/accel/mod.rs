@@ -10,6 +10,7 @@ pub mod bvh;
 pub mod either;
 pub mod simd;
 pub mod soft;
+pub mod wide_bvh;
 
 use crate::geometry::Vec3;
 use crate::hemisphere::Hemisphere;

@@ -5,6 +5,7 @@
 use super::Engines;
 use hemi_kernel::accel::bvh::{self, Bvh, Node};
 use hemi_kernel::accel::soft::{LocalPatch, SoftAccelerator, SoftScratch};
+use hemi_kernel::accel::wide_bvh::{self, WideNode};
 use hemi_kernel::accel::{Accelerator, Hit, Ray};
 use hemi_kernel::geometry::{Bezier, BezierTree, Subdivision, TreeNode, UvFrame, Vec3};
 use hemi_kernel::hemisphere::{Hemisphere, MAX_CIRCLES};
@@ -24,8 +25,8 @@ pub struct Soft {
     shared: OnceLock<Shared>,
 }
 
-/// The BVH's nodes and patch order.
-type Tree = (Vec<Node>, Vec<u32>);
+/// The BVH's nodes and patch order, and its wide form (`wide_bvh`), which single rays walk.
+type Tree = (Vec<Node>, Vec<u32>, Vec<WideNode>);
 
 /// What [`Soft`]'s engines share, and the patch memory it was built for.
 #[derive(Debug)]
@@ -269,7 +270,7 @@ impl<'p> SoftEngine<'p> {
             accel = accel.with_bezier_trees(&self.trees);
         }
         match &self.tree {
-            Some(t) if tree => accel.with_bvh(Bvh::from_parts(&t.0, &t.1)),
+            Some(t) if tree => accel.with_bvh(Bvh::from_parts(&t.0, &t.1).with_wide(&t.2)),
             _ => accel,
         }
     }
@@ -290,9 +291,12 @@ fn build_tree(patches: &[Patch]) -> Option<Tree> {
     let mut nodes = vec![Node::default(); bvh::nodes_for(n)];
     let mut order = vec![0u32; n];
     let mut boxes: Vec<_> = patches.iter().map(|p| p.bounds()).collect();
-    bvh::build(patches, &mut nodes, &mut order, &mut boxes)
-        .is_ok()
-        .then_some((nodes, order))
+    bvh::build(patches, &mut nodes, &mut order, &mut boxes).ok()?;
+    // (the binary tree alone, should it ever not widen: the same answers, slower)
+    let mut wide = vec![WideNode::default(); wide_bvh::nodes_for(n)];
+    let used = wide_bvh::widen(&Bvh::from_parts(&nodes, &order), &mut wide).unwrap_or(0);
+    wide.truncate(used);
+    Some((nodes, order, wide))
 }
 
 impl Accelerator for SoftEngine<'_> {
