@@ -264,6 +264,29 @@ fn split(items: &mut [u32], boxes: &[Aabb]) -> Option<usize> {
     (left > 0 && left < n).then_some(left)
 }
 
+/// Offers each patch of a leaf to `test`, keeping in `best` the nearest hit, ties to the lower
+/// id (the linear scan's order), and its distance in `best_t`: both trees' walks.
+#[inline]
+pub(super) fn test_leaf<T: Copy>(
+    ids: &[u32],
+    test: &mut impl FnMut(u32, f32) -> Option<(f32, T)>,
+    best: &mut Option<(f32, u32, T)>,
+    best_t: &mut f32,
+) {
+    for &id in ids {
+        if let Some((t, extra)) = test(id, *best_t) {
+            let better = match *best {
+                None => t <= *best_t,
+                Some((bt, bid, _)) => t < bt || (t == bt && id < bid),
+            };
+            if better {
+                *best_t = t;
+                *best = Some((t, id, extra));
+            }
+        }
+    }
+}
+
 /// A ray as the slab tests of both trees read it, the reciprocal of each direction component
 /// computed once per ray: the same quotients as dividing at every box, so the same boxes pass.
 /// (On the binary tree this was no faster, `hemi bench trace`: the divisions were not what a
@@ -311,9 +334,17 @@ impl<'a> Bvh<'a> {
         self.nodes
     }
 
-    /// The patch ids in leaf order.
-    pub(super) fn order(&self) -> &'a [u32] {
+    /// The patch ids of the leaf of `count` patches from `first` in leaf order.
+    pub(super) fn leaf(&self, first: u32, count: u32) -> &'a [u32] {
+        let first = first as usize;
         self.order
+            .get(first..first + count as usize)
+            .unwrap_or_default()
+    }
+
+    /// The number of patches the tree holds.
+    pub(super) fn patch_count(&self) -> usize {
+        self.order.len()
     }
 
     /// Visits the patches a ray `origin + t dir` may hit, nearest boxes first, and returns the
@@ -341,23 +372,12 @@ impl<'a> Bvh<'a> {
                 return best;
             };
             if n.count > 0 {
-                let first = n.first as usize;
-                let ids = self
-                    .order
-                    .get(first..first + n.count as usize)
-                    .unwrap_or_default();
-                for &id in ids {
-                    if let Some((t, extra)) = test(id, best_t) {
-                        let better = match best {
-                            None => t <= best_t,
-                            Some((bt, bid, _)) => t < bt || (t == bt && id < bid),
-                        };
-                        if better {
-                            best_t = t;
-                            best = Some((t, id, extra));
-                        }
-                    }
-                }
+                test_leaf(
+                    self.leaf(n.first, n.count),
+                    &mut test,
+                    &mut best,
+                    &mut best_t,
+                );
             } else {
                 let (l, r) = (node + 1, n.first as usize);
                 let tl = self.enter(l, &ray, best_t);

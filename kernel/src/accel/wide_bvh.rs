@@ -11,7 +11,7 @@
 //! could report is still tested; the nearest hit, ties to the lowest id, does not depend on the
 //! order in which patches are tested.
 
-use super::bvh::{area, Bvh, Node, SlabRay, MAX_DEPTH};
+use super::bvh::{area, test_leaf, Bvh, Node, SlabRay, MAX_DEPTH};
 
 /// Children a wide node holds.
 pub const WIDTH: usize = 4;
@@ -62,7 +62,7 @@ pub enum WidenError {
 /// nodes used; node 0 is the root.
 pub fn widen(tree: &Bvh<'_>, out: &mut [WideNode]) -> Result<usize, WidenError> {
     let nodes = tree.nodes();
-    if out.len() < nodes_for(tree.order().len()) || out.is_empty() {
+    if out.len() < nodes_for(tree.patch_count()) || out.is_empty() {
         return Err(WidenError::StorageTooSmall);
     }
     // (binary node, wide node to fill) still to do
@@ -188,7 +188,6 @@ pub(super) fn nearest<T: Copy>(
     t_max: f32,
     mut test: impl FnMut(u32, f32) -> Option<(f32, T)>,
 ) -> Option<(f32, u32, T)> {
-    let order = tree.order();
     let mut best: Option<(f32, u32, T)> = None;
     let mut best_t = t_max;
     // children still to visit, with their entry distances: (first, count, entry) as the
@@ -199,21 +198,7 @@ pub(super) fn nearest<T: Copy>(
     loop {
         let (first, count, _) = cur;
         if count > 0 {
-            let ids = order
-                .get(first as usize..first as usize + count as usize)
-                .unwrap_or_default();
-            for &id in ids {
-                if let Some((t, extra)) = test(id, best_t) {
-                    let better = match best {
-                        None => t <= best_t,
-                        Some((bt, bid, _)) => t < bt || (t == bt && id < bid),
-                    };
-                    if better {
-                        best_t = t;
-                        best = Some((t, id, extra));
-                    }
-                }
-            }
+            test_leaf(tree.leaf(first, count), &mut test, &mut best, &mut best_t);
         } else if let Some(node) = wide.get(first as usize) {
             let t = node.enter(ray, best_t);
             // the entered children nearest first: the first is visited next, the rest wait
