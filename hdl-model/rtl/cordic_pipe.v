@@ -26,8 +26,11 @@ module cordic_pipe #(
     output wire signed [W-1:0] out_z,
     output wire       [PW-1:0] out_payload,
     // the payload one clock before it leaves (a unit that reads a memory by it gets the word
-    // on the clock the vector leaves, without the read in the next stage's path)
-    output wire       [PW-1:0] early_payload
+    // on the clock the vector leaves, without the read in the next stage's path), and two
+    // clocks before (the word then also passes a register of its own: a block RAM's output
+    // is slow, 5.8 ns on an ECP5)
+    output wire       [PW-1:0] early_payload,
+    output wire       [PW-1:0] early2_payload
 );
 `include "cordic_rom.vh"
 
@@ -118,4 +121,5 @@ module cordic_pipe #(
     assign out_z = z[L-1];
     assign out_payload = pay[L-1];
     assign early_payload = pay[L-2];
+    assign early2_payload = pay[L-3];
 endmodule

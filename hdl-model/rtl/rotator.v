@@ -56,7 +56,7 @@ module rotator #(
     /* verilator lint_on UNUSEDSIGNAL */
     wire [PW-1:0] a_p;
     /* verilator lint_off UNUSEDSIGNAL */ // only the early tag is read
-    wire [PW-1:0] a_early, b_early, c_early;
+    wire [PW-1:0] a_early, b_early, c_early, a_early2, b_early2, c_early2;
     /* verilator lint_on UNUSEDSIGNAL */
     cordic_pipe #(.MODE(0), .ITER(ITER), .W(W), .PW(PW)) psi (
         .clk(clk), .rst(rst), .in_valid(in_valid),
@@ -64,7 +64,7 @@ module rotator #(
         .in_z(in_bypass ? {W{1'b0}} : in_psi[31 -: W]),
         .in_payload({next_slot, in_dz[31 -: W]}),
         .out_valid(a_v), .out_x(a_x), .out_y(a_y), .out_z(a_z), .out_payload(a_p),
-        .early_payload(a_early));
+        .early_payload(a_early), .early2_payload(a_early2));
 
     // theta is read from the side table by the tag one clock before it leaves pipe 1, so the
     // block RAM's output is registered on its own and not in the next pipe's quadrant stage
@@ -94,7 +94,7 @@ module rotator #(
         .clk(clk), .rst(rst), .in_valid(ab_v), .in_x(ab_x), .in_y(ab_y), .in_z(ab_z),
         .in_payload(ab_p),
         .out_valid(b_v), .out_x(b_x), .out_y(b_y), .out_z(b_z), .out_payload(b_p),
-        .early_payload(b_early));
+        .early_payload(b_early), .early2_payload(b_early2));
 
     reg [W-1:0] phi_q;
     always @(posedge clk) phi_q <= side_phi[b_early[PW-1:W]][31 -: W];
@@ -122,17 +122,28 @@ module rotator #(
         .clk(clk), .rst(rst), .in_valid(bc_v), .in_x(bc_x), .in_y(bc_y), .in_z(bc_z),
         .in_payload(bc_p),
         .out_valid(c_v), .out_x(c_x), .out_y(c_y), .out_z(c_z), .out_payload(c_p),
-        .early_payload(c_early));
+        .early_payload(c_early), .early2_payload(c_early2));
+
+    // the unrotated direction and the bypass bit read by the tag two clocks before the vector
+    // leaves pipe 3 and registered once more, so that the side table's (block RAM's) slow
+    // output reaches a register of its own and not the output multiplexer: the rotator's
+    // critical path at ITER 12, W 16 (docs/PERFORMANCE.md)
+    reg [95:0] orig_read, orig;
+    reg        bypass_read, rotated;
+    always @(posedge clk) begin
+        orig_read <= side_dir[c_early2[PW-1:W]];
+        bypass_read <= side_bypass[c_early2[PW-1:W]];
+        orig <= orig_read;
+        rotated <= !bypass_read;
+    end
 
     wire [6:0] tag = c_p[PW-1:W];
-    wire [95:0] orig = side_dir[tag];
     // a W-bit word back in the top bits of its 32-bit container
     /* verilator lint_off UNUSEDSIGNAL */
     wire [63:0] cx = {c_x, {(64 - W){1'b0}}};
     wire [63:0] cy = {c_y, {(64 - W){1'b0}}};
     wire [63:0] cz = {c_p[W-1:0], {(64 - W){1'b0}}};
     /* verilator lint_on UNUSEDSIGNAL */
-    wire rotated = !side_bypass[tag];
     assign out_valid = c_v;
     assign out_tag = tag;
     assign out_dx = rotated ? cx[63:32] : orig[31:0];

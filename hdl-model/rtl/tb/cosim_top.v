@@ -31,7 +31,7 @@ module cosim_top #(
 );
     /* verilator lint_off UNUSEDSIGNAL */
     wire [6:0] tag;
-    wire payload, early;
+    wire payload, early, early2;
     /* verilator lint_on UNUSEDSIGNAL */
     rotator #(.ITER(ITER), .W(W)) rot (
         .clk(clk), .rst(rst), .in_valid(r_valid), .in_dx(r_dx), .in_dy(r_dy), .in_dz(r_dz),
@@ -40,5 +40,5 @@ module cosim_top #(
     cordic_pipe #(.MODE(1), .ITER(ITER), .W(W), .PW(1)) vec (
         .clk(clk), .rst(rst), .in_valid(v_valid), .in_x(v_x), .in_y(v_y), .in_z(v_z),
         .in_payload(1'b0), .out_valid(vo_valid), .out_x(vo_x), .out_y(vo_y), .out_z(vo_z),
-        .out_payload(payload), .early_payload(early));
+        .out_payload(payload), .early_payload(early), .early2_payload(early2));
 endmodule
