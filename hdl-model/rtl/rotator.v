@@ -61,7 +61,10 @@ module rotator #(
     cordic_pipe #(.MODE(0), .ITER(ITER), .W(W), .PW(PW)) psi (
         .clk(clk), .rst(rst), .in_valid(in_valid),
         .in_x(in_dx[31 -: W]), .in_y(in_dy[31 -: W]),
-        .in_z(in_bypass ? {W{1'b0}} : in_psi[31 -: W]),
+        // a bypassed entry leaves as written (the side table's direction below), so its angle
+        // is turned by as it comes: no multiplexer before the quadrant stage, the critical
+        // path with it
+        .in_z(in_psi[31 -: W]),
         .in_payload({next_slot, in_dz[31 -: W]}),
         .out_valid(a_v), .out_x(a_x), .out_y(a_y), .out_z(a_z), .out_payload(a_p),
         .early_payload(a_early), .early2_payload(a_early2));

@@ -173,7 +173,10 @@ impl<T: Copy + Default> Rotator<T> {
             CordicSlot {
                 x: r.dir[0],
                 y: r.dir[1],
-                z: if r.bypass { Angle::ZERO } else { r.angles[0] },
+                // a bypassed entry turns by whatever angles it brings: its output is the
+                // side table's original direction, so the pipes' words are never seen (the
+                // RTL then needs no multiplexer before its first quadrant stage)
+                z: r.angles[0],
                 zero: false,
                 payload: Carry {
                     third: r.dir[2],
