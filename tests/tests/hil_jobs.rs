@@ -212,9 +212,9 @@ fn assert_same_field(
 /// Point queries as `hemi irradiance` makes them (each query's own hemisphere on a finer
 /// backend: here 2R, which keeps QEMU quick, where the CLI's default is 4R; exact direct light
 /// with shadow rays, shadows' edges relit, `near_levels` of near field) through the boards
-/// equal the in-process model's, bit for bit; returns them. On the
-/// boards the queries' own hemispheres are a second backend on the same farm, so the boards
-/// are configured for 2R and back for every request. Each near-field level below the first is
+/// equal the in-process model's, bit for bit; returns them. On the boards the queries' own
+/// hemispheres are a second backend on the same farm, so the boards are configured for 2R and
+/// back for every request. Each near-field level below the first is
 /// the same requests again, and the default four cost about 200 s a query on a QEMU board at
 /// R = 8 (every evaluation its own hemisphere and shadow rays).
 fn assert_same_full_irradiance(

@@ -81,12 +81,11 @@ pub fn single_rays(scene: &Scene, rays: usize, out: &mut impl Write) -> Result<(
         Ok((single, t0.elapsed().as_secs_f64(), hits))
     };
     let (linear_s, linear_b, linear) = run(None)?;
-    let (tree_s, tree_b, treed) = run(Some(Bvh::from_parts(&nodes, &order)))?;
+    let tree = Bvh::from_parts(&nodes, &order);
+    let (tree_s, tree_b, treed) = run(Some(tree))?;
     let mut wide = vec![WideNode::default(); wide_bvh::nodes_for(n)];
-    let used = wide_bvh::widen(&Bvh::from_parts(&nodes, &order), &mut wide)
-        .map_err(|e| anyhow::anyhow!("wide BVH: {e:?}"))?;
-    let wide_tree = Bvh::from_parts(&nodes, &order).with_wide(&wide[..used]);
-    let (wide_s, wide_b, widened) = run(Some(wide_tree))?;
+    let used = wide_bvh::widen(&tree, &mut wide).map_err(|e| anyhow::anyhow!("wide BVH: {e:?}"))?;
+    let (wide_s, wide_b, widened) = run(Some(tree.with_wide(&wide[..used])))?;
     let same = linear.iter().zip(&treed).filter(|(a, b)| a == b).count();
     let same_wide = linear.iter().zip(&widened).filter(|(a, b)| a == b).count();
     let linear = &linear[..ray_set.len()];

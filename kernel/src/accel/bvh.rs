@@ -324,7 +324,8 @@ impl<'a> Bvh<'a> {
     }
 
     /// This tree with its wide form `wide` ([`wide_bvh::widen`] of it), which
-    /// [`Bvh::nearest`] then walks: the same answers, 1.5 times as fast (`hemi bench trace`).
+    /// [`Bvh::nearest`] then walks: the same answers, 1.3 to 1.9 times as fast on 242 to 16,274
+    /// patches (`hemi bench trace`, docs/PERFORMANCE.md).
     pub fn with_wide(self, wide: &'a [WideNode]) -> Bvh<'a> {
         Bvh { wide, ..self }
     }

@@ -62,20 +62,20 @@ pub enum WidenError {
 /// nodes used; node 0 is the root.
 pub fn widen(tree: &Bvh<'_>, out: &mut [WideNode]) -> Result<usize, WidenError> {
     let nodes = tree.nodes();
-    if out.len() < nodes_for(tree.patch_count()) || out.is_empty() {
+    if out.len() < nodes_for(tree.patch_count()) {
         return Err(WidenError::StorageTooSmall);
     }
-    // (binary node, wide node to fill) still to do
+    // (binary node, wide node to fill) still to do: at most three more a level
     let mut todo = [(0usize, 0usize); 3 * MAX_DEPTH + 8];
     let mut pending = 1;
     let mut used = 1;
     while pending > 0 {
         pending -= 1;
         let (binary, wide) = todo[pending];
-        let kids = gather(nodes, binary);
+        let (kids, len) = gather(nodes, binary);
         let mut node = WideNode::default();
-        for (slot, &child) in kids.iter().enumerate() {
-            let Some(n) = child.and_then(|c| nodes.get(c)) else {
+        for (slot, &c) in kids[..len].iter().enumerate() {
+            let Some(n) = nodes.get(c) else {
                 continue;
             };
             for k in 0..3 {
@@ -83,63 +83,45 @@ pub fn widen(tree: &Bvh<'_>, out: &mut [WideNode]) -> Result<usize, WidenError> 
                 node.max[k][slot] = n.bounds.max[k];
             }
             if n.count > 0 {
-                node.first[slot] = n.first;
-                node.count[slot] = n.count;
-            } else if used < out.len() && pending < todo.len() {
-                node.first[slot] = used as u32;
-                node.count[slot] = 0;
-                todo[pending] = (child.unwrap_or(0), used);
-                pending += 1;
-                used += 1;
-            } else {
+                (node.first[slot], node.count[slot]) = (n.first, n.count);
+                continue;
+            }
+            if used >= out.len() || pending >= todo.len() {
                 return Err(WidenError::StorageTooSmall);
             }
+            (node.first[slot], node.count[slot]) = (used as u32, 0);
+            todo[pending] = (c, used);
+            pending += 1;
+            used += 1;
         }
         out[wide] = node;
     }
     Ok(used)
 }
 
-/// Up to four descendants of binary node `i` that cover it: its children, then the largest
-/// inner one among them replaced by its own two, while there is room. A leaf root is its own
-/// single child.
-fn gather(nodes: &[Node], i: usize) -> [Option<usize>; WIDTH] {
-    let mut kids = [None; WIDTH];
-    let Some(root) = nodes.get(i) else {
-        return kids;
-    };
-    if root.count > 0 {
-        kids[0] = Some(i);
-        return kids;
+/// Up to four descendants of binary node `i` that cover it, and how many: its children, then
+/// the largest inner one among them replaced by its own two, while there is room. A leaf is
+/// its own single child.
+fn gather(nodes: &[Node], i: usize) -> ([usize; WIDTH], usize) {
+    let mut kids = [i; WIDTH];
+    match nodes.get(i) {
+        Some(n) if n.count == 0 => (kids[0], kids[1]) = (i + 1, n.first as usize),
+        _ => return (kids, 1),
     }
-    kids[0] = Some(i + 1);
-    kids[1] = Some(root.first as usize);
     let mut len = 2;
+    let inner = |c: usize| nodes.get(c).filter(|n| n.count == 0);
     while len < WIDTH {
-        let inner = (0..len)
-            .filter(|&s| {
-                kids[s]
-                    .and_then(|c| nodes.get(c))
-                    .is_some_and(|n| n.count == 0)
-            })
-            .max_by(|&a, &b| {
-                let area = |s: usize| {
-                    kids[s]
-                        .and_then(|c| nodes.get(c))
-                        .map_or(0.0, |n| area(&n.bounds))
-                };
-                area(a).total_cmp(&area(b))
-            });
-        let Some(s) = inner else {
+        let largest = (0..len)
+            .filter_map(|s| inner(kids[s]).map(|n| (s, area(&n.bounds))))
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        let Some((s, _)) = largest else {
             break;
         };
-        let c = kids[s].unwrap_or(0);
-        let right = nodes.get(c).map_or(0, |n| n.first as usize);
-        kids[s] = Some(c + 1);
-        kids[len] = Some(right);
+        let c = kids[s];
+        (kids[s], kids[len]) = (c + 1, nodes[c].first as usize);
         len += 1;
     }
-    kids
+    (kids, len)
 }
 
 impl WideNode {

@@ -143,9 +143,9 @@ pub fn run(args: IrradianceArgs, out: &mut impl Write) -> Result<()> {
 /// The backend the queries cast their own hemispheres on, where it differs from pass 1's: the
 /// same engine with `--query-circles` (default [`QUERY_CIRCLES`] times pass 1's R, within
 /// [`MOST_CIRCLES`] and, on boards, within the hemispheres they build); `None` where the R is
-/// pass 1's. On boards it
-/// is a second backend on the same farm: each switch between the two sends the boards the
-/// other's configuration (the scene stays), so a request of queries costs two.
+/// pass 1's. On boards it is a second backend on the same farm: each switch between the two
+/// sends the boards the other's configuration (the scene stays), so a request of queries costs
+/// two.
 fn own_backend<'s>(args: &IrradianceArgs, run: &'s Prepared) -> Result<Option<Running<'s>>> {
     let circles = run.settings.circles;
     let own = match args.query_circles {

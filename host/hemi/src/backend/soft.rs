@@ -295,7 +295,10 @@ fn build_tree(patches: &[Patch]) -> Option<Tree> {
     // (the binary tree alone, should it ever not widen: the same answers, slower)
     let mut wide = vec![WideNode::default(); wide_bvh::nodes_for(n)];
     let used = wide_bvh::widen(&Bvh::from_parts(&nodes, &order), &mut wide).unwrap_or(0);
+    // (a third or less of the bound is used, 365 of 1,280 on the Cornell box cut 8 × 8: the
+    // rest, 128 bytes a node, is given back)
     wide.truncate(used);
+    wide.shrink_to_fit();
     Some((nodes, order, wide))
 }
 
