@@ -51,14 +51,30 @@ impl Cuts {
         }
     }
 
-    /// Whether the path from `a` to `b` crosses a line.
-    fn blocks(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+    /// Whether the path from `a` to `b` (in (u, v)) crosses a line.
+    pub fn blocks(&self, a: [f64; 2], b: [f64; 2]) -> bool {
         self.lines.iter().any(|c| crosses(a, b, c))
     }
 
     /// Whether a line may touch cell (a, b) of a k-cell-a-side grid.
     fn touches(&self, k: usize, (a, b): (usize, usize)) -> bool {
         self.cells.get(b * k + a).copied().unwrap_or(false)
+    }
+
+    /// Which side of each line (u, v) lies on, as bits (bit 0 set, line i's side in bit
+    /// 1 + i mod 63), or 0 where no line may touch its cell: points of one cell in the same
+    /// region are on the same side of every line, so light read at one of them is theirs too,
+    /// where a point across a line (a floor's other side of a screen) sees other light.
+    pub fn region(&self, k: usize, u: f32, v: f32) -> u64 {
+        let cell = (locate(k, u).0, locate(k, v).0);
+        if !self.touches(k, cell) {
+            return 0;
+        }
+        let at = [f64::from(u).clamp(0.0, 1.0), f64::from(v).clamp(0.0, 1.0)];
+        self.lines.iter().enumerate().fold(1, |bits, (i, [c, d])| {
+            let left = (d[0] - c[0]) * (at[1] - c[1]) - (d[1] - c[1]) * (at[0] - c[0]) > 0.0;
+            bits | (u64::from(left) << (i % 63 + 1))
+        })
     }
 
     /// The four vertices and weights that blend (u, v) on a k×k grid: [`corners`], but in a
@@ -318,6 +334,27 @@ mod tests {
                 .sum();
             assert!((by_weights - cut_grid.at(u, v)[0]).abs() < 1e-12);
         }
+    }
+
+    /// Points of one cell on either side of a line are in different regions, points on one
+    /// side in the same, and a cell no line touches has none.
+    #[test]
+    fn a_cut_splits_its_cells_into_regions() {
+        let k = 10;
+        let grid = Grid::with_cuts(k, &vec![[1.0; 3]; k * k], &[[[0.52, 0.2], [0.52, 0.8]]]);
+        let cuts = grid.cuts();
+        let (before, behind) = (cuts.region(k, 0.51, 0.5), cuts.region(k, 0.53, 0.5));
+        assert_ne!(before, 0);
+        assert_ne!(before, behind);
+        assert_eq!(cuts.region(k, 0.505, 0.45), before);
+        assert_eq!(cuts.region(k, 0.59, 0.55), behind);
+        assert_eq!(cuts.region(k, 0.25, 0.5), 0);
+        assert_eq!(
+            Grid::from_samples(k, &vec![[1.0; 3]; k * k])
+                .cuts()
+                .region(k, 0.51, 0.5),
+            0
+        );
     }
 
     #[test]

@@ -22,7 +22,8 @@
 //! — the grid for everything but the direct light (the indirect light, which is smooth), and
 //! the exact direct light at the hit. Hits are grouped by sub-cell as the near field groups them,
 //! and each sub-cell is evaluated once, at its centre, for all the queries asked together (the
-//! near field's queries, side by side, see the same edges). A group's error is about
+//! near field's queries, side by side, see the same edges); a sub-cell crossed by a line where
+//! one surface stands on another once a side of it. A group's error is about
 //! Σ w · (the grid's miss around its cell); the groups are evaluated largest first until those
 //! left sum to [`BUDGET`] of the query's irradiance, so the work goes where
 //! the error is — a shadow's edge that fills the view — and a far edge a few rays see costs
@@ -80,9 +81,9 @@ impl Relit {
         let mut relit = Relit::default();
         // one evaluation per sub-cell for all queries: neighbouring queries (a near field's)
         // see the same shadow edges, and a value at a sub-cell's centre is the same whoever asks
-        let mut evaluations: BTreeMap<(usize, u32), usize> = BTreeMap::new();
+        let mut evaluations: BTreeMap<Key, usize> = BTreeMap::new();
         for (n, (reports, scale)) in seen.iter().zip(scale).enumerate() {
-            let mut groups: BTreeMap<(usize, u32), Group> = BTreeMap::new();
+            let mut groups: BTreeMap<Key, Group> = BTreeMap::new();
             for (r, s) in reports.iter().enumerate() {
                 if skip(n, r, s) || scene.twin(s.side).is_some() {
                     continue;
@@ -93,9 +94,12 @@ impl Relit {
                 let Some(miss) = miss_at(b, direct, s, MISS) else {
                     continue;
                 };
-                let g = groups
-                    .entry((s.side, sub_cell(b.k(), s.u, s.v)))
-                    .or_default();
+                let key = (
+                    s.side,
+                    sub_cell(b.k(), s.u, s.v),
+                    b.cuts().region(b.k(), s.u, s.v),
+                );
+                let g = groups.entry(key).or_default();
                 g.hits.push(r);
                 for ((p, w), m) in g.potential.iter_mut().zip(s.weight).zip(miss) {
                     *p += w as f64 * m;
@@ -106,8 +110,7 @@ impl Relit {
                 let next = relit.points.len();
                 let at = *evaluations.entry(key).or_insert(next);
                 if at == next {
-                    let k = grids[key.0].k();
-                    let (u, v) = sub_cell_centre(k, key.1);
+                    let (u, v) = evaluated_at(&grids[key.0], key, &g.hits, reports);
                     relit.points.push((key.0, u, v));
                 }
                 relit.hits[n].extend(g.hits.iter().map(|&r| (r, at)));
@@ -210,6 +213,28 @@ fn buried(backend: &dyn Backend, at: &[(Vec3, Vec3)]) -> anyhow::Result<Vec<bool
         .collect())
 }
 
+/// A group's place: (side, sub-cell, region of the side's contact lines). A sub-cell that a
+/// line where one surface stands on another crosses is two groups, one a side
+/// ([`crate::grid::Cuts::region`]): the floor on either side of a screen's foot sees other
+/// lamps.
+type Key = (usize, u32, u64);
+
+/// Where a group is evaluated: its sub-cell's centre, the same point whoever asks, unless
+/// that lies across a contact line from the group's hits; then the mean of their (u, v),
+/// which lies on their side (a sub-cell cut by lines is convex on each side).
+fn evaluated_at(grid: &Grid, (_, cell, region): Key, hits: &[usize], seen: &[Seen]) -> (f32, f32) {
+    let k = grid.k();
+    let (u, v) = sub_cell_centre(k, cell);
+    if grid.cuts().region(k, u, v) == region || hits.is_empty() {
+        return (u, v);
+    }
+    let (su, sv) = hits.iter().fold((0.0f64, 0.0f64), |(a, b), &r| {
+        (a + f64::from(seen[r].u), b + f64::from(seen[r].v))
+    });
+    let n = hits.len() as f64;
+    ((su / n) as f32, (sv / n) as f32)
+}
+
 /// The hits of one sub-cell of a side that one query sees on a shadow's edge.
 #[derive(Debug, Default)]
 struct Group {
@@ -222,10 +247,10 @@ struct Group {
 /// The groups worth evaluating, most potential first, until the potential of those left,
 /// relative to the query's irradiance `scale` in each channel, sums to at most [`BUDGET`].
 fn select(
-    groups: BTreeMap<(usize, u32), Group>,
+    groups: BTreeMap<Key, Group>,
     scale: &[f64; 3],
     budget: f64,
-) -> impl Iterator<Item = ((usize, u32), Group)> {
+) -> impl Iterator<Item = (Key, Group)> {
     let relative = |g: &Group| {
         (0..3)
             .map(|c| g.potential[c] / scale[c].max(f64::MIN_POSITIVE))
@@ -273,4 +298,41 @@ pub fn miss_at(b: &Grid, direct: &Reflected, s: &Seen, threshold: f64) -> Option
         .flat_map(|&((i, j), _)| b.vertex(i, j))
         .fold(0.0f64, f64::max);
     (miss.iter().fold(0.0f64, |a, &x| a.max(x)) > threshold * top).then_some(miss)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::backend::Path;
+
+    /// A sub-cell that a contact line crosses is evaluated at its centre for the hits on the
+    /// centre's side, and at the mean of the others' (u, v) for the hits across the line.
+    #[test]
+    fn a_group_across_a_contact_line_is_evaluated_on_its_side() {
+        let k = 10;
+        // the line at u = 0.515 crosses sub-cell 20 of row 20 (u in [0.5, 0.525)), left of
+        // its centre at 0.5125
+        let grid = Grid::with_cuts(k, &vec![[1.0; 3]; k * k], &[[[0.515, 0.2], [0.515, 0.8]]]);
+        let cell = sub_cell(k, 0.52, 0.51);
+        let (cu, cv) = sub_cell_centre(k, cell);
+        let hit = |u: f32| Seen {
+            side: 0,
+            u,
+            v: 0.51,
+            weight: [1.0; 3],
+            path: Path::Direct,
+        };
+        let seen = [hit(0.52), hit(0.522), hit(0.501)];
+        let cuts = grid.cuts();
+        let behind = (0, cell, cuts.region(k, 0.52, 0.51));
+        let before = (0, cell, cuts.region(k, 0.501, 0.51));
+        assert_eq!(sub_cell(k, 0.501, 0.51), cell);
+        assert_ne!(behind.2, before.2);
+        assert_eq!(evaluated_at(&grid, before, &[2], &seen), (cu, cv));
+        let (u, v) = evaluated_at(&grid, behind, &[0, 1], &seen);
+        assert!(
+            (u - 0.521).abs() < 1e-6 && (v - 0.51).abs() < 1e-6,
+            "{u} {v}"
+        );
+    }
 }
