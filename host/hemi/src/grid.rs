@@ -52,7 +52,7 @@ impl Cuts {
     }
 
     /// Whether the path from `a` to `b` (in (u, v)) crosses a line.
-    pub fn blocks(&self, a: [f64; 2], b: [f64; 2]) -> bool {
+    fn blocks(&self, a: [f64; 2], b: [f64; 2]) -> bool {
         self.lines.iter().any(|c| crosses(a, b, c))
     }
 
@@ -81,13 +81,20 @@ impl Cuts {
     /// cell a line may touch a vertex across a line from (u, v) gets no weight, and the others
     /// share its weight in proportion (all four keep theirs if every one is across).
     pub fn blend(&self, k: usize, u: f32, v: f32) -> [((usize, usize), f64); 4] {
-        let mut c = corners(k, u, v);
-        if !self.touches(k, c[0].0) {
+        self.blend_finer(k, k, u, v)
+    }
+
+    /// [`Cuts::blend`] on a lattice of n×n squares over the k×k grid these cuts belong to (pass
+    /// 2 relights shadows' edges on one finer than the grid): the lattice's corners across a
+    /// line from (u, v) get no weight.
+    pub fn blend_finer(&self, k: usize, n: usize, u: f32, v: f32) -> [((usize, usize), f64); 4] {
+        let mut c = corners(n, u, v);
+        if !self.touches(k, (locate(k, u).0, locate(k, v).0)) {
             return c;
         }
         let at = [f64::from(u).clamp(0.0, 1.0), f64::from(v).clamp(0.0, 1.0)];
         let seen =
-            c.map(|((i, j), _)| !self.blocks(at, [i as f64 / k as f64, j as f64 / k as f64]));
+            c.map(|((i, j), _)| !self.blocks(at, [i as f64 / n as f64, j as f64 / n as f64]));
         let kept: f64 = c
             .iter()
             .zip(seen)

@@ -61,14 +61,20 @@ pub fn corrections(
     for (_, _, s) in hits {
         let grid = grid_of(grids, s.side)?;
         let n = grid.k() * SPLIT as usize;
-        // the fine lattice's square is a cell of an n×n grid: the same blend `Grid::at` uses
-        let blend = own_side(grid, n, s, crate::grid::corners(n, s.u, s.v)).map(|((i, j), w)| {
-            let next = corners.len();
-            (
-                *corners.entry((s.side, i as u32, j as u32)).or_insert(next),
-                w,
-            )
-        });
+        // the fine lattice's square is a cell of an n×n grid: the same blend `Grid::at` uses,
+        // its corners across a line where one surface stands on another left out (the lamps'
+        // light on the floor behind a screen is not the light before it; a corner under a
+        // block sees none)
+        let blend = grid
+            .cuts()
+            .blend_finer(grid.k(), n, s.u, s.v)
+            .map(|((i, j), w)| {
+                let next = corners.len();
+                (
+                    *corners.entry((s.side, i as u32, j as u32)).or_insert(next),
+                    w,
+                )
+            });
         blends.push(blend);
     }
     let mut points = vec![(0, 0.0, 0.0); corners.len()];
@@ -91,33 +97,3 @@ pub fn corrections(
         })
         .collect()
 }
-
-/// The fine lattice's `blend` of hit `s` without the corners across a contact line from it
-/// (where one surface stands on another, [`crate::grid::Cuts`]), the others' weights scaled to
-/// sum to 1, as the grid itself blends: the lamps' light on the floor behind a screen is not
-/// the light in front of it, and a corner under a block sees none (all four are kept if every
-/// one is across).
-fn own_side(grid: &Grid, n: usize, s: &Seen, mut blend: [Corner; 4]) -> [Corner; 4] {
-    let cuts = grid.cuts();
-    if cuts.region(grid.k(), s.u, s.v) == 0 {
-        return blend;
-    }
-    let hit = [f64::from(s.u), f64::from(s.v)];
-    let same =
-        blend.map(|((i, j), _)| !cuts.blocks(hit, [i as f64 / n as f64, j as f64 / n as f64]));
-    let kept: f64 = blend
-        .iter()
-        .zip(same)
-        .filter(|(_, s)| *s)
-        .map(|(c, _)| c.1)
-        .sum();
-    if kept > 0.0 && same.contains(&false) {
-        for (c, same) in blend.iter_mut().zip(same) {
-            c.1 = if same { c.1 / kept } else { 0.0 };
-        }
-    }
-    blend
-}
-
-/// A corner (i, j) of a lattice and its weight in a bilinear blend.
-type Corner = ((usize, usize), f64);
