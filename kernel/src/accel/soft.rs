@@ -271,6 +271,44 @@ impl LocalPatch {
         }
         // fast_acos errs by at most 6.7e-5 rad; the margin keeps the interval conservative
         let half = fast_acos(q.min(1.0)) + 2e-4;
+        self.azimuths(half, n)
+    }
+
+    /// The widest azimuth half-width the cone spans on any ring, when it does not hold the
+    /// pole: sin Δφ = sin α / sin θ_c (the great circle through the pole tangent to the cone),
+    /// with fast_acos's bound and the same margin.
+    #[cfg(not(target_os = "none"))]
+    fn widest_half(&self) -> Option<f32> {
+        if self.full || self.axis_rho < 1e-6 {
+            return None;
+        }
+        let sin_alpha = libm::sqrtf((1.0 - self.cos_alpha * self.cos_alpha).max(0.0));
+        let x = sin_alpha / self.axis_rho;
+        (x < 0.999).then(|| core::f32::consts::FRAC_PI_2 - fast_acos(x) + 3e-4)
+    }
+
+    /// [`LocalPatch::ring_interval`] with every ring's azimuths bounded by `widest` (one
+    /// bound a patch instead of one a ring), a superset of that interval.
+    #[cfg(not(target_os = "none"))]
+    fn ring_interval_within(
+        &self,
+        ring: &Ring,
+        j: usize,
+        widest: Option<f32>,
+    ) -> Option<(i64, i64)> {
+        let Some(half) = widest.filter(|_| j != 0) else {
+            return self.ring_interval(ring, j);
+        };
+        let best = ring.sin_theta * self.axis_rho + ring.cos_theta * self.axis.z;
+        if best < self.cos_alpha {
+            return None;
+        }
+        self.azimuths(half, ring.count as i64)
+    }
+
+    /// The ring's ray indices within `half` of the cone's azimuth, as `ring_interval` says.
+    #[inline]
+    fn azimuths(&self, half: f32, n: i64) -> Option<(i64, i64)> {
         // rays per radian, multiplied where dividing by the spacing cost two divisions a ring:
         // the rounding moves an end by a few ulps of the ray index (under 1e-5 rad), far inside
         // the margin above, and a ray the interval leaves out is outside the widened cone, so
@@ -1184,9 +1222,10 @@ impl SimdLoop for PatchScan<'_, '_> {
     #[inline(always)]
     fn run(self) {
         let table = self.hemi.rings();
+        let widest = self.lp.widest_half();
         for j in self.lp.ring_span(table, self.rings) {
             let ring = table[j];
-            let Some((start, len)) = self.lp.ring_interval(&ring, j) else {
+            let Some((start, len)) = self.lp.ring_interval_within(&ring, j, widest) else {
                 continue;
             };
             let at = ring_offset(&ring, j);
