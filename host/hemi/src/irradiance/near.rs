@@ -171,9 +171,9 @@ fn heaviest(groups: &BTreeMap<GroupKey, Group>, budget: usize) -> Vec<Option<usi
 /// A group of near hits: (query, side, sub-cell, region of the side's contact lines). The
 /// region keeps apart the hits on either side of a line where one surface stands on another
 /// ([`crate::grid::Cuts::region`]): one evaluation at their mean would give the light of one
-/// side to both. A floor running under a translucent screen, whose evaluations one level
-/// down see it from both sides at once, read the lit side's floor at the dark side's points
-/// and the camera side 2 % too dark (docs/ACCURACY.md, "Near hits kept to their side").
+/// side to both. A floor runs under a translucent screen, and the evaluations one level down
+/// see it from both sides at once: the lit side's hits took the dark side's light, and the
+/// camera side read 2 % too dark (docs/ACCURACY.md, "Near hits kept to their side").
 type GroupKey = (usize, usize, u32, u64);
 
 /// What is known of a group: (its evaluation's index, Σu, Σv, hits, Σ of its rays' weights).
