@@ -310,7 +310,7 @@ mod tests {
     #[test]
     fn a_group_across_a_contact_line_is_evaluated_on_its_side() {
         let k = 10;
-        // the line at u = 0.515 crosses sub-cell 20 of row 20 (u in [0.5, 0.525)), left of
+        // the line at u = 0.515 crosses sub-cell 20 of row 20 (u in [0.5, 0.525)), right of
         // its centre at 0.5125
         let grid = Grid::with_cuts(k, &vec![[1.0; 3]; k * k], &[[[0.515, 0.2], [0.515, 0.8]]]);
         let cell = sub_cell(k, 0.52, 0.51);
