@@ -270,8 +270,10 @@ impl LocalPatch {
     }
 
     /// The indices k of ring `ring` whose rays may hit the patch, as a (possibly wrapping) range
-    /// `start..start+len` modulo N_j; `None` when the ring misses the cone.
-    fn ring_interval(&self, ring: &Ring, j: usize) -> Option<(i64, i64)> {
+    /// `start..start+len` modulo N_j; `None` when the ring misses the cone. With `widest`
+    /// ([`LocalPatch::widest_half`], one bound a patch) the azimuths are bounded by it rather
+    /// than by this ring's own half-width (an arc cosine a ring): a superset of that interval.
+    fn ring_interval(&self, ring: &Ring, j: usize, widest: Option<f32>) -> Option<(i64, i64)> {
         let n = ring.count as i64;
         if self.full || j == 0 {
             return Some((0, n));
@@ -283,51 +285,19 @@ impl LocalPatch {
         if self.axis_rho < 1e-6 {
             return Some((0, n));
         }
-        let q = (self.cos_alpha - ring.cos_theta * self.axis.z) / (ring.sin_theta * self.axis_rho);
-        if q <= -1.0 {
-            return Some((0, n));
-        }
-        // fast_acos errs by at most 6.7e-5 rad; the margin keeps the interval conservative
-        let half = fast_acos(q.min(1.0)) + 2e-4;
-        self.azimuths(half, n)
-    }
-
-    /// The widest azimuth half-width the cone spans on any ring, when it holds neither pole:
-    /// sin Δφ = sin α / sin θ_c (the great circle through the pole tangent to the cone), widened
-    /// by 3e-4 rad (fast_acos errs by 6.7e-5, fast_atan2 by 2e-6, the roundings by less). A cone
-    /// round a pole has sin α ≥ sin θ_c and keeps the per-ring intervals.
-    #[cfg(not(target_os = "none"))]
-    fn widest_half(&self) -> Option<f32> {
-        if self.full || self.axis_rho < 1e-6 {
-            return None;
-        }
-        let sin_alpha = libm::sqrtf((1.0 - self.cos_alpha * self.cos_alpha).max(0.0));
-        let x = sin_alpha / self.axis_rho;
-        (x < 0.999).then(|| core::f32::consts::FRAC_PI_2 - fast_acos(x) + 3e-4)
-    }
-
-    /// [`LocalPatch::ring_interval`] with every ring's azimuths bounded by `widest` (one
-    /// bound a patch instead of one a ring), a superset of that interval.
-    #[cfg(not(target_os = "none"))]
-    fn ring_interval_within(
-        &self,
-        ring: &Ring,
-        j: usize,
-        widest: Option<f32>,
-    ) -> Option<(i64, i64)> {
-        let Some(half) = widest.filter(|_| j != 0) else {
-            return self.ring_interval(ring, j);
+        let half = match widest {
+            Some(half) => half,
+            None => {
+                let q = (self.cos_alpha - ring.cos_theta * self.axis.z)
+                    / (ring.sin_theta * self.axis_rho);
+                if q <= -1.0 {
+                    return Some((0, n));
+                }
+                // fast_acos errs by at most 6.7e-5 rad; the margin keeps the interval
+                // conservative
+                fast_acos(q.min(1.0)) + 2e-4
+            }
         };
-        let best = ring.sin_theta * self.axis_rho + ring.cos_theta * self.axis.z;
-        if best < self.cos_alpha {
-            return None;
-        }
-        self.azimuths(half, ring.count as i64)
-    }
-
-    /// The ring's ray indices within `half` of the cone's azimuth, as `ring_interval` says.
-    #[inline]
-    fn azimuths(&self, half: f32, n: i64) -> Option<(i64, i64)> {
         // rays per radian, multiplied where dividing by the spacing cost two divisions a ring:
         // the rounding moves an end by a few ulps of the ray index (under 1e-5 rad), far inside
         // the margin above, and a ray the interval leaves out is outside the widened cone, so
@@ -340,6 +310,21 @@ impl LocalPatch {
         }
         let len = (hi - lo + 1).min(n);
         Some((wrap(lo, n), len))
+    }
+
+    /// The widest azimuth half-width the cone spans on any ring, when it holds neither pole:
+    /// sin Δφ = sin α / sin θ_c (the great circle through the pole tangent to the cone), widened
+    /// by 3e-4 rad (fast_acos errs by 6.7e-5, fast_atan2 by 2e-6, the roundings by less). A cone
+    /// round a pole has sin α ≥ sin θ_c and keeps the per-ring intervals. (Hosts: the
+    /// patch-by-patch walk; the ring scan, which boards run, bounds each ring by its own.)
+    #[cfg(not(target_os = "none"))]
+    fn widest_half(&self) -> Option<f32> {
+        if self.full || self.axis_rho < 1e-6 {
+            return None;
+        }
+        let sin_alpha = libm::sqrtf((1.0 - self.cos_alpha * self.cos_alpha).max(0.0));
+        let x = sin_alpha / self.axis_rho;
+        (x < 0.999).then(|| core::f32::consts::FRAC_PI_2 - fast_acos(x) + 3e-4)
     }
 }
 
@@ -1132,7 +1117,7 @@ impl SoftAccelerator<'_, '_> {
                 if !lp.active {
                     continue;
                 }
-                let Some((start, len)) = lp.ring_interval(&ring, j) else {
+                let Some((start, len)) = lp.ring_interval(&ring, j, None) else {
                     continue;
                 };
                 if lp.curved {
@@ -1291,7 +1276,7 @@ impl SimdLoop for PatchScan<'_, '_> {
         let widest = self.lp.widest_half();
         for j in self.lp.ring_span(table, self.rings) {
             let ring = table[j];
-            let Some((start, len)) = self.lp.ring_interval_within(&ring, j, widest) else {
+            let Some((start, len)) = self.lp.ring_interval(&ring, j, widest) else {
                 continue;
             };
             let at = ring_offset(&ring, j);
