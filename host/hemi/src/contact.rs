@@ -90,12 +90,15 @@ fn cuts_across<'p>(
     out
 }
 
+/// Twice the signed area of the triangle p, q, r in (u, v): positive when r lies left of the
+/// line from p to q.
+pub fn orient(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> f64 {
+    (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
+}
+
 /// Whether the straight path from `a` to `b` crosses `cut` (strictly: touching an end or
 /// running along it does not count).
 pub fn crosses(a: [f64; 2], b: [f64; 2], cut: &Cut) -> bool {
-    let orient = |p: [f64; 2], q: [f64; 2], r: [f64; 2]| {
-        (q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0])
-    };
     let [c, d] = *cut;
     orient(a, b, c) * orient(a, b, d) < 0.0 && orient(c, d, a) * orient(c, d, b) < 0.0
 }

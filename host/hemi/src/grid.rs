@@ -1,7 +1,7 @@
 //! The radiosity over one patch as a function of (u, v): the vertex grid of paper §4.3, built
 //! from the patch's K×K element values and interpolated bilinearly.
 
-use crate::contact::{crosses, Cut};
+use crate::contact::{crosses, orient, Cut};
 
 /// Radiosity over one patch as the grid of §4.3: K×K sample points sit at the centres of the
 /// cells of a (K+1)×(K+1) vertex grid; vertex values are the mean of the (up to four) samples
@@ -72,8 +72,7 @@ impl Cuts {
         }
         let at = [f64::from(u).clamp(0.0, 1.0), f64::from(v).clamp(0.0, 1.0)];
         self.lines.iter().enumerate().fold(1, |bits, (i, [c, d])| {
-            let left = (d[0] - c[0]) * (at[1] - c[1]) - (d[1] - c[1]) * (at[0] - c[0]) > 0.0;
-            bits | (u64::from(left) << (i % 63 + 1))
+            bits | (u64::from(orient(*c, *d, at) > 0.0) << (i % 63 + 1))
         })
     }
 
