@@ -199,7 +199,7 @@ fn the_furnace_gives_e_over_one_minus_rho_at_every_point_and_direction() {
     }
 }
 
-/// The materials of [`WALL_BY_THE_FLOOR`] and [`SHADOW_EDGE`] (a lamp, white ρ = 0.5, black)
+/// The materials of [`WALL_BY_THE_FLOOR`] and [`shadow_edge`] (a lamp, white ρ = 0.5, black)
 /// and their lamp, the unit square at z = 1 facing down.
 const LAMP_AND_MATERIALS: &str = r#"
 [[material]]
@@ -313,10 +313,13 @@ fn the_near_field_resolves_the_light_by_a_contact_edge() {
     assert!(errors[1] < errors[0] / 2.0, "{errors:?}");
 }
 
-/// A lamp over a white floor, and a black sheet between them that ends at x = 0.5, 0.3 above
-/// the floor: its shadow's edge on the floor is a penumbra from x = 2/7 to 5/7 (a floor point
-/// sees the lamp's part x_l > (5 − 7x)/3), sharper than the floor's grid can carry.
-const SHADOW_EDGE: &str = r#"
+/// A lamp over a white floor, and a black sheet between them that ends at x = 0.5, `sheet`
+/// above the floor: its shadow's edge on the floor is a penumbra (a floor point at x sees the
+/// lamp's part x_l > (0.5 − (1 − sheet)·x)/sheet; from x = 2/7 to 5/7 for a sheet at 0.3),
+/// sharper than the floor's grid can carry.
+fn shadow_edge(sheet: f64) -> Scene {
+    with_lamp(&format!(
+        r#"
 [[quad]]
 name = "floor"
 material = "white"
@@ -324,14 +327,16 @@ vertices = [[-2, -2, 0], [3, -2, 0], [3, 3, 0], [-2, 3, 0]]
 [[quad]]
 name = "sheet"
 material = "black"
-vertices = [[-2, -2, 0.3], [-2, 3, 0.3], [0.5, 3, 0.3], [0.5, -2, 0.3]]
-"#;
+vertices = [[-2, -2, {sheet}], [-2, 3, {sheet}], [0.5, 3, {sheet}], [0.5, -2, {sheet}]]
+"#
+    ))
+}
 
 /// The closed-form irradiance (per unit of the lamp's exitance) at `(qx, qy, h)` facing down,
-/// under the sheet's height, of [`SHADOW_EDGE`]: `∫ B(x) cos θ_q cos θ_f / (π r²) dA` over the
+/// under the sheet's height, of [`shadow_edge`]: `∫ B(x) cos θ_q cos θ_f / (π r²) dA` over the
 /// floor, `B(x) = ρ M F(x → the lamp's part it sees)` (Howell B-3), by quadrature on a lattice
 /// dense under the point (x − qx = h·sinh s, s uniform; likewise y).
-fn shadow_edge_reference(qx: f64, qy: f64, h: f64, rho: f64) -> f64 {
+fn shadow_edge_reference(sheet: f64, (qx, qy, h): (f64, f64, f64), rho: f64) -> f64 {
     let n = 700;
     let lattice = |q: f64| -> Vec<(f64, f64)> {
         let s = |k: usize| -9.0 + 18.0 * k as f64 / n as f64;
@@ -346,7 +351,7 @@ fn shadow_edge_reference(qx: f64, qy: f64, h: f64, rho: f64) -> f64 {
     let (xs, ys) = (lattice(qx), lattice(qy));
     let mut e = 0.0;
     for &(x, dx) in &xs {
-        let cut = ((5.0 - 7.0 * x) / 3.0).clamp(0.0, 1.0);
+        let cut = ((0.5 - (1.0 - sheet) * x) / sheet).clamp(0.0, 1.0);
         for &(y, dy) in &ys {
             let f = element_to_offset_rectangle(cut - x, -y, 1.0 - cut, 1.0, 1.0);
             let r2 = (x - qx).powi(2) + (y - qy).powi(2) + h * h;
@@ -361,13 +366,13 @@ fn a_shadows_edge_beyond_the_near_field_is_relit_exactly() {
     // the point looks down over the sheet's shadow's edge; without the near field, every hit
     // reads the floor's grid, 0.31 m cells that smear the 0.43 m penumbra (11.6 % off; 2.9 %
     // at K = 32), unless relit (0.47 %; 0.08 % at K = 32)
-    let scene = with_lamp(SHADOW_EDGE);
+    let scene = shadow_edge(0.3);
     let (qx, qy, h) = (0.9, 0.5, 0.2);
     let at = [(
         Vec3::new(qx as f32, qy as f32, h as f32),
         Vec3::new(0.0, 0.0, -1.0),
     )];
-    let want = shadow_edge_reference(qx, qy, h, 0.5);
+    let want = shadow_edge_reference(0.3, (qx, qy, h), 0.5);
     let query = QuerySettings {
         direct: Direct::Exact,
         near_levels: 0,
@@ -384,6 +389,37 @@ fn a_shadows_edge_beyond_the_near_field_is_relit_exactly() {
     }
     assert!(errors[1] < 1e-2, "{errors:?}");
     assert!(errors[1] < errors[0] / 5.0, "{errors:?}");
+}
+
+#[test]
+fn a_penumbra_in_the_near_field_is_read_at_the_hits_own_scale() {
+    // the sheet 5 cm above the floor casts a 5 cm penumbra (x from 9/19 to 10/19); a point 1 cm
+    // above it sees it fill most of its hemisphere. The near field's groups are sub-cells of
+    // the floor's grid, each evaluated once, which reads 37 %, 64 % and 11 % off at these
+    // three points; the lamps' light at groups no wider than an eighth of their distance,
+    // 0.5 %, 0.3 % and 0.1 %
+    let sheet = 0.05;
+    let scene = shadow_edge(sheet);
+    let h = 0.01;
+    let xs = [0.46, 0.48, 0.52];
+    let at: Vec<_> = xs
+        .iter()
+        .map(|&x| {
+            (
+                Vec3::new(x as f32, 0.5, h as f32),
+                Vec3::new(0.0, 0.0, -1.0),
+            )
+        })
+        .collect();
+    let got = queries_at(&scene, &settings(32, 8), 2, &QuerySettings::default(), &at);
+    for (&x, got) in xs.iter().zip(got) {
+        let want = shadow_edge_reference(sheet, (x, 0.5, h), 0.5);
+        let worst = (0..3)
+            .map(|c| (got[c] / [1.0, 2.0, 10.0][c] - want).abs() / want)
+            .fold(0.0f64, f64::max);
+        println!("1 cm over a 5 cm penumbra at x = {x}: relative error {worst:.2e}");
+        assert!(worst < 6e-3, "x = {x}: {got:?} against {want}");
+    }
 }
 
 #[test]

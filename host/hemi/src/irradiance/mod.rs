@@ -11,6 +11,7 @@
 //! the hits in a cell that holds a shadow's edge take the lamps' light exact at the hit and the
 //! rest of their light off the grid ([`relight`]).
 
+pub mod finer;
 pub mod near;
 pub mod relight;
 
@@ -19,6 +20,7 @@ pub use crate::direct::Direct;
 use crate::direct::{applies, Emitters};
 use crate::field::Reflected;
 use crate::radiosity::{combine, Grid};
+use finer::Finer;
 use near::{surface_at, Grouping, NearField};
 use relight::Relit;
 
@@ -117,6 +119,12 @@ enum Fresh {
     Value([f64; 3]),
 }
 
+/// What the near hits of a request read: per query, (index into its `seen` list, value).
+struct NearValues {
+    hits: Vec<Vec<(usize, usize)>>,
+    values: Vec<[f64; 3]>,
+}
+
 /// Queries one request to the backend carries: enough to keep every core busy, few enough that
 /// their reports (about one per hemisphere ray) stay small.
 const QUERIES_PER_REQUEST: usize = 64;
@@ -179,6 +187,7 @@ impl Gather<'_> {
             }
         };
         let values = self.per_owner(&near, levels.saturating_sub(1))?;
+        let values = self.finer(chunk, &seen, &near, &values, levels == self.levels)?;
         let (relit, corrections) = self.relight(&seen, &near, &direct, levels == self.levels)?;
         let mut out = Vec::with_capacity(chunk.len());
         for (k, (seen, d)) in seen.iter().zip(direct).enumerate() {
@@ -188,12 +197,53 @@ impl Gather<'_> {
                     fresh[r] = Fresh::Corrected(d);
                 }
             }
-            for &(r, n) in near.hits.get(k).map_or(&[][..], |h| &h[..]) {
-                fresh[r] = Fresh::Value(values[n]);
+            for &(r, n) in values.hits.get(k).map_or(&[][..], |h| &h[..]) {
+                fresh[r] = Fresh::Value(values.values[n]);
             }
             let e = self.sum(seen, &fresh)?;
             out.push([0, 1, 2].map(|c| e[c] + d[c]));
         }
+        Ok(out)
+    }
+
+    /// The near hits' values: their groups' evaluations, with the direct light of a finer
+    /// group in the queries' own level ([`finer`]) where a shadow's edge may cross the cell
+    /// (the field's grid of reflected direct light misses its own samples there, as
+    /// [`relight`] asks; everywhere when the field keeps no such grid).
+    fn finer(
+        &self,
+        chunk: &[Query],
+        seen: &[Vec<Seen>],
+        near: &NearField,
+        values: &[[f64; 3]],
+        top: bool,
+    ) -> anyhow::Result<NearValues> {
+        let mut out = NearValues {
+            hits: near.hits.clone(),
+            values: values.to_vec(),
+        };
+        let Some(em) = self.emitters.filter(|_| top) else {
+            return Ok(out);
+        };
+        let smooth = |s: &Seen| {
+            self.direct.is_some_and(|direct| {
+                let grid = self.grids.get(s.side);
+                grid.is_none_or(|b| relight::miss_at(b, direct, s, relight::MISS).is_none())
+            })
+        };
+        let finer = Finer::of(self.backend.scene(), self.grids, chunk, seen, near, smooth);
+        let add = finer.corrections(self.backend, em, self.grids, near)?;
+        for (hits, fine) in out.hits.iter_mut().zip(&finer.hits) {
+            let fine: std::collections::HashMap<usize, usize> = fine.iter().copied().collect();
+            for (r, n) in hits.iter_mut() {
+                if let Some(f) = fine.get(r) {
+                    *n = values.len() + f;
+                }
+            }
+        }
+        let fine = finer.groups.iter().zip(add);
+        out.values
+            .extend(fine.map(|(&g, d)| [0, 1, 2].map(|c| (values[g][c] + d[c]).max(0.0))));
         Ok(out)
     }
 
