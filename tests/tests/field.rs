@@ -287,7 +287,11 @@ fn wall_point_reference(h: f64, rho: f64) -> f64 {
 fn the_near_field_resolves_the_light_by_a_contact_edge() {
     // at 1 cm above the floor, the floor's nearest cells fill a quarter of the wall point's
     // hemisphere; its grid (K = 8: 0.4 m cells) smooths the floor's light there, the near field
-    // evaluates it where the rays land
+    // evaluates it where the rays land. At R = 128 (a query's own hemisphere is four times
+    // pass 1's at the command line): 3.2e-3 without it, 1.5e-4 with. At R = 32 the hemisphere's
+    // own quadrature is +0.4 % off, and the near field's coarser groups (before the lamps' light
+    // was taken at the hits' own scale) had read +0.17 % by an error that offset it: −0.27 % at
+    // R = 128.
     let scene = with_lamp(WALL_BY_THE_FLOOR);
     let h = 0.01;
     let at = [(
@@ -302,14 +306,14 @@ fn the_near_field_resolves_the_light_by_a_contact_edge() {
             near_levels,
             ..QuerySettings::default()
         };
-        let got = queries_at(&scene, &settings(32, 8), 2, &query, &at)[0];
+        let got = queries_at(&scene, &settings(128, 8), 2, &query, &at)[0];
         let worst = (0..3)
             .map(|c| (got[c] / [1.0, 2.0, 10.0][c] - want).abs() / want)
             .fold(0.0f64, f64::max);
         println!("wall 1 cm above the floor, near field {near_levels}: relative error {worst:.2e}");
         errors.push(worst);
     }
-    assert!(errors[1] < 3e-3, "{errors:?}");
+    assert!(errors[1] < 1e-3, "{errors:?}");
     assert!(errors[1] < errors[0] / 2.0, "{errors:?}");
 }
 
