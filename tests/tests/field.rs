@@ -433,7 +433,10 @@ fn a_lamp_seen_only_along_its_rim_is_not_lost() {
     // before the rim probes the direct light was 0. The strip is 3 of the split cells' 64
     // columns, so the exact answer is its form factor.
     let s = 3.0 / 64.0;
-    let edge = 0.75 - s / 2.0; // the sheet's edge, as seen from the point, at the strip's
+    // the sheet's edge (z = 0.5), as seen from the point (z = 0.01), at the strip's on the lamp
+    // (z = 1); a second cut of the shadow's edge cells reads the strip as it is, so the edge
+    // must be where the strip's is
+    let edge = 0.5 + (0.5 - s) * (0.49 / 0.99);
     let scene = parse(
         &format!(
             "{LAMP}\n[[quad]]\nname = \"sheet\"\nmaterial = \"black\"\n\

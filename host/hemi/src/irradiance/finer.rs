@@ -22,9 +22,12 @@
 //! sub-cell halved until it is no wider than [`FRACTION`] of its distance from the query
 //! point (at most [`HALVINGS`] times). A hit at distance d then reads the direct light of a
 //! patch about d/8 wide, which subtends the same angle at every distance, so the work grows
-//! with the log of the near field's depth, not its area. Only the query's own level does this:
-//! the levels below are one term of one group each, and a finer grouping there multiplies
-//! the evaluations of every level (the tried and not kept of "An office, held out").
+//! with the log of the near field's depth, not its area. Only the hits in a cell where a
+//! shadow's edge may lie are split (where the field's grid of reflected direct light misses
+//! its own samples, as [`super::relight`] asks): elsewhere the direct light is as smooth as
+//! the rest. Only the query's own level does this: the levels below are one term of one
+//! group each (split as well, in a build, four probe points moved by at most 0.02 % for 6 %
+//! more time).
 
 use super::near::{surface_at, NearField, SPLIT};
 use crate::backend::{Backend, Query, Seen};
@@ -40,8 +43,8 @@ use std::collections::BTreeMap;
 /// `a_penumbra_in_the_near_field_is_read_at_the_hits_own_scale`).
 pub const FRACTION: f32 = 0.125;
 
-/// The most halvings of a near group's sub-cell: 2¹² per side, a tenth of a millimetre on a
-/// 1 m patch at K = 2, so the limit is the distance, not this. The finer groups are never more
+/// The most halvings of a near group's sub-cell: 2¹² per side, 0.03 mm on a 1 m patch at
+/// K = 2, so the limit is the distance, not this. The finer groups are never more
 /// than the near hits, each holding at least one.
 pub const HALVINGS: u32 = 12;
 
@@ -158,7 +161,7 @@ fn key_of(scene: &Scene, k: usize, s: &Seen, point: Vec3, g: usize) -> Key {
     while halvings < HALVINGS && width / (1u32 << halvings) as f32 > FRACTION * distance {
         halvings += 1;
     }
-    let n = (k as u32 * SPLIT) << halvings;
+    let n = ((k as u64 * u64::from(SPLIT)) << halvings).clamp(1, u64::from(u32::MAX)) as u32;
     let at = |t: f32| ((t.clamp(0.0, 1.0) * n as f32) as u32).min(n - 1);
     (g, halvings, at(s.u), at(s.v))
 }

@@ -96,12 +96,14 @@ pub fn irradiance_with(
 ) -> anyhow::Result<Vec<[f64; 3]>> {
     let emitters = (settings.direct == Direct::Exact && applies(backend))
         .then(|| Emitters::of(backend.scene()));
+    let sharp = emitters.clone().map(Emitters::with_sharper_edges);
     let gather = Gather {
         backend,
         own,
         grids: light.grids,
         direct: light.direct.filter(|_| emitters.is_some()),
         emitters: emitters.as_ref(),
+        sharp: sharp.as_ref(),
         near_cells: settings.near_cells,
         levels: settings.near_levels,
     };
@@ -137,6 +139,9 @@ struct Gather<'a> {
     grids: &'a [Grid],
     direct: Option<&'a Reflected>,
     emitters: Option<&'a Emitters>,
+    /// The same, with shadows' edges cut twice, for the direct light at the queries asked
+    /// (their near fields' evaluations, whose light is a part of a part, keep one cut).
+    sharp: Option<&'a Emitters>,
     near_cells: f32,
     /// The near field's levels of the queries asked (their own hemispheres are at this level).
     levels: u32,
@@ -159,7 +164,11 @@ impl Gather<'_> {
             false => self.backend,
         };
         let seen = caster.gather(chunk)?;
-        let direct = match self.emitters {
+        let emitters = match levels == self.levels {
+            true => self.sharp,
+            false => self.emitters,
+        };
+        let direct = match emitters {
             Some(em) => {
                 let at: Vec<_> = chunk.iter().map(|q| (q.point, q.normal)).collect();
                 em.irradiance(self.backend, self.grids, &at)?
