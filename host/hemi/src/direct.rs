@@ -267,9 +267,9 @@ impl Emitters {
         Ok(DirectPaths { seen })
     }
 
-    /// The cells of a first cut (`edges`, per point) after their shadow rays: those whose
-    /// verdict differs from a neighbour's are cut into `factor`² (returned, to be cast), the
-    /// others kept in `seen` if visible.
+    /// Casts the shadow rays of the cells of a first cut (`edges`, per point) and cuts those
+    /// whose verdict differs from a neighbour's into `factor`² (returned, to be cast); the
+    /// others join `seen` if visible.
     fn cut_again(
         &self,
         backend: &dyn Backend,

@@ -190,8 +190,13 @@ fn is_near(scene: &Scene, k: usize, s: &Seen, point: Vec3, near: f32) -> bool {
 /// The index of the sub-cell of a k×k grid that (u, v) falls in ([`SPLIT`] per cell side).
 pub(crate) fn sub_cell(k: usize, u: f32, v: f32) -> u32 {
     let n = k as u32 * SPLIT;
-    let at = |t: f32| ((t.clamp(0.0, 1.0) * n as f32) as u32).min(n - 1);
-    at(v) * n + at(u)
+    slot(n, v) * n + slot(n, u)
+}
+
+/// Which of `n` equal slots of [0, 1] the parameter `t` falls in (the last one's right end
+/// included; `t` outside [0, 1] taken to its end).
+pub(crate) fn slot(n: u32, t: f32) -> u32 {
+    ((t.clamp(0.0, 1.0) * n as f32) as u32).min(n.saturating_sub(1))
 }
 
 /// The point of scene side `side` at (u, v) and the side's normal there (a back side of a
