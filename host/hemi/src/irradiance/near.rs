@@ -199,6 +199,18 @@ pub(crate) fn slot(n: u32, t: f32) -> u32 {
     ((t.clamp(0.0, 1.0) * n as f32) as u32).min(n.saturating_sub(1))
 }
 
+/// The (point, normal) of each (side, u, v), lifted off the surface as rays start.
+pub(crate) fn lifted(scene: &Scene, points: &[(usize, f32, f32)]) -> Vec<(Vec3, Vec3)> {
+    let lift = scene.ray_offset();
+    points
+        .iter()
+        .map(|&(side, u, v)| {
+            let (p, n) = surface_at(scene, side, u, v);
+            (p + n * lift, n)
+        })
+        .collect()
+}
+
 /// The point of scene side `side` at (u, v) and the side's normal there (a back side of a
 /// translucent sheet faces the other way from its front).
 pub fn surface_at(scene: &Scene, side: usize, u: f32, v: f32) -> (Vec3, Vec3) {

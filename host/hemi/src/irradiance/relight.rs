@@ -29,7 +29,7 @@
 //! the error is — a shadow's edge that fills the view — and a far edge a few rays see costs
 //! nothing.
 
-use super::near::{sub_cell, surface_at, SPLIT};
+use super::near::{lifted, sub_cell, SPLIT};
 use crate::backend::{Backend, Seen};
 use crate::direct::Emitters;
 use crate::field::Reflected;
@@ -167,18 +167,6 @@ pub fn direct_corrections(
         }
     }
     Ok(out)
-}
-
-/// The (point, normal) of each (side, u, v), lifted off the surface as rays start.
-fn lifted(scene: &Scene, points: &[(usize, f32, f32)]) -> Vec<(Vec3, Vec3)> {
-    let lift = scene.ray_offset();
-    points
-        .iter()
-        .map(|&(side, u, v)| {
-            let (p, n) = surface_at(scene, side, u, v);
-            (p + n * lift, n)
-        })
-        .collect()
 }
 
 /// Whether each (point, normal) lies inside another body: every one of five rays, along the
