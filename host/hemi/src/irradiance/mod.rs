@@ -159,12 +159,14 @@ impl Gather<'_> {
 
     /// One request's queries: their hemispheres, their direct light and their near fields.
     fn request(&self, chunk: &[Query], levels: u32) -> anyhow::Result<Vec<[f64; 3]>> {
-        let caster = match levels == self.levels {
+        // the queries asked, not a near field's evaluations
+        let top = levels == self.levels;
+        let caster = match top {
             true => self.own,
             false => self.backend,
         };
         let seen = caster.gather(chunk)?;
-        let emitters = match levels == self.levels {
+        let emitters = match top {
             true => self.sharp,
             false => self.emitters,
         };
@@ -180,7 +182,7 @@ impl Gather<'_> {
         let near = match levels {
             0 => NearField::default(),
             _ => {
-                let grouping = match levels == self.levels {
+                let grouping = match top {
                     true => Grouping::PerQuery,
                     false => Grouping::Shared,
                 };
@@ -196,8 +198,8 @@ impl Gather<'_> {
             }
         };
         let values = self.per_owner(&near, levels.saturating_sub(1))?;
-        let values = self.finer(chunk, &seen, &near, &values, levels == self.levels)?;
-        let (relit, corrections) = self.relight(&seen, &near, &direct, levels == self.levels)?;
+        let values = self.finer(chunk, &seen, &near, &values, top)?;
+        let (relit, corrections) = self.relight(&seen, &near, &direct, top)?;
         let mut out = Vec::with_capacity(chunk.len());
         for (k, (seen, d)) in seen.iter().zip(direct).enumerate() {
             let mut fresh = vec![Fresh::Grid; seen.len()];
