@@ -1368,12 +1368,21 @@ impl SoftAccelerator<'_, '_> {
                     continue;
                 }
                 let t = self.scratch.best_t[at + k];
-                let dir = if want_uv {
-                    rot.apply(hemi.direction(j, k as u32))
+                let hit = if want_uv {
+                    let dir = rot.apply(hemi.direction(j, k as u32));
+                    self.resolve(id, t, origin, dir, want_uv)
                 } else {
-                    Vec3::ZERO
+                    // `resolve`'s answer for a polygon (the walk is for polygons only), without
+                    // looking the patch up again
+                    Hit {
+                        patch: id,
+                        t,
+                        u: 0.0,
+                        v: 0.0,
+                        front: self.scratch.local[id as usize].front(),
+                    }
                 };
-                sink(j, k as u32, Some(self.resolve(id, t, origin, dir, want_uv)));
+                sink(j, k as u32, Some(hit));
             }
         }
     }
