@@ -694,7 +694,7 @@ fn scan_segment(
 }
 
 /// Runs of this many rays or more go through [`scan_in_lanes`]; a single ray is tested
-/// alone (eight lanes for one cost the cut 16 × 16 box 1–3 %).
+/// alone (eight lanes for one cost the cut 16 × 16 box 1–2 %).
 #[cfg(not(target_os = "none"))]
 const LANES_FROM: usize = 2;
 
