@@ -2,8 +2,9 @@
 //! baseline and once for each wider instruction set, and run as the widest one the CPU has.
 //!
 //! The release build targets baseline x86-64 (SSE2) so that one binary runs everywhere; the
-//! ring scan (`soft::scan_segment`) is branch-free so that it vectorises, and with AVX2 or
-//! AVX-512 it takes 8 or 16 rays an instruction instead of 4. pulp's `Arch` detects the
+//! ring scan (`soft::scan_in_lanes`) tests groups of eight rays, branch-free so that they
+//! vectorise: with AVX2 or AVX-512 a group is one instruction a step instead of two. (Groups of
+//! sixteen, which AVX-512 could take at once, measured slower: most runs are a few rays.) pulp's `Arch` detects the
 //! extensions once and calls the closure through a `#[target_feature]` copy of it; the
 //! arithmetic is the same IEEE operations in the same order (Rust never contracts `a * b + c`
 //! into a fused multiply-add by itself), so every width gives the same bits. Without the

@@ -542,7 +542,8 @@ mod tests {
     /// The eight-lane scan keeps every bit of the one-ray-at-a-time scan, in the run and around
     /// it: runs of every length from every offset of a short buffer (so that groups reach past
     /// the run and past the buffer's end), rays inside and outside, ties, misses and
-    /// infinities. Writing a lane past the run, or testing rays in another order, fails it.
+    /// infinities, and directions that end (as a quarter does) before the buffers (as the ring
+    /// does). Writing a lane past the run fails it.
     #[cfg(not(target_os = "none"))]
     #[test]
     fn eight_lanes_keep_the_scalar_scans_bits() {
@@ -580,8 +581,15 @@ mod tests {
                     let run = start..start + len;
                     let (d, t, i) = (&dirs[run.clone()], &mut t1[run.clone()], &mut i1[run]);
                     scan_segment(&co, h, id, d, t, i);
+                    // the directions end between the run's end and the buffers' (a quarter's
+                    // end inside the ring)
+                    let quarter_end = start + len + (trial + start) % (total - start - len + 1);
                     let (mut t2, mut i2) = (best_t.clone(), best_id.clone());
-                    let window = (&dirs[start..], &mut t2[start..], &mut i2[start..]);
+                    let window = (
+                        &dirs[start..quarter_end],
+                        &mut t2[start..],
+                        &mut i2[start..],
+                    );
                     scan_in_lanes(&co, h, id, len, window);
                     let bits =
                         |t: &[f32]| t.iter().map(|x| x.to_bits()).collect::<std::vec::Vec<_>>();
@@ -701,11 +709,11 @@ const LANES_FROM: usize = 2;
 /// [`scan_segment`] on hosts, for a run of `len` rays, in groups of [`LANES`] of fixed width.
 /// A small patch's run is a few rays of a ring quarter, which the compiler's vector loop over a
 /// slice of any length left to its scalar tail (a division a ray); a fixed group is one vector
-/// pass whatever the run (on the cut 8 × 8 Cornell box 7–9 % of pass 1, on the box itself
-/// 2–6 %, docs/PERFORMANCE.md). `window` holds the run's directions and buffers from its first ray on; a
-/// group of eight reaching past the run reads and writes back the rays after it unchanged (they
-/// are not live), or, past the end of `window`, works on a padded copy. The same operations on
-/// each ray as [`scan_segment`], so the same bits.
+/// pass whatever the run (on the cut 8 × 8 Cornell box 7–9 % of pass 1, on the box itself 2–6 %,
+/// docs/PERFORMANCE.md). `window` holds the run's directions (to the end of its quarter) and
+/// buffers (to the end of its ring) from its first ray on; a group reaching past the run reads
+/// and writes back the rays after it unchanged (they are not live), or, past the end of either,
+/// works on a padded copy. The same operations on each ray as [`scan_segment`], so the same bits.
 #[cfg(not(target_os = "none"))]
 #[inline(always)]
 fn scan_in_lanes(
@@ -757,6 +765,8 @@ fn scan_lanes(
         <&mut [f32; LANES]>::try_from(best_t),
         <&mut [u32; LANES]>::try_from(best_id),
     ) else {
+        // (the callers pass exactly LANES of each)
+        debug_assert!(false, "scan_lanes takes {LANES} rays");
         return;
     };
     let e = &co.edges;
