@@ -3,11 +3,12 @@
 //!
 //! The release build targets baseline x86-64 (SSE2) so that one binary runs everywhere; the
 //! ring scan (`soft::scan_in_lanes`) tests groups of eight rays, branch-free so that they
-//! vectorise: with AVX2 or AVX-512 a group is one instruction a step instead of two. (Groups of
-//! sixteen, which AVX-512 could take at once, measured slower: most runs are a few rays.) pulp's `Arch` detects the
-//! extensions once and calls the closure through a `#[target_feature]` copy of it; the
-//! arithmetic is the same IEEE operations in the same order (Rust never contracts `a * b + c`
-//! into a fused multiply-add by itself), so every width gives the same bits. Without the
+//! vectorise: with AVX2 or AVX-512 a group is one instruction a step instead of two. (Groups
+//! of sixteen, which AVX-512 could take at once, measured slower: most runs are a few rays.)
+//! pulp's `Arch` detects the extensions once and calls the closure through a
+//! `#[target_feature]` copy of it; the arithmetic is the same IEEE operations in the same order
+//! (Rust never contracts `a * b + c` into a fused multiply-add by itself), so every width gives
+//! the same bits. Without the
 //! kernel's `std` feature (the firmware) the closure runs as compiled.
 //!
 //! A loop to dispatch is a [`SimdLoop`]: a struct holding what the loop works on, whose `run`

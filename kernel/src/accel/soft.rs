@@ -651,27 +651,38 @@ fn scan_ring(
         let k0 = (q * quarter_n + r) as usize;
         let co = lp.coefficients(ring, q as u32);
         let (r0, n) = (r as usize, seg as usize);
-        #[cfg(not(target_os = "none"))]
-        if n >= LANES_FROM {
-            let window = (&quarter[r0..], &mut best_t[k0..], &mut best_id[k0..]);
-            scan_in_lanes(&co, lp.h, id, n, window);
-        } else {
-            let window = (&mut best_t[k0..k0 + n], &mut best_id[k0..k0 + n]);
-            scan_segment(&co, lp.h, id, &quarter[r0..r0 + n], window.0, window.1);
-        }
-        #[cfg(target_os = "none")]
-        scan_segment(
-            &co,
-            lp.h,
-            id,
-            &quarter[r0..r0 + n],
-            &mut best_t[k0..k0 + n],
-            &mut best_id[k0..k0 + n],
-        );
+        let window = (&quarter[r0..], &mut best_t[k0..], &mut best_id[k0..]);
+        scan_run(&co, lp.h, id, n, window);
         remaining -= seg;
         r = 0;
         q = (q + 1) % 4;
     }
+}
+
+/// One run of `len` rays of a ring quarter; `window` holds its directions (to the end of its
+/// quarter) and buffers (to the end of its ring) from its first ray on. Hosts take runs of
+/// [`LANES_FROM`] rays or more in groups of eight ([`scan_in_lanes`]); boards, whose cores have
+/// no vector unit, ray by ray.
+#[inline(always)]
+fn scan_run(
+    co: &Coefficients,
+    h: f32,
+    id: u32,
+    len: usize,
+    (dirs, best_t, best_id): (&[[f32; 2]], &mut [f32], &mut [u32]),
+) {
+    #[cfg(not(target_os = "none"))]
+    if len >= LANES_FROM {
+        return scan_in_lanes(co, h, id, len, (dirs, best_t, best_id));
+    }
+    scan_segment(
+        co,
+        h,
+        id,
+        &dirs[..len],
+        &mut best_t[..len],
+        &mut best_id[..len],
+    );
 }
 
 #[inline(always)]
@@ -706,14 +717,13 @@ fn scan_segment(
 #[cfg(not(target_os = "none"))]
 const LANES_FROM: usize = 2;
 
-/// [`scan_segment`] on hosts, for a run of `len` rays, in groups of [`LANES`] of fixed width.
+/// [`scan_run`] on hosts, for a run of `len` rays, in groups of [`LANES`] of fixed width.
 /// A small patch's run is a few rays of a ring quarter, which the compiler's vector loop over a
 /// slice of any length left to its scalar tail (a division a ray); a fixed group is one vector
 /// pass whatever the run (on the cut 8 × 8 Cornell box 7–9 % of pass 1, on the box itself 2–6 %,
-/// docs/PERFORMANCE.md). `window` holds the run's directions (to the end of its quarter) and
-/// buffers (to the end of its ring) from its first ray on; a group reaching past the run reads
-/// and writes back the rays after it unchanged (they are not live), or, past the end of either,
-/// works on a padded copy. The same operations on each ray as [`scan_segment`], so the same bits.
+/// docs/PERFORMANCE.md). A group reaching past the run reads and writes back the rays after it
+/// unchanged (they are not live), or, past the end of `window`, works on a padded copy. The
+/// same operations on each ray as [`scan_segment`], so the same bits.
 #[cfg(not(target_os = "none"))]
 #[inline(always)]
 fn scan_in_lanes(
