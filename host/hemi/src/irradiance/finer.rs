@@ -51,8 +51,8 @@ pub const HALVINGS: u32 = 12;
 /// The finer groups of a request's near hits.
 #[derive(Debug, Default)]
 pub struct Finer {
-    /// Per query, (index into its `seen` list, finer group).
-    pub hits: Vec<Vec<(usize, usize)>>,
+    /// Per query, per near hit (in the near field's order), its finer group if it was split.
+    pub hits: Vec<Vec<Option<usize>>>,
     /// Per finer group, the near field's evaluation its hits read.
     pub groups: Vec<usize>,
     /// Per finer group, where its direct light is evaluated: (side, mean u, mean v).
@@ -81,13 +81,14 @@ impl Finer {
             for &(r, g) in near_hits {
                 let s = &reports[r];
                 let Some(grid) = grids.get(s.side).filter(|_| !smooth(s)) else {
+                    own.push(None);
                     continue;
                 };
                 let key = key_of(scene, grid.k(), s, q.point, g);
                 let next = sums.len();
                 let e = sums.entry(key).or_insert((next, 0.0, 0.0, 0));
                 (e.1, e.2, e.3) = (e.1 + f64::from(s.u), e.2 + f64::from(s.v), e.3 + 1);
-                own.push((r, e.0));
+                own.push(Some(e.0));
             }
             hits.push(own);
         }

@@ -198,7 +198,7 @@ impl Gather<'_> {
             }
         };
         let values = self.per_owner(&near, levels.saturating_sub(1))?;
-        let values = self.finer(chunk, &seen, &near, &values, top)?;
+        let values = self.finer(chunk, &seen, &near, values, top)?;
         let (relit, corrections) = self.relight(&seen, &near, &direct, top)?;
         let mut out = Vec::with_capacity(chunk.len());
         for (k, (seen, d)) in seen.iter().zip(direct).enumerate() {
@@ -226,12 +226,12 @@ impl Gather<'_> {
         chunk: &[Query],
         seen: &[Vec<Seen>],
         near: &NearField,
-        values: &[[f64; 3]],
+        values: Vec<[f64; 3]>,
         top: bool,
     ) -> anyhow::Result<NearValues> {
         let mut out = NearValues {
             hits: near.hits.clone(),
-            values: values.to_vec(),
+            values,
         };
         let Some(em) = self.emitters.filter(|_| top) else {
             return Ok(out);
@@ -244,17 +244,20 @@ impl Gather<'_> {
         };
         let finer = Finer::of(self.backend.scene(), self.grids, chunk, seen, near, smooth);
         let add = finer.corrections(self.backend, em, self.grids, near)?;
+        // each finer group's value follows the evaluations', and its hits read it instead
+        let first = out.values.len();
         for (hits, fine) in out.hits.iter_mut().zip(&finer.hits) {
-            let fine: std::collections::HashMap<usize, usize> = fine.iter().copied().collect();
-            for (r, n) in hits.iter_mut() {
-                if let Some(f) = fine.get(r) {
-                    *n = values.len() + f;
+            for ((_, n), f) in hits.iter_mut().zip(fine) {
+                if let Some(f) = f {
+                    *n = first + f;
                 }
             }
         }
-        let fine = finer.groups.iter().zip(add);
-        out.values
-            .extend(fine.map(|(&g, d)| [0, 1, 2].map(|c| (values[g][c] + d[c]).max(0.0))));
+        for (&g, d) in finer.groups.iter().zip(add) {
+            let coarse = out.values[g];
+            out.values
+                .push([0, 1, 2].map(|c| (coarse[c] + d[c]).max(0.0)));
+        }
         Ok(out)
     }
 
