@@ -228,7 +228,7 @@ impl UvFrame {
             let v = -k0 / k1;
             return (clamp01(solve_u(v)), clamp01(v));
         }
-        let disc = libm::sqrtf((k1 * k1 - 4.0 * k0 * k2).max(0.0));
+        let disc = super::sqrt((k1 * k1 - 4.0 * k0 * k2).max(0.0));
         let mut best = (0.5, 0.5);
         let mut best_err = f32::INFINITY;
         for v in [(-k1 - disc) / (2.0 * k2), (-k1 + disc) / (2.0 * k2)] {

@@ -51,7 +51,7 @@ impl Vec3 {
     /// Euclidean length.
     #[inline]
     pub fn length(self) -> f32 {
-        libm::sqrtf(self.dot(self))
+        super::sqrt(self.dot(self))
     }
     /// The unit vector in this direction, or `None` for a zero, tiny or non-finite vector.
     #[inline]
