@@ -25,13 +25,18 @@ use super::bvh::Bvh;
 #[cfg(not(target_os = "none"))]
 use super::simd::{SimdLoop, Vectorizer};
 use super::{Accelerator, Hit, Ray};
-use crate::geometry::{Bezier, Polygon, Subdivision, Vec3};
+use crate::geometry::{sqrt, Bezier, Polygon, Subdivision, Vec3};
 #[cfg(not(target_os = "none"))]
 use crate::geometry::{BezierTree, UvFrame};
 use crate::hemisphere::{Hemisphere, Ring};
 use crate::patch::{Patch, Shape};
 use crate::rotation::Rotation;
 use core::ops::Range;
+#[cfg(not(target_os = "none"))]
+use setup_lanes::{setup_lanes, Reach, LANES as LANES_SET_UP};
+
+#[cfg(not(target_os = "none"))]
+mod setup_lanes;
 
 /// Per-patch data for one origin and frame, rebuilt for every hemisphere.
 #[derive(Clone, Copy, Debug, Default)]
@@ -106,7 +111,7 @@ impl LocalPatch {
                 lp.full = false;
                 lp.axis = axis;
                 lp.cos_alpha = cos_alpha;
-                lp.axis_rho = libm::sqrtf(axis.x * axis.x + axis.y * axis.y);
+                lp.axis_rho = sqrt(axis.x * axis.x + axis.y * axis.y);
                 lp.axis_phi = libm::atan2f(axis.y, axis.x);
             }
         }
@@ -200,12 +205,12 @@ impl LocalPatch {
                 cos_alpha -= 1e-4;
                 lp.axis = axis;
                 lp.cos_alpha = cos_alpha;
-                lp.axis_rho = libm::sqrtf(axis.x * axis.x + axis.y * axis.y);
+                lp.axis_rho = sqrt(axis.x * axis.x + axis.y * axis.y);
                 lp.axis_phi = fast_atan2(axis.y, axis.x);
                 lp.full = cos_alpha < 0.05;
                 if horizon && !lp.full && axis.z < 0.0 {
                     // entirely below the horizon: polar angle of the cone's top edge > 90°
-                    let sin_alpha = libm::sqrtf((1.0 - cos_alpha * cos_alpha).max(0.0));
+                    let sin_alpha = sqrt((1.0 - cos_alpha * cos_alpha).max(0.0));
                     // max z over the cone = cos(θc − α) = cz cosα + ρ sinα
                     if axis.z * cos_alpha + lp.axis_rho * sin_alpha < -1e-4 {
                         lp.active = false;
@@ -271,7 +276,7 @@ impl LocalPatch {
 
     /// The indices k of ring `ring` whose rays may hit the patch, as a (possibly wrapping) range
     /// `start..start+len` modulo N_j; `None` when the ring misses the cone. With `widest`
-    /// ([`LocalPatch::widest_half`], one bound a patch) the azimuths are bounded by it rather
+    /// ([`Reach::widest`], one bound a patch) the azimuths are bounded by it rather
     /// than by this ring's own half-width (an arc cosine a ring): a superset of that interval.
     fn ring_interval(&self, ring: &Ring, j: usize, widest: Option<f32>) -> Option<(i64, i64)> {
         let n = ring.count as i64;
@@ -311,30 +316,16 @@ impl LocalPatch {
         let len = (hi - lo + 1).min(n);
         Some((wrap(lo, n), len))
     }
-
-    /// The widest azimuth half-width the cone spans on any ring, when it holds neither pole:
-    /// sin Δφ = sin α / sin θ_c (the great circle through the pole tangent to the cone), widened
-    /// by 3e-4 rad (fast_acos errs by 6.7e-5, fast_atan2 by 2e-6, the roundings by less). A cone
-    /// round a pole has sin α ≥ sin θ_c and keeps the per-ring intervals. (Hosts: the
-    /// patch-by-patch walk; the ring scan, which boards run, bounds each ring by its own.)
-    #[cfg(not(target_os = "none"))]
-    fn widest_half(&self) -> Option<f32> {
-        if self.full || self.axis_rho < 1e-6 {
-            return None;
-        }
-        let sin_alpha = libm::sqrtf((1.0 - self.cos_alpha * self.cos_alpha).max(0.0));
-        let x = sin_alpha / self.axis_rho;
-        (x < 0.999).then(|| core::f32::consts::FRAC_PI_2 - fast_acos(x) + 3e-4)
-    }
 }
 
 #[cfg(not(target_os = "none"))]
 impl LocalPatch {
     /// The rings of `rings` (of a table of `r_all` rings, θ_j = j·π/(2R)) whose
     /// [`LocalPatch::ring_interval`] is not empty: contiguous, since cos(θ_j − θ_c) ≥ cos α
-    /// holds on one interval of θ around the cone's axis θ_c. Found from the ring nearest the
-    /// axis outwards, so a patch costs the rings it spans, not all R.
-    fn ring_span(&self, table: &[Ring], rings: Range<usize>) -> Range<usize> {
+    /// holds on one interval of θ around the cone's axis θ_c. Found from the ring `nearest`
+    /// the axis ([`Reach::nearest`]) outwards, so a patch costs the rings it spans, not all R.
+    #[inline(always)]
+    fn ring_span(&self, table: &[Ring], rings: Range<usize>, nearest: usize) -> Range<usize> {
         let r_all = table.len();
         if self.full || self.axis_rho < 1e-6 || r_all == 0 {
             return rings;
@@ -344,9 +335,6 @@ impl LocalPatch {
                 ring.sin_theta * self.axis_rho + ring.cos_theta * self.axis.z >= self.cos_alpha
             })
         };
-        let dtheta = core::f32::consts::FRAC_PI_2 / r_all as f32;
-        let nearest = (fast_acos(self.axis.z.clamp(-1.0, 1.0)) / dtheta + 0.5) as usize;
-        let nearest = nearest.min(r_all - 1);
         let seed = [nearest, nearest.wrapping_sub(1), nearest + 1]
             .into_iter()
             .find(|&j| passes(j));
@@ -430,7 +418,7 @@ fn quarter_and_offset(start: i64, quarter: i64) -> (i64, i64) {
 #[inline]
 fn fast_acos(x: f32) -> f32 {
     let a = x.abs();
-    let r = libm::sqrtf((1.0 - a).max(0.0))
+    let r = sqrt((1.0 - a).max(0.0))
         * (1.570_728_8 + a * (-0.212_114_4 + a * (0.074_261_0 + a * -0.018_729_3)));
     if x < 0.0 {
         core::f32::consts::PI - r
@@ -443,28 +431,35 @@ fn fast_acos(x: f32) -> f32 {
 /// cone's azimuth, which only places the ring intervals, whose margin (2e-4 rad, of which
 /// fast_acos takes 6.7e-5) covers the difference. libm's was 5 % of a hemisphere's time on
 /// the Cornell box cut 16 × 16, a call for every patch set up.
+#[inline(always)]
 fn fast_atan2(y: f32, x: f32) -> f32 {
+    // written as selections after the arithmetic, not branches, so that eight set-ups at once
+    // (`setup_lanes`) vectorise it
     let (ax, ay) = (x.abs(), y.abs());
-    let (lo, hi) = if ay > ax { (ax, ay) } else { (ay, ax) };
-    if hi.is_nan() || hi <= 0.0 {
-        return 0.0;
-    }
+    let steep = ay > ax;
+    let (lo, hi) = if steep { (ax, ay) } else { (ay, ax) };
     let a = lo / hi;
     let s = a * a;
     // a minimax polynomial of atan on [0, 1] (odd, degree 11)
-    let mut r = a
+    let r = a
         * (0.999_977_26
             + s * (-0.332_623_47
                 + s * (0.193_543_46
                     + s * (-0.116_432_87 + s * (0.052_653_32 + s * -0.011_721_2)))));
-    if ay > ax {
-        r = core::f32::consts::FRAC_PI_2 - r;
-    }
-    if x < 0.0 {
-        r = core::f32::consts::PI - r;
-    }
-    if y < 0.0 {
-        -r
+    let r = if steep {
+        core::f32::consts::FRAC_PI_2 - r
+    } else {
+        r
+    };
+    let r = if x < 0.0 {
+        core::f32::consts::PI - r
+    } else {
+        r
+    };
+    let r = if y < 0.0 { -r } else { r };
+    // the zero vector (whose division above gave NaN) and NaN vectors: 0
+    if hi.is_nan() || hi <= 0.0 {
+        0.0
     } else {
         r
     }
@@ -476,8 +471,6 @@ struct Coefficients {
     normal: [f32; 3],
 }
 
-/// Tests one patch against a run of rays of one ring quarter and keeps the nearest hits.
-/// Written without branches in the loop body so that it vectorises.
 #[cfg(test)]
 mod tests {
     use super::{ceil_to_int, fast_acos, fast_atan2, floor_to_int, quarter_and_offset, wrap};
@@ -685,6 +678,8 @@ fn scan_run(
     );
 }
 
+/// Tests one patch against a run of rays of one ring quarter and keeps the nearest hits.
+/// Written without branches in the loop body so that it vectorises.
 #[inline(always)]
 fn scan_segment(
     co: &Coefficients,
@@ -1371,12 +1366,22 @@ impl SoftAccelerator<'_, '_> {
         let to = ring_offset(&table[last], last) + table[last].count as usize;
         self.scratch.best_t[from..to].fill(f32::INFINITY);
         self.scratch.best_id[from..to].fill(NO_HIT);
-        match walk.tree {
-            Some(tree) => tree.visit_above(origin, rot.apply(Vec3::Z), |id| {
-                self.scan_patch(walk.simd, id, origin, rot, hemi, rings.clone())
-            }),
-            None => (0..self.patches.len() as u32)
-                .for_each(|id| self.scan_patch(walk.simd, id, origin, rot, hemi, rings.clone())),
+        let shot = Shot {
+            simd: walk.simd,
+            origin,
+            rot,
+            hemi,
+            rings: rings.clone(),
+        };
+        let count = self.patches.len() as u32;
+        if count < LANES_FROM_PATCHES {
+            let mut scan = |id| self.scan_patch(id, &shot);
+            match walk.tree {
+                Some(tree) => tree.visit_above(origin, rot.apply(Vec3::Z), &mut scan),
+                None => (0..count).for_each(scan),
+            }
+        } else {
+            self.scan_in_batches(walk.tree, &shot);
         }
         for j in rings {
             let ring = table[j];
@@ -1407,43 +1412,191 @@ impl SoftAccelerator<'_, '_> {
         }
     }
 
-    /// One polygon's rays over `rings`, kept where nearer than what the buffer holds.
-    fn scan_patch(
-        &mut self,
-        simd: Vectorizer,
-        id: u32,
-        origin: Vec3,
-        rot: &Rotation,
-        hemi: &Hemisphere<'_>,
-        rings: Range<usize>,
-    ) {
+    /// Sets up polygon `id` alone and scans it over the shot's rings.
+    fn scan_patch(&mut self, id: u32, shot: &Shot<'_, '_>) {
         if id == self.origin_patch {
             return;
         }
         let Some(Shape::Polygon(poly)) = self.patches.get(id as usize).map(|p| &p.shape) else {
             return;
         };
-        let lp = LocalPatch::setup(poly, origin, rot);
+        let lp = LocalPatch::setup(poly, shot.origin, shot.rot);
         self.scratch.local[id as usize] = lp;
         if !lp.active {
             return;
         }
-        simd.run(PatchScan {
+        shot.simd.run(PatchScan {
             lp: &lp,
+            reach: &Reach::of(&lp, shot.hemi.rings()),
             id,
-            hemi,
-            rings,
+            hemi: shot.hemi,
+            rings: shot.rings.clone(),
+            best_t: &mut *self.scratch.best_t,
+            best_id: &mut *self.scratch.best_id,
+        })
+    }
+
+    /// The walk's polygons set up [`LANES_SET_UP`] at a time, each then scanned.
+    fn scan_in_batches(&mut self, tree: Option<Bvh<'_>>, shot: &Shot<'_, '_>) {
+        let mut waiting = Waiting::default();
+        match tree {
+            Some(tree) => tree.visit_above(shot.origin, shot.rot.apply(Vec3::Z), |id| {
+                self.offer(&mut waiting, id, shot)
+            }),
+            None => {
+                (0..self.patches.len() as u32).for_each(|id| self.offer(&mut waiting, id, shot))
+            }
+        }
+        self.set_up_and_scan::<4>(&waiting.quads, shot);
+        self.set_up_and_scan::<3>(&waiting.triangles, shot);
+    }
+
+    /// Queues polygon `id` for a set-up of [`LANES_SET_UP`] of its kind, and sets up and scans
+    /// the queue when it is full. (The order in which patches are scanned does not change a
+    /// ray's winner: ties go to the lower id.)
+    #[inline(always)]
+    fn offer(&mut self, waiting: &mut Waiting, id: u32, shot: &Shot<'_, '_>) {
+        if id == self.origin_patch {
+            return;
+        }
+        let Some(Shape::Polygon(poly)) = self.patches.get(id as usize).map(|p| &p.shape) else {
+            return;
+        };
+        let quad = poly.sides == 4;
+        let queue = if quad {
+            &mut waiting.quads
+        } else {
+            &mut waiting.triangles
+        };
+        queue.push(id);
+        if queue.len < LANES_SET_UP {
+            return;
+        }
+        let full = core::mem::take(queue);
+        match quad {
+            true => self.set_up_and_scan::<4>(&full, shot),
+            false => self.set_up_and_scan::<3>(&full, shot),
+        }
+    }
+
+    /// Sets up `queue`'s polygons of `SIDES` sides at once and scans each over the shot's rings.
+    fn set_up_and_scan<const SIDES: usize>(&mut self, queue: &Queue, shot: &Shot<'_, '_>) {
+        let ids = &queue.ids[..queue.len];
+        let Some(&first) = ids.first() else {
+            return;
+        };
+        let polygon = |id: u32| match self.patches.get(id as usize).map(|p| &p.shape) {
+            Some(Shape::Polygon(poly)) => Some(poly),
+            _ => None,
+        };
+        let Some(spare) = polygon(first) else {
+            return;
+        };
+        // lanes past the queue set up its first polygon again, and are dropped
+        let polys =
+            core::array::from_fn(|k| ids.get(k).and_then(|&id| polygon(id)).unwrap_or(spare));
+        shot.simd.run(SetUpAndScan::<SIDES> {
+            polys,
+            ids,
+            shot,
+            local: &mut *self.scratch.local,
             best_t: &mut *self.scratch.best_t,
             best_id: &mut *self.scratch.best_id,
         })
     }
 }
 
-/// One polygon's rays of a whole-hemisphere buffer, as [`SoftAccelerator::scan_patch`] hands
-/// them to the [`Vectorizer`].
+/// Patch memories of fewer patches are set up one patch at a time: eight at once cost the
+/// Cornell box (20 patches, big ones: its time is in the scans) 6 % of pass 1 and its 2 × 2 cut
+/// (76) 5 %, were even at 4 × 4 (304), and gained 6 % at 8 × 8 (1,280) and 14 % at 16 × 16.
+#[cfg(not(target_os = "none"))]
+const LANES_FROM_PATCHES: u32 = 512;
+
+/// What a hemisphere's patch-by-patch walk hands each set-up: its rays and where they start.
+#[cfg(not(target_os = "none"))]
+struct Shot<'a, 'h> {
+    simd: Vectorizer,
+    origin: Vec3,
+    rot: &'a Rotation,
+    hemi: &'a Hemisphere<'h>,
+    rings: Range<usize>,
+}
+
+/// Polygons the walk has reached and not yet set up, quads and triangles apart (a set-up of
+/// several takes one kind).
+#[cfg(not(target_os = "none"))]
+#[derive(Default)]
+struct Waiting {
+    quads: Queue,
+    triangles: Queue,
+}
+
+/// Up to [`LANES_SET_UP`] patch ids.
+#[cfg(not(target_os = "none"))]
+#[derive(Default)]
+struct Queue {
+    ids: [u32; LANES_SET_UP],
+    len: usize,
+}
+
+#[cfg(not(target_os = "none"))]
+impl Queue {
+    fn push(&mut self, id: u32) {
+        if let Some(slot) = self.ids.get_mut(self.len) {
+            *slot = id;
+            self.len += 1;
+        }
+    }
+}
+
+/// One set-up of several polygons and their scans, as [`SoftAccelerator::set_up_and_scan`]
+/// hands them to the [`Vectorizer`].
+#[cfg(not(target_os = "none"))]
+struct SetUpAndScan<'a, 'h, const SIDES: usize> {
+    polys: [&'a Polygon; LANES_SET_UP],
+    ids: &'a [u32],
+    shot: &'a Shot<'a, 'h>,
+    local: &'a mut [LocalPatch],
+    best_t: &'a mut [f32],
+    best_id: &'a mut [u32],
+}
+
+#[cfg(not(target_os = "none"))]
+impl<const SIDES: usize> SimdLoop for SetUpAndScan<'_, '_, SIDES> {
+    type Output = ();
+
+    #[inline(always)]
+    fn run(self) {
+        let shot = self.shot;
+        let table = (shot.hemi.rings(), &shot.rings);
+        let set_up = setup_lanes::<SIDES>(&self.polys, shot.origin, shot.rot, table);
+        let each = set_up.patches.iter().zip(&set_up.reach);
+        for (&id, (lp, reach)) in self.ids.iter().zip(each) {
+            if let Some(slot) = self.local.get_mut(id as usize) {
+                *slot = *lp;
+            }
+            if !lp.active || reach.empty {
+                continue;
+            }
+            PatchScan {
+                lp,
+                reach,
+                id,
+                hemi: shot.hemi,
+                rings: shot.rings.clone(),
+                best_t: &mut *self.best_t,
+                best_id: &mut *self.best_id,
+            }
+            .run();
+        }
+    }
+}
+
+/// One polygon's rays of a whole-hemisphere buffer, after its set-up.
 #[cfg(not(target_os = "none"))]
 struct PatchScan<'a, 'h> {
     lp: &'a LocalPatch,
+    reach: &'a Reach,
     id: u32,
     hemi: &'a Hemisphere<'h>,
     rings: Range<usize>,
@@ -1458,8 +1611,8 @@ impl SimdLoop for PatchScan<'_, '_> {
     #[inline(always)]
     fn run(self) {
         let table = self.hemi.rings();
-        let widest = self.lp.widest_half();
-        for j in self.lp.ring_span(table, self.rings) {
+        let widest = self.reach.widest;
+        for j in self.lp.ring_span(table, self.rings, self.reach.nearest) {
             let ring = table[j];
             let Some((start, len)) = self.lp.ring_interval(&ring, j, widest) else {
                 continue;
