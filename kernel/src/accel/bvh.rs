@@ -757,13 +757,33 @@ mod tests {
         let hits = compare_hemispheres(&patches, &shots);
         let rays = shots.len() * crate::hemisphere::ray_count(24) as usize;
         assert_eq!(hits, rays, "a closed box leaks no hemisphere ray");
-        // random triangles seen from random points and normals
-        let patches = triangles(&mut rng, 300);
-        let shots: Vec<_> = (0..12)
-            .filter_map(|_| Some((rng.v(-1.2, 1.2), rng.v(-1.0, 1.0).try_normalize()?, None)))
+        // a box cut finer than the rays (864 cells: the walk sets them up eight at a time and
+        // drops those between the rays)
+        let patches = closed_box(12);
+        let shots: Vec<_> = (0..patches.len())
+            .step_by(37)
+            .map(|id| {
+                let poly = patches[id].as_polygon().unwrap();
+                let at = poly.point(0.2 + 0.6 * rng.next(), 0.2 + 0.6 * rng.next());
+                (at, poly.normal, Some(id as u32))
+            })
             .collect();
         let hits = compare_hemispheres(&patches, &shots);
-        assert!(hits > 1000, "{hits} hits: the test must hit something");
+        let rays = shots.len() * crate::hemisphere::ray_count(24) as usize;
+        assert_eq!(
+            hits, rays,
+            "a finely cut closed box leaks no hemisphere ray"
+        );
+        // random triangles seen from random points and normals, fewer and more than the walk
+        // sets up one at a time
+        for count in [300, 2000] {
+            let patches = triangles(&mut rng, count);
+            let shots: Vec<_> = (0..12)
+                .filter_map(|_| Some((rng.v(-1.2, 1.2), rng.v(-1.0, 1.0).try_normalize()?, None)))
+                .collect();
+            let hits = compare_hemispheres(&patches, &shots);
+            assert!(hits > 1000, "{hits} hits: the test must hit something");
+        }
     }
 
     #[test]

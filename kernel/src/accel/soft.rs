@@ -33,7 +33,7 @@ use crate::patch::{Patch, Shape};
 use crate::rotation::Rotation;
 use core::ops::Range;
 #[cfg(not(target_os = "none"))]
-use setup_lanes::{setup_lanes, Reach, LANES as LANES_SET_UP};
+use setup_lanes::{setup_lanes, Reach, Runs, LANES as LANES_SET_UP};
 
 #[cfg(not(target_os = "none"))]
 mod setup_lanes;
@@ -1575,7 +1575,7 @@ impl<const SIDES: usize> SimdLoop for SetUpAndScan<'_, '_, SIDES> {
             if let Some(slot) = self.local.get_mut(id as usize) {
                 *slot = *lp;
             }
-            if !lp.active || reach.empty {
+            if !lp.active || matches!(reach.runs, Runs::None) {
                 continue;
             }
             PatchScan {
@@ -1609,28 +1609,39 @@ impl SimdLoop for PatchScan<'_, '_> {
     type Output = ();
 
     #[inline(always)]
-    fn run(self) {
+    fn run(mut self) {
         let table = self.hemi.rings();
-        let widest = self.reach.widest;
-        for j in self.lp.ring_span(table, self.rings, self.reach.nearest) {
-            let ring = table[j];
-            let Some((start, len)) = self.lp.ring_interval(&ring, j, widest) else {
-                continue;
-            };
-            let at = ring_offset(&ring, j);
-            let n = ring.count as usize;
-            let best_t = &mut self.best_t[at..at + n];
-            let best_id = &mut self.best_id[at..at + n];
-            scan_ring(
-                self.lp,
-                self.id,
-                self.hemi,
-                &ring,
-                j,
-                (start, len),
-                best_t,
-                best_id,
-            );
+        if let Runs::Some { count, runs } = self.reach.runs {
+            // the box's runs, a ring or two, where the cone's search would look on more
+            for &(j, first, last) in runs.iter().take(count as usize) {
+                let n = table[j as usize].count as i64;
+                let run = (wrap(first, n), (last - first + 1).min(n));
+                self.scan_on(j as usize, run);
+            }
+            return;
         }
+        let widest = self.reach.widest;
+        for j in self
+            .lp
+            .ring_span(table, self.rings.clone(), self.reach.nearest)
+        {
+            if let Some(run) = self.lp.ring_interval(&table[j], j, widest) {
+                self.scan_on(j, run);
+            }
+        }
+    }
+}
+
+#[cfg(not(target_os = "none"))]
+impl PatchScan<'_, '_> {
+    /// The patch's test on `run` (start, length) of ring `j`'s rays.
+    #[inline(always)]
+    fn scan_on(&mut self, j: usize, run: (i64, i64)) {
+        let ring = self.hemi.rings()[j];
+        let at = ring_offset(&ring, j);
+        let n = ring.count as usize;
+        let best_t = &mut self.best_t[at..at + n];
+        let best_id = &mut self.best_id[at..at + n];
+        scan_ring(self.lp, self.id, self.hemi, &ring, j, run, best_t, best_id);
     }
 }
