@@ -1506,11 +1506,12 @@ impl SoftAccelerator<'_, '_> {
     }
 }
 
-/// Patch memories of fewer patches are set up one patch at a time: eight at once cost the
-/// Cornell box (20 patches, big ones: its time is in the scans) 6 % of pass 1 and its 2 × 2 cut
-/// (76) 5 %, were even at 4 × 4 (304), and gained 6 % at 8 × 8 (1,280) and 14 % at 16 × 16.
+/// Patch memories of fewer patches are set up one patch at a time. Eight at once cost the
+/// Cornell box (20 patches, big ones: its time is in the scans) 6 % of pass 1 (before the runs
+/// of [`Runs`]) and, with the runs, its 2 × 2 cut (80) 4 %, and gain 3 % at 4 × 4 (320), 14 %
+/// at 8 × 8 (1,280) and 20 % at 16 × 16 (`hemi bench rays`, one thread).
 #[cfg(not(target_os = "none"))]
-const LANES_FROM_PATCHES: u32 = 512;
+const LANES_FROM_PATCHES: u32 = 256;
 
 /// What a hemisphere's patch-by-patch walk hands each set-up: its rays and where they start.
 #[cfg(not(target_os = "none"))]
