@@ -473,6 +473,17 @@ struct Coefficients {
 
 #[cfg(test)]
 mod tests {
+    /// A xorshift generator of f32s in [0, 1) from `seed`: the kernel's random tests are
+    /// reproducible and need no crate for it.
+    pub(super) fn uniform(mut seed: u64) -> impl FnMut() -> f32 {
+        move || {
+            seed ^= seed << 13;
+            seed ^= seed >> 7;
+            seed ^= seed << 17;
+            (seed >> 40) as f32 / (1u64 << 24) as f32
+        }
+    }
+
     use super::{ceil_to_int, fast_acos, fast_atan2, floor_to_int, quarter_and_offset, wrap};
 
     /// Every f32 bit pattern of a sweep, the ends and NaN round as libm's do.
@@ -541,13 +552,8 @@ mod tests {
     #[test]
     fn eight_lanes_keep_the_scalar_scans_bits() {
         use super::{scan_in_lanes, scan_segment, Coefficients};
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
-        };
+        let mut unit = uniform(0x2545_f491_4f6c_dd1du64);
+        let mut next = move || unit() * 2.0 - 1.0;
         let mut changed = 0;
         for trial in 0..400 {
             let total = 1 + trial % 37;

@@ -489,6 +489,7 @@ fn half_turn(d: f32) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::{setup_lanes, Runs, LANES};
+    use crate::accel::soft::tests::uniform;
     use crate::accel::soft::LocalPatch;
     use crate::geometry::{Polygon, Vec3};
     use crate::rotation::Rotation;
@@ -525,13 +526,8 @@ mod tests {
     /// included. Changing one operation's order in the lanes fails it.
     #[test]
     fn the_lanes_set_up_what_setup_does() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0
-        };
+        let mut unit = uniform(0x9e37_79b9_7f4a_7c15u64);
+        let mut next = move || unit() * 2.0 - 1.0;
         let mut checked = 0;
         for round in 0..4000 {
             let origin = Vec3::new(next(), next(), next()) * 3.0;
@@ -605,13 +601,7 @@ mod tests {
         let hemi = owned.view();
         let table = hemi.rings();
         let all = 0..table.len();
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut next = uniform(0x2545_f491_4f6c_dd1du64);
         let (mut dropped, mut bounded) = (0, 0);
         for round in 0..3000 {
             let origin = Vec3::new(next(), next(), next());
