@@ -743,6 +743,55 @@ mod tests {
         hits
     }
 
+    /// Patches seen nearly edge-on in angle: each has an edge whose corners are 1e-6 to 1e-5
+    /// rad apart from the origin, a little way off a ray. Their edge normals' rounding tilts
+    /// their planes by far more than the walk's margins, so rays the exact edges would miss
+    /// can pass (and rays they would catch can fail): both walks must test exactly the rays
+    /// the boards' ring scan tests. Slivers and long quads, below and above the patch count
+    /// from which the walk sets up eight at a time. (Found by a review: the box lost 91 hits
+    /// here, and the one azimuth bound a patch had added 32 before it.)
+    #[test]
+    fn thin_patches_hit_what_the_ring_scan_hits() {
+        use crate::hemisphere::OwnedHemisphere;
+        use crate::rotation::Rotation;
+        let mut rng = Lcg(11);
+        let owned = OwnedHemisphere::new(24, crate::hemisphere::DeltaRule::Band).unwrap();
+        let (hemi, origin) = (owned.view(), Vec3::new(0.1, 0.2, 0.3));
+        let normal = Vec3::new(0.3, -0.2, 1.0).try_normalize().unwrap();
+        let rot = Rotation::onto_spun(normal, crate::rotation::spin_for_sample(0));
+        let table = hemi.rings();
+        for (count, long) in [(200, false), (600, false), (200, true), (600, true)] {
+            let mut patches = Vec::new();
+            while patches.len() < count {
+                let j = 1 + ((rng.next() * (table.len() - 1) as f32) as usize).min(table.len() - 2);
+                let k = ((rng.next() * table[j].count as f32) as u32).min(table[j].count - 1);
+                let d = hemi.direction(j, k);
+                let t1 = rng.v(-0.5, 0.5);
+                let t1 = (t1 - d * t1.dot(d)).try_normalize().unwrap();
+                let t2 = d.cross(t1);
+                let w = 10f32.powf(-6.0 + rng.next());
+                let l = 10f32.powf(if long {
+                    -0.3 + 0.5 * rng.next()
+                } else {
+                    -2.5 + rng.next()
+                });
+                let (off, dist) = (10f32.powf(-3.5 + rng.next()), 0.5 + 2.0 * rng.next());
+                let at = |u: f32, v: f32| origin + rot.apply((d + t1 * u + t2 * v) * dist);
+                let (a, b) = (at(off, -w / 2.0), at(off, w / 2.0));
+                let shape = match long {
+                    true => Polygon::quad([a, b, at(off + l, w / 2.0), at(off + l, -w / 2.0)]),
+                    false => Polygon::triangle([a, b, at(off + l, 0.0)]),
+                };
+                patches.extend(shape.ok().map(Patch::polygon));
+            }
+            let hits = compare_hemispheres(&patches, &[(origin, normal, None)]);
+            assert!(
+                hits > 0,
+                "{count} patches, long {long}: the test must hit something"
+            );
+        }
+    }
+
     #[test]
     fn hemispheres_patch_by_patch_hit_what_the_ring_scan_hits() {
         let mut rng = Lcg(5);

@@ -33,7 +33,7 @@ use crate::patch::{Patch, Shape};
 use crate::rotation::Rotation;
 use core::ops::Range;
 #[cfg(not(target_os = "none"))]
-use setup_lanes::{setup_lanes, Reach, Runs, LANES as LANES_SET_UP};
+use setup_lanes::{setup_lanes, thin_polygon, Reach, Runs, LANES as LANES_SET_UP};
 
 #[cfg(not(target_os = "none"))]
 mod setup_lanes;
@@ -1379,15 +1379,9 @@ impl SoftAccelerator<'_, '_> {
             hemi,
             rings: rings.clone(),
         };
-        let count = self.patches.len() as u32;
-        if count < LANES_FROM_PATCHES {
-            let mut scan = |id| self.scan_patch(id, &shot);
-            match walk.tree {
-                Some(tree) => tree.visit_above(origin, rot.apply(Vec3::Z), &mut scan),
-                None => (0..count).for_each(scan),
-            }
-        } else {
-            self.scan_in_batches(walk.tree, &shot);
+        match self.patches.len() < LANES_FROM_PATCHES as usize {
+            true => self.scan_one_by_one(walk.tree, &shot),
+            false => self.scan_in_batches(walk.tree, &shot),
         }
         for j in rings {
             let ring = table[j];
@@ -1433,13 +1427,23 @@ impl SoftAccelerator<'_, '_> {
         }
         shot.simd.run(PatchScan {
             lp: &lp,
-            reach: &Reach::of(&lp, shot.hemi.rings()),
+            reach: &Reach::of(&lp, shot.hemi.rings(), thin_polygon(&lp, poly, shot.origin)),
             id,
             hemi: shot.hemi,
             rings: shot.rings.clone(),
             best_t: &mut *self.scratch.best_t,
             best_id: &mut *self.scratch.best_id,
         })
+    }
+
+    /// The walk's polygons set up and scanned one at a time.
+    fn scan_one_by_one(&mut self, tree: Option<Bvh<'_>>, shot: &Shot<'_, '_>) {
+        let count = self.patches.len() as u32;
+        let mut scan = |id| self.scan_patch(id, shot);
+        match tree {
+            Some(tree) => tree.visit_above(shot.origin, shot.rot.apply(Vec3::Z), &mut scan),
+            None => (0..count).for_each(scan),
+        }
     }
 
     /// The walk's polygons set up [`LANES_SET_UP`] at a time, each then scanned.
@@ -1619,7 +1623,7 @@ impl SimdLoop for PatchScan<'_, '_> {
     fn run(mut self) {
         let table = self.hemi.rings();
         if let Runs::Some { count, runs } = self.reach.runs {
-            // the box's runs, a ring or two, where the cone's search would look on more
+            // the box's runs, on one to four rings, where the cone's search would look on more
             for &(j, first, last) in runs.iter().take(count as usize) {
                 let n = table[j as usize].count as i64;
                 let run = (wrap(first, n), (last - first + 1).min(n));

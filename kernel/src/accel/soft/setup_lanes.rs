@@ -178,6 +178,7 @@ pub(super) fn setup_lanes<const SIDES: usize>(
     for (c, e) in edges.iter_mut().enumerate() {
         *e = local[c].cross(&local[(c + 1) % SIDES]).times(&sign);
     }
+    let thin = thin_lanes(&edges, &length);
     let cone = Cone::of(&local, &length);
     let normal = normals.invert(rot);
     let mut set_up = [LocalPatch::default(); LANES];
@@ -197,11 +198,24 @@ pub(super) fn setup_lanes<const SIDES: usize>(
         }
         cone.bound(lp, k);
     }
-    let reach = cone.reach(&set_up, table, rings);
+    let reach = cone.reach(&set_up, &thin, (table, rings));
     SetUp {
         patches: set_up,
         reach,
     }
+}
+
+/// Whether each lane's patch has a [`thin_edge`].
+#[inline(always)]
+fn thin_lanes<const SIDES: usize>(edges: &[Vec3s; SIDES], length: &[Lane; SIDES]) -> [bool; LANES] {
+    let mut thin = [false; LANES];
+    for (c, e) in edges.iter().enumerate() {
+        let (squared, next) = (e.dot(e), &length[(c + 1) % SIDES]);
+        for (k, t) in thin.iter_mut().enumerate() {
+            *t |= thin_edge(squared[k], length[c][k], next[k]);
+        }
+    }
+    thin
 }
 
 /// Whether each lane's patch can be seen at all: not from its own plane (a NaN distance counts
@@ -300,8 +314,8 @@ impl Cone {
     fn reach(
         &self,
         set_up: &[LocalPatch; LANES],
-        table: &[Ring],
-        rings: &Range<usize>,
+        thin: &[bool; LANES],
+        (table, rings): (&[Ring], &Range<usize>),
     ) -> [Reach; LANES] {
         let r_all = table.len();
         let dtheta = core::f32::consts::FRAC_PI_2 / r_all.max(1) as f32;
@@ -312,8 +326,9 @@ impl Cone {
         let rings_in = self.span.rings(1.0 / dtheta, rings);
         let mut reach = [Reach::default(); LANES];
         for (k, (r, lp)) in reach.iter_mut().zip(set_up).enumerate() {
-            // a patch the cone bounds (else it is scanned on every ring, as before)
-            let bounded = !lp.full && lp.axis_rho >= 1e-6 && r_all > 0;
+            // a patch the cone bounds (else it is scanned on every ring, as before), and not
+            // thin (else it is scanned on each ring's own interval, as boards scan it)
+            let bounded = !lp.full && lp.axis_rho >= 1e-6 && r_all > 0 && !thin[k];
             *r = Reach {
                 runs: match bounded {
                     true => self.span.runs(k, rings_in[k], table),
@@ -329,20 +344,41 @@ impl Cone {
 
 impl Reach {
     /// `lp`'s reach on `table`, where the walk sets patches up one at a time (it keeps every
-    /// patch: the box of [`Span`] is computed in lanes only).
+    /// patch: the box of [`Span`] is computed in lanes only); `thin` as [`thin_polygon`] says.
     #[inline(always)]
-    pub(super) fn of(lp: &LocalPatch, table: &[Ring]) -> Reach {
+    pub(super) fn of(lp: &LocalPatch, table: &[Ring], thin: bool) -> Reach {
         let r_all = table.len();
         let dtheta = core::f32::consts::FRAC_PI_2 / r_all.max(1) as f32;
         let nearest = nearest_ring(lp.axis.z, dtheta);
         let x = sin_over_rho(lp.cos_alpha, lp.axis_rho);
-        let bounded = !lp.full && lp.axis_rho >= 1e-6 && r_all > 0;
+        let bounded = !lp.full && lp.axis_rho >= 1e-6 && r_all > 0 && !thin;
         Reach {
             runs: Runs::Unknown,
             nearest: (nearest as usize).min(r_all.saturating_sub(1)),
             widest: (bounded && x < 0.999).then(|| widest_half(x)),
         }
     }
+}
+
+/// Whether an edge whose normal has squared length `squared`, between corners `a` and `b` away
+/// from the origin, is too short in angle γ for a bound narrower than the boards' per-ring
+/// interval: its normal, rounded to 2⁻²⁴·ab a component, tilts its plane by about 6e-8 / sin γ
+/// rad, which passes [`SPAN_MARGIN`] below sin γ ≈ 2e-4 (a review's slivers lost hits there).
+/// Under sin γ = 1e-2 (a tilt under 6e-6 rad) a patch keeps the boards' intervals: the box and
+/// the widest bound are for the rest.
+#[inline(always)]
+fn thin_edge(squared: f32, a: f32, b: f32) -> bool {
+    let scale = a * b;
+    // (a NaN, from an infinite corner, counts as thin)
+    let wide = squared >= 1e-4 * scale * scale;
+    !wide
+}
+
+/// [`thin_edge`] for any edge of `poly`, set up from `origin` as `lp` (one patch at a time).
+pub(super) fn thin_polygon(lp: &LocalPatch, poly: &Polygon, origin: Vec3) -> bool {
+    let sides = lp.sides as usize;
+    let length = |c: usize| (poly.v[c % sides] - origin).length();
+    (0..sides).any(|c| thin_edge(lp.edges[c].dot(lp.edges[c]), length(c), length(c + 1)))
 }
 
 /// The index of the ring nearest a cone's axis of height `z`, + ½ (rings Δθ apart).
@@ -370,8 +406,9 @@ fn widest_half(x: f32) -> f32 {
 /// each divided by cos α where that widens it (the arcs bulge toward a pole); and while the
 /// corners' azimuths span less than a half-turn (the pole outside), its azimuth lies between
 /// theirs. Most of a finely cut box's patches fall between the rays (60 % at 16 × 16, docs/
-/// PERFORMANCE.md): a box on one or two rings that holds no ray index drops the patch before
-/// its rings are searched and scanned.
+/// PERFORMANCE.md): a box on one to [`SPAN_RINGS`] rings that holds no ray index drops the
+/// patch before its rings are searched, and one that holds some gives the runs to scan. (A
+/// thin patch, [`thin_edge`], gets no box: its rounded edges reach past any margin.)
 struct Span {
     theta_lo: Lane,
     theta_hi: Lane,
@@ -382,7 +419,8 @@ struct Span {
 }
 
 /// What each bound of a [`Span`] is widened by, in radians: fast_acos errs by 6.7e-5 and
-/// fast_atan2 by 2e-6, the corners' directions by a few ulps.
+/// fast_atan2 by 2e-6, the corners' directions by a few ulps, a patch's edge planes (rounded)
+/// by under 6e-6 where no edge is thin ([`thin_edge`]; thin ones have no box).
 const SPAN_MARGIN: f32 = 3e-4;
 
 /// What a [`Span`]'s z bounds are widened by before the arc cosine, whose slope is unbounded at
@@ -592,15 +630,15 @@ mod tests {
     /// The span's runs hold every ray that hits the patch, and a patch it drops holds none:
     /// small quads (most between the rays, some on them), near and far, many near the pole,
     /// from random frames, every ray of a 32-ring hemisphere tested against each patch. The
-    /// test must drop many and bound many by runs; a margin below zero, or the arcs not
-    /// widened by cos α, fails it.
+    /// test must drop many and bound many by runs; a margin below zero, the arcs not widened by
+    /// cos α, or a box round the pole taken for a wedge of azimuth (in a window of rings
+    /// without the pole) fails it.
     #[test]
     fn the_spans_runs_hold_every_ray_that_hits() {
         use crate::hemisphere::{DeltaRule, OwnedHemisphere};
         let owned = OwnedHemisphere::new(32, DeltaRule::Band).unwrap();
         let hemi = owned.view();
         let table = hemi.rings();
-        let all = 0..table.len();
         let mut next = uniform(0x2545_f491_4f6c_dd1du64);
         let (mut dropped, mut bounded) = (0, 0);
         for round in 0..3000 {
@@ -628,14 +666,17 @@ mod tests {
                     .expect("a unit square is a quad")
             });
             let lanes: [&Polygon; LANES] = core::array::from_fn(|k| &polys[k]);
-            let set_up = setup_lanes::<4>(&lanes, origin, &rot, (table, &all));
+            // every ring, or a window without the pole (where a box round the pole must not
+            // be taken for a wedge of azimuth)
+            let window = [0, 1, 5][round % 3]..table.len();
+            let set_up = setup_lanes::<4>(&lanes, origin, &rot, (table, &window));
             for (k, (lp, reach)) in set_up.patches.iter().zip(&set_up.reach).enumerate() {
                 if !lp.active {
                     continue;
                 }
                 let hits: std::vec::Vec<(usize, u32)> = (0..table.len())
                     .flat_map(|j| (0..table[j].count).map(move |i| (j, i)))
-                    .filter(|&(j, i)| lp.hit(hemi.direction(j, i)).is_some())
+                    .filter(|&(j, i)| window.contains(&j) && lp.hit(hemi.direction(j, i)).is_some())
                     .collect();
                 let held = |&(j, i): &(usize, u32)| match reach.runs {
                     Runs::Unknown => true,
