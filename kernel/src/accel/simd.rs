@@ -8,8 +8,8 @@
 //! pulp's `Arch` detects the extensions once and calls the closure through a
 //! `#[target_feature]` copy of it; the arithmetic is the same IEEE operations in the same order
 //! (Rust never contracts `a * b + c` into a fused multiply-add by itself), so every width gives
-//! the same bits. Without the
-//! kernel's `std` feature (the firmware) the closure runs as compiled.
+//! the same bits. Without the kernel's `std` feature (the firmware) the closure runs as
+//! compiled.
 //!
 //! A loop to dispatch is a [`SimdLoop`]: a struct holding what the loop works on, whose `run`
 //! is `#[inline(always)]` so that its body is compiled into each `#[target_feature]` copy (a

@@ -320,6 +320,13 @@ impl LocalPatch {
 
 #[cfg(not(target_os = "none"))]
 impl LocalPatch {
+    /// Whether the patch's cone bounds its rays on a table of `r_all` rings: not too wide, its
+    /// axis off the pole (else every ring's rays are its candidates).
+    #[inline(always)]
+    fn cone_bounds(&self, r_all: usize) -> bool {
+        !self.full && self.axis_rho >= 1e-6 && r_all > 0
+    }
+
     /// The rings of `rings` (of a table of `r_all` rings, θ_j = j·π/(2R)) whose
     /// [`LocalPatch::ring_interval`] is not empty: contiguous, since cos(θ_j − θ_c) ≥ cos α
     /// holds on one interval of θ around the cone's axis θ_c. Found from the ring `nearest`
@@ -327,7 +334,7 @@ impl LocalPatch {
     #[inline(always)]
     fn ring_span(&self, table: &[Ring], rings: Range<usize>, nearest: usize) -> Range<usize> {
         let r_all = table.len();
-        if self.full || self.axis_rho < 1e-6 || r_all == 0 {
+        if !self.cone_bounds(r_all) {
             return rings;
         }
         let passes = |j: usize| {
@@ -473,6 +480,8 @@ struct Coefficients {
 
 #[cfg(test)]
 mod tests {
+    use super::{ceil_to_int, fast_acos, fast_atan2, floor_to_int, quarter_and_offset, wrap};
+
     /// A xorshift generator of f32s in [0, 1) from `seed`: the kernel's random tests are
     /// reproducible and need no crate for it.
     pub(super) fn uniform(mut seed: u64) -> impl FnMut() -> f32 {
@@ -483,8 +492,6 @@ mod tests {
             (seed >> 40) as f32 / (1u64 << 24) as f32
         }
     }
-
-    use super::{ceil_to_int, fast_acos, fast_atan2, floor_to_int, quarter_and_offset, wrap};
 
     /// Every f32 bit pattern of a sweep, the ends and NaN round as libm's do.
     #[test]
@@ -1346,7 +1353,7 @@ impl SoftAccelerator<'_, '_> {
 }
 
 #[cfg(not(target_os = "none"))]
-impl SoftAccelerator<'_, '_> {
+impl<'p> SoftAccelerator<'p, '_> {
     /// [`SoftAccelerator::with_patch_major`]'s hemisphere: every patch above the horizon is set
     /// up once and scanned over the rings it spans into a whole-hemisphere buffer, then the rays
     /// are reported ring by ring as the ring scan reports them.
@@ -1465,7 +1472,7 @@ impl SoftAccelerator<'_, '_> {
     /// the queue when it is full. (The order in which patches are scanned does not change a
     /// ray's winner: ties go to the lower id.)
     #[inline(always)]
-    fn offer(&mut self, waiting: &mut Waiting, id: u32, shot: &Shot<'_, '_>) {
+    fn offer(&mut self, waiting: &mut Waiting<'p>, id: u32, shot: &Shot<'_, '_>) {
         if id == self.origin_patch {
             return;
         }
@@ -1478,7 +1485,7 @@ impl SoftAccelerator<'_, '_> {
         } else {
             &mut waiting.triangles
         };
-        queue.push(id);
+        queue.push(id, poly);
         if queue.len < LANES_SET_UP {
             return;
         }
@@ -1490,21 +1497,13 @@ impl SoftAccelerator<'_, '_> {
     }
 
     /// Sets up `queue`'s polygons of `SIDES` sides at once and scans each over the shot's rings.
-    fn set_up_and_scan<const SIDES: usize>(&mut self, queue: &Queue, shot: &Shot<'_, '_>) {
+    fn set_up_and_scan<const SIDES: usize>(&mut self, queue: &Queue<'_>, shot: &Shot<'_, '_>) {
         let ids = &queue.ids[..queue.len];
-        let Some(&first) = ids.first() else {
-            return;
-        };
-        let polygon = |id: u32| match self.patches.get(id as usize).map(|p| &p.shape) {
-            Some(Shape::Polygon(poly)) => Some(poly),
-            _ => None,
-        };
-        let Some(spare) = polygon(first) else {
-            return;
-        };
         // lanes past the queue set up its first polygon again, and are dropped
-        let polys =
-            core::array::from_fn(|k| ids.get(k).and_then(|&id| polygon(id)).unwrap_or(spare));
+        let Some(spare) = queue.polys[0] else {
+            return;
+        };
+        let polys = core::array::from_fn(|k| queue.polys[k].unwrap_or(spare));
         shot.simd.run(SetUpAndScan::<SIDES> {
             polys,
             ids,
@@ -1537,24 +1536,25 @@ struct Shot<'a, 'h> {
 /// several takes one kind).
 #[cfg(not(target_os = "none"))]
 #[derive(Default)]
-struct Waiting {
-    quads: Queue,
-    triangles: Queue,
+struct Waiting<'p> {
+    quads: Queue<'p>,
+    triangles: Queue<'p>,
 }
 
-/// Up to [`LANES_SET_UP`] patch ids.
+/// Up to [`LANES_SET_UP`] polygons and their ids.
 #[cfg(not(target_os = "none"))]
 #[derive(Default)]
-struct Queue {
+struct Queue<'p> {
     ids: [u32; LANES_SET_UP],
+    polys: [Option<&'p Polygon>; LANES_SET_UP],
     len: usize,
 }
 
 #[cfg(not(target_os = "none"))]
-impl Queue {
-    fn push(&mut self, id: u32) {
-        if let Some(slot) = self.ids.get_mut(self.len) {
-            *slot = id;
+impl<'p> Queue<'p> {
+    fn push(&mut self, id: u32, poly: &'p Polygon) {
+        if let (Some(i), Some(p)) = (self.ids.get_mut(self.len), self.polys.get_mut(self.len)) {
+            (*i, *p) = (id, Some(poly));
             self.len += 1;
         }
     }
