@@ -440,7 +440,7 @@ fn fast_acos(x: f32) -> f32 {
 /// the Cornell box cut 16 × 16, a call for every patch set up.
 #[inline(always)]
 fn fast_atan2(y: f32, x: f32) -> f32 {
-    // written as selections after the arithmetic, not branches, so that eight set-ups at once
+    // written as selections after the arithmetic, not branches, so that sixteen set-ups at once
     // (`setup_lanes`) vectorise it
     let (ax, ay) = (x.abs(), y.abs());
     let steep = ay > ax;

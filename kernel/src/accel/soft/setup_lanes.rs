@@ -1,10 +1,10 @@
-//! Eight polygons set up at once for one hemisphere (hosts' patch-by-patch walk).
+//! Sixteen polygons set up at once for one hemisphere (hosts' patch-by-patch walk).
 //!
 //! On the Cornell box cut 16 × 16 a hemisphere sets up about 3,200 patches for 2,500 rays, and
 //! [`LocalPatch::setup`] was 37 % of pass 1: a few hundred operations a patch, with the square
 //! roots, divisions and branches of the cone between them. The same operations written lane
-//! by lane over eight patches (one `[f32; 8]` a quantity) become one vector instruction each
-//! where [`super::super::simd::Vectorizer`] compiles them with AVX2 or AVX-512. Every lane does
+//! by lane over [`LANES`] patches (one `[f32; 16]` a quantity) become one AVX-512 instruction
+//! each, or two AVX2 ones, where [`super::super::simd::Vectorizer`] compiles them. Every lane does
 //! what the scalar set-up does, in the same order, without fused multiply-adds, so each patch
 //! gets the same bits (`the_lanes_set_up_what_setup_does` holds every field); the branches
 //! become selections made after the arithmetic, which costs nothing where lanes agree.
@@ -15,10 +15,12 @@ use crate::hemisphere::Ring;
 use crate::rotation::Rotation;
 use core::ops::Range;
 
-/// Polygons a set-up takes at once.
-pub(super) const LANES: usize = 8;
+/// Polygons a set-up takes at once: sixteen, one AVX-512 register of f32. Eight (one AVX2
+/// register) took 11 % longer on the Cornell box cut 16 × 16 and 7 % on its 8 × 8 cut;
+/// thirty-two gained 4 % more at 16 × 16 and lost 4 % on the 10k room (docs/PERFORMANCE.md).
+pub(super) const LANES: usize = 16;
 
-/// One quantity of eight patches.
+/// One quantity of [`LANES`] patches.
 type Lane = [f32; LANES];
 
 /// `f` of every index: a plain loop over a fixed array, which the compiler turns into vector
@@ -33,7 +35,7 @@ fn each<T: Copy + Default, const N: usize>(f: impl Fn(usize) -> T) -> [T; N] {
     out
 }
 
-/// Eight vectors, coordinate by coordinate: lane k's is (x[k], y[k], z[k]).
+/// [`LANES`] vectors, coordinate by coordinate: lane k's is (x[k], y[k], z[k]).
 #[derive(Clone, Copy, Default)]
 struct Vec3s {
     x: Lane,
@@ -106,7 +108,7 @@ impl Vec3s {
     }
 }
 
-/// Eight patches set up, and how far each reaches on the rings.
+/// [`LANES`] patches set up, and how far each reaches on the rings.
 pub(super) struct SetUp {
     /// What [`LocalPatch::setup`] gives each.
     pub(super) patches: [LocalPatch; LANES],
@@ -234,7 +236,7 @@ fn seen_lanes<const SIDES: usize>(
     })
 }
 
-/// Eight bounding cones: the axis, the sum of the vertices' directions normalised, and the
+/// [`LANES`] bounding cones: the axis, the sum of the vertices' directions normalised, and the
 /// widest vertex's angle from it.
 struct Cone {
     /// Whether the directions' sum could be normalised (else the patch tests every ray).
@@ -399,7 +401,7 @@ fn widest_half(x: f32) -> f32 {
     core::f32::consts::FRAC_PI_2 - fast_acos(x) + 3e-4
 }
 
-/// Eight boxes in polar angle θ and azimuth φ, each holding every direction from the origin
+/// [`LANES`] boxes in polar angle θ and azimuth φ, each holding every direction from the origin
 /// into its patch: the corners' range, widened for the arcs between them. A direction into a
 /// convex polygon is a convex combination Σ μᵢvᵢ of its corners' directions, normalised, and
 /// |Σ μᵢvᵢ| ≥ (Σ μᵢvᵢ)·a ≥ cos α for the cone's axis a: so its z lies within min zᵢ and max zᵢ,
