@@ -1516,10 +1516,10 @@ impl<'p> SoftAccelerator<'p, '_> {
 }
 
 /// Patch memories of fewer patches are set up one patch at a time. Eight at once (the lanes'
-/// width when measured) cost the
-/// Cornell box (20 patches, big ones: its time is in the scans) 6 % of pass 1 (before the runs
-/// of [`Runs`]) and, with the runs, its 2 × 2 cut (80) 4 %, and gain 3 % at 4 × 4 (320), 14 %
-/// at 8 × 8 (1,280) and 20 % at 16 × 16 (`hemi bench rays`, one thread).
+/// width when measured) cost the Cornell box (20 patches, big ones: its time is in the scans)
+/// 6 % of pass 1 (before the runs of [`Runs`]) and, with the runs, its 2 × 2 cut (80) 4 %, and
+/// gain 3 % at 4 × 4 (320), 14 % at 8 × 8 (1,280) and 20 % at 16 × 16 (`hemi bench rays`, one
+/// thread).
 #[cfg(not(target_os = "none"))]
 const LANES_FROM_PATCHES: u32 = 256;
 
