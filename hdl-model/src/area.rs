@@ -27,6 +27,7 @@
 extern crate alloc;
 
 use crate::cordic::CordicConfig;
+use crate::intersect::bitmap_walk::{mask_row_bits, BITMAP_WORD};
 use crate::intersect::cull::{BANDS, CULL_CORDIC};
 use crate::intersect::{PLANE_UNITS, UV_UNITS};
 use crate::params::Params;
@@ -296,11 +297,12 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
         // angle alone is used)
         setup.vectoring(CULL_CORDIC, b, false);
     }
+    walks(&mut coarse, params, l);
     let mut front = Proxy::default();
     front_end(&mut front, params, cfg);
     queues(&mut front, l);
     alloc::vec![
-        ("coarse edge tests", coarse),
+        ("coarse edge tests and bitmap walks", coarse),
         ("plane units (n · d, dividers, minima)", plane),
         ("exact edge unit", exact),
         ("set-up units", setup),
@@ -328,11 +330,40 @@ fn compact_memories(params: &Params) -> Proxy {
     }
     if params.sectors > 0 {
         for _ in 0..params.banks() * params.ray_groups {
-            p.mem(2 * params.sectors as u64, params.bank_slots as u64);
-            p.mem(2 * BANDS as u64, params.bank_slots as u64);
+            bitmaps(&mut p, params, 2);
         }
     }
     p
+}
+
+/// The bitmap walks of `lanes` lanes ([`crate::intersect::bitmap_walk`]): the ray's band bit
+/// picked from each word's mask (a 16:1 multiplexer, five LUT4s, a word), the next word to
+/// read (a find-first-set and clear on a bit a word), the AND of the sector and band words,
+/// and the next slot (a find-first-set and clear on the AND, a LUT4 a bit each); the words
+/// picked and two words queued, registered.
+fn walks(p: &mut Proxy, params: &Params, lanes: u64) {
+    if params.sectors == 0 {
+        return;
+    }
+    let words = params.bank_slots.div_ceil(BITMAP_WORD) as u64;
+    let w = BITMAP_WORD as u64;
+    p.add(lanes * words, 5);
+    p.add(lanes, words);
+    p.add(lanes * 3, w);
+    p.reg(lanes * (words + 2 * w + 16));
+}
+
+/// One bank's candidate bitmaps, `copies` of them (double-buffered or not), as the lane walks
+/// them ([`crate::intersect::bitmap_walk`]): the sector rows and the band rows in words of
+/// [`BITMAP_WORD`] bits, and a mask row beside each sector row ([`BANDS`] bits a word). Before
+/// issue 19's fifth round each row was one word of the bank's width (512 bits: 15 block RAMs a
+/// bitmap whatever its depth).
+fn bitmaps(p: &mut Proxy, params: &Params, copies: u64) {
+    let words = params.bank_slots.div_ceil(BITMAP_WORD) as u64;
+    let sectors = params.sectors as u64;
+    p.mem(copies * sectors * words, BITMAP_WORD as u64);
+    p.mem(copies * BANDS as u64 * words, BITMAP_WORD as u64);
+    p.mem(copies * sectors, mask_row_bits(params.bank_slots) as u64);
 }
 
 /// Set-up units, one per bank, a corner per clock: a × b (6 products of 34 × 34) and h (one
@@ -446,10 +477,10 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     p.mem(slots * 16, 32);
     if params.sectors > 0 {
         for _ in 0..l {
-            p.mem(params.sectors as u64, params.bank_slots as u64);
-            p.mem(BANDS as u64, params.bank_slots as u64);
+            bitmaps(&mut p, params, 1);
         }
     }
+    walks(&mut p, params, l);
     queues(&mut p, l);
     p
 }

@@ -13,8 +13,8 @@
 //! patch per clock each, so the pass costs ⌈P / lanes⌉ clocks plus the set-up pipe's latency;
 //! hemisphere rays share their origin, so it is paid once per hemisphere. Each lane has a
 //! descriptor FIFO of rays (a ray's sector and slot): it walks that sector's bitmap of its
-//! bank, handing one candidate patch per clock to its edge stage, and a ray with no candidate in
-//! a bank costs that lane nothing. A ray is done when every lane has passed its last candidate;
+//! bank word by word ([`bitmap_walk`]), handing one candidate patch per clock to its edge stage,
+//! and a ray with no candidate in a bank costs that lane nothing. A ray is done when every lane has passed its last candidate;
 //! its answers go through a min tree (nearest t, ties to the lowest patch index, as the single
 //! scan kept them) and the (u,v) pipe, and rays leave in the order they came.
 //!
@@ -56,6 +56,7 @@
 //! skipped and reported through the UNSUPPORTED_PATCH error.
 
 pub mod bezier;
+pub mod bitmap_walk;
 pub mod cull;
 pub mod patch_mem;
 pub mod uv;
@@ -65,6 +66,7 @@ use crate::format::{quotient, Angle, Coord, Coord64, PlaneDen, PlaneDist, Unit};
 use crate::params::{Params, MAX_LANES, MAX_SECTORS};
 use crate::table::Table;
 use bezier::{BezierEngine, BezierStats, Box3, Job, RaySetup, SubdivConfig, BEZIER_ROWS};
+use bitmap_walk::WordWalk;
 use cull::{CullUnit, Reach, Wedge};
 use fixed::types::extra::U24;
 use patch_mem::{
@@ -409,12 +411,12 @@ struct Candidates {
 }
 
 impl Candidates {
-    /// Lists for `slots` patch slots in `sectors` sectors.
-    fn new(slots: usize, sectors: u32) -> Self {
-        let active = Table::new(0, slots);
+    /// Lists for the slots and sectors of `params`.
+    fn new(params: &Params) -> Self {
+        let active = Table::new(0, params.capacity() as usize);
         let slots = active.len();
         Candidates {
-            sector: Table::new(0, sectors as usize * slots),
+            sector: Table::new(0, params.sectors as usize * slots),
             sector_len: [0; MAX_SECTORS as usize],
             slots,
             active,
@@ -549,6 +551,9 @@ pub struct LaneStats {
     /// (ray, planar patch) pairs found inside the patch's pyramid, handed to a plane unit
     /// (compact builds).
     pub inside: u64,
+    /// Clocks the culled rays' lanes spent on bitmap words beyond their candidates (a word
+    /// whose only slot in band was the ray's own patch: [`bitmap_walk`]).
+    pub walk_clocks: u64,
 }
 
 /// Exclusive bound of a Bezier hit's t: the largest t of the result's Q8.24 plus one LSB.
@@ -562,7 +567,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         IntersectUnit {
             local: Table::new(LocalPatch::default(), params.capacity() as usize),
             key: None,
-            candidates: Candidates::new(params.capacity() as usize, params.sectors),
+            candidates: Candidates::new(&params),
             params,
             cull: CullUnit::new(params.sectors),
             cull_ok: width >= cull::MIN_CULL_WIDTH,
@@ -910,8 +915,14 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let dc = ray.dir.map(|c| c.to_bits() >> COARSE_DIR_SHIFT);
         let c = &self.candidates;
         let mut inside = 0;
+        // a culled ray's lanes walk its sector's bitmaps word by word
+        let mut walk = bin.map(|_| WordWalk::new(self.params.banks()));
         for &i in c.list(bin.map(|b| b.0)) {
-            if ray.skip == Some(i as u32) || bin.is_some_and(|b| !c.in_band(i, b.1)) {
+            let in_band = bin.is_none_or(|b| c.in_band(i, b.1));
+            if let Some(walk) = walk.as_mut() {
+                walk.see(i, in_band);
+            }
+            if ray.skip == Some(i as u32) || !in_band {
                 continue;
             }
             let bank = i as usize % banks;
@@ -949,6 +960,17 @@ impl<T: Copy + Default> IntersectUnit<T> {
         }
         self.stats.candidates += counts.iter().sum::<u64>();
         self.stats.inside += inside as u64;
+        // a lane's clocks: its candidates, or its walk's words read when they are more
+        if let Some(walk) = walk.as_mut() {
+            walk.finish();
+            for (bank, n) in counts.iter_mut().enumerate() {
+                let clocks = walk.clocks(bank, *n);
+                // every word read holds a candidate, or only the ray's own patch
+                debug_assert!(clocks <= *n + 1, "a bitmap walk read a word without a slot");
+                self.stats.walk_clocks += clocks - *n;
+                *n = clocks;
+            }
+        }
         let (first, mut end) = self.first_clock(now);
         if compact {
             let end = self

@@ -3,7 +3,7 @@
 //! speed, and the area proxy of each build (docs/PERFORMANCE.md).
 
 use crate::chart::{log_log, Series};
-use anyhow::Result;
+use anyhow::{Context, Result};
 use hemi::scene::{Scene, Sides};
 use hemi_hdl_model::area;
 use hemi_hdl_model::cordic::CordicConfig;
@@ -82,6 +82,8 @@ struct Run {
     rays: u64,
     cycles: u64,
     candidates: u64,
+    /// lane clocks of the bitmap walks beyond the candidates
+    walk_clocks: u64,
     /// of the patches set up for culling: the share in every sector, and bins covered each
     full: f64,
     bins: f64,
@@ -125,6 +127,7 @@ fn run(scene: &Scene, params: Params, circles: u32, samples: u32) -> Result<Run>
         rays: model.rays(),
         cycles: model.cycles() - c0,
         candidates: st.candidates,
+        walk_clocks: st.walk_clocks,
         full: st.full_patches as f64 / st.culled_patches.max(1) as f64,
         bins: st.bins as f64 / st.culled_patches.max(1) as f64,
         seconds: t0.elapsed().as_secs_f64(),
@@ -159,8 +162,8 @@ pub fn bench(
     out: &mut impl Write,
 ) -> Result<()> {
     writeln!(out, "R = {circles}, K = {samples}; 2 rays per clock\n")?;
-    writeln!(out, "| patches | lanes | culling | rays | cycles/ray | candidates/ray | patches in every sector | bins/patch | model Mcycles/s | host M rays/s |")?;
-    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|")?;
+    writeln!(out, "| patches | lanes | culling | rays | cycles/ray | candidates/ray | walk clocks/ray | patches in every sector | bins/patch | model Mcycles/s | host M rays/s |")?;
+    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|")?;
     let mut series = Vec::new();
     for &n in subdivisions {
         let text = subdivided(scene, n)?;
@@ -175,10 +178,11 @@ pub fn bench(
                 let cpr = r.cycles as f64 / r.rays as f64;
                 writeln!(
                     out,
-                    "| {count} | {l} | {} | {} | {cpr:.2} | {:.2} | {:.1} % | {:.1} | {:.1} | {:.2} |",
+                    "| {count} | {l} | {} | {} | {cpr:.2} | {:.2} | {:.3} | {:.1} % | {:.1} | {:.1} | {:.2} |",
                     if sectors > 0 { "32 sectors × 16 bands" } else { "none" },
                     r.rays,
                     r.candidates as f64 / r.rays as f64,
+                    r.walk_clocks as f64 / r.rays as f64,
                     r.full * 100.0,
                     r.bins,
                     r.cycles as f64 / r.seconds / 1e6,
@@ -204,7 +208,8 @@ pub fn bench(
             &format!("Cornell box subdivided, R = {circles}, K = {samples}, 32 sectors × 16 bands, 2 rays/clock"),
             &series,
         );
-        std::fs::write(dir.join("lanes-cycles.svg"), svg)?;
+        let path = dir.join("lanes-cycles.svg");
+        std::fs::write(&path, svg).with_context(|| format!("writing {}", path.display()))?;
     }
     Ok(())
 }
