@@ -485,7 +485,18 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
     p
 }
 
-/// The units every build has: the angle unit (a vectoring and a rotation CORDIC), the (u,v)
+/// The angle unit as `frame.rs` models it: one vectoring pipe of `cfg` (x, y and the angle
+/// each iteration) whose x output, the magnitude ρ that the θ pass takes, is gain-compensated
+/// by a multiplier (CONFIG.ITER picks 1/K_n at run time). Until issue 19's fifth round the
+/// proxy counted two rotation pipes here (four gain multipliers), a unit the model never had.
+fn angle_unit(p: &mut Proxy, cfg: CordicConfig) {
+    let (n, w) = (cfg.iterations as u64, cfg.width as u64);
+    p.add(3 * (n + 1), w);
+    p.mul(1, cfg.width, cfg.width);
+    p.reg((n + 2) * 3 * w);
+}
+
+/// The units every build has: the angle unit (one vectoring CORDIC pipe, `frame.rs`), the (u,v)
 /// unit and the Bezier subdivision engine (the de Casteljau network on 26-bit control points,
 /// child boxes and slab tests, the leaf's products and three dividers, the node stack and
 /// control-point memory). The wide datapath (`compact` false) unrolls the (u,v) pipe into
@@ -495,7 +506,7 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 /// instead of eighteen.
 pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     let mut p = Proxy::default();
-    p.cordic(cfg, 2);
+    angle_unit(&mut p, cfg);
     let d = uv_depth as u64;
     let (levels, children) = if compact {
         (UV_UNITS as u64, 1)
