@@ -33,7 +33,7 @@ use crate::patch::{Patch, Shape};
 use crate::rotation::Rotation;
 use core::ops::Range;
 #[cfg(not(target_os = "none"))]
-use setup_lanes::{setup_lanes, thin_polygon, Reach, Runs, LANES as LANES_SET_UP};
+use setup_lanes::{setup_lanes, thin_polygon, Reach, Runs, LANES as LANES_SET_UP, SPAN_RINGS};
 
 #[cfg(not(target_os = "none"))]
 mod setup_lanes;
@@ -1623,12 +1623,14 @@ impl SimdLoop for PatchScan<'_, '_> {
     #[inline(always)]
     fn run(mut self) {
         let table = self.hemi.rings();
-        if let Runs::Some { count, runs } = self.reach.runs {
+        if let Runs::Some(runs) = self.reach.runs {
             // the box's runs, on one to four rings, where the cone's search would look on more
-            for &(j, first, last) in runs.iter().take(count as usize) {
-                let n = table[j as usize].count as i64;
-                let run = (wrap(first, n), (last - first + 1).min(n));
-                self.scan_on(j as usize, run);
+            for i in 0..SPAN_RINGS {
+                if let Some((j, first, last)) = runs.get(i) {
+                    let n = table[j].count as i64;
+                    let run = (wrap(first, n), (last - first + 1).min(n));
+                    self.scan_on(j, run);
+                }
             }
             return;
         }
