@@ -314,9 +314,9 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
 /// The compact datapath's memories, double-buffered where the set-up pass writes them (the
 /// next origin's pass fills the other half): each lane's coarse words for its bank, the sector
 /// and band bitmaps per bank and group (a lane walks its ray's sector row ANDed with its band
-/// row, so a patch outside the ray's band costs it no clock), patch memory (the exact unit
-/// recomputes the exact edge normals from it) and each ray group's normal memory (single:
-/// n does not depend on the origin).
+/// row word by word, [`bitmaps`], so a patch outside the ray's band costs it no clock), patch
+/// memory (the exact unit recomputes the exact edge normals from it) and each ray group's
+/// normal memory (single: n does not depend on the origin).
 fn compact_memories(params: &Params) -> Proxy {
     let mut p = Proxy::default();
     let slots = params.capacity() as u64;
@@ -338,9 +338,9 @@ fn compact_memories(params: &Params) -> Proxy {
 
 /// The bitmap walks of `lanes` lanes ([`crate::intersect::bitmap_walk`]): the ray's band bit
 /// picked from each word's mask (a 16:1 multiplexer, five LUT4s, a word), the next word to
-/// read (a find-first-set and clear on a bit a word), the AND of the sector and band words,
-/// and the next slot (a find-first-set and clear on the AND, a LUT4 a bit each); the words
-/// picked and two words queued, registered.
+/// read (a find-first-set and clear on a bit a word: two LUT4s a bit), the AND of the sector
+/// and band words, and the next slot (a find-first-set and clear on the AND: two LUT4s a
+/// bit); registered, the words picked, two words queued and the slot handed on (16 bits).
 fn walks(p: &mut Proxy, params: &Params, lanes: u64) {
     if params.sectors == 0 {
         return;
@@ -348,7 +348,7 @@ fn walks(p: &mut Proxy, params: &Params, lanes: u64) {
     let words = params.bank_slots.div_ceil(BITMAP_WORD) as u64;
     let w = BITMAP_WORD as u64;
     p.add(lanes * words, 5);
-    p.add(lanes, words);
+    p.add(lanes * 2, words);
     p.add(lanes * 3, w);
     p.reg(lanes * (words + 2 * w + 16));
 }

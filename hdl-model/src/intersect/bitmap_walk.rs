@@ -8,12 +8,18 @@
 //! ([`BANDS`] bits a word; the set-up writes it with the sector row's bits, the same writes).
 //! The walk reads the ray's sector's mask row once, then, one word a clock, the sector word
 //! and the band word of each word whose mask holds the ray's band, and queues their AND ahead
-//! of the lane's edge test, which takes the queued slots one a clock. A slot of the sector
-//! word is in the ray's band exactly when the mask says so, so every word read holds a
+//! of the lane's edge test, which takes the queued slots one a clock. A word's mask holds the
+//! ray's band exactly when some slot of the word is in both rows, so every word read holds a
 //! candidate (or only the ray's own patch, which the lane skips): a lane is busy for a ray as
 //! long as the longer of its candidates and its words read, and the words are almost never
 //! the longer. [`WordWalk`] counts the words read, bank by bank, from the sector list the ray
 //! walks (in slot order).
+//!
+//! Not charged, in clocks or in the area proxy: the set-up's writes (a patch sets its bit in a
+//! word of each of its sector and band rows and ORs its bands into its sectors' mask words,
+//! read-modify-writes as the rows' bits were before words), and the two reads (mask row, then
+//! the first word pair) before a ray's first candidate, which overlap the previous ray's
+//! candidates in a lane that has any.
 
 use crate::intersect::cull::BANDS;
 use crate::params::MAX_LANES;
@@ -51,6 +57,10 @@ impl WordWalk {
     pub fn see(&mut self, i: u16, in_band: bool) {
         let bank = i as usize % self.banks;
         let word = (i as usize / self.banks) / BITMAP_WORD as usize;
+        debug_assert!(
+            self.open[bank].is_none_or(|(open, _)| open <= word),
+            "a sector list out of slot order"
+        );
         match self.open[bank] {
             Some((open, held)) if open == word => self.open[bank] = Some((word, held | in_band)),
             previous => {

@@ -13,10 +13,11 @@
 //! patch per clock each, so the pass costs ⌈P / lanes⌉ clocks plus the set-up pipe's latency;
 //! hemisphere rays share their origin, so it is paid once per hemisphere. Each lane has a
 //! descriptor FIFO of rays (a ray's sector and slot): it walks that sector's bitmap of its
-//! bank word by word ([`bitmap_walk`]), handing one candidate patch per clock to its edge stage,
-//! and a ray with no candidate in a bank costs that lane nothing. A ray is done when every lane has passed its last candidate;
-//! its answers go through a min tree (nearest t, ties to the lowest patch index, as the single
-//! scan kept them) and the (u,v) pipe, and rays leave in the order they came.
+//! bank word by word ([`bitmap_walk`]), handing one candidate patch per clock to its edge
+//! stage, and a ray with no candidate in a bank costs that lane nothing. A ray is done when
+//! every lane has passed its last candidate; its answers go through a min tree (nearest t,
+//! ties to the lowest patch index, as the single scan kept them) and the (u,v) pipe, and rays
+//! leave in the order they came.
 //!
 //! The stages of a lane:
 //!

@@ -134,6 +134,15 @@ fn run(scene: &Scene, params: Params, circles: u32, samples: u32) -> Result<Run>
     })
 }
 
+/// The walk clocks a ray beyond the candidates, or "–" where the rays were not culled (no
+/// bitmap walk).
+fn walk_column(sectors: u32, clocks: u64, rays: u64) -> String {
+    match sectors {
+        0 => "–".into(),
+        _ => format!("{:.3}", clocks as f64 / rays.max(1) as f64),
+    }
+}
+
 /// A build of `lanes` lanes whose banks hold `patches`: the default's datapath and ray groups
 /// (fewer when there are fewer lanes).
 fn build(lanes: u32, sectors: u32, rays_per_clock: u32, patches: usize) -> Params {
@@ -178,11 +187,11 @@ pub fn bench(
                 let cpr = r.cycles as f64 / r.rays as f64;
                 writeln!(
                     out,
-                    "| {count} | {l} | {} | {} | {cpr:.2} | {:.2} | {:.3} | {:.1} % | {:.1} | {:.1} | {:.2} |",
+                    "| {count} | {l} | {} | {} | {cpr:.2} | {:.2} | {} | {:.1} % | {:.1} | {:.1} | {:.2} |",
                     if sectors > 0 { "32 sectors × 16 bands" } else { "none" },
                     r.rays,
                     r.candidates as f64 / r.rays as f64,
-                    r.walk_clocks as f64 / r.rays as f64,
+                    walk_column(sectors, r.walk_clocks, r.rays),
                     r.full * 100.0,
                     r.bins,
                     r.cycles as f64 / r.seconds / 1e6,

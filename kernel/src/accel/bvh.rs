@@ -748,7 +748,7 @@ mod tests {
     /// their planes by far more than the walk's margins, so rays the exact edges would miss
     /// can pass (and rays they would catch can fail): both walks must test exactly the rays
     /// the boards' ring scan tests. Slivers and long quads, below and above the patch count
-    /// from which the walk sets up eight at a time. (Found by a review: the box lost 91 hits
+    /// from which the walk sets up several at a time. (Found by a review: the box lost 91 hits
     /// here, and the one azimuth bound a patch had added 32 before it.)
     #[test]
     fn thin_patches_hit_what_the_ring_scan_hits() {
@@ -806,7 +806,7 @@ mod tests {
         let hits = compare_hemispheres(&patches, &shots);
         let rays = shots.len() * crate::hemisphere::ray_count(24) as usize;
         assert_eq!(hits, rays, "a closed box leaks no hemisphere ray");
-        // a box cut finer than the rays (864 cells: the walk sets them up eight at a time and
+        // a box cut finer than the rays (864 cells: the walk sets them up in lanes and
         // drops those between the rays)
         let patches = closed_box(12);
         let shots: Vec<_> = (0..patches.len())
