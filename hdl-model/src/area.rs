@@ -27,7 +27,7 @@
 extern crate alloc;
 
 use crate::cordic::CordicConfig;
-use crate::intersect::bitmap_walk::{mask_row_bits, BITMAP_WORD};
+use crate::intersect::bitmap_walk::{mask_row_bits, row_words, BITMAP_WORD};
 use crate::intersect::cull::{BANDS, CULL_CORDIC};
 use crate::intersect::{PLANE_UNITS, UV_UNITS};
 use crate::params::Params;
@@ -345,7 +345,7 @@ fn walks(p: &mut Proxy, params: &Params, lanes: u64) {
     if params.sectors == 0 {
         return;
     }
-    let words = params.bank_slots.div_ceil(BITMAP_WORD) as u64;
+    let words = row_words(params.bank_slots) as u64;
     let w = BITMAP_WORD as u64;
     p.add(lanes * words, 5);
     p.add(lanes * 2, words);
@@ -359,7 +359,7 @@ fn walks(p: &mut Proxy, params: &Params, lanes: u64) {
 /// issue 19's fifth round each row was one word of the bank's width (512 bits: 15 block RAMs a
 /// bitmap whatever its depth).
 fn bitmaps(p: &mut Proxy, params: &Params, copies: u64) {
-    let words = params.bank_slots.div_ceil(BITMAP_WORD) as u64;
+    let words = row_words(params.bank_slots) as u64;
     let sectors = params.sectors as u64;
     p.mem(copies * sectors * words, BITMAP_WORD as u64);
     p.mem(copies * BANDS as u64 * words, BITMAP_WORD as u64);

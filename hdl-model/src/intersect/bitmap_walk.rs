@@ -12,8 +12,8 @@
 //! ray's band exactly when some slot of the word is in both rows, so every word read holds a
 //! candidate (or only the ray's own patch, which the lane skips): a lane is busy for a ray as
 //! long as the longer of its candidates and its words read, and the words are almost never
-//! the longer. [`WordWalk`] counts the words read, bank by bank, from the sector list the ray
-//! walks (in slot order).
+//! the longer. [`WordWalk`] counts the words read, bank by bank, from the slots of the sector
+//! list the ray walks that are in its band (in slot order).
 //!
 //! Not charged, in clocks or in the area proxy: the set-up's writes (a patch sets its bit in a
 //! word of each of its sector and band rows and ORs its bands into its sectors' mask words,
@@ -28,66 +28,61 @@ use crate::params::MAX_LANES;
 /// of 512 slots, double-buffered, are one block RAM deep.
 pub const BITMAP_WORD: u32 = 64;
 
-/// Bits of a mask row for rows of `bank_slots` slots: [`BANDS`] bits for each word.
-pub fn mask_row_bits(bank_slots: u32) -> u32 {
-    bank_slots.div_ceil(BITMAP_WORD) * BANDS
+/// Words of a row of `bank_slots` slots.
+pub fn row_words(bank_slots: u32) -> u32 {
+    bank_slots.div_ceil(BITMAP_WORD)
 }
 
-/// One ray's walk: for each bank the word it is in and whether that word holds a slot in the
-/// ray's band so far, and the words read.
+/// Bits of a mask row for rows of `bank_slots` slots: [`BANDS`] bits for each word.
+pub fn mask_row_bits(bank_slots: u32) -> u32 {
+    row_words(bank_slots) * BANDS
+}
+
+/// No word open in a bank yet.
+const NONE: u32 = u32::MAX;
+
+/// One ray's walk: the words each bank's lane reads, counted from the slots of the ray's
+/// sector list that are in its band (a word is read when one of its slots is in both rows,
+/// which is what its mask says), in slot order. Small and cleared per ray: the model walks
+/// every culled ray through it.
 #[derive(Clone, Copy, Debug)]
 pub struct WordWalk {
-    open: [Option<(usize, bool)>; MAX_LANES as usize],
-    /// Words each bank's lane reads, once [`WordWalk::finish`]ed.
-    pub read: [u64; MAX_LANES as usize],
-    banks: usize,
+    /// the last word read in each bank
+    open: [u32; MAX_LANES as usize],
+    read: [u32; MAX_LANES as usize],
+}
+
+impl Default for WordWalk {
+    fn default() -> Self {
+        WordWalk {
+            open: [NONE; MAX_LANES as usize],
+            read: [0; MAX_LANES as usize],
+        }
+    }
 }
 
 impl WordWalk {
-    /// A walk over `banks` banks.
-    pub fn new(banks: u32) -> Self {
-        WordWalk {
-            open: [None; MAX_LANES as usize],
-            read: [0; MAX_LANES as usize],
-            banks: banks.max(1) as usize,
-        }
-    }
-
-    /// The next slot `i` of the ray's sector row (in slot order), in the ray's band or not.
-    pub fn see(&mut self, i: u16, in_band: bool) {
-        let bank = i as usize % self.banks;
-        let word = (i as usize / self.banks) / BITMAP_WORD as usize;
+    /// The next slot in the ray's band (in slot order), at `place` of bank `bank` (slot i is
+    /// at place i / banks of bank i % banks).
+    pub fn see(&mut self, bank: usize, place: usize) {
+        let word = place as u32 / BITMAP_WORD;
+        let (Some(open), Some(read)) = (self.open.get_mut(bank), self.read.get_mut(bank)) else {
+            return;
+        };
         debug_assert!(
-            self.open[bank].is_none_or(|(open, _)| open <= word),
+            *open == NONE || *open <= word,
             "a sector list out of slot order"
         );
-        match self.open[bank] {
-            Some((open, held)) if open == word => self.open[bank] = Some((word, held | in_band)),
-            previous => {
-                self.close(bank, previous);
-                self.open[bank] = Some((word, in_band));
-            }
-        }
-    }
-
-    /// Closes every bank's last word.
-    pub fn finish(&mut self) {
-        for bank in 0..self.open.len() {
-            let last = self.open[bank].take();
-            self.close(bank, last);
+        if *open != word {
+            *open = word;
+            *read += 1;
         }
     }
 
     /// The clocks bank `bank`'s lane is busy with the ray that handed it `candidates`.
     pub fn clocks(&self, bank: usize, candidates: u64) -> u64 {
-        candidates.max(self.read[bank])
-    }
-
-    /// A word is read when its mask holds the ray's band: when one of its slots is in it.
-    fn close(&mut self, bank: usize, word: Option<(usize, bool)>) {
-        if let Some((_, true)) = word {
-            self.read[bank] += 1;
-        }
+        let read = self.read.get(bank).copied().unwrap_or(0);
+        candidates.max(read as u64)
     }
 }
 
@@ -97,18 +92,13 @@ mod tests {
 
     #[test]
     fn a_lane_reads_the_words_that_hold_a_slot_in_the_band() {
-        // two banks of 256 slots: slot i is in bank i % 2, word (i / 2) / 64
-        let mut walk = WordWalk::new(2);
-        // bank 0, word 0: slots 0 (in band) and 2 (not): read
-        walk.see(0, true);
-        walk.see(2, false);
-        // bank 0, word 1 (slot 128): none in band, skipped by the mask
-        walk.see(128, false);
-        // bank 1, word 1 (slots 129, 131), word 2 (slot 257): all in band
-        walk.see(129, true);
-        walk.see(131, true);
-        walk.see(257, true);
-        walk.finish();
+        // two banks of 256 slots: slot i is at place i / 2 of bank i % 2, word (i / 2) / 64;
+        // the slots seen are those in the ray's band
+        let mut walk = WordWalk::default();
+        for i in [0usize, 2, 129, 131, 257] {
+            walk.see(i % 2, i / 2);
+        }
+        // bank 0: word 0 (slots 0, 2); bank 1: word 1 (129, 131) and word 2 (257)
         assert_eq!(walk.read[..2], [1, 2]);
         // a lane is busy for the longer of its candidates and its words
         assert_eq!((walk.clocks(0, 1), walk.clocks(1, 3)), (1, 3));

@@ -34,9 +34,8 @@
 //! holds its band (in hardware: a sector bitmap AND a band bitmap, walked word by word by a
 //! priority encoder, [`super::bitmap_walk`]). A ray's sector and band come from its reference
 //! direction by the same vectoring CORDIC (in parallel with the rotator, so it adds no
-//! latency). Rays within 2^-5 of the pole (sin θ < 2^-5), rays
-//! below the horizon and rays not rotated by a frame (TRACE entries) are not culled: they are
-//! handed every active patch.
+//! latency). Rays within 2^-5 of the pole (sin θ < 2^-5), rays below the horizon and rays not
+//! rotated by a frame (TRACE entries) are not culled: they are handed every active patch.
 //!
 //! **Narrow arithmetic.** Culling only has to be conservative: a lane's candidates may be a
 //! superset of the patches a ray can meet, since the edge test decides the hits. So the set-up

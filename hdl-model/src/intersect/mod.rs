@@ -412,12 +412,12 @@ struct Candidates {
 }
 
 impl Candidates {
-    /// Lists for the slots and sectors of `params`.
-    fn new(params: &Params) -> Self {
-        let active = Table::new(0, params.capacity() as usize);
+    /// Lists for `slots` patch slots in `sectors` sectors.
+    fn new(slots: usize, sectors: u32) -> Self {
+        let active = Table::new(0, slots);
         let slots = active.len();
         Candidates {
-            sector: Table::new(0, params.sectors as usize * slots),
+            sector: Table::new(0, sectors as usize * slots),
             sector_len: [0; MAX_SECTORS as usize],
             slots,
             active,
@@ -568,7 +568,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         IntersectUnit {
             local: Table::new(LocalPatch::default(), params.capacity() as usize),
             key: None,
-            candidates: Candidates::new(&params),
+            candidates: Candidates::new(params.capacity() as usize, params.sectors),
             params,
             cull: CullUnit::new(params.sectors),
             cull_ok: width >= cull::MIN_CULL_WIDTH,
@@ -917,16 +917,18 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let c = &self.candidates;
         let mut inside = 0;
         // a culled ray's lanes walk its sector's bitmaps word by word
-        let mut walk = bin.map(|_| WordWalk::new(self.params.banks()));
+        let mut walk = bin.map(|_| WordWalk::default());
         for &i in c.list(bin.map(|b| b.0)) {
-            let in_band = bin.is_none_or(|b| c.in_band(i, b.1));
-            if let Some(walk) = walk.as_mut() {
-                walk.see(i, in_band);
-            }
-            if ray.skip == Some(i as u32) || !in_band {
+            if bin.is_some_and(|b| !c.in_band(i, b.1)) {
                 continue;
             }
-            let bank = i as usize % banks;
+            let (bank, place) = (i as usize % banks, i as usize / banks);
+            if let Some(walk) = walk.as_mut() {
+                walk.see(bank, place);
+            }
+            if ray.skip == Some(i as u32) {
+                continue;
+            }
             counts[bank] += 1;
             let lp = &self.local[i as usize];
             let tok = EdgeStage.eval(&ray.dir, lp);
@@ -962,8 +964,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.stats.candidates += counts.iter().sum::<u64>();
         self.stats.inside += inside as u64;
         // a lane's clocks: its candidates, or its walk's words read when they are more
-        if let Some(walk) = walk.as_mut() {
-            walk.finish();
+        if let Some(walk) = walk {
             for (bank, n) in counts.iter_mut().enumerate() {
                 let clocks = walk.clocks(bank, *n);
                 // every word read holds a candidate, or only the ray's own patch
