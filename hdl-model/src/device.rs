@@ -692,6 +692,52 @@ impl Device {
     pub fn params(&self) -> Params {
         self.params
     }
+
+    /// The ray FIFO's entries, oldest first, packed as the register file's RTL holds them
+    /// (`hdl-model/rtl/ahb_regs.v`), for its co-simulation: [`Entry::words`].
+    pub fn queued_entries(&self) -> impl Iterator<Item = [u32; ENTRY_WORDS]> + '_ {
+        self.ray_fifo.iter().map(Entry::words)
+    }
+}
+
+/// Words of a packed ray FIFO entry ([`Device::queued_entries`]).
+pub const ENTRY_WORDS: usize = 8;
+
+impl Entry {
+    /// Word 0 the kind (bits 17:16: 0 a ray, 1 a frame from a normal, 2 a frame from pairs)
+    /// and, for a ray, MODE (bits 8:0); then a ray's ORIGIN x, y, z, SKIP_PATCH (bit 31 set
+    /// when it skips) and direction x, y, z; a frame's NORMAL x, y, z and SPIN c, s, or PHI
+    /// c, s, THETA c, s and SPIN c, s; unused words 0.
+    fn words(&self) -> [u32; ENTRY_WORDS] {
+        let u = |v: Unit| v.to_bits() as u32;
+        let mut w = [0; ENTRY_WORDS];
+        match self.frame {
+            Some(FrameRequest::Normal { n, spin }) => {
+                w[0] = 1 << 16;
+                for (o, v) in w[1..].iter_mut().zip(n.iter().chain(&spin)) {
+                    *o = u(*v);
+                }
+            }
+            Some(FrameRequest::Pairs { phi, theta, psi }) => {
+                w[0] = 2 << 16;
+                let all = phi.iter().chain(&theta).chain(&psi);
+                for (o, v) in w[1..].iter_mut().zip(all) {
+                    *o = u(*v);
+                }
+            }
+            None => {
+                w[0] = self.mode;
+                for (o, c) in w[1..4].iter_mut().zip(&self.origin) {
+                    *o = c.to_bits() as u32;
+                }
+                w[4] = self.skip.map_or(0, |p| skip::ENABLE | p);
+                for (o, v) in w[5..].iter_mut().zip(&self.dir) {
+                    *o = u(*v);
+                }
+            }
+        }
+        w
+    }
 }
 
 const _: () = assert!(PATCH_WORDS == 16);

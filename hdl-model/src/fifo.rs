@@ -58,6 +58,11 @@ impl<T: Copy + Default, const N: usize> Fifo<T, N> {
         Some(v)
     }
 
+    /// The entries, oldest first.
+    pub fn iter(&self) -> impl Iterator<Item = &T> + '_ {
+        (0..self.len).map(move |i| &self.buf[(self.head + i) % N])
+    }
+
     /// Empties it.
     pub fn clear(&mut self) {
         self.len = 0;
