@@ -8,11 +8,13 @@
 //! - with `--plane OUT2 --depth D`: the planar intersection unit on the same scene's
 //!   hemispheres (`--plane-samples K`) and on `--plane-random N` random rays against
 //!   `--plane-patches P` random patches. The model's own speed on the same streams (without
-//!   writing them) is printed as modelled clocks per host second.
+//!   writing them) is printed as modelled clocks per host second;
+//! - with `--regs OUT3`: the register file's bus accesses (`--regs-steps N` random steps after
+//!   the directed ones).
 
 use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
-use hemi_bench::rtl::{cordic, plane};
+use hemi_bench::rtl::{cordic, plane, regs};
 use hemi_hdl_model::cordic::CordicConfig;
 use std::time::Instant;
 
@@ -28,6 +30,8 @@ struct Args {
     plane_samples: u32,
     plane_random: usize,
     plane_patches: usize,
+    regs: Option<String>,
+    regs_steps: usize,
     seed: u64,
 }
 
@@ -44,6 +48,8 @@ fn parse() -> Result<Args> {
         plane_samples: 1,
         plane_random: 10_000,
         plane_patches: 48,
+        regs: None,
+        regs_steps: 20_000,
         seed: 0x2545_f491_4f6c_dd1d,
     };
     let mut it = std::env::args().skip(1);
@@ -61,13 +67,15 @@ fn parse() -> Result<Args> {
             "--plane-samples" => a.plane_samples = value()?.parse()?,
             "--plane-random" => a.plane_random = value()?.parse()?,
             "--plane-patches" => a.plane_patches = value()?.parse::<usize>()?.clamp(1, 256),
+            "--regs" => a.regs = Some(value()?),
+            "--regs-steps" => a.regs_steps = value()?.parse()?,
             "--seed" => a.seed = value()?.parse()?,
             s if !s.starts_with('-') && a.out.is_empty() => a.out = s.to_string(),
             s => bail!("unknown argument `{s}`"),
         }
     }
     if a.out.is_empty() || !a.cfg.is_valid() || !(1..=24).contains(&a.depth) {
-        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--seed S]");
+        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--seed S]");
     }
     Ok(a)
 }
@@ -100,6 +108,14 @@ fn main() -> Result<()> {
     );
     if let Some(out) = &a.plane {
         plane_vectors(&a, scene.as_ref(), out)?;
+    }
+    if let Some(out) = &a.regs {
+        let (text, c) = regs::vectors(a.regs_steps, a.seed);
+        std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
+        println!(
+            "rtl-vectors: registers accesses={} clocks={} fifo_entries={}",
+            c.accesses, c.clocks, c.entries
+        );
     }
     Ok(())
 }

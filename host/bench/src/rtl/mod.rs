@@ -4,7 +4,9 @@
 //! its outputs bit for bit and clock for clock (`cargo xtask rtl`).
 //!
 //! - [`cordic`]: the rotator and the angle unit's vectoring pipe;
-//! - [`plane`]: the planar intersection unit with (u,v) (one lane, no culling).
+//! - [`plane`]: the planar intersection unit with (u,v) (one lane, no culling);
+//! - [`regs`]: the register file and its AHB-Lite bus interface.
 
 pub mod cordic;
 pub mod plane;
+pub mod regs;

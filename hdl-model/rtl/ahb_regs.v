@@ -1,0 +1,457 @@
+// The accelerator's register file behind an AHB-Lite slave (docs/register-map.md; the model is
+// hdl-model/src/device.rs, whose `read`, `write` and `tick` this mirrors clock for clock).
+//
+// The bus: AHB-Lite, zero wait states (HREADYOUT 1, HRESP OKAY), word transfers (HSIZE is not
+// decoded: a narrower write acts as a word write). An access's address phase is latched; its
+// read data is driven combinationally in its data phase from the registers as they are then,
+// and its effects (a write's, and a read's side effects: RESULT_OUT's pop, PATCH_DATA's
+// increment, the latching of CYCLE_HI and BUSY_HI, RESULT_UNDERFLOW and PATCH_RANGE) take place
+// on the clock edge that ends the data phase, together with that clock's counting. So
+// back-to-back accesses, each one clock, see each other in order, as the model's accesses do
+// (the model's clock n is the data phase of the access it makes then). Patch memory is a
+// synchronous block RAM: its read is issued in the address phase, from the PATCH_ADDR the access
+// in its data phase leaves behind, and is ready in the data phase.
+//
+// What lies behind the registers (the angle unit, the rotators, the intersection unit, the
+// result FIFO) is not here: its state comes in on the dp_*, frame_* and result_* ports and the
+// ray FIFO's head goes out on entry_*. An entry is packed in eight words as the model's
+// `Device::queued_entries` packs it: word 0 the kind (17:16: 0 a ray, 1 a frame from NORMAL and
+// SPIN, 2 a frame from PHI, THETA and SPIN) and a ray's MODE (8:0); a ray's ORIGIN x, y, z, its
+// SKIP_PATCH (bit 31 set when it skips) and its direction; a frame's inputs in register order.
+// Verilog-2005, accepted by Verilator and Yosys.
+module ahb_regs #(
+    // log2 of the patch slots (CAPS 31:16): 2,048 in the default build
+    parameter SLOT_BITS = 11,
+    // CAPS_LANES of the build (the default build's)
+    parameter [31:0] CAPS_LANES_VALUE = 32'h1320_0208
+) (
+    input  wire         hclk,
+    input  wire         hresetn,
+    // AHB-Lite slave
+    input  wire         hsel,
+    input  wire [11:0]  haddr,
+    input  wire [1:0]   htrans,
+    input  wire         hwrite,
+    input  wire [2:0]   hsize,
+    input  wire [31:0]  hwdata,
+    input  wire         hready,
+    output wire [31:0]  hrdata,
+    output wire         hreadyout,
+    output wire         hresp,
+    output wire         irq,
+    // the ray FIFO's head, for the datapath (popped by it)
+    output wire         entry_valid,
+    output wire [255:0] entry,
+    input  wire         entry_pop,
+    // the datapath's state
+    input  wire         dp_busy,
+    input  wire         frame_busy,
+    input  wire         frame_done,
+    input  wire [95:0]  frame_angles,
+    input  wire [7:0]   stack_high,
+    input  wire         result_push,
+    input  wire [7:0]   result_level,
+    input  wire         result_valid,
+    input  wire [127:0] result_words,
+    output reg          result_pop,
+    // what the datapath is told
+    output wire         enable,
+    output wire [31:0]  config_active,
+    output wire [31:0]  bz_config_active,
+    output wire [31:0]  patch_count,
+    output reg          apply,
+    output reg          soft_reset,
+    output reg          invalidate
+);
+    localparam [31:0] ID_VALUE = 32'h4845_4D49, VERSION_VALUE = 32'h0001_0004;
+    localparam [31:0] CAPS_BEZIER_VALUE = 32'h1028_0040;
+    localparam [31:0] CONFIG_RESET = 32'h0010_2018, BZ_CONFIG_RESET = 32'h0000_1A0A;
+    localparam [31:0] SPIN_C_RESET = 32'h3FFF_FFFF;
+    localparam [31:0] SLOTS = 32'd1 << SLOT_BITS;
+    localparam WORD_BITS = SLOT_BITS + 4;
+    localparam RAY_DEPTH = 32;
+    // word offsets (byte offset / 4)
+    localparam [9:0] A_ID = 10'h000, A_VERSION = 10'h001, A_CAPS = 10'h002, A_CTRL = 10'h003,
+        A_STATUS = 10'h004, A_ERROR = 10'h005, A_IRQ_STATUS = 10'h006, A_IRQ_ENABLE = 10'h007,
+        A_CONFIG = 10'h008, A_CONFIG_ACTIVE = 10'h009, A_CYCLE_LO = 10'h00A,
+        A_CYCLE_HI = 10'h00B, A_BUSY_LO = 10'h00C, A_BUSY_HI = 10'h00D,
+        A_RESULTS_DONE = 10'h00E, A_MODE = 10'h010, A_ORIGIN = 10'h011, A_NORMAL = 10'h014,
+        A_SPIN = 10'h017, A_PHI = 10'h019, A_THETA = 10'h01B, A_FRAME = 10'h01D,
+        A_RAY_IN = 10'h020, A_RESULT_OUT = 10'h021, A_PATCH_ADDR = 10'h024,
+        A_PATCH_DATA = 10'h025, A_PATCH_COUNT = 10'h026, A_SKIP_PATCH = 10'h027,
+        A_BZ_CONFIG = 10'h028, A_BZ_CONFIG_ACTIVE = 10'h029, A_CAPS_BEZIER = 10'h02A,
+        A_STACK_HIGH = 10'h02B, A_CAPS_LANES = 10'h02C;
+    // ERROR bits
+    localparam [31:0] E_RAY_OVERFLOW = 32'h001, E_RESULT_UNDERFLOW = 32'h002,
+        E_BAD_CONFIG = 32'h004, E_CONFIG_BUSY = 32'h008, E_PATCH_RANGE = 32'h020,
+        E_PATCH_BUSY = 32'h080;
+    // IRQ_STATUS bits
+    localparam [3:0] I_RESULT = 4'h1, I_IDLE = 4'h2, I_ERROR = 4'h4, I_FRAME = 4'h8;
+
+    assign hreadyout = 1'b1;
+    assign hresp = 1'b0;
+
+    // ---- the access in its data phase
+    reg       d_valid, d_write;
+    reg [9:0] d_addr;
+    wire      a_valid = hsel && htrans[1] && hready;
+    wire      d_wr = d_valid && d_write;
+    wire      d_rd = d_valid && !d_write;
+
+    // ---- registers
+    reg [31:0] config_reg, config_act, bz_reg, bz_act, error, mode, skip_reg, patch_addr, pcount;
+    reg [3:0]  irq_status, irq_enable;
+    reg        enable_reg, frame_valid, was_busy;
+    reg [63:0] cycles, busy_cycles;
+    reg [31:0] cycle_hi, busy_hi, results_done;
+    reg [31:0] origin [0:2];
+    reg [31:0] normal [0:2];
+    reg [31:0] spin [0:1];
+    reg [31:0] phi [0:1];
+    reg [31:0] theta [0:1];
+    reg [31:0] staging [0:1];
+    reg [1:0]  staged, result_word;
+    // the ray FIFO
+    reg [255:0] fifo [0:RAY_DEPTH-1];
+    reg [4:0]   head, tail;
+    reg [5:0]   count;
+
+    assign irq = |(irq_status & irq_enable);
+    assign enable = enable_reg;
+    assign config_active = config_act;
+    assign bz_config_active = bz_act;
+    assign patch_count = pcount;
+    assign entry_valid = count != 6'd0;
+    assign entry = fifo[head];
+
+    wire busy = count != 6'd0 || dp_busy;
+    // the data phase's word within the register groups
+    wire [9:0] origin_ix = d_addr - A_ORIGIN, normal_ix = d_addr - A_NORMAL;
+    wire [9:0] spin_ix = d_addr - A_SPIN, phi_ix = d_addr - A_PHI, theta_ix = d_addr - A_THETA;
+
+    // ---- patch memory: the slots and the control-point rows (64 × 48 words at 0x1_0000)
+    reg [31:0] slot_mem [0:(1 << WORD_BITS)-1];
+    reg [31:0] cp_mem [0:3071];
+    reg [31:0] slot_q, cp_q;
+    integer i;
+    initial begin
+        for (i = 0; i < (1 << WORD_BITS); i = i + 1) slot_mem[i] = 32'd0;
+        for (i = 0; i < 3072; i = i + 1) cp_mem[i] = 32'd0;
+    end
+
+    function in_slots(input [31:0] a);
+        in_slots = (a >> WORD_BITS) == 32'd0;
+    endfunction
+    function in_cp(input [31:0] a);
+        in_cp = a[31:16] == 16'd1 && a[15:0] < 16'd3072;
+    endfunction
+
+    wire d_ctrl_reset = d_wr && d_addr == A_CTRL && hwdata[31];
+    wire d_patch_step = d_valid && d_addr == A_PATCH_DATA;
+    // PATCH_ADDR as the access in its data phase leaves it (the next access's RAM read)
+    wire [31:0] patch_addr_next = d_ctrl_reset ? 32'd0
+        : (d_wr && d_addr == A_PATCH_ADDR) ? hwdata
+        : d_patch_step ? patch_addr + 32'd1 : patch_addr;
+    wire [31:0] cp_index = patch_addr_next - 32'h0001_0000;
+    wire [31:0] cp_here = patch_addr - 32'h0001_0000;
+    wire mem_write = d_wr && d_addr == A_PATCH_DATA && !busy && (in_slots(patch_addr) ||
+        in_cp(patch_addr));
+    always @(posedge hclk) begin
+        slot_q <= slot_mem[patch_addr_next[WORD_BITS-1:0]];
+        cp_q <= cp_mem[cp_index[11:0]];
+        if (mem_write && in_slots(patch_addr)) slot_mem[patch_addr[WORD_BITS-1:0]] <= hwdata;
+        if (mem_write && in_cp(patch_addr)) cp_mem[cp_here[11:0]] <= hwdata;
+    end
+    wire [31:0] patch_word = in_slots(patch_addr) ? slot_q : in_cp(patch_addr) ? cp_q : 32'd0;
+
+    // ---- CONFIG and BZ_CONFIG as APPLY_CONFIG validates them
+    wire [4:0] c_iter = config_reg[4:0];
+    wire [5:0] c_width = config_reg[13:8];
+    wire [4:0] c_depth = config_reg[20:16];
+    wire config_ok = c_iter >= 5'd4 && c_iter <= 5'd30 && c_width >= 6'd12 &&
+        c_width <= 6'd32 && {1'b0, c_iter} + 6'd2 <= c_width && c_depth >= 5'd1 &&
+        c_depth <= 5'd24;
+    wire [4:0] b_depth = bz_reg[4:0];
+    wire [5:0] b_width = bz_reg[13:8];
+    // depth 1..=16 and 3·depth ≤ the stack's 40 entries
+    wire bz_ok = b_depth >= 5'd1 && b_depth <= 5'd13 && b_width >= 6'd12 && b_width <= 6'd26;
+
+    // ---- read data, in the data phase
+    reg [31:0] rdata;
+    always @* begin
+        rdata = 32'd0;
+        case (d_addr)
+            A_ID: rdata = ID_VALUE;
+            A_VERSION: rdata = VERSION_VALUE;
+            A_CAPS: rdata = {SLOTS[15:0], 8'd255, 8'd32};
+            A_CTRL: rdata = {31'd0, enable_reg};
+            A_STATUS: rdata = {8'd0, result_level, 2'd0, count, 3'd0, result_valid,
+                count == RAY_DEPTH[5:0], frame_valid, frame_busy, busy};
+            A_ERROR: rdata = error;
+            A_IRQ_STATUS: rdata = {28'd0, irq_status};
+            A_IRQ_ENABLE: rdata = {28'd0, irq_enable};
+            A_CONFIG: rdata = config_reg;
+            A_CONFIG_ACTIVE: rdata = config_act;
+            A_CYCLE_LO: rdata = cycles[31:0];
+            A_CYCLE_HI: rdata = cycle_hi;
+            A_BUSY_LO: rdata = busy_cycles[31:0];
+            A_BUSY_HI: rdata = busy_hi;
+            A_RESULTS_DONE: rdata = results_done;
+            A_MODE: rdata = mode;
+            A_ORIGIN, A_ORIGIN + 10'd1, A_ORIGIN + 10'd2: rdata = origin[origin_ix[1:0]];
+            A_NORMAL, A_NORMAL + 10'd1, A_NORMAL + 10'd2: rdata = normal[normal_ix[1:0]];
+            A_SPIN, A_SPIN + 10'd1: rdata = spin[spin_ix[0]];
+            A_PHI, A_PHI + 10'd1: rdata = phi[phi_ix[0]];
+            A_THETA, A_THETA + 10'd1: rdata = theta[theta_ix[0]];
+            A_FRAME: rdata = frame_angles[31:0];
+            A_FRAME + 10'd1: rdata = frame_angles[63:32];
+            A_FRAME + 10'd2: rdata = frame_angles[95:64];
+            A_RESULT_OUT: rdata = result_valid ? result_words[32*result_word +: 32] : 32'd0;
+            A_PATCH_ADDR: rdata = patch_addr;
+            A_PATCH_DATA: rdata = patch_word;
+            A_PATCH_COUNT: rdata = pcount;
+            A_SKIP_PATCH: rdata = skip_reg;
+            A_BZ_CONFIG: rdata = bz_reg;
+            A_BZ_CONFIG_ACTIVE: rdata = bz_act;
+            A_CAPS_BEZIER: rdata = CAPS_BEZIER_VALUE;
+            A_STACK_HIGH: rdata = {24'd0, stack_high};
+            A_CAPS_LANES: rdata = CAPS_LANES_VALUE;
+            default: rdata = 32'd0;
+        endcase
+    end
+    assign hrdata = d_rd ? rdata : 32'd0;
+
+    // ---- the next state: the data phase's access, then the clock's own counting, in the
+    // model's order (`Device::write` / `read`, then `Device::tick`)
+    reg [31:0] n_error, n_mode, n_skip, n_config, n_bz, n_config_act, n_bz_act, n_pcount;
+    reg [3:0]  n_irq_status, n_irq_enable;
+    reg        n_enable, n_frame_valid, n_busy;
+    reg [1:0]  n_staged, n_word;
+    reg [5:0]  n_count;
+    reg [4:0]  n_tail, tail_b;
+    reg        push_a, push_b;
+    reg [255:0] entry_a, entry_b;
+    reg [31:0] n_cycle_hi, n_busy_hi;
+
+    task raise(input [31:0] bits);
+        begin
+            n_error = n_error | bits;
+            n_irq_status = n_irq_status | I_ERROR;
+        end
+    endtask
+
+    task queue(input [255:0] e);
+        begin
+            if (n_count == RAY_DEPTH[5:0]) raise(E_RAY_OVERFLOW);
+            else begin
+                if (!push_a) begin
+                    push_a = 1'b1;
+                    entry_a = e;
+                end else begin
+                    push_b = 1'b1;
+                    entry_b = e;
+                end
+                n_count = n_count + 6'd1;
+            end
+        end
+    endtask
+
+    always @* begin
+        n_error = error;
+        n_irq_status = irq_status;
+        n_irq_enable = irq_enable;
+        n_mode = mode;
+        n_skip = skip_reg;
+        n_config = config_reg;
+        n_bz = bz_reg;
+        n_config_act = config_act;
+        n_bz_act = bz_act;
+        n_pcount = pcount;
+        n_enable = enable_reg;
+        n_frame_valid = frame_valid;
+        n_staged = staged;
+        n_word = result_word;
+        n_count = count;
+        n_cycle_hi = cycle_hi;
+        n_busy_hi = busy_hi;
+        push_a = 1'b0;
+        push_b = 1'b0;
+        entry_a = 256'd0;
+        entry_b = 256'd0;
+        apply = 1'b0;
+        invalidate = 1'b0;
+        result_pop = 1'b0;
+        soft_reset = d_ctrl_reset;
+        if (d_wr && !d_ctrl_reset) begin
+            case (d_addr)
+                A_CTRL: begin
+                    n_enable = hwdata[0];
+                    if (hwdata[3]) begin
+                        if (busy) raise(E_CONFIG_BUSY);
+                        else if (config_ok && bz_ok) begin
+                            n_config_act = config_reg;
+                            n_bz_act = bz_reg;
+                            n_frame_valid = 1'b0;
+                            apply = 1'b1;
+                        end else raise(E_BAD_CONFIG);
+                    end
+                    if (hwdata[1])
+                        queue({32'd0, 32'd0, spin[1], spin[0], normal[2], normal[1], normal[0],
+                            32'h0001_0000});
+                    if (hwdata[2])
+                        queue({32'd0, spin[1], spin[0], theta[1], theta[0], phi[1], phi[0],
+                            32'h0002_0000});
+                end
+                A_ERROR: n_error = error & ~hwdata;
+                A_IRQ_STATUS: n_irq_status = irq_status & ~hwdata[3:0];
+                A_IRQ_ENABLE: n_irq_enable = hwdata[3:0];
+                A_CONFIG: n_config = hwdata;
+                A_BZ_CONFIG: n_bz = hwdata;
+                A_SKIP_PATCH: n_skip = hwdata & 32'h80FF_FFFF;
+                A_MODE:
+                    if ((hwdata & ~32'h0000_0103) == 32'd0 && hwdata[1:0] != 2'd3) n_mode = hwdata;
+                    else raise(E_BAD_CONFIG);
+                A_RAY_IN:
+                    if (staged == 2'd2) begin
+                        n_staged = 2'd0;
+                        queue({hwdata, staging[1], staging[0], skip_reg[31] ? skip_reg : 32'd0,
+                            origin[2], origin[1], origin[0], mode});
+                    end else n_staged = staged + 2'd1;
+                A_PATCH_DATA:
+                    if (busy) raise(E_PATCH_BUSY);
+                    else if (in_slots(patch_addr) || in_cp(patch_addr)) invalidate = 1'b1;
+                    else raise(E_PATCH_RANGE);
+                A_PATCH_COUNT:
+                    if (busy) raise(E_PATCH_BUSY);
+                    else if (hwdata > SLOTS) raise(E_PATCH_RANGE);
+                    else begin
+                        n_pcount = hwdata;
+                        invalidate = 1'b1;
+                    end
+                default: ;
+            endcase
+        end
+        if (d_rd) begin
+            case (d_addr)
+                A_CYCLE_LO: n_cycle_hi = cycles[63:32];
+                A_BUSY_LO: n_busy_hi = busy_cycles[63:32];
+                A_RESULT_OUT:
+                    if (!result_valid) raise(E_RESULT_UNDERFLOW);
+                    else if (n_word == (result_words[27] ? 2'd1 : 2'd3)) begin
+                        n_word = 2'd0;
+                        result_pop = 1'b1;
+                    end else n_word = n_word + 2'd1;
+                A_PATCH_DATA:
+                    if (!in_slots(patch_addr) && !in_cp(patch_addr)) raise(E_PATCH_RANGE);
+                default: ;
+            endcase
+        end
+        // the clock: the datapath takes the head, a frame completes, a result comes
+        if (entry_pop && n_count != 6'd0) n_count = n_count - 6'd1;
+        if (frame_done) begin
+            n_frame_valid = 1'b1;
+            n_irq_status = n_irq_status | I_FRAME;
+        end
+        if (result_push) n_irq_status = n_irq_status | I_RESULT;
+        n_busy = n_count != 6'd0 || dp_busy;
+        tail_b = tail + {4'd0, push_a};
+        n_tail = tail_b + {4'd0, push_b};
+        if (!n_busy && was_busy) n_irq_status = n_irq_status | I_IDLE;
+    end
+
+    always @(posedge hclk) begin
+        if (!hresetn || d_ctrl_reset) begin
+            // power-on reset, or SOFT_RESET: patch memory, PATCH_COUNT and the configuration in
+            // force survive a soft reset (CONFIG and BZ_CONFIG read back the ones in force)
+            if (!hresetn) begin
+                config_act <= CONFIG_RESET;
+                bz_act <= BZ_CONFIG_RESET;
+                config_reg <= CONFIG_RESET;
+                bz_reg <= BZ_CONFIG_RESET;
+                pcount <= 32'd0;
+                d_valid <= 1'b0;
+            end else begin
+                config_reg <= config_act;
+                bz_reg <= bz_act;
+                d_valid <= a_valid;
+            end
+            error <= 32'd0;
+            irq_status <= 4'd0;
+            irq_enable <= 4'd0;
+            enable_reg <= 1'b0;
+            frame_valid <= 1'b0;
+            was_busy <= 1'b0;
+            // the soft reset's clock still counts (the model resets, then ticks)
+            cycles <= hresetn ? 64'd1 : 64'd0;
+            busy_cycles <= 64'd0;
+            cycle_hi <= 32'd0;
+            busy_hi <= 32'd0;
+            results_done <= 32'd0;
+            mode <= 32'd0;
+            skip_reg <= 32'd0;
+            patch_addr <= 32'd0;
+            staged <= 2'd0;
+            result_word <= 2'd0;
+            head <= 5'd0;
+            tail <= 5'd0;
+            count <= 6'd0;
+            for (i = 0; i < 3; i = i + 1) begin
+                origin[i] <= 32'd0;
+                normal[i] <= 32'd0;
+            end
+            spin[0] <= SPIN_C_RESET;
+            spin[1] <= 32'd0;
+            phi[0] <= 32'd0;
+            phi[1] <= 32'd0;
+            theta[0] <= 32'd0;
+            theta[1] <= 32'd0;
+        end else begin
+            d_valid <= a_valid;
+            error <= n_error;
+            irq_status <= n_irq_status;
+            irq_enable <= n_irq_enable;
+            enable_reg <= n_enable;
+            frame_valid <= n_frame_valid;
+            was_busy <= n_busy;
+            cycles <= cycles + 64'd1;
+            busy_cycles <= busy_cycles + {63'd0, n_busy};
+            cycle_hi <= n_cycle_hi;
+            busy_hi <= n_busy_hi;
+            if (result_push) results_done <= results_done + 32'd1;
+            mode <= n_mode;
+            skip_reg <= n_skip;
+            config_reg <= n_config;
+            bz_reg <= n_bz;
+            config_act <= n_config_act;
+            bz_act <= n_bz_act;
+            pcount <= n_pcount;
+            patch_addr <= patch_addr_next;
+            staged <= n_staged;
+            result_word <= n_word;
+            count <= n_count;
+            if (entry_pop && count != 6'd0) head <= head + 5'd1;
+            if (push_a) fifo[tail] <= entry_a;
+            if (push_b) fifo[tail_b] <= entry_b;
+            tail <= n_tail;
+            if (d_wr && d_addr == A_RAY_IN && staged != 2'd2) staging[staged[0]] <= hwdata;
+            if (d_wr && d_addr >= A_ORIGIN && d_addr < A_ORIGIN + 10'd3)
+                origin[origin_ix[1:0]] <= hwdata;
+            if (d_wr && d_addr >= A_NORMAL && d_addr < A_NORMAL + 10'd3)
+                normal[normal_ix[1:0]] <= hwdata;
+            if (d_wr && d_addr >= A_SPIN && d_addr < A_SPIN + 10'd2) spin[spin_ix[0]] <= hwdata;
+            if (d_wr && d_addr >= A_PHI && d_addr < A_PHI + 10'd2) phi[phi_ix[0]] <= hwdata;
+            if (d_wr && d_addr >= A_THETA && d_addr < A_THETA + 10'd2)
+                theta[theta_ix[0]] <= hwdata;
+        end
+        if (a_valid) begin
+            d_write <= hwrite;
+            d_addr <= haddr[11:2];
+        end
+    end
+    // (HSIZE, HTRANS's SEQ bit and the byte lane bits are not decoded, nor the index bits
+    // above each register group)
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire unused = &{1'b0, haddr[1:0], htrans[0], hsize, origin_ix[9:2], normal_ix[9:2],
+        spin_ix[9:1], phi_ix[9:1], theta_ix[9:1], cp_index[31:12], cp_here[31:12]};
+    /* verilator lint_on UNUSEDSIGNAL */
+endmodule
