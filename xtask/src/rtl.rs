@@ -71,6 +71,14 @@ pub const PLANE_BENCH: Bench = Bench {
     report: "plane",
 };
 
+/// The register file and its AHB-Lite slave, without the datapath behind it.
+pub const REGS_BENCH: Bench = Bench {
+    top: "ahb_regs",
+    sources: &["ahb_regs.v"],
+    cpp: "tb/regs_tb.cpp",
+    report: "regs",
+};
+
 /// The planar unit's (u,v) depths co-simulated (CONFIG.DEPTH; 16 is the reset value), at 256
 /// patch slots (IW = 8, what `rtl-vectors` writes for).
 pub const PLANE_DEPTHS: [u32; 2] = [16, 8];
@@ -134,7 +142,9 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
         &["cordic_pipe.v", "rotator.v", "syn/syn_rotator.v"],
         &cfg.generics(),
     )?;
-    lint_top(PLANE_BENCH.top, PLANE_BENCH.sources, &plane_generics(depth))
+    lint_top(PLANE_BENCH.top, PLANE_BENCH.sources, &plane_generics(depth))?;
+    lint_top(REGS_BENCH.top, REGS_BENCH.sources, &[])?;
+    lint_top("syn_regs", &["ahb_regs.v", "syn/syn_regs.v"], &[])
 }
 
 /// The workload of one run of the vector generator.
@@ -149,17 +159,19 @@ pub struct Workload {
     pub plane_samples: u32,
     pub plane_random: u32,
     pub plane_patches: u32,
+    /// Random steps of the register file's workload (after its directed ones).
+    pub regs_steps: u32,
 }
 
-/// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, for the planar unit at a
-/// depth (into its own file) on the Cornell box, with the release build of the generator (`release`) or
-/// the test suite's debug build.
+/// Writes the model's vectors for `cfg` (`cordic_out`), the register file's (`regs_out`) and,
+/// if asked, the planar unit's at a depth (into its own file) on the Cornell box, with the
+/// release build of the generator (`release`) or the test suite's debug build.
 pub fn vectors(
     cfg: Cordic,
     plane: Option<(u32, &Path)>,
     w: Workload,
     release: bool,
-    cordic_out: &Path,
+    (cordic_out, regs_out): (&Path, &Path),
 ) -> Result<(), String> {
     let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
     if release {
@@ -171,7 +183,10 @@ pub fn vectors(
         .args(["--iterations", &n(cfg.iterations), "--width", &n(cfg.width)])
         .args(["--scene", "scenes/cornell.toml"])
         .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
-        .args(["--random", &n(w.random)]);
+        .args(["--random", &n(w.random)])
+        .arg("--regs")
+        .arg(regs_out)
+        .args(["--regs-steps", &n(w.regs_steps)]);
     if let Some((depth, out)) = plane {
         c.arg("--plane")
             .arg(out)
@@ -289,8 +304,38 @@ pub fn mutant_caught(cfg: Cordic, vectors: &Path, opt: &str) -> Result<u64, Stri
     Ok(r.mismatches)
 }
 
-/// Co-simulates the CORDIC units at `cfg` and, with `depth`, the planar unit, on `w`; the
-/// reports.
+/// The register file's mutant: one bit of SPIN_C's reset value flipped in a copy of the
+/// source, which the co-simulation must catch (the directed workload reads SPIN_C after reset).
+pub fn regs_mutant_caught(vectors: &Path, opt: &str) -> Result<u64, String> {
+    let src = work_dir("mutant-regs-src")?;
+    std::fs::create_dir_all(src.join("tb")).map_err(|e| e.to_string())?;
+    for f in REGS_BENCH.sources.iter().chain(&[REGS_BENCH.cpp]) {
+        std::fs::copy(rtl_dir().join(f), src.join(f)).map_err(|e| format!("copying {f}: {e}"))?;
+    }
+    let file = src.join("ahb_regs.v");
+    let text = std::fs::read_to_string(&file).map_err(|e| e.to_string())?;
+    let from = "SPIN_C_RESET = 32'h3FFF_FFFF";
+    if !text.contains(from) {
+        return Err("the register mutant's constant is no longer in ahb_regs.v".to_string());
+    }
+    let text = text.replace(from, "SPIN_C_RESET = 32'h3FFF_FFFE");
+    std::fs::write(&file, text).map_err(|e| e.to_string())?;
+    let exe = build(REGS_BENCH, &[], &src, &work_dir("mutant-regs")?, opt)?;
+    let r = cosim(REGS_BENCH, &exe, &[vectors.display().to_string()])?;
+    if r.mismatches == 0 {
+        return Err(
+            "the mutant register file (bit 0 of SPIN_C's reset flipped) passed".to_string(),
+        );
+    }
+    say(format!(
+        "register mutant (bit 0 of SPIN_C's reset value flipped) caught: {} mismatches",
+        r.mismatches
+    ));
+    Ok(r.mismatches)
+}
+
+/// Co-simulates the CORDIC units at `cfg`, the register file and, with `depth`, the planar
+/// unit, on `w`; the reports.
 fn cosim_run(
     cfg: Cordic,
     depth: Option<u32>,
@@ -299,8 +344,18 @@ fn cosim_run(
     opt: &str,
     dir: &Path,
 ) -> Result<Vec<(String, Cosim)>, String> {
-    let (cv, pv) = (dir.join("cordic.txt"), dir.join("plane.txt"));
-    vectors(cfg, depth.map(|d| (d, pv.as_path())), w, release, &cv)?;
+    let (cv, pv, rv) = (
+        dir.join("cordic.txt"),
+        dir.join("plane.txt"),
+        dir.join("regs.txt"),
+    );
+    vectors(
+        cfg,
+        depth.map(|d| (d, pv.as_path())),
+        w,
+        release,
+        (&cv, &rv),
+    )?;
     let src = rtl_dir();
     let exe = build(
         CORDIC_BENCH,
@@ -311,6 +366,9 @@ fn cosim_run(
     )?;
     let args = [cfg.width.to_string(), cv.display().to_string()];
     let mut out = vec![(cfg.name(), cosim(CORDIC_BENCH, &exe, &args)?)];
+    let exe = build(REGS_BENCH, &[], &src, &dir.join("regs"), opt)?;
+    let r = cosim(REGS_BENCH, &exe, &[rv.display().to_string()])?;
+    out.push(("register file".to_string(), r));
     if let Some(d) = depth {
         let pdir = dir.join(format!("plane-d{d}"));
         let exe = build(PLANE_BENCH, &plane_generics(d), &src, &pdir, opt)?;
@@ -322,7 +380,8 @@ fn cosim_run(
 
 /// The test suite's step: the default configuration (CORDIC 24/32, (u,v) depth 16) on pass 1
 /// of the Cornell box at R = 8, K = 1 and 2,000 random rays and vectors for the CORDIC units,
-/// R = 4, K = 1 and 1,000 random rays for the planar unit, then the mutant.
+/// R = 4, K = 1 and 1,000 random rays for the planar unit, 20,000 random steps of register
+/// traffic, then the mutants.
 pub fn ci() -> Result<(), String> {
     if which("verilator").is_none() {
         return Err("verilator is not installed (cargo xtask setup installs it)".to_string());
@@ -337,13 +396,15 @@ pub fn ci() -> Result<(), String> {
         plane_samples: 1,
         plane_random: 1000,
         plane_patches: 48,
+        regs_steps: 20_000,
     };
     let reports = cosim_run(cfg, Some(depth), w, false, "-O1", &dir)?;
     let bad: u64 = reports.iter().map(|(_, r)| r.mismatches).sum();
     if bad > 0 {
         return Err(format!("{bad} co-simulation mismatches"));
     }
-    mutant_caught(cfg, &dir.join("cordic.txt"), "-O1").map(|_| ())
+    mutant_caught(cfg, &dir.join("cordic.txt"), "-O1")?;
+    regs_mutant_caught(&dir.join("regs.txt"), "-O1").map(|_| ())
 }
 
 /// Synthesis and place-and-route figures of one build.
@@ -410,6 +471,16 @@ pub fn plane_design(depth: u32) -> Design {
             "syn/syn_plane.v",
         ],
         params: vec![("IW", 8), ("DEPTH", depth)],
+    }
+}
+
+/// The register file's harness at the default build's 2,048 patch slots.
+pub fn regs_design() -> Design {
+    Design {
+        name: "regs".to_string(),
+        top: "syn_regs",
+        files: &["ahb_regs.v", "syn/syn_regs.v"],
+        params: vec![("SLOT_BITS", 11)],
     }
 }
 
@@ -623,6 +694,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
         plane_samples: 1,
         plane_random: 60_000,
         plane_patches: 24,
+        regs_steps: 200_000,
     };
     let mut total = Cosim::default();
     for (k, cfg) in CONFIGS.iter().enumerate() {
@@ -646,15 +718,20 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
             total.mismatches += r.mismatches;
         }
     }
-    let first = work_dir(&CONFIGS[0].name())?.join("cordic.txt");
-    mutant_caught(CONFIGS[0], &first, "-O2")?;
+    let first = work_dir(&CONFIGS[0].name())?;
+    mutant_caught(CONFIGS[0], &first.join("cordic.txt"), "-O2")?;
+    regs_mutant_caught(&first.join("regs.txt"), "-O2")?;
     // the final line's figures: the rotator at the reset configuration, the one unit that can
     // be placed (the planar unit is synthesised and its cells reported)
     let mut figures = Fpga::default();
     if !quick {
         // every synthesis first, the places and routes after (one took over 20 minutes on
         // this shared machine): the reset configurations of both units, then the others
-        let mut designs = vec![rotator_design(CONFIGS[0]), plane_design(PLANE_DEPTHS[0])];
+        let mut designs = vec![
+            rotator_design(CONFIGS[0]),
+            plane_design(PLANE_DEPTHS[0]),
+            regs_design(),
+        ];
         if all {
             designs.extend(CONFIGS[1..].iter().map(|c| rotator_design(*c)));
         }
