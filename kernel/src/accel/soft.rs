@@ -1585,11 +1585,13 @@ impl<const SIDES: usize> SimdLoop for SetUpAndScan<'_, '_, SIDES> {
         let set_up = setup_lanes::<SIDES>(&self.polys, shot.origin, shot.rot, table);
         let each = set_up.patches.iter().zip(&set_up.reach);
         for (&id, (lp, reach)) in self.ids.iter().zip(each) {
-            if let Some(slot) = self.local.get_mut(id as usize) {
-                *slot = *lp;
-            }
+            // only a patch a ray can be inside can win one, and only a winner's set-up is read
+            // again (by the report): the others' copies are skipped (1 % of the cut 16 × 16)
             if !lp.active || matches!(reach.runs, Runs::None) {
                 continue;
+            }
+            if let Some(slot) = self.local.get_mut(id as usize) {
+                *slot = *lp;
             }
             PatchScan {
                 lp,
