@@ -134,10 +134,14 @@ module ahb_regs #(
     reg [31:0] cp_mem [0:3071];
     reg [31:0] slot_q, cp_q;
     integer i;
+`ifndef SYNTHESIS
+    // (power-on zero, as the model's; an ECP5's block RAMs start at zero without it, and Yosys
+    // would unroll the loops word by word)
     initial begin
         for (i = 0; i < (1 << WORD_BITS); i = i + 1) slot_mem[i] = 32'd0;
         for (i = 0; i < 3072; i = i + 1) cp_mem[i] = 32'd0;
     end
+`endif
 
     function in_slots(input [31:0] a);
         in_slots = (a >> WORD_BITS) == 32'd0;
