@@ -53,7 +53,12 @@ pub struct Bench {
 /// The CORDIC units: the rotator and the angle unit's vectoring pipe.
 pub const CORDIC_BENCH: Bench = Bench {
     top: "cosim_top",
-    sources: &["cordic_pipe.v", "rotator.v", "tb/cosim_top.v"],
+    sources: &[
+        "cordic_pipe.v",
+        "rotator.v",
+        "frame_unit.v",
+        "tb/cosim_top.v",
+    ],
     cpp: "tb/cosim.cpp",
     report: "cosim",
 };

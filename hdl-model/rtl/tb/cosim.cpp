@@ -24,7 +24,7 @@ struct Event {
 };
 
 struct Streams {
-    std::vector<Event> rot_in, rot_out, vec_in, vec_out;
+    std::vector<Event> rot_in, rot_out, vec_in, vec_out, frame_in, frame_angles, frame_done;
 };
 
 static bool parse_line(const std::string &line, Streams &s) {
@@ -33,13 +33,16 @@ static bool parse_line(const std::string &line, Streams &s) {
     std::string tag;
     Event e{};
     in >> tag >> e.clk;
-    int n = tag == "R" ? 7 : 3;
+    int n = tag == "R" || tag == "F" ? 7 : tag == "f" ? 0 : 3;
     for (int i = 0; i < n; i++) in >> std::hex >> e.w[i];
     if (!in) return false;
     if (tag == "R") s.rot_in.push_back(e);
     else if (tag == "r") s.rot_out.push_back(e);
     else if (tag == "V") s.vec_in.push_back(e);
     else if (tag == "v") s.vec_out.push_back(e);
+    else if (tag == "F") s.frame_in.push_back(e);
+    else if (tag == "a") s.frame_angles.push_back(e);
+    else if (tag == "f") s.frame_done.push_back(e);
     else return false;
     return true;
 }
@@ -100,7 +103,7 @@ int main(int argc, char **argv) {
             return 2;
         }
     uint64_t end = 0;
-    for (auto *v : {&s.rot_out, &s.vec_out, &s.rot_in, &s.vec_in})
+    for (auto *v : {&s.rot_out, &s.vec_out, &s.rot_in, &s.vec_in, &s.frame_in, &s.frame_done})
         if (!v->empty()) end = std::max(end, v->back().clk);
     end += 200;
 
@@ -114,7 +117,11 @@ int main(int argc, char **argv) {
     }
     top.rst = 0;
     Check rot("rotator", s.rot_out), vec("vectoring pipe", s.vec_out);
-    size_t ri = 0, vi = 0;
+    size_t ri = 0, vi = 0, fi = 0, ai = 0, di = 0;
+    // the angle unit: its done pulse on the model's clocks only, and its angles after every
+    // clock equal to the model's latest
+    uint64_t frame_bad = 0;
+    uint32_t angles[3] = {0, 0, 0};
     for (uint64_t clk = 0; clk <= end; clk++) {
         top.r_valid = ri < s.rot_in.size() && s.rot_in[ri].clk == clk;
         if (top.r_valid) {
@@ -127,8 +134,20 @@ int main(int argc, char **argv) {
             const uint32_t *w = s.vec_in[vi++].w;
             top.v_x = word(w[0]); top.v_y = word(w[1]); top.v_z = word(w[2]);
         }
+        top.f_start = fi < s.frame_in.size() && s.frame_in[fi].clk == clk;
+        if (top.f_start) {
+            const uint32_t *w = s.frame_in[fi++].w;
+            top.f_pairs = w[0] & 1;
+            top.f_w1 = word(w[1]); top.f_w2 = word(w[2]); top.f_w3 = word(w[3]);
+            top.f_w4 = word(w[4]); top.f_w5 = word(w[5]); top.f_w6 = word(w[6]);
+        }
         top.clk = 0;
         top.eval();
+        bool done_model = di < s.frame_done.size() && s.frame_done[di].clk == clk;
+        if (done_model) di++;
+        if (bool(top.fo_done) != done_model && frame_bad++ < 10)
+            printf("angle unit: clock %llu: done %d, model %d\n", (unsigned long long)clk,
+                   int(top.fo_done), int(done_model));
         if (top.ro_valid) {
             uint32_t w[3] = {top.ro_dx, top.ro_dy, top.ro_dz};
             rot.seen(clk, w);
@@ -139,11 +158,23 @@ int main(int argc, char **argv) {
         }
         top.clk = 1;
         top.eval();
+        if (ai < s.frame_angles.size() && s.frame_angles[ai].clk == clk)
+            memcpy(angles, s.frame_angles[ai++].w, sizeof angles);
+        uint32_t got[3] = {container(top.fo_psi), container(top.fo_theta), container(top.fo_phi)};
+        if (memcmp(got, angles, sizeof angles) && frame_bad++ < 10)
+            printf("angle unit: after clock %llu: %08x %08x %08x, model %08x %08x %08x\n",
+                   (unsigned long long)clk, got[0], got[1], got[2], angles[0], angles[1],
+                   angles[2]);
     }
-    uint64_t bad = rot.finish() + vec.finish();
+    if (di < s.frame_done.size()) {
+        printf("angle unit: %zu frames never completed in the RTL\n", s.frame_done.size() - di);
+        frame_bad += s.frame_done.size() - di;
+    }
+    uint64_t bad = rot.finish() + vec.finish() + frame_bad;
     double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     printf("cosim: rays=%zu vectors=%zu clocks=%llu mismatches=%llu seconds=%.3f\n",
-           s.rot_in.size(), s.vec_in.size(), (unsigned long long)end, (unsigned long long)bad,
+           s.rot_in.size(), s.vec_in.size() + s.frame_in.size(), (unsigned long long)end,
+           (unsigned long long)bad,
            secs);
     top.final();
     return bad ? 1 : 0;

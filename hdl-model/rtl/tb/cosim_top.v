@@ -27,7 +27,21 @@ module cosim_top #(
     output wire          vo_valid,
     output wire [W-1:0]  vo_x,
     output wire [W-1:0]  vo_y,
-    output wire [W-1:0]  vo_z
+    output wire [W-1:0]  vo_z,
+    // the whole angle unit
+    input  wire          f_start,
+    input  wire          f_pairs,
+    input  wire [W-1:0]  f_w1,
+    input  wire [W-1:0]  f_w2,
+    input  wire [W-1:0]  f_w3,
+    input  wire [W-1:0]  f_w4,
+    input  wire [W-1:0]  f_w5,
+    input  wire [W-1:0]  f_w6,
+    output wire          fo_busy,
+    output wire          fo_done,
+    output wire [W-1:0]  fo_psi,
+    output wire [W-1:0]  fo_theta,
+    output wire [W-1:0]  fo_phi
 );
     /* verilator lint_off UNUSEDSIGNAL */
     wire [6:0] tag;
@@ -41,4 +55,8 @@ module cosim_top #(
         .clk(clk), .rst(rst), .in_valid(v_valid), .in_x(v_x), .in_y(v_y), .in_z(v_z),
         .in_payload(1'b0), .out_valid(vo_valid), .out_x(vo_x), .out_y(vo_y), .out_z(vo_z),
         .out_payload(payload), .early_payload(early), .early2_payload(early2));
+    frame_unit #(.ITER(ITER), .W(W)) frame (
+        .clk(clk), .rst(rst), .start(f_start), .pairs(f_pairs), .w1(f_w1), .w2(f_w2),
+        .w3(f_w3), .w4(f_w4), .w5(f_w5), .w6(f_w6), .busy(fo_busy), .done(fo_done),
+        .psi(fo_psi), .theta(fo_theta), .phi(fo_phi));
 endmodule

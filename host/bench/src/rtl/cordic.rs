@@ -8,7 +8,10 @@
 //! - the rotator (three rotation-mode CORDIC pipes, `rotator.v`): lines `R clk dx dy dz psi
 //!   theta phi bypass` in, `r clk dx dy dz` out, 32-bit containers in hex;
 //! - the angle unit's vectoring-mode pipe (`cordic_pipe.v`, MODE 1): `V clk x y z` in, `v clk x
-//!   y z` out.
+//!   y z` out;
+//! - the whole angle unit (`frame_unit.v`: the pipe and its sequencing, `frame.rs`): `F clk kind
+//!   w1 … w6` a frame started (kind 0 from a normal and spin, 1 from three pairs), `a clk psi
+//!   theta phi` the angles after a clock that changed them, `f clk` the clock a frame completed.
 //!
 //! The workload: pass 1's hemispheres on a scene (every sample point's frame through the
 //! model's angle unit, then its rays through the rotator, as `ROTATE_TRACE` entries do), random
@@ -255,7 +258,86 @@ pub fn vector_stream(
     clk
 }
 
-/// The whole file for one configuration: a header naming it, then both streams.
+/// `n` random frames: from a normal and a spin or from three (cos, sin) pairs, of random
+/// angles (as the driver writes them) or, one in four, of edge words (zero and axis normals, the
+/// extremes).
+pub fn random_frames(rng: &mut XorShift, n: usize) -> Vec<FrameRequest> {
+    let pair = |rng: &mut XorShift| -> [Unit; 2] {
+        if rng.bits().is_multiple_of(4) {
+            return [edge_word(rng), edge_word(rng)].map(Unit::from_bits);
+        }
+        let a = (rng.f64() * 2.0 - 1.0) * std::f64::consts::PI;
+        [a.cos(), a.sin()].map(|v| Unit::from_bits(unit_word(v as f32)))
+    };
+    (0..n)
+        .map(|_| match rng.bits() % 2 {
+            0 => {
+                let n = if rng.bits().is_multiple_of(4) {
+                    [edge_word(rng), edge_word(rng), edge_word(rng)]
+                } else {
+                    let v = [rng.f64() - 0.5, rng.f64() - 0.5, rng.f64() - 0.5];
+                    let l = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt().max(1e-9);
+                    v.map(|c| unit_word((c / l) as f32))
+                };
+                FrameRequest::Normal {
+                    n: n.map(Unit::from_bits),
+                    spin: pair(rng),
+                }
+            }
+            _ => FrameRequest::Pairs {
+                phi: pair(rng),
+                theta: pair(rng),
+                psi: pair(rng),
+            },
+        })
+        .collect()
+}
+
+/// The angle unit's stream: each frame started on a clock its unit is idle (right after the
+/// last one, or a few clocks later), every change of its angles and every completion.
+pub fn frame_stream(
+    cfg: CordicConfig,
+    frames: &[FrameRequest],
+    rng: &mut XorShift,
+    out: &mut String,
+) -> u64 {
+    let mut unit = FrameUnit::new(cfg);
+    let mut clk = 2u64;
+    let mut angles = unit.angles();
+    let bits = |u: Unit| u.to_bits();
+    for f in frames {
+        clk += rng.bits() % 3;
+        let (kind, w) = match *f {
+            FrameRequest::Normal { n, spin } => {
+                (0, [n[0], n[1], n[2], spin[0], spin[1], Unit::ZERO])
+            }
+            FrameRequest::Pairs { phi, theta, psi } => {
+                (1, [phi[0], phi[1], theta[0], theta[1], psi[0], psi[1]])
+            }
+        };
+        let words: Vec<String> = w.iter().map(|u| hex(bits(*u))).collect();
+        let _ = writeln!(out, "F {clk} {kind} {}", words.join(" "));
+        unit.start(*f);
+        loop {
+            let done = unit.tick();
+            if unit.angles() != angles {
+                angles = unit.angles();
+                let a = angles.map(|a| hex(a.to_bits()));
+                let _ = writeln!(out, "a {clk} {} {} {}", a[0], a[1], a[2]);
+            }
+            if done {
+                let _ = writeln!(out, "f {clk}");
+            }
+            clk += 1;
+            if done {
+                break;
+            }
+        }
+    }
+    clk
+}
+
+/// The whole file for one configuration: a header naming it, then the three streams.
 pub fn vectors(
     cfg: CordicConfig,
     hemisphere: &[RotEntry],
@@ -270,10 +352,12 @@ pub fn vectors(
     let mut out = format!("# ITER={} W={}\n", cfg.iterations, cfg.width);
     let c1 = rotator_stream(cfg, &entries, &mut rng, &mut out);
     let c2 = vector_stream(cfg, &vecs, &mut rng, &mut out);
+    let frames = random_frames(&mut rng, random_vecs / 4);
+    let c3 = frame_stream(cfg, &frames, &mut rng, &mut out);
     let counts = Counts {
         rays: entries.len() as u64,
-        vectors: vecs.len() as u64,
-        clocks: c1 + c2,
+        vectors: (vecs.len() + frames.len()) as u64,
+        clocks: c1 + c2 + c3,
     };
     (out, counts)
 }
