@@ -112,7 +112,11 @@ module ahb_regs #(
     reg [31:0] staging [0:1];
     reg [1:0]  staged, result_word;
     // the ray FIFO
-    reg [255:0] fifo [0:RAY_DEPTH-1];
+    // in two banks of one write port each, even places and odd places, so that the two entries
+    // one CTRL write can queue go to different banks (held in flip-flops with two write ports,
+    // the FIFO was 8,192 of them and most of the register file's LUTs)
+    reg [255:0] fifo_even [0:RAY_DEPTH/2-1];
+    reg [255:0] fifo_odd [0:RAY_DEPTH/2-1];
     reg [4:0]   head, tail;
     reg [5:0]   count;
 
@@ -122,7 +126,7 @@ module ahb_regs #(
     assign bz_config_active = bz_act;
     assign patch_count = pcount;
     assign entry_valid = count != 6'd0;
-    assign entry = fifo[head];
+    assign entry = head[0] ? fifo_odd[head[4:1]] : fifo_even[head[4:1]];
 
     wire busy = count != 6'd0 || dp_busy;
     // the data phase's word within the register groups
@@ -363,6 +367,14 @@ module ahb_regs #(
         if (!n_busy && was_busy) n_irq_status = n_irq_status | I_IDLE;
     end
 
+    // one write port a bank: two pushes go to tail and tail + 1, one even place and one odd
+    wire a_even = push_a && !tail[0], a_odd = push_a && tail[0];
+    wire even_we = a_even || (push_b && !tail_b[0]), odd_we = a_odd || (push_b && tail_b[0]);
+    wire [3:0] even_at = a_even ? tail[4:1] : tail_b[4:1];
+    wire [3:0] odd_at = a_odd ? tail[4:1] : tail_b[4:1];
+    wire [255:0] even_entry = a_even ? entry_a : entry_b;
+    wire [255:0] odd_entry = a_odd ? entry_a : entry_b;
+
     always @(posedge hclk) begin
         if (!hresetn || d_ctrl_reset) begin
             // power-on reset, or SOFT_RESET: patch memory, PATCH_COUNT and the configuration in
@@ -434,8 +446,8 @@ module ahb_regs #(
             result_word <= n_word;
             count <= n_count;
             if (entry_pop && count != 6'd0) head <= head + 5'd1;
-            if (push_a) fifo[tail] <= entry_a;
-            if (push_b) fifo[tail_b] <= entry_b;
+            if (even_we) fifo_even[even_at] <= even_entry;
+            if (odd_we) fifo_odd[odd_at] <= odd_entry;
             tail <= n_tail;
             if (d_wr && d_addr == A_RAY_IN && staged != 2'd2) staging[staged[0]] <= hwdata;
             if (d_wr && d_addr >= A_ORIGIN && d_addr < A_ORIGIN + 10'd3)
