@@ -88,12 +88,20 @@ module cordic_pipe #(
             wire ccw = (MODE == 0) ? (z[i] >= 0) : (y[i] < 0);
             wire signed [W-1:0] dx = x[i] >>> i;
             wire signed [W-1:0] dy = y[i] >>> i;
+            // each of the three an adder-subtractor, one carry chain: a − b = a + ~b + 1, the
+            // operand inverted and the carry in set by the direction (written as a choice of a
+            // sum and a difference, Yosys built both and a multiplexer)
+            /* verilator lint_off UNUSEDSIGNAL */
+            wire [W:0] nx = {x[i], 1'b1} + {dy ^ {W{ccw}}, ccw};
+            wire [W:0] ny = {y[i], 1'b1} + {dx ^ {W{!ccw}}, !ccw};
+            wire [W:0] nz = {z[i], 1'b1} + {ATAN ^ {W{ccw}}, ccw};
+            /* verilator lint_on UNUSEDSIGNAL */
             always @(posedge clk) begin
                 if (rst) v[i+1] <= 1'b0;
                 else v[i+1] <= v[i];
-                x[i+1] <= ccw ? x[i] - dy : x[i] + dy;
-                y[i+1] <= ccw ? y[i] + dx : y[i] - dx;
-                z[i+1] <= ccw ? z[i] - ATAN : z[i] + ATAN;
+                x[i+1] <= nx[W:1];
+                y[i+1] <= ny[W:1];
+                z[i+1] <= nz[W:1];
                 zero[i+1] <= zero[i];
                 pay[i+1] <= pay[i];
             end

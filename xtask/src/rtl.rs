@@ -1,7 +1,8 @@
 //! `cargo xtask rtl [--no-synth | --all-configs]`: the accelerator's RTL (`hdl-model/rtl/`)
 //! linted, co-simulated against the model and synthesised for an ECP5-85k (the reset
-//! configuration of each unit; `--all-configs` also the rotator's two others, each a place and
-//! route of 20 minutes or more here), ending with one line
+//! configuration of each unit; `--all-configs` also the rotator's and the angle unit's two
+//! others, the rotator's reset one a place and route of 9 to 57 minutes here), ending with one
+//! line
 //! `cosim_vectors=N cosim_mismatches=M fmax_mhz=F luts=L dsps=D brams=B` (the default
 //! configuration's place-and-route figures).
 //!
@@ -149,7 +150,12 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     )?;
     lint_top(PLANE_BENCH.top, PLANE_BENCH.sources, &plane_generics(depth))?;
     lint_top(REGS_BENCH.top, REGS_BENCH.sources, &[])?;
-    lint_top("syn_regs", &["ahb_regs.v", "syn/syn_regs.v"], &[])
+    lint_top("syn_regs", &["ahb_regs.v", "syn/syn_regs.v"], &[])?;
+    lint_top(
+        "syn_frame",
+        &["cordic_pipe.v", "frame_unit.v", "syn/syn_frame.v"],
+        &cfg.generics(),
+    )
 }
 
 /// The workload of one run of the vector generator.
@@ -479,6 +485,16 @@ pub fn plane_design(depth: u32) -> Design {
     }
 }
 
+/// The angle unit's harness at `cfg`.
+pub fn frame_design(cfg: Cordic) -> Design {
+    Design {
+        name: format!("frame-{}", cfg.name()),
+        top: "syn_frame",
+        files: &["cordic_pipe.v", "frame_unit.v", "syn/syn_frame.v"],
+        params: vec![("ITER", cfg.iterations), ("W", cfg.width)],
+    }
+}
+
 /// The register file's harness at the default build's 2,048 patch slots.
 pub fn regs_design() -> Design {
     Design {
@@ -736,9 +752,11 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
             rotator_design(CONFIGS[0]),
             plane_design(PLANE_DEPTHS[0]),
             regs_design(),
+            frame_design(CONFIGS[0]),
         ];
         if all {
             designs.extend(CONFIGS[1..].iter().map(|c| rotator_design(*c)));
+            designs.extend(CONFIGS[1..].iter().map(|c| frame_design(*c)));
         }
         let mut netlists = Vec::new();
         for d in &designs {
