@@ -85,7 +85,9 @@ module cordic_pipe #(
         for (i = 0; i < ITER; i = i + 1) begin : micro
             localparam [63:0] ATAN_R = rom_round(atan_q62(i), W - 3);
             localparam [W-1:0] ATAN = ATAN_R[W-1:0];
-            wire ccw = (MODE == 0) ? (z[i] >= 0) : (y[i] < 0);
+            // the direction is a sign bit (written as a comparison with 0, Yosys built a
+            // comparator's carry chain, in series with the adders' once they took it as an input)
+            wire ccw = (MODE == 0) ? !z[i][W-1] : y[i][W-1];
             wire signed [W-1:0] dx = x[i] >>> i;
             wire signed [W-1:0] dy = y[i] >>> i;
             // each of the three an adder-subtractor, one carry chain: a − b = a + ~b + 1, the
