@@ -5,7 +5,8 @@
 //!
 //! The mapping, stated once:
 //! - an adder, subtractor or comparator of w bits is w LUT4s (ECP5's carry chain: two bits per
-//!   slice of two LUTs);
+//!   slice of two LUTs); an adder-subtractor whose direction is data (a CORDIC stage's) 2w, a
+//!   LUT4 a bit inverting the operand beside the chain (calibrated against Yosys in session 21);
 //! - an a×b multiplier takes ⌈a/18⌉·⌈b/18⌉ DSP tiles while the part has tiles left (the
 //!   datapath's multipliers first, in the order they are listed), else a·b LUT4s (an array
 //!   multiplier: one full adder per partial-product bit);
@@ -85,6 +86,16 @@ impl Proxy {
         self.adder_bits += count * bits;
     }
 
+    /// Adder-subtractors whose direction is data (a CORDIC stage's): the carry chain and a LUT4
+    /// a bit that inverts the operand, as Yosys maps `cordic_pipe.v`. Counted as plain adders
+    /// until session 21, half of what the placed rotator and angle unit hold; counted so, the
+    /// proxy is within 5–15 % above them (docs/PERFORMANCE.md, "The area proxy against
+    /// synthesis").
+    fn add_sub(&mut self, count: u64, bits: u64) {
+        self.adders += count;
+        self.adder_bits += 2 * count * bits;
+    }
+
     fn mul(&mut self, count: u32, a: u32, b: u32) {
         self.multipliers
             .extend(core::iter::repeat_n((a, b), count as usize));
@@ -101,7 +112,7 @@ impl Proxy {
     /// A pipelined CORDIC of `cfg` (quadrant stage, micro-rotations, gain multipliers).
     fn cordic(&mut self, cfg: CordicConfig, count: u64) {
         let (n, w) = (cfg.iterations as u64, cfg.width as u64);
-        self.add(count * 3 * (n + 1), w);
+        self.add_sub(count * 3 * (n + 1), w);
         self.mul(2 * count as u32, cfg.width, cfg.width);
         self.reg(count * (n + 2) * 3 * w);
     }
@@ -111,7 +122,7 @@ impl Proxy {
     /// (the angle alone needs no gain stage).
     fn vectoring(&mut self, cfg: CordicConfig, count: u64, magnitude: bool) {
         let (n, w) = (cfg.iterations as u64, cfg.width as u64);
-        self.add(count * 3 * (n + 1), w);
+        self.add_sub(count * 3 * (n + 1), w);
         if magnitude {
             self.add(count * (gain_digits(cfg) as u64 - 1), w);
         }
@@ -366,7 +377,8 @@ fn bitmaps(p: &mut Proxy, params: &Params, copies: u64) {
     p.mem(copies * sectors, mask_row_bits(params.bank_slots) as u64);
 }
 
-/// Set-up units, one per bank, a corner per clock: a × b (6 products of 34 × 34) and h (one
+/// Set-up units, one per bank, a corner per clock (the wide datapath's a patch per clock, four
+/// times the edge products): a × b (6 products of 34 × 34) and h (one
 /// 32 × 34 product a clock, accumulated over the patch's three or four corner clocks), and with
 /// culling (`intersect::cull`, on 18-bit words) the corner's block-floating-point shift into 18
 /// bits, its three dot products with the axes (nine 18 × 18) and their error bounds, its edge's
@@ -376,11 +388,15 @@ fn bitmaps(p: &mut Proxy, params: &Params, copies: u64) {
 /// sectors and bands; the rays' sector and band vectorings and constant multiplies,
 /// `rays_per_clock` of each.
 fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
+    // the compact datapath's unit forms one edge normal a clock (a corner a clock); the wide
+    // one a whole patch a clock, its four edge normals at once (until session 21 the proxy
+    // counted it one edge's six products, where `plane_setup.v` has twenty-four)
+    let edges = if params.compact { 1 } else { 4 };
     for _ in 0..banks {
-        p.mul(6, 34, 34);
+        p.mul(6 * edges as u32, 34, 34);
         p.mul(1, 32, 34);
     }
-    p.add(banks * 6, 68);
+    p.add(banks * 6 * edges, 68);
     p.add(banks, 68);
     p.reg(banks * 1024);
     if params.sectors > 0 {
@@ -491,7 +507,7 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 /// proxy counted two rotation pipes here (four gain multipliers), a unit the model never had.
 fn angle_unit(p: &mut Proxy, cfg: CordicConfig) {
     let (n, w) = (cfg.iterations as u64, cfg.width as u64);
-    p.add(3 * (n + 1), w);
+    p.add_sub(3 * (n + 1), w);
     p.mul(1, cfg.width, cfg.width);
     p.reg((n + 2) * 3 * w);
 }
