@@ -272,77 +272,95 @@ pub fn cosim(bench: Bench, exe: &Path, args: &[String]) -> Result<Cosim, String>
     parse_report(bench.report, &text).ok_or_else(|| format!("{} printed no report", exe.display()))
 }
 
-/// The mutation: one bit of one ROM word, in a copy of the sources: bit 35 of atan 2^-5's
-/// Q0.62 constant, which is bit 2 of the word a 32-bit build rounds it to (a bit below the
-/// rounding, as a first version of this check flipped, changes no hardware and was rightly
-/// not caught).
-fn mutate(into: &Path) -> Result<(), String> {
-    let src = rtl_dir();
-    std::fs::create_dir_all(into.join("tb")).map_err(|e| e.to_string())?;
-    let files = CORDIC_BENCH
-        .sources
-        .iter()
-        .chain(&["cordic_rom.vh", CORDIC_BENCH.cpp]);
-    for f in files {
-        std::fs::copy(src.join(f), into.join(f)).map_err(|e| format!("copying {f}: {e}"))?;
-    }
-    let rom = into.join("cordic_rom.vh");
-    let text = std::fs::read_to_string(&rom).map_err(|e| e.to_string())?;
-    let from = "64'h01ff_d55b_ba97_6250";
-    if !text.contains(from) {
-        return Err("the mutant's constant is no longer in cordic_rom.vh".to_string());
-    }
-    let text = text.replace(from, "64'h01ff_d553_ba97_6250");
-    std::fs::write(&rom, text).map_err(|e| e.to_string())
+/// A one-bit mutation of the RTL: in a copy of `bench`'s sources (and `extra` files), the
+/// constant `from` in `file` becomes `to`; the co-simulation must then see mismatches.
+struct Mutant {
+    bench: Bench,
+    extra: &'static [&'static str],
+    file: &'static str,
+    from: &'static str,
+    to: &'static str,
+    /// What was flipped, for the messages.
+    what: &'static str,
 }
 
-/// The mutant check: the RTL with one ROM bit flipped must disagree with the model on the same
-/// vectors, or the co-simulation could not catch anything.
+/// Bit 35 of atan 2^-5's Q0.62 constant, which is bit 2 of the word a 32-bit build rounds it
+/// to (a bit below the rounding, as a first version of this check flipped, changes no hardware
+/// and was rightly not caught).
+const CORDIC_MUTANT: Mutant = Mutant {
+    bench: CORDIC_BENCH,
+    extra: &["cordic_rom.vh"],
+    file: "cordic_rom.vh",
+    from: "64'h01ff_d55b_ba97_6250",
+    to: "64'h01ff_d553_ba97_6250",
+    what: "bit 2 of the 32-bit ROM word atan 2^-5",
+};
+
+/// Bit 0 of SPIN_C's reset value (the directed workload reads SPIN_C after reset).
+const REGS_MUTANT: Mutant = Mutant {
+    bench: REGS_BENCH,
+    extra: &[],
+    file: "ahb_regs.v",
+    from: "SPIN_C_RESET = 32'h3FFF_FFFF",
+    to: "SPIN_C_RESET = 32'h3FFF_FFFE",
+    what: "bit 0 of the register file's SPIN_C reset value",
+};
+
+impl Mutant {
+    /// The mutated copy of the sources, in `into`.
+    fn write(&self, into: &Path) -> Result<(), String> {
+        std::fs::create_dir_all(into.join("tb")).map_err(|e| e.to_string())?;
+        let b = self.bench;
+        for f in b.sources.iter().chain(self.extra).chain(&[b.cpp]) {
+            std::fs::copy(rtl_dir().join(f), into.join(f))
+                .map_err(|e| format!("copying {f}: {e}"))?;
+        }
+        let file = into.join(self.file);
+        let text = std::fs::read_to_string(&file).map_err(|e| e.to_string())?;
+        if !text.contains(self.from) {
+            return Err(format!(
+                "the mutant's constant is no longer in {}",
+                self.file
+            ));
+        }
+        std::fs::write(&file, text.replace(self.from, self.to)).map_err(|e| e.to_string())
+    }
+
+    /// Builds the mutant (`name` names its work folders) with `generics`, runs it with `args`,
+    /// and fails unless it is caught; the mismatches it gave.
+    fn caught(
+        &self,
+        name: &str,
+        generics: &[String],
+        args: &[String],
+        opt: &str,
+    ) -> Result<u64, String> {
+        let src = work_dir(&format!("{name}-src"))?;
+        self.write(&src)?;
+        let exe = build(self.bench, generics, &src, &work_dir(name)?, opt)?;
+        let r = cosim(self.bench, &exe, args)?;
+        if r.mismatches == 0 {
+            return Err(format!("the mutant RTL ({} flipped) passed", self.what));
+        }
+        say(format!(
+            "mutant ({} flipped) caught: {} mismatches",
+            self.what, r.mismatches
+        ));
+        Ok(r.mismatches)
+    }
+}
+
+/// The mutant checks: the RTL with one bit flipped must disagree with the model on the same
+/// vectors, or the co-simulation could not catch anything. The CORDIC bench's at `cfg`.
 pub fn mutant_caught(cfg: Cordic, vectors: &Path, opt: &str) -> Result<u64, String> {
-    let src = work_dir("mutant-src")?;
-    mutate(&src)?;
-    let dir = work_dir(&format!("mutant-{}", cfg.name()))?;
-    let exe = build(CORDIC_BENCH, &cfg.generics(), &src, &dir, opt)?;
     let args = [cfg.width.to_string(), vectors.display().to_string()];
-    let r = cosim(CORDIC_BENCH, &exe, &args)?;
-    if r.mismatches == 0 {
-        return Err("the mutant RTL (one ROM bit flipped) passed the co-simulation".to_string());
-    }
-    say(format!(
-        "mutant (bit 2 of the 32-bit ROM word atan 2^-5 flipped) caught: {} mismatches",
-        r.mismatches
-    ));
-    Ok(r.mismatches)
+    let name = format!("mutant-{}", cfg.name());
+    CORDIC_MUTANT.caught(&name, &cfg.generics(), &args, opt)
 }
 
-/// The register file's mutant: one bit of SPIN_C's reset value flipped in a copy of the
-/// source, which the co-simulation must catch (the directed workload reads SPIN_C after reset).
+/// The register file's mutant check.
 pub fn regs_mutant_caught(vectors: &Path, opt: &str) -> Result<u64, String> {
-    let src = work_dir("mutant-regs-src")?;
-    std::fs::create_dir_all(src.join("tb")).map_err(|e| e.to_string())?;
-    for f in REGS_BENCH.sources.iter().chain(&[REGS_BENCH.cpp]) {
-        std::fs::copy(rtl_dir().join(f), src.join(f)).map_err(|e| format!("copying {f}: {e}"))?;
-    }
-    let file = src.join("ahb_regs.v");
-    let text = std::fs::read_to_string(&file).map_err(|e| e.to_string())?;
-    let from = "SPIN_C_RESET = 32'h3FFF_FFFF";
-    if !text.contains(from) {
-        return Err("the register mutant's constant is no longer in ahb_regs.v".to_string());
-    }
-    let text = text.replace(from, "SPIN_C_RESET = 32'h3FFF_FFFE");
-    std::fs::write(&file, text).map_err(|e| e.to_string())?;
-    let exe = build(REGS_BENCH, &[], &src, &work_dir("mutant-regs")?, opt)?;
-    let r = cosim(REGS_BENCH, &exe, &[vectors.display().to_string()])?;
-    if r.mismatches == 0 {
-        return Err(
-            "the mutant register file (bit 0 of SPIN_C's reset flipped) passed".to_string(),
-        );
-    }
-    say(format!(
-        "register mutant (bit 0 of SPIN_C's reset value flipped) caught: {} mismatches",
-        r.mismatches
-    ));
-    Ok(r.mismatches)
+    REGS_MUTANT.caught("mutant-regs", &[], &[vectors.display().to_string()], opt)
 }
 
 /// Co-simulates the CORDIC units at `cfg`, the register file and, with `depth`, the planar
