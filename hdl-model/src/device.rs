@@ -694,7 +694,11 @@ impl Device {
     }
 
     /// The ray FIFO's entries, oldest first, packed as the register file's RTL holds them
-    /// (`hdl-model/rtl/ahb_regs.v`), for its co-simulation: [`Entry::words`].
+    /// (`hdl-model/rtl/ahb_regs.v`), for its co-simulation: word 0 the kind (bits 17:16: 0 a
+    /// ray, 1 a frame from a normal, 2 a frame from pairs) and, for a ray, MODE (bits 8:0);
+    /// then a ray's ORIGIN x, y, z, SKIP_PATCH (bit 31 set when it skips) and direction x, y,
+    /// z; a frame's NORMAL x, y, z and SPIN c, s, or PHI c, s, THETA c, s and SPIN c, s; unused
+    /// words 0.
     pub fn queued_entries(&self) -> impl Iterator<Item = [u32; ENTRY_WORDS]> + '_ {
         self.ray_fifo.iter().map(Entry::words)
     }
@@ -704,10 +708,7 @@ impl Device {
 pub const ENTRY_WORDS: usize = 8;
 
 impl Entry {
-    /// Word 0 the kind (bits 17:16: 0 a ray, 1 a frame from a normal, 2 a frame from pairs)
-    /// and, for a ray, MODE (bits 8:0); then a ray's ORIGIN x, y, z, SKIP_PATCH (bit 31 set
-    /// when it skips) and direction x, y, z; a frame's NORMAL x, y, z and SPIN c, s, or PHI
-    /// c, s, THETA c, s and SPIN c, s; unused words 0.
+    /// The entry packed as [`Device::queued_entries`] says.
     fn words(&self) -> [u32; ENTRY_WORDS] {
         let u = |v: Unit| v.to_bits() as u32;
         let mut w = [0; ENTRY_WORDS];
