@@ -21,6 +21,8 @@
 
 use crate::rng::XorShift;
 use hemi_hdl_model::device::{Device, ENTRY_WORDS};
+use hemi_hdl_model::intersect::bezier::{BEZIER_ROWS, CP_WORDS};
+use hemi_hdl_model::intersect::patch_mem::CP_BASE;
 use hemi_hdl_model::regs::{self, ctrl, status};
 use std::fmt::Write as _;
 
@@ -35,6 +37,9 @@ pub struct Counts {
     /// Entries left in the ray FIFO.
     pub entries: u64,
 }
+
+/// Words of control-point memory (from [`CP_BASE`]).
+const CP_END: u32 = (BEZIER_ROWS * CP_WORDS) as u32;
 
 /// Every offset of the map and a few unmapped ones.
 const OFFSETS: [u32; 49] = [
@@ -94,7 +99,6 @@ struct Bench {
     dev: Device,
     text: String,
     counts: Counts,
-    enabled: bool,
 }
 
 impl Bench {
@@ -110,13 +114,6 @@ impl Bench {
         self.dev.tick();
         self.counts.accesses += 1;
         self.counts.clocks += 1;
-        if addr == regs::CTRL {
-            self.enabled = if data & ctrl::SOFT_RESET != 0 {
-                false
-            } else {
-                data & ctrl::ENABLE != 0
-            };
-        }
     }
 
     fn read(&mut self, addr: u32) {
@@ -136,15 +133,15 @@ impl Bench {
         self.counts.clocks += n as u64;
     }
 
-    /// Entries in the ray FIFO (STATUS has no read side effect, and no clock passes).
+    /// Entries in the ray FIFO, peeked (STATUS has no read side effect, and no clock passes).
     fn queued(&mut self) -> u32 {
         self.dev.read(regs::STATUS) >> status::RAY_LEVEL_SHIFT & 0xFF
     }
 
     /// Whether an entry may be queued now: never while ENABLE is set (it would leave the FIFO
-    /// for the datapath, which the RTL here does not have).
-    fn may_queue(&self) -> bool {
-        !self.enabled
+    /// for the datapath, which the RTL here does not have). CTRL is peeked as STATUS is.
+    fn may_queue(&mut self) -> bool {
+        self.dev.read(regs::CTRL) & ctrl::ENABLE == 0
     }
 }
 
@@ -160,10 +157,14 @@ fn value(rng: &mut XorShift) -> u32 {
     }
 }
 
+/// A number in `lo..=hi`.
+fn r(rng: &mut XorShift, lo: u64, hi: u64) -> u32 {
+    (lo + rng.bits() % (hi - lo + 1)) as u32
+}
+
 /// A CONFIG word: usually valid (ITER ≤ WIDTH − 2, WIDTH 12..=32, DEPTH 1..=24), else random
 /// fields near the bounds.
 fn config_word(rng: &mut XorShift) -> u32 {
-    let r = |rng: &mut XorShift, lo: u64, hi: u64| (lo + rng.bits() % (hi - lo + 1)) as u32;
     if rng.bits().is_multiple_of(3) {
         return r(rng, 0, 31)
             | r(rng, 0, 63) << 8
@@ -176,7 +177,6 @@ fn config_word(rng: &mut XorShift) -> u32 {
 
 /// A BZ_CONFIG word: usually valid (DEPTH 1..=13, CWIDTH 12..=26), else random fields.
 fn bz_config_word(rng: &mut XorShift) -> u32 {
-    let r = |rng: &mut XorShift, lo: u64, hi: u64| (lo + rng.bits() % (hi - lo + 1)) as u32;
     match rng.bits() % 3 {
         0 => r(rng, 0, 31) | r(rng, 0, 63) << 8 | (value(rng) & 0xFFFF_0000),
         _ => r(rng, 1, 13) | r(rng, 12, 26) << 8,
@@ -196,8 +196,8 @@ fn mode_word(rng: &mut XorShift) -> u32 {
 fn patch_addr(rng: &mut XorShift, slots: u32) -> u32 {
     let words = slots * 16;
     match rng.bits() % 6 {
-        0 => 0x1_0000 + (rng.bits() % 3072) as u32,
-        1 => 0x1_0000 + 3072 - (rng.bits() % 8) as u32,
+        0 => CP_BASE + (rng.bits() % CP_END as u64) as u32,
+        1 => CP_BASE + CP_END - (rng.bits() % 8) as u32,
         2 => words - (rng.bits() % 8) as u32,
         3 => value(rng),
         _ => (rng.bits() % words as u64) as u32,
@@ -293,11 +293,11 @@ fn directed(b: &mut Bench) {
     for &a in &OFFSETS {
         b.read(a);
     }
-    b.write(regs::PATCH_ADDR, 0x1_0000 + 3070);
+    b.write(regs::PATCH_ADDR, CP_BASE + CP_END - 2);
     for k in 0..6 {
         b.write(regs::PATCH_DATA, 0x1234_5670 + k);
     }
-    b.write(regs::PATCH_ADDR, 0x1_0000 + 3070);
+    b.write(regs::PATCH_ADDR, CP_BASE + CP_END - 2);
     for _ in 0..6 {
         b.read(regs::PATCH_DATA);
     }
@@ -337,7 +337,6 @@ pub fn vectors(steps: usize, seed: u64) -> (String, Counts) {
         dev: Device::new(),
         text: String::new(),
         counts: Counts::default(),
-        enabled: false,
     };
     let slots = b.dev.read(regs::CAPS) >> 16;
     // the RTL's first data phase is its second clock (the first is the first access's address
