@@ -162,15 +162,16 @@ module ahb_regs #(
         : d_patch_step ? patch_addr + 32'd1 : patch_addr;
     wire [31:0] cp_index = patch_addr_next - 32'h0001_0000;
     wire [31:0] cp_here = patch_addr - 32'h0001_0000;
-    wire mem_write = d_wr && d_addr == A_PATCH_DATA && !busy && (in_slots(patch_addr) ||
-        in_cp(patch_addr));
+    // where PATCH_ADDR points: a slot word, a control-point word, or neither (PATCH_RANGE)
+    wire at_slot = in_slots(patch_addr), at_cp = in_cp(patch_addr);
+    wire mem_write = d_wr && d_addr == A_PATCH_DATA && !busy && (at_slot || at_cp);
     always @(posedge hclk) begin
         slot_q <= slot_mem[patch_addr_next[WORD_BITS-1:0]];
         cp_q <= cp_mem[cp_index[11:0]];
-        if (mem_write && in_slots(patch_addr)) slot_mem[patch_addr[WORD_BITS-1:0]] <= hwdata;
-        if (mem_write && in_cp(patch_addr)) cp_mem[cp_here[11:0]] <= hwdata;
+        if (mem_write && at_slot) slot_mem[patch_addr[WORD_BITS-1:0]] <= hwdata;
+        if (mem_write && at_cp) cp_mem[cp_here[11:0]] <= hwdata;
     end
-    wire [31:0] patch_word = in_slots(patch_addr) ? slot_q : in_cp(patch_addr) ? cp_q : 32'd0;
+    wire [31:0] patch_word = at_slot ? slot_q : at_cp ? cp_q : 32'd0;
 
     // ---- CONFIG and BZ_CONFIG as APPLY_CONFIG validates them
     wire [4:0] c_iter = config_reg[4:0];
@@ -327,7 +328,7 @@ module ahb_regs #(
                     end else n_staged = staged + 2'd1;
                 A_PATCH_DATA:
                     if (busy) raise(E_PATCH_BUSY);
-                    else if (in_slots(patch_addr) || in_cp(patch_addr)) invalidate = 1'b1;
+                    else if (at_slot || at_cp) invalidate = 1'b1;
                     else raise(E_PATCH_RANGE);
                 A_PATCH_COUNT:
                     if (busy) raise(E_PATCH_BUSY);
@@ -350,7 +351,7 @@ module ahb_regs #(
                         result_pop = 1'b1;
                     end else n_word = n_word + 2'd1;
                 A_PATCH_DATA:
-                    if (!in_slots(patch_addr) && !in_cp(patch_addr)) raise(E_PATCH_RANGE);
+                    if (!at_slot && !at_cp) raise(E_PATCH_RANGE);
                 default: ;
             endcase
         end
