@@ -1,7 +1,7 @@
 //! `cargo xtask rtl [--no-synth | --all-configs]`: the accelerator's RTL (`hdl-model/rtl/`)
 //! linted, co-simulated against the model and synthesised for an ECP5-85k (the reset
 //! configuration of each unit; `--all-configs` also the rotator's and the angle unit's two
-//! others, the rotator's reset one a place and route of 9 to 57 minutes here), ending with one
+//! others, the rotator's reset one a place and route of 4 to 57 minutes here), ending with one
 //! line
 //! `cosim_vectors=N cosim_mismatches=M fmax_mhz=F luts=L dsps=D brams=B` (the default
 //! configuration's place-and-route figures).
@@ -174,15 +174,15 @@ pub struct Workload {
     pub regs_steps: u32,
 }
 
-/// Writes the model's vectors for `cfg` (`cordic_out`), the register file's (`regs_out`) and,
-/// if asked, the planar unit's at a depth (into its own file) on the Cornell box, with the
-/// release build of the generator (`release`) or the test suite's debug build.
+/// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's
+/// (`regs_out`) and the planar unit's at a depth (each into its own file) on the Cornell box,
+/// with the release build of the generator (`release`) or the test suite's debug build.
 pub fn vectors(
     cfg: Cordic,
     plane: Option<(u32, &Path)>,
     w: Workload,
     release: bool,
-    (cordic_out, regs_out): (&Path, &Path),
+    (cordic_out, regs_out): (&Path, Option<&Path>),
 ) -> Result<(), String> {
     let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
     if release {
@@ -194,10 +194,12 @@ pub fn vectors(
         .args(["--iterations", &n(cfg.iterations), "--width", &n(cfg.width)])
         .args(["--scene", "scenes/cornell.toml"])
         .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
-        .args(["--random", &n(w.random)])
-        .arg("--regs")
-        .arg(regs_out)
-        .args(["--regs-steps", &n(w.regs_steps)]);
+        .args(["--random", &n(w.random)]);
+    if let Some(out) = regs_out {
+        c.arg("--regs")
+            .arg(out)
+            .args(["--regs-steps", &n(w.regs_steps)]);
+    }
     if let Some((depth, out)) = plane {
         c.arg("--plane")
             .arg(out)
@@ -363,11 +365,12 @@ pub fn regs_mutant_caught(vectors: &Path, opt: &str) -> Result<u64, String> {
     REGS_MUTANT.caught("mutant-regs", &[], &[vectors.display().to_string()], opt)
 }
 
-/// Co-simulates the CORDIC units at `cfg`, the register file and, with `depth`, the planar
-/// unit, on `w`; the reports.
+/// Co-simulates the CORDIC units at `cfg` and, if asked, the register file (`regs`) and the
+/// planar unit at a `depth` (neither depends on the CORDIC words), on `w`; the reports.
 fn cosim_run(
     cfg: Cordic,
     depth: Option<u32>,
+    regs: bool,
     w: Workload,
     release: bool,
     opt: &str,
@@ -378,12 +381,13 @@ fn cosim_run(
         dir.join("plane.txt"),
         dir.join("regs.txt"),
     );
+    let regs_out = regs.then_some(rv.as_path());
     vectors(
         cfg,
         depth.map(|d| (d, pv.as_path())),
         w,
         release,
-        (&cv, &rv),
+        (&cv, regs_out),
     )?;
     let src = rtl_dir();
     let exe = build(
@@ -395,9 +399,11 @@ fn cosim_run(
     )?;
     let args = [cfg.width.to_string(), cv.display().to_string()];
     let mut out = vec![(cfg.name(), cosim(CORDIC_BENCH, &exe, &args)?)];
-    let exe = build(REGS_BENCH, &[], &src, &dir.join("regs"), opt)?;
-    let r = cosim(REGS_BENCH, &exe, &[rv.display().to_string()])?;
-    out.push(("register file".to_string(), r));
+    if regs {
+        let exe = build(REGS_BENCH, &[], &src, &dir.join("regs"), opt)?;
+        let r = cosim(REGS_BENCH, &exe, &[rv.display().to_string()])?;
+        out.push(("register file".to_string(), r));
+    }
     if let Some(d) = depth {
         let pdir = dir.join(format!("plane-d{d}"));
         let exe = build(PLANE_BENCH, &plane_generics(d), &src, &pdir, opt)?;
@@ -427,7 +433,7 @@ pub fn ci() -> Result<(), String> {
         plane_patches: 48,
         regs_steps: 20_000,
     };
-    let reports = cosim_run(cfg, Some(depth), w, false, "-O1", &dir)?;
+    let reports = cosim_run(cfg, Some(depth), true, w, false, "-O1", &dir)?;
     let bad: u64 = reports.iter().map(|(_, r)| r.mismatches).sum();
     if bad > 0 {
         return Err(format!("{bad} co-simulation mismatches"));
@@ -737,11 +743,12 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
     };
     let mut total = Cosim::default();
     for (k, cfg) in CONFIGS.iter().enumerate() {
-        // the planar unit does not depend on the CORDIC words: each depth once
+        // the planar unit and the register file do not depend on the CORDIC words: each depth
+        // once, the register file once
         let depth = PLANE_DEPTHS.get(k).copied();
         lint(*cfg, depth.unwrap_or(PLANE_DEPTHS[0]))?;
         let dir = work_dir(&cfg.name())?;
-        for (what, r) in cosim_run(*cfg, depth, w, true, "-O2", &dir)? {
+        for (what, r) in cosim_run(*cfg, depth, k == 0, w, true, "-O2", &dir)? {
             say(format!(
                 "{what}: {} rays, {} vectors, {} mismatches; Verilator {} clocks in {:.2} s \
                  ({:.2} M clocks/s)",
