@@ -226,8 +226,9 @@ const LOCAL_WORD: u64 = 4 * 3 * 62 + 3 * 32 + H_BITS + 4;
 /// the lane hands its group's plane unit with a pair found inside, and the flags. Since issue
 /// 19's fourth round the lane forms each edge's Σ|e'_c| itself and the plane unit reads n from
 /// its group's normal memory ([`crate::intersect::NORMAL_READ`]): before, the word held both
-/// (4 × 20 + 3 × 32 bits more, 460 instead of 284).
-const COARSE_WORD: u64 = 4 * 3 * 18 + H_BITS + 4;
+/// (4 × 20 + 3 × 32 bits more, 460 instead of 284). Since session 22 the words' error
+/// exponent κ (four bits, [`crate::intersect::coarse`]) too: 288 bits, eight block RAMs wide.
+const COARSE_WORD: u64 = 4 * 3 * 18 + H_BITS + 4 + 4;
 
 /// The ray datapath of `params` at CORDIC `cfg` (the part the build parameters change).
 pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
@@ -260,16 +261,19 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
         params.lanes as u64,
         params.banks() as u64,
     );
-    // coarse test: A (two adds of 38 bits), A against ±B (two compares of 38), B (Σ|d'| once a
-    // ray plus Σ|e'|: one add of 20) per edge; Σ|e'| from the word's e' (three negations of 18
-    // bits and two adds of 20 an edge)
+    // coarse test: A (two adds of 38 bits), A against ±B (two compares of 38), B (Σ(|d'| + 1)
+    // once a ray, shifted by the patch's κ once a candidate: four levels of 2:1 multiplexers on
+    // 36 bits, counted as adders; plus Σ|e'|: one add of 36) per edge; Σ|e'| from the word's e'
+    // (three negations of 18 bits and two adds of 20 an edge)
     let mut coarse = Proxy::default();
     coarse.mul(12 * l as u32, 18, 18);
     coarse.add(l * 4 * 5, 38);
     coarse.add(g * 5, 18);
+    coarse.add(l * 4, 36);
     coarse.add(l * 4 * 3, 18);
     coarse.add(l * 4 * 2, 20);
-    coarse.reg(l * (4 * 3 * 18 + 4 * 38 + 3 * 18));
+    coarse.add(l * 4, 36);
+    coarse.reg(l * (4 * 3 * 18 + 4 + 4 * 38 + 3 * 18));
     // the plane units, PLANE_UNITS a ray group: n · d, divider, running minimum (as the wide
     // datapath's lane has them) and the min tree; each lane's hand-off register (its pair's
     // slot and h from its word) and the oldest-first arbiter's compares of ray tags
@@ -287,19 +291,21 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     // the normal read from the group's normal memory, registered
     plane.reg(units * 3 * 32);
     plane.add(l, 8);
-    // the shared exact edge unit: one 34 × 62 multiplier, a product a clock (an edge's normal
-    // recomputed from the corners, a = v − O, then its dot product with d), the cross
-    // product's subtraction, the origin-wide shift (six levels of 2:1 multiplexers on 68 bits,
-    // a LUT4 a bit a level, counted as adders), the side's sign (a negation) and the dot
-    // product's accumulator; its queue of undecided pairs, the corners and the normal
+    // the shared exact edge unit: two 34 × 62 multipliers, two products a clock (an edge's
+    // normal recomputed from the corners, a = v − O, then its dot product with d: five clocks
+    // an edge; one multiplier and nine clocks before session 22), the cross product's
+    // subtraction, the origin-wide shift (six levels of 2:1 multiplexers on 68 bits, a LUT4 a
+    // bit a level, counted as adders), the side's sign (a negation) and the dot product's
+    // accumulator with the add of its two products; its queue of undecided pairs (with their
+    // mask of undecided edges), the corners and the normal
     let mut exact = Proxy::default();
-    exact.mul(1, 34, 62);
+    exact.mul(2, 34, 62);
     exact.add(3, 34);
     exact.add(1, 68);
     exact.add(6, 68);
     exact.add(1, 62);
-    exact.add(1, 98);
-    exact.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4);
+    exact.add(2, 98);
+    exact.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4 + 4);
     exact.reg(4 * 3 * 34 + 3 * 68 + 2 * 68 + 98);
     let mut setup = Proxy::default();
     setup_units(&mut setup, params, b);
@@ -377,9 +383,10 @@ fn bitmaps(p: &mut Proxy, params: &Params, copies: u64) {
     p.mem(copies * sectors, mask_row_bits(params.bank_slots) as u64);
 }
 
-/// Set-up units, one per bank, a corner per clock (the wide datapath's a patch per clock, four
-/// times the edge products): a × b (6 products of 34 × 34) and h (one
-/// 32 × 34 product a clock, accumulated over the patch's three or four corner clocks), and with
+/// Set-up units, one per bank, a corner per clock (the wide datapath's a patch per clock, its
+/// four edges' a × b at once: 24 products of 34 × 34; the compact one's coarse words from
+/// narrow products, [`narrow_edges`]) and h (one 32 × 34 product a clock, accumulated over the
+/// patch's three or four corner clocks), and with
 /// culling (`intersect::cull`, on 18-bit words) the corner's block-floating-point shift into 18
 /// bits, its three dot products with the axes (nine 18 × 18) and their error bounds, its edge's
 /// coarse normal dotted with the frame's axis (three 18 × 18) and its bound, the shift into the
@@ -391,12 +398,15 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
     // the compact datapath's unit forms one edge normal a clock (a corner a clock); the wide
     // one a whole patch a clock, its four edge normals at once (until session 21 the proxy
     // counted it one edge's six products, where `plane_setup.v` has twenty-four)
-    let edges = if params.compact { 1 } else { 4 };
-    for _ in 0..banks {
-        p.mul(6 * edges as u32, 34, 34);
-        p.mul(1, 32, 34);
+    if params.compact {
+        narrow_edges(p, banks);
+    } else {
+        for _ in 0..banks {
+            p.mul(24, 34, 34);
+            p.mul(1, 32, 34);
+        }
+        p.add(banks * 24, 68);
     }
-    p.add(banks * 6 * edges, 68);
     p.add(banks, 68);
     p.reg(banks * 1024);
     if params.sectors > 0 {
@@ -432,6 +442,32 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
         p.vectoring(CULL_CORDIC, rays, false);
         p.add(rays * 2 * 6, 32);
     }
+}
+
+/// The compact set-up unit's coarse edge words, an edge a clock
+/// ([`crate::intersect::coarse::narrow_edge`]): the edge's vector Δ = v − u (three subtractors
+/// of 35 bits), Δ into 18 bits (its leading one, three shifters of six levels on 35 bits; the
+/// corner's own 18 bits are the culling's, below), X = ũ × Δ̃ (six 18 × 18 products, three
+/// subtractions of 36 bits), X's top bits into the words (a leading one, three shifters of five
+/// levels on 36 bits), and κ: the bound E (four negations of 18 bits, three sums of four 18-bit
+/// magnitudes and two compares, 20 bits), its shift by m, the exponent sum S and the sum of the
+/// three terms (24 bits each), and κ's leading one. Since session 22: six 34 × 34 products
+/// before, which in LUT4s were 35,000 of the default build.
+fn narrow_edges(p: &mut Proxy, banks: u64) {
+    for _ in 0..banks {
+        p.mul(6, 18, 18);
+        p.mul(1, 32, 34);
+    }
+    p.add(banks * 3, 35);
+    p.add(banks, 35);
+    p.add(banks * 3 * 6, 35);
+    p.add(banks * 3, 36);
+    p.add(banks, 36);
+    p.add(banks * 3 * 5, 36);
+    p.add(banks * 4, 18);
+    p.add(banks * (3 * 3 + 2), 20);
+    p.add(banks * 5, 24);
+    p.add(banks * 4, 24);
 }
 
 /// The front end: rotators (three pipes each), reciprocal units (radix-2 dividers of 33 stages

@@ -44,7 +44,8 @@
 //! vector by a power of two of its own (only its direction matters), the axes as Q2.16
 //! (`>> 14`), the edge normals as the lanes' coarse words. With floor truncation the exact
 //! value (scaled) is within B = Σ(|x'| + |y'| + 1) of the narrow dot product (as for the coarse
-//! edge test, `intersect::coarse_sign`), and every decision is widened by that bound: a patch is
+//! edge test, [`super::coarse`]; for the edge words, whose error is below 2^κ rather than 1,
+//! B = 2^κ Σ(|w̃| + 1) + Σ|e'|), and every decision is widened by that bound: a patch is
 //! below the horizon only if certainly so (and by 2^-9 instead of 2^-10), a corner counts as
 //! next to the axis if it may be within 2^-4 of it plus B, the axis test's thresholds are moved
 //! out by B. The corners' direction error is then at most B/ρ ≤ 2^-7.8 rad in azimuth (|ã|∞ ≥
@@ -63,6 +64,7 @@
 //! [`MIN_CULL_WIDTH`] bits. Culling therefore only removes patches the edge test would reject:
 //! every hit is the one the full scan finds, which the tests check against the unculled model.
 
+use super::coarse::{block18, Coarse, KAPPA_DECLINE};
 use crate::cordic::{CordicConfig, CordicPipe, CordicSlot, Mode};
 use crate::format::{Angle, Unit};
 
@@ -78,8 +80,6 @@ pub const CULL_CORDIC: CordicConfig = CordicConfig {
 /// Bits dropped from the frame's axes (Q2.30) for the corner transform and the axis test:
 /// Q2.16 words of 18 bits.
 const AXIS_SHIFT: u32 = 14;
-/// Width of the corner transform's and the axis test's operands (signed).
-const NARROW_BITS: u32 = 18;
 /// A corner that may lie within 2^-NEAR_AXIS (of |f|∞) of the axis puts the patch in every
 /// sector.
 const NEAR_AXIS: u32 = 4;
@@ -186,20 +186,20 @@ impl CullUnit {
     }
 
     /// The wedge of a planar patch with corner vectors `a` (Q8.24, relative to the origin) and
-    /// coarse edge normals `ce` (the lanes' 18-bit words: e = 2^s·(ce + r), 0 ≤ r_c < 1, inside
-    /// iff d · e ≥ 0), in the frame with axes `axes` (u, v, w: Q2.30).
+    /// coarse edge normals `coarse` (the lanes' 18-bit words: e = 2^s·(ce + δ), |δ_c| < 2^κ,
+    /// inside iff d · e ≥ 0), in the frame with axes `axes` (u, v, w: Q2.30).
     ///
     /// Every product is of two 18-bit signed words (module doc, "Narrow arithmetic"), and every
     /// decision is widened by the bound on its error, so the reach holds the reach the exact
     /// products would give (`narrow_reach_holds_the_wide_one`).
-    pub fn reach(&self, a: &[[i64; 3]], ce: &[[i32; 3]], axes: &[[Unit; 3]; 3]) -> Reach {
+    pub fn reach(&self, a: &[[i64; 3]], coarse: &Coarse, axes: &[[Unit; 3]; 3]) -> Reach {
         let ax = axes.map(|v| v.map(|c| (c.to_bits() >> AXIS_SHIFT) as i64));
         // corners in the frame, each on its own scale: f = ã · x̃ within b of the exact
         // (a · x) / 2^(k + AXIS_SHIFT), componentwise
         let mut f = [[0i64; 3]; 4];
         let mut b = [[0i64; 3]; 4];
         for ((fi, bi), ai) in f.iter_mut().zip(b.iter_mut()).zip(a) {
-            let w = block18(ai);
+            let (w, _) = block18(ai);
             for k in 0..3 {
                 fi[k] = (0..3).map(|c| w[c] * ax[k][c]).sum();
                 bi[k] = (0..3).map(|c| w[c].abs() + ax[k][c].abs() + 1).sum();
@@ -234,21 +234,7 @@ impl CullUnit {
         }
         let phi = &phi[..f.len()];
         let (lo_t, hi_t) = polar_range(phi, &theta[..f.len()]);
-        // the axis (+z or −z) inside the pyramid, or within 2^-10 of it: every sector. From
-        // the coarse edge words and w̃ = w / 2^AXIS_SHIFT: e · w / 2^(s + AXIS_SHIFT) is within
-        // B = Σ(|ce| + |w̃| + 1) of A = ce · w̃, and |e|∞ 2^-10 / 2^(s + AXIS_SHIFT) is below
-        // (|ce|∞ + 1) 2^6, so the exact test's pos (neg) implies A + B > −(|ce|∞ + 1) 2^6
-        // (A − B < (|ce|∞ + 1) 2^6)
-        let w = ax[2];
-        let (mut pos, mut neg) = (true, true);
-        for ei in ce {
-            let e = ei.map(|c| c as i64);
-            let dot: i64 = (0..3).map(|c| e[c] * w[c]).sum();
-            let bound: i64 = (0..3).map(|c| e[c].abs() + w[c].abs() + 1).sum();
-            let m = (norm(&e) + 1) << 6;
-            pos &= dot + bound > -m;
-            neg &= dot - bound < m;
-        }
+        let (pos, neg) = axis_sides(coarse, a.len(), &ax[2]);
         let lo_t = if pos || near { 0 } else { lo_t };
         self.reach_of(phi, (lo_t, hi_t), pos || neg || near, MARGIN)
     }
@@ -287,6 +273,30 @@ impl CullUnit {
     }
 }
 
+/// Whether the axis +z (`pos`) or −z (`neg`) may lie in the pyramid of the patch's first
+/// `sides` coarse edges, or within 2^-10 of it: then it is in every sector. From the words and
+/// w̃ = w / 2^AXIS_SHIFT: with e = 2^s (ce + δ), |δ_c| < 2^κ, e · w / 2^(s + AXIS_SHIFT) is
+/// within B = 2^κ Σ(|w̃| + 1) + Σ|ce| of A = ce · w̃, and |e|∞ 2^-10 / 2^(s + AXIS_SHIFT) is below
+/// (|ce|∞ + 2^κ) 2^6, so the exact test's pos (neg) implies A + B > −(|ce|∞ + 2^κ) 2^6
+/// (A − B < (|ce|∞ + 2^κ) 2^6). Words that bound nothing ([`KAPPA_DECLINE`]) allow both.
+fn axis_sides(coarse: &Coarse, sides: usize, w: &[i64; 3]) -> (bool, bool) {
+    if coarse.kappa >= KAPPA_DECLINE {
+        return (true, true);
+    }
+    let wsum: i64 = w.iter().map(|c| c.abs() + 1).sum();
+    let (mut pos, mut neg) = (true, true);
+    for ei in &coarse.words[..sides] {
+        let e = ei.map(|c| c as i64);
+        let dot: i64 = (0..3).map(|c| e[c] * w[c]).sum();
+        let bound = (wsum << coarse.kappa) + e.iter().map(|c| c.abs()).sum::<i64>();
+        let norm = e.iter().map(|c| c.abs()).max().unwrap_or(0);
+        let m = (norm + (1 << coarse.kappa)) << 6;
+        pos &= dot + bound > -m;
+        neg &= dot - bound < m;
+    }
+    (pos, neg)
+}
+
 /// The polar range of a patch from its corners' azimuths and polar angles (Q3.29 bits). Below:
 /// along an edge from p to q (a great-circle arc of length ℓ ≤ |θ_p − θ_q| + |φ_q − φ_p|) θ
 /// stays above (θ_p + θ_q − ℓ)/2, so above min − |Δφ|/2 (the arc bulges towards the pole);
@@ -308,22 +318,6 @@ fn polar_range(phi: &[i64], theta: &[i64]) -> (i64, i64) {
     (lo_t, hi_t)
 }
 
-/// A corner vector as 18-bit signed words by a power of two of its own (the transform needs
-/// only its direction): the largest component into [2^16, 2^17), shifted up exactly or down
-/// by a floor, so v / 2^k = w + r with 0 ≤ r_c < 1.
-fn block18(v: &[i64; 3]) -> [i64; 3] {
-    let m = v.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
-    if m == 0 {
-        return [0; 3];
-    }
-    let bits = 64 - m.leading_zeros();
-    if bits > NARROW_BITS - 1 {
-        v.map(|c| c >> (bits - (NARROW_BITS - 1)))
-    } else {
-        v.map(|c| c << (NARROW_BITS - 1 - bits))
-    }
-}
-
 /// An angle difference (Q3.29 bits) into (−π, π].
 fn wrap(d: i64) -> i64 {
     if d > PI {
@@ -339,7 +333,7 @@ fn wrap(d: i64) -> i64 {
 mod tests {
     extern crate std;
     use super::*;
-    use crate::intersect::coarse_edge;
+    use crate::intersect::coarse::{coarse_edge, narrow_edge};
     use crate::intersect::tests::Rng;
     use std::vec;
     use std::vec::Vec;
@@ -508,6 +502,32 @@ mod tests {
         q.map(|c| c / l)
     }
 
+    /// The lanes' words of a case's edges as the wide datapath truncates them (`narrow`
+    /// false) or as the compact set-up unit forms them from the corners (true).
+    fn coarse_of(a: &[[i64; 3]], e: &[[i64; 3]], narrow: bool) -> Coarse {
+        let mut c = Coarse::default();
+        for k in 0..a.len() {
+            if !narrow {
+                c.words[k] = coarse_edge(&e[k]);
+                continue;
+            }
+            // the case's e is ±(a_k × a_k+1): its sign from the first nonzero component
+            let (u, v) = (a[k], a[(k + 1) % a.len()]);
+            let x = (u[1] as i128 * v[2] as i128 - u[2] as i128 * v[1] as i128) as i64;
+            let y = (u[2] as i128 * v[0] as i128 - u[0] as i128 * v[2] as i128) as i64;
+            let first = if x != 0 { x } else { y };
+            let negate = if x != 0 {
+                e[k][0] != x
+            } else {
+                e[k][1] != first
+            };
+            let (w, kappa) = narrow_edge(&u, &v, 0, negate);
+            c.words[k] = w;
+            c.kappa = c.kappa.max(kappa);
+        }
+        c
+    }
+
     fn sector_mask(r: &Reach, sectors: u32) -> u64 {
         match r.wedge {
             Wedge::Below => 0,
@@ -535,7 +555,7 @@ mod tests {
                 let Some((a, e, axes, _, _)) = case(&mut rng) else {
                     continue;
                 };
-                let ce: Vec<[i32; 3]> = e.iter().map(coarse_edge).collect();
+                let ce = coarse_of(&a, &e, cases % 2 == 1);
                 let w = reach_wide(&wide, &a, &e, &axes);
                 let n = narrow.reach(&a, &ce, &axes);
                 cases += 1;
@@ -568,7 +588,7 @@ mod tests {
             let Some((a, e, axes, rot, rel)) = case(&mut rng) else {
                 continue;
             };
-            let ce: Vec<[i32; 3]> = e.iter().map(coarse_edge).collect();
+            let ce = coarse_of(&a, &e, rng.next() % 2 == 1);
             let reach = unit32.reach(&a, &ce, &axes);
             let mask = sector_mask(&reach, 32);
             for _ in 0..8 {

@@ -58,6 +58,7 @@
 
 pub mod bezier;
 pub mod bitmap_walk;
+pub mod coarse;
 pub mod cull;
 pub mod patch_mem;
 pub mod uv;
@@ -68,6 +69,7 @@ use crate::params::{Params, MAX_LANES, MAX_SECTORS};
 use crate::table::Table;
 use bezier::{BezierEngine, BezierStats, Box3, Job, RaySetup, SubdivConfig, BEZIER_ROWS};
 use bitmap_walk::WordWalk;
+use coarse::{coarse_edge, coarse_inside, narrow_edge, Coarse, Verdict, COARSE_DIR_SHIFT};
 use cull::{CullUnit, Reach, Wedge};
 use fixed::types::extra::U24;
 use patch_mem::{
@@ -90,9 +92,9 @@ pub struct LocalPatch {
     /// truncation, see `setup`), so they have no fixed binary point; only the signs of d · e_i
     /// are used.
     e: [[i64; 3]; 4],
-    /// The edge normals truncated to 18-bit signed words for the coarse test (each edge by
-    /// its own power of two: only signs matter), see [`coarse_sign`].
-    ce: [[i32; 3]; 4],
+    /// The edge normals as the coarse test's 18-bit words ([`coarse`]): truncated from `e`
+    /// on the wide datapath, from the set-up's narrow products on the compact one.
+    coarse: Coarse,
     sides: u8,
     n: [Unit; 3],
     h: PlaneDist,
@@ -203,67 +205,19 @@ impl EdgeStage {
     }
 }
 
-/// Bits the coarse test drops from a direction component (Q2.30, |d_c| ≤ 2^30): what is left,
-/// |d'_c| ≤ 2^16, is an 18-bit signed word.
-const COARSE_DIR_SHIFT: u32 = 14;
-
-/// An edge normal as the coarse test's 18-bit signed words: e' = ⌊e / 2^s⌋ with the least s
-/// that brings every |e'_c| below 2^17.
-fn coarse_edge(e: &[i64; 3]) -> [i32; 3] {
-    let m = e.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
-    let s = (64 - m.leading_zeros()).saturating_sub(17);
-    e.map(|c| (c >> s) as i32)
-}
-
-/// The sign of d · e from the truncated words alone, or `None` when they cannot tell.
-///
-/// Why it is exact where it answers: with d = d'·2^t + r_d and e = e'·2^s + r_e (floor
-/// truncation, 0 ≤ r_d < 2^t, 0 ≤ r_e < 2^s), each component of d · e is
-/// 2^(s+t)·d'e' + 2^t·d'r_e + 2^s·r_d e' + r_d r_e, whose last three terms are below
-/// 2^(s+t)·(|d'| + |e'| + 1) in magnitude. So d · e = 2^(s+t)·(A + δ) with A = Σ d'_c e'_c and
-/// |δ| < B = Σ (|d'_c| + |e'_c| + 1): A ≥ B means d · e > 0, A ≤ −B means d · e < 0. The lane
-/// forms A with three 18 × 18 products (one DSP tile each) and B with adders; every other
-/// case goes to the shared exact unit.
-fn coarse_sign(d: &[i32; 3], e: &[i32; 3]) -> Option<bool> {
-    let (mut a, mut b) = (0i64, 0i64);
-    for c in 0..3 {
-        a += d[c] as i64 * e[c] as i64;
-        b += d[c].unsigned_abs() as i64 + e[c].unsigned_abs() as i64 + 1;
-    }
-    if a >= b {
-        Some(true)
-    } else if a <= -b {
-        Some(false)
-    } else {
-        None
-    }
-}
-
-/// What the coarse test decides of a (ray, patch) pair: `Some(inside)`, or `None` (to the
-/// exact unit) when no edge was found negative and some edge was undecided.
-fn coarse_inside(d: &[i32; 3], lp: &LocalPatch) -> Option<bool> {
-    let mut undecided = false;
-    for e in &lp.ce[..lp.sides as usize] {
-        match coarse_sign(d, e) {
-            Some(false) => return Some(false),
-            Some(true) => {}
-            None => undecided = true,
-        }
-    }
-    (!undecided).then_some(true)
-}
-
-/// Clocks the shared exact edge unit takes for one pair of a patch of `sides` corners. The
-/// exact edge normals are not stored (they would take as much block RAM as the lanes' words):
-/// the unit reads the slot's corners from patch memory, a corner a clock as the set-up units
-/// do, and recomputes each edge's normal a_i × a_{i+1} exactly as the set-up pass forms it (the
-/// origin-wide shift, the side's sign) and dots it with d, on one 34 × 62 multiplier a product
-/// a clock (since issue 19's fourth round; nine multipliers, an edge a clock, before): six
-/// products of the cross product and three of the dot product, nine clocks an edge, the corner
-/// reads overlapping them but for the first edge's two. The same integers as the model's
-/// stored `e`. The unit is busy for about 0.02 clocks a ray (docs/PERFORMANCE.md).
-fn exact_pair_clocks(sides: u8) -> u64 {
-    9 * sides as u64 + 2
+/// Clocks the shared exact edge unit takes for one pair whose coarse test left `edges` edges
+/// undecided. The exact edge normals are not stored (they would take as much block RAM as the
+/// lanes' words): the unit reads the edges' corners from patch memory, a corner a clock as the
+/// set-up units do, and recomputes each edge's normal a_i × a_{i+1} exactly as the set-up pass
+/// forms it (the origin-wide shift, the side's sign) and dots it with d, on one 34 × 62
+/// multiplier a product a clock (since issue 19's fourth round; nine multipliers, an edge a
+/// clock, before): six products of the cross product and three of the dot product, nine clocks
+/// an edge, the corner reads overlapping them but for the first edge's two. The same integers
+/// as the model's stored `e`. Only the undecided edges (the pair's mask of them comes with it
+/// from the lane) since session 22, when the compact set-up's narrow words left about six times
+/// more edges undecided; every edge of the pair before.
+fn exact_pair_clocks(edges: u8) -> u64 {
+    5 * edges as u64 + 2
 }
 
 /// Stage 2: t = h / (n · d) as Q8.24, or "no hit" (t ≤ 0, parallel, out of range).
@@ -738,6 +692,25 @@ impl<T: Copy + Default> IntersectUnit<T> {
         }
     }
 
+    /// A patch's coarse edge words: on the compact datapath from the set-up unit's narrow
+    /// products of its corners `a` ([`narrow_edge`]), the patch's κ the largest of its edges';
+    /// on the wide one truncated from the exact edges `e` (κ = 0).
+    fn coarse_words(&self, a: &[[i64; 3]], e: &[[i64; 3]], shift: u32, negate: bool) -> Coarse {
+        let mut c = Coarse::default();
+        if !self.params.compact {
+            for (w, e) in c.words.iter_mut().zip(e) {
+                *w = coarse_edge(e);
+            }
+            return c;
+        }
+        for (k, u) in a.iter().enumerate() {
+            let (w, kappa) = narrow_edge(u, &a[(k + 1) % a.len()], shift, negate);
+            c.words[k] = w;
+            c.kappa = c.kappa.max(kappa);
+        }
+        c
+    }
+
     fn setup(
         &mut self,
         mem: &PatchMem,
@@ -802,8 +775,8 @@ impl<T: Copy + Default> IntersectUnit<T> {
             ];
             // division by a power of two rounds towards zero: −x keeps giving −(x/2^k)
             lp.e[k] = cross.map(|c| ((c * s) / (1i128 << shift)) as i64);
-            lp.ce[k] = coarse_edge(&lp.e[k]);
         }
+        lp.coarse = self.coarse_words(&a[..sides], &lp.e[..sides], shift, s < 0);
         lp.sides = sides as u8;
         lp.n = n;
         lp.h = h;
@@ -811,7 +784,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.local[i] = lp;
         let reach = match axes {
             Some(ax) => {
-                let r = self.cull.reach(&a[..sides], &lp.ce[..sides], ax);
+                let r = self.cull.reach(&a[..sides], &lp.coarse, ax);
                 let st = &mut self.stats;
                 st.culled_patches += 1;
                 let bands = (r.band_hi - r.band_lo) as u64 + 1;
@@ -933,19 +906,21 @@ impl<T: Copy + Default> IntersectUnit<T> {
             let lp = &self.local[i as usize];
             let tok = EdgeStage.eval(&ray.dir, lp);
             if compact && lp.active {
-                let decided = coarse_inside(&dc, lp);
-                match decided {
-                    Some(inside) => debug_assert_eq!(inside, tok.inside, "coarse bound"),
-                    None => {
-                        exact[bank] += exact_pair_clocks(lp.sides);
-                        self.stats.exact_edges += lp.sides as u64;
+                let verdict = coarse_inside(&dc, &lp.coarse, lp.sides as usize);
+                match verdict {
+                    Verdict::Decided(inside) => {
+                        debug_assert_eq!(inside, tok.inside, "coarse bound")
+                    }
+                    Verdict::Undecided(edges) => {
+                        exact[bank] += exact_pair_clocks(edges);
+                        self.stats.exact_edges += edges as u64;
                     }
                 }
                 if tok.inside {
                     self.inside[inside] = InsidePair {
                         bank: bank as u8,
                         at: (counts[bank] - 1) as u16,
-                        exact: decided.is_none(),
+                        exact: matches!(verdict, Verdict::Undecided(_)),
                     };
                     inside += 1;
                 }
@@ -1232,8 +1207,6 @@ impl<T: Copy + Default> IntersectUnit<T> {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-
     /// A xorshift stream, for reproducible vectors and geometry (the culling unit's tests too).
     pub(super) struct Rng(pub(super) u64);
     impl Rng {
@@ -1244,7 +1217,7 @@ mod tests {
             self.0
         }
         /// A signed value of `bits` bits at most.
-        fn signed(&mut self, bits: u32) -> i64 {
+        pub(super) fn signed(&mut self, bits: u32) -> i64 {
             (self.next() as i64) >> (64 - bits)
         }
         /// Uniform in [0, 1).
@@ -1255,60 +1228,5 @@ mod tests {
         pub(super) fn sym(&mut self) -> f64 {
             2.0 * self.unit() - 1.0
         }
-    }
-
-    fn exact_sign(d: &[i32; 3], e: &[i64; 3]) -> i128 {
-        (0..3).map(|c| d[c] as i128 * e[c] as i128).sum()
-    }
-
-    /// Where the coarse test answers, it answers as the exact product: random edge normals of
-    /// every magnitude up to 62 bits, unit-range directions, and pairs built to lie within a
-    /// few LSBs of the edge plane (where it must decline, or be right).
-    #[test]
-    fn the_coarse_edge_test_never_contradicts_the_exact_one() {
-        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
-        let (mut decided, mut declined) = (0u32, 0u32);
-        for n in 0..200_000u32 {
-            let bits = 2 + n % 61;
-            let e = [rng.signed(bits), rng.signed(bits), rng.signed(bits)];
-            let mut d = [0i32; 3].map(|_| (rng.signed(31)) as i32);
-            if n % 3 == 0 {
-                // d nearly orthogonal to e: d − (d·e / e·e) e, rounded
-                let ee: f64 = e.iter().map(|&c| (c as f64) * (c as f64)).sum();
-                if ee > 0.0 {
-                    let de: f64 = (0..3).map(|c| d[c] as f64 * e[c] as f64).sum();
-                    for c in 0..3 {
-                        d[c] = (d[c] as f64 - de / ee * e[c] as f64).round() as i32;
-                    }
-                }
-            }
-            let dc = d.map(|c| c >> COARSE_DIR_SHIFT);
-            match coarse_sign(&dc, &coarse_edge(&e)) {
-                Some(positive) => {
-                    decided += 1;
-                    let s = exact_sign(&d, &e);
-                    assert_eq!(positive, s > 0, "d {d:?} e {e:?}: exact {s}");
-                    assert_ne!(s, 0, "d {d:?} e {e:?}: decided a zero");
-                }
-                None => declined += 1,
-            }
-        }
-        // the test is worth having: most random pairs are decided, the built ones often not
-        assert!(
-            decided > 120_000 && declined > 1_000,
-            "{decided} decided, {declined} declined"
-        );
-    }
-
-    /// The coarse words fit the 18-bit signed inputs of a DSP tile.
-    #[test]
-    fn coarse_words_are_18_bits() {
-        for m in [0i64, 1, (1 << 17) - 1, 1 << 17, (1 << 61) - 1, -(1 << 61)] {
-            for w in coarse_edge(&[m, -m, m / 3]) {
-                assert!((-(1 << 17)..(1 << 17)).contains(&w), "{m}: {w}");
-            }
-        }
-        let d = Unit::ONE.to_bits() >> COARSE_DIR_SHIFT;
-        assert!(d < 1 << 17);
     }
 }

@@ -82,6 +82,8 @@ struct Run {
     rays: u64,
     cycles: u64,
     candidates: u64,
+    /// edges the coarse test left to the shared exact unit
+    exact_edges: u64,
     /// lane clocks of the bitmap walks beyond the candidates
     walk_clocks: u64,
     /// of the patches set up for culling: the share in every sector, and bins covered each
@@ -127,6 +129,7 @@ fn run(scene: &Scene, params: Params, circles: u32, samples: u32) -> Result<Run>
         rays: model.rays(),
         cycles: model.cycles() - c0,
         candidates: st.candidates,
+        exact_edges: st.exact_edges,
         walk_clocks: st.walk_clocks,
         full: st.full_patches as f64 / st.culled_patches.max(1) as f64,
         bins: st.bins as f64 / st.culled_patches.max(1) as f64,
@@ -171,8 +174,8 @@ pub fn bench(
     out: &mut impl Write,
 ) -> Result<()> {
     writeln!(out, "R = {circles}, K = {samples}; 2 rays per clock\n")?;
-    writeln!(out, "| patches | lanes | culling | rays | cycles/ray | candidates/ray | walk clocks/ray | patches in every sector | bins/patch | model Mcycles/s | host M rays/s |")?;
-    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|")?;
+    writeln!(out, "| patches | lanes | culling | rays | cycles/ray | candidates/ray | exact edges/ray | walk clocks/ray | patches in every sector | bins/patch | model Mcycles/s | host M rays/s |")?;
+    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|")?;
     let mut series = Vec::new();
     for &n in subdivisions {
         let text = subdivided(scene, n)?;
@@ -187,10 +190,11 @@ pub fn bench(
                 let cpr = r.cycles as f64 / r.rays as f64;
                 writeln!(
                     out,
-                    "| {count} | {l} | {} | {} | {cpr:.2} | {:.2} | {} | {:.1} % | {:.1} | {:.1} | {:.2} |",
+                    "| {count} | {l} | {} | {} | {cpr:.2} | {:.2} | {:.3} | {} | {:.1} % | {:.1} | {:.1} | {:.2} |",
                     if sectors > 0 { "32 sectors × 16 bands" } else { "none" },
                     r.rays,
                     r.candidates as f64 / r.rays as f64,
+                    r.exact_edges as f64 / r.rays as f64,
                     walk_column(sectors, r.walk_clocks, r.rays),
                     r.full * 100.0,
                     r.bins,
