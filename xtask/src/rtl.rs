@@ -77,6 +77,14 @@ pub const PLANE_BENCH: Bench = Bench {
     report: "plane",
 };
 
+/// The compact datapath's coarse edge units: the set-up unit's edge words and a lane's test.
+pub const COARSE_BENCH: Bench = Bench {
+    top: "coarse_top",
+    sources: &["coarse_edge.v", "coarse_test.v", "tb/coarse_top.v"],
+    cpp: "tb/coarse_tb.cpp",
+    report: "coarse",
+};
+
 /// The register file and its AHB-Lite slave, without the datapath behind it.
 pub const REGS_BENCH: Bench = Bench {
     top: "ahb_regs",
@@ -150,6 +158,12 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     )?;
     lint_top(PLANE_BENCH.top, PLANE_BENCH.sources, &plane_generics(depth))?;
     lint_top(REGS_BENCH.top, REGS_BENCH.sources, &[])?;
+    lint_top(COARSE_BENCH.top, COARSE_BENCH.sources, &[])?;
+    lint_top(
+        "syn_coarse",
+        &["coarse_edge.v", "coarse_test.v", "syn/syn_coarse.v"],
+        &[],
+    )?;
     lint_top("syn_regs", &["ahb_regs.v", "syn/syn_regs.v"], &[])?;
     lint_top(
         "syn_frame",
@@ -172,17 +186,22 @@ pub struct Workload {
     pub plane_patches: u32,
     /// Random steps of the register file's workload (after its directed ones).
     pub regs_steps: u32,
+    /// Lattice points K × K a slot for the coarse edge units' set-up passes, and random
+    /// patches.
+    pub coarse_samples: u32,
+    pub coarse_random: u32,
 }
 
-/// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's
-/// (`regs_out`) and the planar unit's at a depth (each into its own file) on the Cornell box,
-/// with the release build of the generator (`release`) or the test suite's debug build.
+/// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's and
+/// the coarse edge units' (`once`: neither depends on the CORDIC words) and the planar unit's
+/// at a depth (each into its own file) on the Cornell box, with the release build of the
+/// generator (`release`) or the test suite's debug build.
 pub fn vectors(
     cfg: Cordic,
     plane: Option<(u32, &Path)>,
     w: Workload,
     release: bool,
-    (cordic_out, regs_out): (&Path, Option<&Path>),
+    (cordic_out, once): (&Path, Option<(&Path, &Path)>),
 ) -> Result<(), String> {
     let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
     if release {
@@ -195,10 +214,14 @@ pub fn vectors(
         .args(["--scene", "scenes/cornell.toml"])
         .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
         .args(["--random", &n(w.random)]);
-    if let Some(out) = regs_out {
+    if let Some((regs_out, coarse_out)) = once {
         c.arg("--regs")
-            .arg(out)
+            .arg(regs_out)
             .args(["--regs-steps", &n(w.regs_steps)]);
+        c.arg("--coarse")
+            .arg(coarse_out)
+            .args(["--coarse-samples", &n(w.coarse_samples)])
+            .args(["--coarse-random", &n(w.coarse_random)]);
     }
     if let Some((depth, out)) = plane {
         c.arg("--plane")
@@ -360,34 +383,52 @@ pub fn mutant_caught(cfg: Cordic, vectors: &Path, opt: &str) -> Result<u64, Stri
     CORDIC_MUTANT.caught(&name, &cfg.generics(), &args, opt)
 }
 
+/// The constant 15 of need - 1 = 15 + eta + 2^(4 - S) in the set-up unit's κ (one bit: 14), so
+/// that κ is sometimes one smaller than the model's.
+const COARSE_MUTANT: Mutant = Mutant {
+    bench: COARSE_BENCH,
+    extra: &[],
+    file: "coarse_edge.v",
+    from: "27'd15 + ",
+    to: "27'd14 + ",
+    what: "bit 0 of the constant 15 in the coarse edge unit's need - 1",
+};
+
+/// The coarse edge units' mutant check.
+pub fn coarse_mutant_caught(vectors: &Path, opt: &str) -> Result<u64, String> {
+    COARSE_MUTANT.caught("mutant-coarse", &[], &[vectors.display().to_string()], opt)
+}
+
 /// The register file's mutant check.
 pub fn regs_mutant_caught(vectors: &Path, opt: &str) -> Result<u64, String> {
     REGS_MUTANT.caught("mutant-regs", &[], &[vectors.display().to_string()], opt)
 }
 
-/// Co-simulates the CORDIC units at `cfg` and, if asked, the register file (`regs`) and the
-/// planar unit at a `depth` (neither depends on the CORDIC words), on `w`; the reports.
+/// Co-simulates the CORDIC units at `cfg` and, if asked, the register file and the coarse edge
+/// units (`once`) and the planar unit at a `depth` (none of them depends on the CORDIC words),
+/// on `w`; the reports.
 fn cosim_run(
     cfg: Cordic,
     depth: Option<u32>,
-    regs: bool,
+    once: bool,
     w: Workload,
     release: bool,
     opt: &str,
     dir: &Path,
 ) -> Result<Vec<(String, Cosim)>, String> {
-    let (cv, pv, rv) = (
+    let (cv, pv, rv, ev) = (
         dir.join("cordic.txt"),
         dir.join("plane.txt"),
         dir.join("regs.txt"),
+        dir.join("coarse.txt"),
     );
-    let regs_out = regs.then_some(rv.as_path());
+    let once_out = once.then_some((rv.as_path(), ev.as_path()));
     vectors(
         cfg,
         depth.map(|d| (d, pv.as_path())),
         w,
         release,
-        (&cv, regs_out),
+        (&cv, once_out),
     )?;
     let src = rtl_dir();
     let exe = build(
@@ -399,10 +440,13 @@ fn cosim_run(
     )?;
     let args = [cfg.width.to_string(), cv.display().to_string()];
     let mut out = vec![(cfg.name(), cosim(CORDIC_BENCH, &exe, &args)?)];
-    if regs {
+    if once {
         let exe = build(REGS_BENCH, &[], &src, &dir.join("regs"), opt)?;
         let r = cosim(REGS_BENCH, &exe, &[rv.display().to_string()])?;
         out.push(("register file".to_string(), r));
+        let exe = build(COARSE_BENCH, &[], &src, &dir.join("coarse"), opt)?;
+        let r = cosim(COARSE_BENCH, &exe, &[ev.display().to_string()])?;
+        out.push(("coarse edge units".to_string(), r));
     }
     if let Some(d) = depth {
         let pdir = dir.join(format!("plane-d{d}"));
@@ -432,6 +476,8 @@ pub fn ci() -> Result<(), String> {
         plane_random: 1000,
         plane_patches: 48,
         regs_steps: 20_000,
+        coarse_samples: 1,
+        coarse_random: 5_000,
     };
     let reports = cosim_run(cfg, Some(depth), true, w, false, "-O1", &dir)?;
     let bad: u64 = reports.iter().map(|(_, r)| r.mismatches).sum();
@@ -439,7 +485,8 @@ pub fn ci() -> Result<(), String> {
         return Err(format!("{bad} co-simulation mismatches"));
     }
     mutant_caught(cfg, &dir.join("cordic.txt"), "-O1")?;
-    regs_mutant_caught(&dir.join("regs.txt"), "-O1").map(|_| ())
+    regs_mutant_caught(&dir.join("regs.txt"), "-O1")?;
+    coarse_mutant_caught(&dir.join("coarse.txt"), "-O1").map(|_| ())
 }
 
 /// Synthesis and place-and-route figures of one build.
@@ -529,6 +576,16 @@ pub fn regs_design() -> Design {
     }
 }
 
+/// The coarse edge units' harness (one set-up unit's edge words, one lane's test).
+pub fn coarse_design() -> Design {
+    Design {
+        name: "coarse".to_string(),
+        top: "syn_coarse",
+        files: &["coarse_edge.v", "coarse_test.v", "syn/syn_coarse.v"],
+        params: vec![],
+    }
+}
+
 /// The cells Yosys mapped a design to (its `stat` after `synth_ecp5`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Cells {
@@ -565,12 +622,15 @@ pub fn synthesise(d: &Design) -> Result<(Cells, PathBuf), String> {
         .iter()
         .map(|(k, v)| format!("-set {k} {v}"))
         .collect();
+    // (a harness without parameters takes no chparam)
+    let chparam = match params.is_empty() {
+        true => String::new(),
+        false => format!("chparam {} {}; ", params.join(" "), d.top),
+    };
     let script = format!(
-        "read_verilog -I{} {}; chparam {} {}; synth_ecp5 -top {} -json {}; stat",
+        "read_verilog -I{} {}; {chparam}synth_ecp5 -top {} -json {}; stat",
         src.display(),
         files.join(" "),
-        params.join(" "),
-        d.top,
         d.top,
         json.display()
     );
@@ -740,6 +800,8 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
         plane_random: 60_000,
         plane_patches: 24,
         regs_steps: 200_000,
+        coarse_samples: 2,
+        coarse_random: 20_000,
     };
     let mut total = Cosim::default();
     for (k, cfg) in CONFIGS.iter().enumerate() {
@@ -767,6 +829,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
     let first = work_dir(&CONFIGS[0].name())?;
     mutant_caught(CONFIGS[0], &first.join("cordic.txt"), "-O2")?;
     regs_mutant_caught(&first.join("regs.txt"), "-O2")?;
+    coarse_mutant_caught(&first.join("coarse.txt"), "-O2")?;
     // the final line's figures: the rotator at the reset configuration, the one unit that can
     // be placed (the planar unit is synthesised and its cells reported)
     let mut figures = Fpga::default();
@@ -778,6 +841,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
             plane_design(PLANE_DEPTHS[0]),
             regs_design(),
             frame_design(CONFIGS[0]),
+            coarse_design(),
         ];
         if all {
             designs.extend(CONFIGS[1..].iter().map(|c| rotator_design(*c)));

@@ -99,7 +99,8 @@ pub fn narrow_edge(u: &[i64; 3], v: &[i64; 3], shift: u32, negate: bool) -> ([i3
     // 2^κ ≥ 1 + E / 2^m + 2^-S, in sixteenths rounded up: the bound's three terms, each
     // rounded up to a whole (κ = 3 where this gives 2, most edges), doubled the undecided pairs
     let eta = ((e_bound << FRACTION) + (1 << m) - 1) >> m;
-    let trunc = 1i64 << (FRACTION as i32 - s).clamp(0, 40);
+    // (past 2^20 sixteenths κ is 15 whatever the rest: the unit's shifter stops there)
+    let trunc = 1i64 << (FRACTION as i32 - s).clamp(0, 20);
     let need = (1 << FRACTION) + eta + trunc;
     let kappa = (64 - (need - 1).leading_zeros()).saturating_sub(FRACTION);
     (words, kappa.min(KAPPA_DECLINE as u32) as u8)

@@ -10,11 +10,13 @@
 //!   `--plane-patches P` random patches. The model's own speed on the same streams (without
 //!   writing them) is printed as modelled clocks per host second;
 //! - with `--regs OUT3`: the register file's bus accesses (`--regs-steps N` random steps after
-//!   the directed ones).
+//!   the directed ones);
+//! - with `--coarse OUT4`: the compact datapath's coarse edge units on the scene's set-up
+//!   passes (`--coarse-samples K` lattice points a slot) and `--coarse-random N` random patches.
 
 use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
-use hemi_bench::rtl::{cordic, plane, regs};
+use hemi_bench::rtl::{coarse, cordic, plane, regs};
 use hemi_hdl_model::cordic::CordicConfig;
 use std::time::Instant;
 
@@ -32,6 +34,9 @@ struct Args {
     plane_patches: usize,
     regs: Option<String>,
     regs_steps: usize,
+    coarse: Option<String>,
+    coarse_samples: u32,
+    coarse_random: usize,
     seed: u64,
 }
 
@@ -50,6 +55,9 @@ fn parse() -> Result<Args> {
         plane_patches: 48,
         regs: None,
         regs_steps: 20_000,
+        coarse: None,
+        coarse_samples: 2,
+        coarse_random: 20_000,
         seed: 0x2545_f491_4f6c_dd1d,
     };
     let mut it = std::env::args().skip(1);
@@ -69,13 +77,16 @@ fn parse() -> Result<Args> {
             "--plane-patches" => a.plane_patches = value()?.parse::<usize>()?.clamp(1, 256),
             "--regs" => a.regs = Some(value()?),
             "--regs-steps" => a.regs_steps = value()?.parse()?,
+            "--coarse" => a.coarse = Some(value()?),
+            "--coarse-samples" => a.coarse_samples = value()?.parse()?,
+            "--coarse-random" => a.coarse_random = value()?.parse()?,
             "--seed" => a.seed = value()?.parse()?,
             s if !s.starts_with('-') && a.out.is_empty() => a.out = s.to_string(),
             s => bail!("unknown argument `{s}`"),
         }
     }
     if a.out.is_empty() || !a.cfg.is_valid() || !(1..=24).contains(&a.depth) {
-        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--seed S]");
+        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--seed S]");
     }
     Ok(a)
 }
@@ -115,6 +126,18 @@ fn main() -> Result<()> {
         println!(
             "rtl-vectors: registers accesses={} clocks={} fifo_entries={}",
             c.accesses, c.clocks, c.entries
+        );
+    }
+    if let Some(out) = &a.coarse {
+        let slots = match &scene {
+            Some(s) => plane::loaded_slots(&s.kernel_patches())?,
+            None => Vec::new(),
+        };
+        let (text, c) = coarse::vectors(&slots, a.coarse_samples, a.coarse_random, a.seed);
+        std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
+        println!(
+            "rtl-vectors: coarse edges={} pairs={} undecided={}",
+            c.edges, c.pairs, c.undecided
         );
     }
     Ok(())

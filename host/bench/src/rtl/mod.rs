@@ -3,10 +3,13 @@
 //! (`hdl-model/rtl/tb/`) to drive the RTL with the same inputs at the same clocks and compare
 //! its outputs bit for bit and clock for clock (`cargo xtask rtl`).
 //!
+//! - [`coarse`]: the compact datapath's coarse edge units (the set-up unit's edge words, a
+//!   lane's test on them);
 //! - [`cordic`]: the rotator and the angle unit's vectoring pipe;
 //! - [`plane`]: the planar intersection unit with (u,v) (one lane, no culling);
 //! - [`regs`]: the register file and its AHB-Lite bus interface.
 
+pub mod coarse;
 pub mod cordic;
 pub mod plane;
 pub mod regs;
