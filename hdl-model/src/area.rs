@@ -8,8 +8,9 @@
 //!   slice of two LUTs); an adder-subtractor whose direction is data (a CORDIC stage's) 2w, a
 //!   LUT4 a bit inverting the operand beside the chain (calibrated against Yosys in session 21);
 //! - an a×b multiplier takes ⌈a/18⌉·⌈b/18⌉ DSP tiles while the part has tiles left (the
-//!   datapath's multipliers first, in the order they are listed), else a·b LUT4s (an array
-//!   multiplier: one full adder per partial-product bit);
+//!   datapath's multipliers first, in the order they are listed), else about 6.1·a·b LUT4s,
+//!   what Yosys 0.23 maps one to without DSP tiles (`lut_multiplier`; until session 22 a·b, an
+//!   ideal array of full adders);
 //! - a multiplier by a constant fixed at build time (the gain compensation of the culling
 //!   unit's vectorings, whose CORDIC is not the CONFIG register's) is a shift-and-add tree: one
 //!   w-bit adder per nonzero digit of the constant's canonical signed-digit form but one (the
@@ -160,7 +161,7 @@ impl Proxy {
             if out.dsps + tiles <= dsps_free {
                 out.dsps += tiles;
             } else {
-                luts += a as u64 * b as u64;
+                luts += lut_multiplier(a, b);
             }
         }
         for &(d, w) in &self.memories {
@@ -174,6 +175,14 @@ impl Proxy {
         out.ffs = self.register_bits;
         out
     }
+}
+
+/// LUT4s of an a × b multiplier without DSP tiles: about 6.1 a·b, as Yosys 0.23 maps one
+/// (`synth_ecp5 -nodsp`, a registered product: 18 × 18 took 2,078 LUT4s with its carry cells,
+/// 26 × 26 3,981, 34 × 34 7,040; docs/PERFORMANCE.md, "The coarse edge units in RTL"). Until
+/// session 22 the proxy charged a·b, an ideal array of full adders, six times too few.
+fn lut_multiplier(a: u32, b: u32) -> u64 {
+    (a as u64 * b as u64 * 61).div_ceil(10)
 }
 
 /// Nonzero digits of the canonical signed-digit (non-adjacent) form of `c`.
@@ -446,7 +455,8 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
 
 /// The compact set-up unit's coarse edge words, an edge a clock
 /// ([`crate::intersect::coarse::narrow_edge`]): the edge's vector Δ = v − u (three subtractors
-/// of 35 bits), Δ into 18 bits (its leading one, three shifters of six levels on 35 bits; the
+/// of 35 bits), Δ into 18 bits (its leading one, three shifters of six levels on 67 bits, as
+/// `rtl/coarse_edge.v` shifts Δ·2^33; the
 /// corner's own 18 bits are the culling's, below), X = ũ × Δ̃ (six 18 × 18 products, three
 /// subtractions of 36 bits), X's top bits into the words (a leading one, three shifters of five
 /// levels on 36 bits), and κ: the bound E (four negations of 18 bits, three sums of four 18-bit
@@ -460,7 +470,7 @@ fn narrow_edges(p: &mut Proxy, banks: u64) {
     }
     p.add(banks * 3, 35);
     p.add(banks, 35);
-    p.add(banks * 3 * 6, 35);
+    p.add(banks * 3 * 6, 67);
     p.add(banks * 3, 36);
     p.add(banks, 36);
     p.add(banks * 3 * 5, 36);

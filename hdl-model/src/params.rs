@@ -56,8 +56,9 @@ impl Params {
     /// the fewest lanes that cast the Cornell box at under 1 cycle a ray and its 1,216-patch
     /// subdivision at under 4 (docs/PERFORMANCE.md: 0.85 and 3.84–3.90 by `form-factors` since
     /// issue 19's fourth round, whose culling hands the lanes fewer candidates; 10 lanes before,
-    /// when 8 needed 4.02; 6 lanes need 4.84). Its area proxy does not fit an ECP5-85k (`area`;
-    /// of the builds docs/PERFORMANCE.md tabulates, one lane does).
+    /// when 8 needed 4.02; 6 lanes need 4.84). Its area proxy does not fit an ECP5-85k (`area`:
+    /// 550,628 LUT4s since session 22 counts LUT multipliers as Yosys maps them; no build of
+    /// docs/PERFORMANCE.md's table fits whole, one or two lanes' ray datapath alone does).
     pub const DEFAULT: Params = Params {
         lanes: 8,
         sectors: 32,
