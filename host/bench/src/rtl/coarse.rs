@@ -16,6 +16,7 @@
 //! their degenerate cases (edges seen end-on, whose cross product cancels; corners at the
 //! origin; origin-wide truncations up to 4 bits).
 
+use super::plane::lattice_point;
 use crate::rng::XorShift;
 use hemi_hdl_model::intersect::coarse::{
     coarse_inside, narrow_edge, Coarse, Verdict, COARSE_DIR_SHIFT,
@@ -154,17 +155,6 @@ impl Vectors {
 fn direction(g: [f64; 3]) -> [i32; 3] {
     let l = g.iter().map(|c| c * c).sum::<f64>().sqrt().max(1e-300);
     g.map(|c| (((c / l) * (1u64 << 30) as f64).round() as i32) >> COARSE_DIR_SHIFT)
-}
-
-/// The point at the centre of lattice cell (a, b) of K × K on a slot's corners, in Q8.24 words.
-fn lattice_point(w: &[u32; PATCH_WORDS], a: u32, b: u32, k: u32) -> [i32; 3] {
-    let v = |corner: usize, c: usize| w[1 + 3 * corner + c] as i32 as f64;
-    let (s, t) = ((a as f64 + 0.5) / k as f64, (b as f64 + 0.5) / k as f64);
-    core::array::from_fn(|c| {
-        let bottom = v(0, c) * (1.0 - s) + v(1, c) * s;
-        let top = v(3, c) * (1.0 - s) + v(2, c) * s;
-        (bottom * (1.0 - t) + top * t).round() as i32
-    })
 }
 
 /// A random patch's corners relative to its origin (33-bit values, as a − O of Q8.24 words)

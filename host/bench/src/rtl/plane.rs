@@ -72,7 +72,7 @@ pub fn loaded_slots(patches: &[Patch]) -> anyhow::Result<Vec<[u32; PATCH_WORDS]>
 }
 
 /// The point at lattice cell (a, b) of K × K on a slot's bilinear map, in Q8.24 words.
-fn lattice_point(w: &[u32; PATCH_WORDS], a: u32, b: u32, k: u32) -> [i32; 3] {
+pub(super) fn lattice_point(w: &[u32; PATCH_WORDS], a: u32, b: u32, k: u32) -> [i32; 3] {
     let v = |corner: usize, c: usize| w[1 + 3 * corner + c] as i32 as f64;
     let (s, t) = ((a as f64 + 0.5) / k as f64, (b as f64 + 0.5) / k as f64);
     core::array::from_fn(|c| {
