@@ -209,13 +209,14 @@ impl EdgeStage {
 /// undecided. The exact edge normals are not stored (they would take as much block RAM as the
 /// lanes' words): the unit reads the edges' corners from patch memory, a corner a clock as the
 /// set-up units do, and recomputes each edge's normal a_i × a_{i+1} exactly as the set-up pass
-/// forms it (the origin-wide shift, the side's sign) and dots it with d, on one 34 × 62
-/// multiplier a product a clock (since issue 19's fourth round; nine multipliers, an edge a
-/// clock, before): six products of the cross product and three of the dot product, nine clocks
-/// an edge, the corner reads overlapping them but for the first edge's two. The same integers
-/// as the model's stored `e`. Only the undecided edges (the pair's mask of them comes with it
-/// from the lane) since session 22, when the compact set-up's narrow words left about six times
-/// more edges undecided; every edge of the pair before.
+/// forms it (the origin-wide shift, the side's sign) and dots it with d, on two 34 × 62
+/// multipliers, two products a clock: six products of the cross product and three of the dot
+/// product, five clocks an edge, the corner reads overlapping them but for the first edge's
+/// two. The same integers as the model's stored `e`. Since session 22 only the undecided edges
+/// (the pair's mask of them comes with it from the lane), on two multipliers: the compact
+/// set-up's narrow words leave more edges undecided. Before, every edge of the pair on one
+/// multiplier (nine clocks an edge; nine multipliers, an edge a clock, before issue 19's
+/// fourth round).
 fn exact_pair_clocks(edges: u8) -> u64 {
     5 * edges as u64 + 2
 }
