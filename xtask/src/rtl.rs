@@ -151,25 +151,14 @@ fn lint_top(top: &str, files: &[&str], generics: &[String]) -> Result<(), String
 /// Lints every top: the co-simulation tops and the synthesis harness, at `cfg` and `depth`.
 pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     lint_top(CORDIC_BENCH.top, CORDIC_BENCH.sources, &cfg.generics())?;
-    lint_top(
-        "syn_rotator",
-        &["cordic_pipe.v", "rotator.v", "syn/syn_rotator.v"],
-        &cfg.generics(),
-    )?;
     lint_top(PLANE_BENCH.top, PLANE_BENCH.sources, &plane_generics(depth))?;
     lint_top(REGS_BENCH.top, REGS_BENCH.sources, &[])?;
     lint_top(COARSE_BENCH.top, COARSE_BENCH.sources, &[])?;
-    lint_top(
-        "syn_coarse",
-        &["coarse_edge.v", "coarse_test.v", "syn/syn_coarse.v"],
-        &[],
-    )?;
-    lint_top("syn_regs", &["ahb_regs.v", "syn/syn_regs.v"], &[])?;
-    lint_top(
-        "syn_frame",
-        &["cordic_pipe.v", "frame_unit.v", "syn/syn_frame.v"],
-        &cfg.generics(),
-    )
+    for d in designs(cfg, depth) {
+        let generics: Vec<String> = d.params.iter().map(|(k, v)| format!("-G{k}={v}")).collect();
+        lint_top(d.top, d.files, &generics)?;
+    }
+    Ok(())
 }
 
 /// The workload of one run of the vector generator.
@@ -376,11 +365,16 @@ impl Mutant {
 }
 
 /// The mutant checks: the RTL with one bit flipped must disagree with the model on the same
-/// vectors, or the co-simulation could not catch anything. The CORDIC bench's at `cfg`.
-pub fn mutant_caught(cfg: Cordic, vectors: &Path, opt: &str) -> Result<u64, String> {
-    let args = [cfg.width.to_string(), vectors.display().to_string()];
+/// vectors, or the co-simulation could not catch anything. Each bench's, on the vectors
+/// `cosim_run` wrote into `dir` (the CORDIC bench's at `cfg`).
+fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
+    let file = |f: &str| dir.join(f).display().to_string();
+    let args = [cfg.width.to_string(), file("cordic.txt")];
     let name = format!("mutant-{}", cfg.name());
-    CORDIC_MUTANT.caught(&name, &cfg.generics(), &args, opt)
+    CORDIC_MUTANT.caught(&name, &cfg.generics(), &args, opt)?;
+    REGS_MUTANT.caught("mutant-regs", &[], &[file("regs.txt")], opt)?;
+    COARSE_MUTANT.caught("mutant-coarse", &[], &[file("coarse.txt")], opt)?;
+    Ok(())
 }
 
 /// The constant 15 of need - 1 = 15 + eta + 2^(4 - S) in the set-up unit's κ (one bit: 14), so
@@ -393,16 +387,6 @@ const COARSE_MUTANT: Mutant = Mutant {
     to: "27'd14 + ",
     what: "bit 0 of the constant 15 in the coarse edge unit's need - 1",
 };
-
-/// The coarse edge units' mutant check.
-pub fn coarse_mutant_caught(vectors: &Path, opt: &str) -> Result<u64, String> {
-    COARSE_MUTANT.caught("mutant-coarse", &[], &[vectors.display().to_string()], opt)
-}
-
-/// The register file's mutant check.
-pub fn regs_mutant_caught(vectors: &Path, opt: &str) -> Result<u64, String> {
-    REGS_MUTANT.caught("mutant-regs", &[], &[vectors.display().to_string()], opt)
-}
 
 /// Co-simulates the CORDIC units at `cfg` and, if asked, the register file and the coarse edge
 /// units (`once`) and the planar unit at a `depth` (none of them depends on the CORDIC words),
@@ -484,9 +468,7 @@ pub fn ci() -> Result<(), String> {
     if bad > 0 {
         return Err(format!("{bad} co-simulation mismatches"));
     }
-    mutant_caught(cfg, &dir.join("cordic.txt"), "-O1")?;
-    regs_mutant_caught(&dir.join("regs.txt"), "-O1")?;
-    coarse_mutant_caught(&dir.join("coarse.txt"), "-O1").map(|_| ())
+    mutants_caught(cfg, &dir, "-O1")
 }
 
 /// Synthesis and place-and-route figures of one build.
@@ -584,6 +566,18 @@ pub fn coarse_design() -> Design {
         files: &["coarse_edge.v", "coarse_test.v", "syn/syn_coarse.v"],
         params: vec![],
     }
+}
+
+/// Every synthesis harness at CORDIC `cfg` and (u,v) depth `depth`, the rotator's first (the
+/// final line's figures are its own).
+fn designs(cfg: Cordic, depth: u32) -> [Design; 5] {
+    [
+        rotator_design(cfg),
+        plane_design(depth),
+        regs_design(),
+        frame_design(cfg),
+        coarse_design(),
+    ]
 }
 
 /// The cells Yosys mapped a design to (its `stat` after `synth_ecp5`).
@@ -826,23 +820,14 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
             total.mismatches += r.mismatches;
         }
     }
-    let first = work_dir(&CONFIGS[0].name())?;
-    mutant_caught(CONFIGS[0], &first.join("cordic.txt"), "-O2")?;
-    regs_mutant_caught(&first.join("regs.txt"), "-O2")?;
-    coarse_mutant_caught(&first.join("coarse.txt"), "-O2")?;
+    mutants_caught(CONFIGS[0], &work_dir(&CONFIGS[0].name())?, "-O2")?;
     // the final line's figures: the rotator at the reset configuration, the one unit that can
     // be placed (the planar unit is synthesised and its cells reported)
     let mut figures = Fpga::default();
     if !quick {
         // every synthesis first, the places and routes after (one took over 20 minutes on
         // this shared machine): the reset configurations of both units, then the others
-        let mut designs = vec![
-            rotator_design(CONFIGS[0]),
-            plane_design(PLANE_DEPTHS[0]),
-            regs_design(),
-            frame_design(CONFIGS[0]),
-            coarse_design(),
-        ];
+        let mut designs = designs(CONFIGS[0], PLANE_DEPTHS[0]).to_vec();
         if all {
             designs.extend(CONFIGS[1..].iter().map(|c| rotator_design(*c)));
             designs.extend(CONFIGS[1..].iter().map(|c| frame_design(*c)));
