@@ -18,6 +18,7 @@ use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
 use hemi_bench::rtl::{coarse, cordic, plane, regs};
 use hemi_hdl_model::cordic::CordicConfig;
+use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use std::time::Instant;
 
 struct Args {
@@ -117,8 +118,15 @@ fn main() -> Result<()> {
         counts.vectors,
         counts.clocks
     );
+    // the scene's slots as the model's patch memory holds them, read once for both units
+    let slots = match &scene {
+        Some(s) if a.plane.is_some() || a.coarse.is_some() => {
+            plane::loaded_slots(&s.kernel_patches())?
+        }
+        _ => Vec::new(),
+    };
     if let Some(out) = &a.plane {
-        plane_vectors(&a, scene.as_ref(), out)?;
+        plane_vectors(&a, &slots, out)?;
     }
     if let Some(out) = &a.regs {
         let (text, c) = regs::vectors(a.regs_steps, a.seed);
@@ -129,10 +137,6 @@ fn main() -> Result<()> {
         );
     }
     if let Some(out) = &a.coarse {
-        let slots = match &scene {
-            Some(s) => plane::loaded_slots(&s.kernel_patches())?,
-            None => Vec::new(),
-        };
         let (text, c) = coarse::vectors(&slots, a.coarse_samples, a.coarse_random, a.seed);
         std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
         println!(
@@ -143,15 +147,17 @@ fn main() -> Result<()> {
     Ok(())
 }
 
-/// The planar unit's file: the scene's hemispheres, then random patches and rays, one stream
-/// after the other (the second reloads patch memory).
-fn plane_vectors(a: &Args, scene: Option<&hemi::scene::Scene>, out: &str) -> Result<()> {
+/// The planar unit's file: the scene's hemispheres (on its `slots`, if any), then random
+/// patches and rays, one stream after the other (the second reloads patch memory).
+fn plane_vectors(a: &Args, slots: &[[u32; PATCH_WORDS]], out: &str) -> Result<()> {
     let mut rng = XorShift::new(a.seed ^ 0x9e37_79b9_7f4a_7c15);
     let mut works = Vec::new();
-    if let Some(s) = scene {
-        let slots = plane::loaded_slots(&s.kernel_patches())?;
-        let rays = plane::hemispheres(&slots, a.circles, a.plane_samples)?;
-        works.push(plane::Workload { slots, rays });
+    if !slots.is_empty() {
+        let rays = plane::hemispheres(slots, a.circles, a.plane_samples)?;
+        works.push(plane::Workload {
+            slots: slots.to_vec(),
+            rays,
+        });
     }
     if a.plane_random > 0 {
         works.push(plane::random(&mut rng, a.plane_patches, a.plane_random));

@@ -1,7 +1,8 @@
 //! Co-simulation vectors for the accelerator's RTL (`hdl-model/rtl/`): the model's units driven
 //! clock by clock, every input and output written with its clock, for the Verilator testbenches
 //! (`hdl-model/rtl/tb/`) to drive the RTL with the same inputs at the same clocks and compare
-//! its outputs bit for bit and clock for clock (`cargo xtask rtl`).
+//! its outputs bit for bit and clock for clock (`cargo xtask rtl`); for units the model gives
+//! no clocks of their own (the coarse edge units), the inputs and outputs in order.
 //!
 //! - [`coarse`]: the compact datapath's coarse edge units (the set-up unit's edge words, a
 //!   lane's test on them);
