@@ -3,21 +3,21 @@
 // words of the top bits of +-(u x v) and the exponent kappa that bounds their error, from six
 // 18 x 18 products of u and the edge's vector v - u, each in 18 bits by a power of two of its
 // own. A new edge every clock, LATENCY clocks each; the stages:
-//   1. delta = v - u, and the six magnitudes |u_c|, |delta_c|;
-//   2. the OR of each vector's magnitudes (its leading one is the largest one's);
-//   3. that leading one, in two clocks (the exponents p, q are bits - 17 = its place - 16);
-//   4. u and delta into 18 bits (floor when shifted down, exact when shifted up), and
-//      p + q - shift;
-//   5. the six products u~_j delta~_k, and the words' magnitudes;
-//   6. X = u~ x delta~ (three differences), and each component's sum of the four magnitudes
-//      it takes, + 1;
-//   7. +-X, the OR of |X|'s components, and the error bound E (the largest sum);
-//   8. its leading one, in two clocks: m, the bits the words drop;
-//   9. the words X >>> m, S = p + q + m - shift, 16 E / 2^m's floor and whether it dropped
-//      bits, and the truncation term's exponent 4 - S (clamped to 0..20);
-//  10. eta = ceil(16 E / 2^m) and the truncation term 2^(4 - S);
-//  11. need - 1 = 15 + eta + 2^(4 - S);
-//  12. kappa = bits(need - 1) - 4, at most 15 ("no bound"), in two clocks (its leading one).
+//    1. delta = v - u, and the six magnitudes |u_c|, |delta_c|;
+//    2. the OR of each vector's magnitudes (its leading one is the largest one's);
+//  3-4. that leading one, in two clocks (the exponents p, q are bits - 17 = its place - 16);
+//    5. u and delta into 18 bits (floor when shifted down, exact when shifted up), and
+//       p + q - shift;
+//    6. the six products u~_j delta~_k, and the words' magnitudes;
+//    7. X = u~ x delta~ (three differences), and each component's sum of the four magnitudes
+//       it takes, + 1;
+//    8. +-X, the OR of |X|'s components, and the error bound E (the largest sum);
+// 9-10. its leading one, in two clocks: m, the bits the words drop;
+//   11. the words X >>> m, S = p + q + m - shift, 16 E / 2^m's floor and whether it dropped
+//       bits, and the truncation term's exponent 4 - S (clamped to 0..20);
+//   12. eta = ceil(16 E / 2^m) and the truncation term 2^(4 - S);
+//   13. need - 1 = 15 + eta + 2^(4 - S);
+// 14-15. kappa = bits(need - 1) - 4, at most 15 ("no bound"), in two clocks (its leading one).
 module coarse_edge (
     input  wire         clk,
     input  wire         in_valid,
@@ -79,7 +79,7 @@ module coarse_edge (
     endfunction
 
     localparam integer LATENCY = 15;
-    // valid (into the output register) and the side's sign (into stage 7) along the pipe
+    // valid (into the output register) and the side's sign (into stage 8) along the pipe
     reg [LATENCY-2:0] valid;
     reg [6:0]         negate;
     always @(posedge clk) begin
@@ -120,91 +120,91 @@ module coarse_edge (
         end
     end
 
-    // 3: the leading ones, in two clocks
+    // 3-4: the leading ones, in two clocks
     /* verilator lint_off UNUSEDSIGNAL */ // the bytes' bit 0 places nothing
-    reg [10:0]        s3a_hu, s3a_hd;
+    reg [10:0]        s3_hu, s3_hd;
     /* verilator lint_on UNUSEDSIGNAL */
-    reg signed [33:0] s3a_u [0:2];
-    reg signed [33:0] s3a_d [0:2];
-    reg               s3a_zu, s3a_zd;
-    reg [2:0]         s3a_shift;
-    always @(posedge clk) begin
-        s3a_hu <= lead36_hi(s2_mu);
-        s3a_hd <= lead36_hi(s2_md);
-        s3a_zu <= s2_mu == 36'd0;
-        s3a_zd <= s2_md == 36'd0;
-        s3a_shift <= s2_shift;
-        for (i = 0; i < 3; i = i + 1) begin
-            s3a_u[i] <= s2_u[i];
-            s3a_d[i] <= s2_d[i];
-        end
-    end
     reg signed [33:0] s3_u [0:2];
     reg signed [33:0] s3_d [0:2];
-    reg [5:0]         s3_lu, s3_ld;
     reg               s3_zu, s3_zd;
     reg [2:0]         s3_shift;
     always @(posedge clk) begin
-        s3_lu <= {s3a_hu[10:8], lead8(s3a_hu[7:1])};
-        s3_ld <= {s3a_hd[10:8], lead8(s3a_hd[7:1])};
-        s3_zu <= s3a_zu;
-        s3_zd <= s3a_zd;
-        s3_shift <= s3a_shift;
+        s3_hu <= lead36_hi(s2_mu);
+        s3_hd <= lead36_hi(s2_md);
+        s3_zu <= s2_mu == 36'd0;
+        s3_zd <= s2_md == 36'd0;
+        s3_shift <= s2_shift;
         for (i = 0; i < 3; i = i + 1) begin
-            s3_u[i] <= s3a_u[i];
-            s3_d[i] <= s3a_d[i];
+            s3_u[i] <= s2_u[i];
+            s3_d[i] <= s2_d[i];
         end
     end
-
-    // 4: both vectors into 18 bits, and p + q - shift
-    wire signed [6:0] p = expo(s3_zu, s3_lu);
-    wire signed [6:0] q = expo(s3_zd, s3_ld);
-    reg signed [17:0] s4_u [0:2];
-    reg signed [17:0] s4_d [0:2];
-    reg signed [7:0]  s4_pq;
+    reg signed [33:0] s4_u [0:2];
+    reg signed [33:0] s4_d [0:2];
+    reg [5:0]         s4_lu, s4_ld;
+    reg               s4_zu, s4_zd;
+    reg [2:0]         s4_shift;
     always @(posedge clk) begin
-        s4_pq <= {p[6], p} + {q[6], q} - {5'b0, s3_shift};
+        s4_lu <= {s3_hu[10:8], lead8(s3_hu[7:1])};
+        s4_ld <= {s3_hd[10:8], lead8(s3_hd[7:1])};
+        s4_zu <= s3_zu;
+        s4_zd <= s3_zd;
+        s4_shift <= s3_shift;
         for (i = 0; i < 3; i = i + 1) begin
-            s4_u[i] <= narrow(s3_u[i], s3_lu);
-            s4_d[i] <= narrow(s3_d[i], s3_ld);
+            s4_u[i] <= s3_u[i];
+            s4_d[i] <= s3_d[i];
         end
     end
 
-    // 5: the six products u~_j delta~_k, and the words' magnitudes
-    reg signed [35:0] s5_p [0:5];
-    reg [19:0]        s5_mu [0:2];
-    reg [19:0]        s5_md [0:2];
+    // 5: both vectors into 18 bits, and p + q - shift
+    wire signed [6:0] p = expo(s4_zu, s4_lu);
+    wire signed [6:0] q = expo(s4_zd, s4_ld);
+    reg signed [17:0] s5_u [0:2];
+    reg signed [17:0] s5_d [0:2];
     reg signed [7:0]  s5_pq;
     always @(posedge clk) begin
-        s5_pq <= s4_pq;
-        s5_p[0] <= s4_u[1] * s4_d[2];
-        s5_p[1] <= s4_u[2] * s4_d[1];
-        s5_p[2] <= s4_u[2] * s4_d[0];
-        s5_p[3] <= s4_u[0] * s4_d[2];
-        s5_p[4] <= s4_u[0] * s4_d[1];
-        s5_p[5] <= s4_u[1] * s4_d[0];
+        s5_pq <= {p[6], p} + {q[6], q} - {5'b0, s4_shift};
         for (i = 0; i < 3; i = i + 1) begin
-            s5_mu[i] <= mag18(s4_u[i]);
-            s5_md[i] <= mag18(s4_d[i]);
+            s5_u[i] <= narrow(s4_u[i], s4_lu);
+            s5_d[i] <= narrow(s4_d[i], s4_ld);
         end
     end
 
-    // 6: X, and each component's bound (the sum of the four magnitudes it takes, + 1)
-    reg signed [36:0] s6_x [0:2];
-    reg [19:0]        s6_b [0:2];
+    // 6: the six products u~_j delta~_k, and the words' magnitudes
+    reg signed [35:0] s6_p [0:5];
+    reg [19:0]        s6_mu [0:2];
+    reg [19:0]        s6_md [0:2];
     reg signed [7:0]  s6_pq;
     always @(posedge clk) begin
         s6_pq <= s5_pq;
+        s6_p[0] <= s5_u[1] * s5_d[2];
+        s6_p[1] <= s5_u[2] * s5_d[1];
+        s6_p[2] <= s5_u[2] * s5_d[0];
+        s6_p[3] <= s5_u[0] * s5_d[2];
+        s6_p[4] <= s5_u[0] * s5_d[1];
+        s6_p[5] <= s5_u[1] * s5_d[0];
         for (i = 0; i < 3; i = i + 1) begin
-            s6_x[i] <= {s5_p[2 * i][35], s5_p[2 * i]} - {s5_p[2 * i + 1][35], s5_p[2 * i + 1]};
-            s6_b[i] <= s5_mu[(i + 1) % 3] + s5_mu[(i + 2) % 3] + s5_md[(i + 1) % 3] +
-                       s5_md[(i + 2) % 3] + 20'd1;
+            s6_mu[i] <= mag18(s5_u[i]);
+            s6_md[i] <= mag18(s5_d[i]);
         end
     end
 
-    // 7: the side's sign, |X|'s OR, and E (the largest bound)
+    // 7: X, and each component's bound (the sum of the four magnitudes it takes, + 1)
+    reg signed [36:0] s7_x [0:2];
+    reg [19:0]        s7_b [0:2];
+    reg signed [7:0]  s7_pq;
+    always @(posedge clk) begin
+        s7_pq <= s6_pq;
+        for (i = 0; i < 3; i = i + 1) begin
+            s7_x[i] <= {s6_p[2 * i][35], s6_p[2 * i]} - {s6_p[2 * i + 1][35], s6_p[2 * i + 1]};
+            s7_b[i] <= s6_mu[(i + 1) % 3] + s6_mu[(i + 2) % 3] + s6_md[(i + 1) % 3] +
+                       s6_md[(i + 2) % 3] + 20'd1;
+        end
+    end
+
+    // 8: the side's sign, |X|'s OR, and E (the largest bound)
     /* verilator lint_off UNUSEDSIGNAL */ // four 18-bit magnitudes and 1 need 20 bits
-    wire [35:0] e_max = max3({16'b0, s6_b[0]}, {16'b0, s6_b[1]}, {16'b0, s6_b[2]});
+    wire [35:0] e_max = max3({16'b0, s7_b[0]}, {16'b0, s7_b[1]}, {16'b0, s7_b[2]});
     /* verilator lint_on UNUSEDSIGNAL */
     /* verilator lint_off UNUSEDSIGNAL */ // |X| <= 2^35
     function [35:0] mag37(input signed [36:0] x);
@@ -215,100 +215,100 @@ module coarse_edge (
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
-    reg signed [36:0] s7_x [0:2];
-    reg [35:0]        s7_or;
-    reg [19:0]        s7_e;
-    reg signed [7:0]  s7_pq;
-    always @(posedge clk) begin
-        s7_or <= mag37(s6_x[0]) | mag37(s6_x[1]) | mag37(s6_x[2]);
-        s7_e <= e_max[19:0];
-        s7_pq <= s6_pq;
-        for (i = 0; i < 3; i = i + 1) s7_x[i] <= negate[6] ? -s6_x[i] : s6_x[i];
-    end
-
-    // 8: the top of |X|'s leading one (its place's three upper bits and the byte below them)
-    /* verilator lint_off UNUSEDSIGNAL */ // the byte's bit 0 places nothing
-    reg [10:0]        s8_hi;
-    /* verilator lint_on UNUSEDSIGNAL */
     reg signed [36:0] s8_x [0:2];
+    reg [35:0]        s8_or;
     reg [19:0]        s8_e;
-    reg signed [7:0]  s8_t;
+    reg signed [7:0]  s8_pq;
     always @(posedge clk) begin
-        s8_hi <= lead36_hi(s7_or);
-        s8_e <= s7_e;
-        s8_t <= 8'sd4 - s7_pq;
-        for (i = 0; i < 3; i = i + 1) s8_x[i] <= s7_x[i];
+        s8_or <= mag37(s7_x[0]) | mag37(s7_x[1]) | mag37(s7_x[2]);
+        s8_e <= e_max[19:0];
+        s8_pq <= s7_pq;
+        for (i = 0; i < 3; i = i + 1) s8_x[i] <= negate[6] ? -s7_x[i] : s7_x[i];
     end
 
-    // 8b: the bits the words drop: bits(|X|) - 17 when above 17 (the place - 16 when above 16)
-    wire [5:0] top = {s8_hi[10:8], lead8(s8_hi[7:1])};
-    reg signed [36:0] s8b_x [0:2];
-    reg [4:0]         s8b_m;
-    reg [19:0]        s8b_e;
-    reg signed [7:0]  s8b_t;
+    // 9: the top of |X|'s leading one (its place's three upper bits and the byte below them)
+    /* verilator lint_off UNUSEDSIGNAL */ // the byte's bit 0 places nothing
+    reg [10:0]        s9_hi;
+    /* verilator lint_on UNUSEDSIGNAL */
+    reg signed [36:0] s9_x [0:2];
+    reg [19:0]        s9_e;
+    reg signed [7:0]  s9_t;
     always @(posedge clk) begin
-        s8b_m <= (top > 6'd16) ? top[4:0] - 5'd16 : 5'd0;
-        s8b_e <= s8_e;
+        s9_hi <= lead36_hi(s8_or);
+        s9_e <= s8_e;
+        s9_t <= 8'sd4 - s8_pq;
+        for (i = 0; i < 3; i = i + 1) s9_x[i] <= s8_x[i];
+    end
+
+    // 10: the bits the words drop: bits(|X|) - 17 when above 17 (the place - 16 when above 16)
+    wire [5:0] top = {s9_hi[10:8], lead8(s9_hi[7:1])};
+    reg signed [36:0] s10_x [0:2];
+    reg [4:0]         s10_m;
+    reg [19:0]        s10_e;
+    reg signed [7:0]  s10_t;
+    always @(posedge clk) begin
+        s10_m <= (top > 6'd16) ? top[4:0] - 5'd16 : 5'd0;
+        s10_e <= s9_e;
         // the truncation term's exponent 4 - S = (4 - (p + q - shift)) - m
-        s8b_t <= (top > 6'd16) ? s8_t + 8'sd16 - $signed({2'b0, top}) : s8_t;
-        for (i = 0; i < 3; i = i + 1) s8b_x[i] <= s8_x[i];
+        s10_t <= (top > 6'd16) ? s9_t + 8'sd16 - $signed({2'b0, top}) : s9_t;
+        for (i = 0; i < 3; i = i + 1) s10_x[i] <= s9_x[i];
     end
 
-    // 9: the words, 16 E / 2^m (its floor, and whether it dropped bits) and the truncation
+    // 11: the words, 16 E / 2^m (its floor, and whether it dropped bits) and the truncation
     // term's exponent
     wire signed [36:0] ws [0:2];
     genvar c;
     generate
         for (c = 0; c < 3; c = c + 1) begin : words
-            assign ws[c] = s8b_x[c] >>> s8b_m;
+            assign ws[c] = s10_x[c] >>> s10_m;
         end
     endgenerate
-    wire signed [7:0] texp = s8b_t;
-    wire [23:0] e16 = {s8b_e, 4'b0};
-    reg [53:0]  s9_words;
-    reg [23:0]  s9_eta;
-    reg         s9_rem;
-    reg [4:0]   s9_texp;
-    always @(posedge clk) begin
-        s9_words <= {ws[2][17:0], ws[1][17:0], ws[0][17:0]};
-        s9_eta <= e16 >> s8b_m;
-        s9_rem <= (e16 & ((24'd1 << s8b_m) - 24'd1)) != 24'd0;
-        s9_texp <= (texp < 0) ? 5'd0 : ((texp > 8'sd20) ? 5'd20 : texp[4:0]);
-    end
-
-    // 10: eta = ceil(16 E / 2^m), and the truncation term 2^(4 - S)
-    reg [53:0]  s10_words;
-    reg [24:0]  s10_eta;
-    reg [20:0]  s10_trunc;
-    always @(posedge clk) begin
-        s10_words <= s9_words;
-        s10_eta <= {1'b0, s9_eta} + {24'b0, s9_rem};
-        s10_trunc <= 21'd1 << s9_texp;
-    end
-
-    // 11: need - 1, in sixteenths (need >= 18: eta and the truncation term are at least 1)
+    wire signed [7:0] texp = s10_t;
+    wire [23:0] e16 = {s10_e, 4'b0};
     reg [53:0]  s11_words;
-    reg [26:0]  s11_need1;
+    reg [23:0]  s11_eta;
+    reg         s11_rem;
+    reg [4:0]   s11_texp;
     always @(posedge clk) begin
-        s11_words <= s10_words;
-        s11_need1 <= 27'd15 + {2'b0, s10_eta} + {6'b0, s10_trunc};
+        s11_words <= {ws[2][17:0], ws[1][17:0], ws[0][17:0]};
+        s11_eta <= e16 >> s10_m;
+        s11_rem <= (e16 & ((24'd1 << s10_m) - 24'd1)) != 24'd0;
+        s11_texp <= (texp < 0) ? 5'd0 : ((texp > 8'sd20) ? 5'd20 : texp[4:0]);
     end
 
-    // 12: the top of need - 1's leading one
-    /* verilator lint_off UNUSEDSIGNAL */ // the byte's bit 0 places nothing
-    reg [10:0]  s12_hi;
-    /* verilator lint_on UNUSEDSIGNAL */
+    // 12: eta = ceil(16 E / 2^m), and the truncation term 2^(4 - S)
     reg [53:0]  s12_words;
+    reg [24:0]  s12_eta;
+    reg [20:0]  s12_trunc;
     always @(posedge clk) begin
-        s12_hi <= lead36_hi({9'b0, s11_need1});
         s12_words <= s11_words;
+        s12_eta <= {1'b0, s11_eta} + {24'b0, s11_rem};
+        s12_trunc <= 21'd1 << s11_texp;
     end
 
-    // 13: kappa = bits(need - 1) - 4 = its leading one's place - 3
-    wire [5:0] k = {s12_hi[10:8], lead8(s12_hi[7:1])} - 6'd3;
+    // 13: need - 1, in sixteenths (need >= 18: eta and the truncation term are at least 1)
+    reg [53:0]  s13_words;
+    reg [26:0]  s13_need1;
+    always @(posedge clk) begin
+        s13_words <= s12_words;
+        s13_need1 <= 27'd15 + {2'b0, s12_eta} + {6'b0, s12_trunc};
+    end
+
+    // 14: the top of need - 1's leading one
+    /* verilator lint_off UNUSEDSIGNAL */ // the byte's bit 0 places nothing
+    reg [10:0]  s14_hi;
+    /* verilator lint_on UNUSEDSIGNAL */
+    reg [53:0]  s14_words;
+    always @(posedge clk) begin
+        s14_hi <= lead36_hi({9'b0, s13_need1});
+        s14_words <= s13_words;
+    end
+
+    // 15: kappa = bits(need - 1) - 4 = its leading one's place - 3
+    wire [5:0] k = {s14_hi[10:8], lead8(s14_hi[7:1])} - 6'd3;
     always @(posedge clk) begin
         out_valid <= valid[LATENCY-2];
-        out_words <= s12_words;
+        out_words <= s14_words;
         out_kappa <= (k > 6'd15) ? 4'd15 : k[3:0];
     end
 endmodule

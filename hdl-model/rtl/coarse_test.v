@@ -67,48 +67,48 @@ module coarse_test (
         end
     end
 
-    // 2b: B
-    reg               s2b_valid, s2b_quad, s2b_decline;
-    reg signed [37:0] s2b_a [0:3];
-    reg signed [37:0] s2b_b [0:3];
-    always @(posedge clk) begin
-        s2b_valid <= s2_valid;
-        s2b_quad <= s2_quad;
-        s2b_decline <= s2_kappa == 4'd15;
-        for (k = 0; k < 4; k = k + 1) begin
-            s2b_a[k] <= s2_a[k];
-            s2b_b[k] <= ({18'b0, s2_dsum} << s2_kappa) + {18'b0, s2_esum[k]};
-        end
-    end
-
-    // 3: A - B and A + B (side by side, where A <= -B after a negation was two carry chains)
+    // 3: B
     reg               s3_valid, s3_quad, s3_decline;
-    reg signed [37:0] s3_lo [0:3];
-    reg signed [37:0] s3_hi [0:3];
+    reg signed [37:0] s3_a [0:3];
+    reg signed [37:0] s3_b [0:3];
     always @(posedge clk) begin
-        s3_valid <= s2b_valid;
-        s3_quad <= s2b_quad;
-        s3_decline <= s2b_decline;
+        s3_valid <= s2_valid;
+        s3_quad <= s2_quad;
+        s3_decline <= s2_kappa == 4'd15;
         for (k = 0; k < 4; k = k + 1) begin
-            s3_lo[k] <= s2b_a[k] - s2b_b[k];
-            s3_hi[k] <= s2b_a[k] + s2b_b[k];
+            s3_a[k] <= s2_a[k];
+            s3_b[k] <= ({18'b0, s2_dsum} << s2_kappa) + {18'b0, s2_esum[k]};
         end
     end
 
-    // 4: each edge certainly positive (A - B >= 0) or negative (A + B <= 0), and the verdict
+    // 4: A - B and A + B (side by side, where A <= -B after a negation was two carry chains)
+    reg               s4_valid, s4_quad, s4_decline;
+    reg signed [37:0] s4_lo [0:3];
+    reg signed [37:0] s4_hi [0:3];
+    always @(posedge clk) begin
+        s4_valid <= s3_valid;
+        s4_quad <= s3_quad;
+        s4_decline <= s3_decline;
+        for (k = 0; k < 4; k = k + 1) begin
+            s4_lo[k] <= s3_a[k] - s3_b[k];
+            s4_hi[k] <= s3_a[k] + s3_b[k];
+        end
+    end
+
+    // 5: each edge certainly positive (A - B >= 0) or negative (A + B <= 0), and the verdict
     wire [3:0] pos, neg, used;
     genvar e;
     generate
         for (e = 0; e < 4; e = e + 1) begin : edge_test
-            assign pos[e] = !s3_decline && !s3_lo[e][37];
-            assign neg[e] = !s3_decline && (s3_hi[e][37] || s3_hi[e] == 38'sd0);
-            assign used[e] = e < 3 || s3_quad;
+            assign pos[e] = !s4_decline && !s4_lo[e][37];
+            assign neg[e] = !s4_decline && (s4_hi[e][37] || s4_hi[e] == 38'sd0);
+            assign used[e] = e < 3 || s4_quad;
         end
     endgenerate
     wire [3:0] open_edges = used & ~pos & ~neg;
     wire outside = |(used & neg);
     always @(posedge clk) begin
-        out_valid <= s3_valid;
+        out_valid <= s4_valid;
         out_decided <= outside || open_edges == 4'd0;
         out_inside <= !outside && open_edges == 4'd0;
         out_undecided <= outside ? 3'd0 : {2'b0, open_edges[0]} + {2'b0, open_edges[1]} +
