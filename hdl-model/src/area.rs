@@ -456,13 +456,14 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
 /// The compact set-up unit's coarse edge words, an edge a clock
 /// ([`crate::intersect::coarse::narrow_edge`]): the edge's vector Δ = v − u (three subtractors
 /// of 35 bits), Δ into 18 bits (its leading one, three shifters of six levels on 67 bits, as
-/// `rtl/coarse_edge.v` shifts Δ·2^33; the
-/// corner's own 18 bits are the culling's, below), X = ũ × Δ̃ (six 18 × 18 products, three
-/// subtractions of 36 bits), X's top bits into the words (a leading one, three shifters of five
-/// levels on 36 bits), and κ: the bound E (four negations of 18 bits, three sums of four 18-bit
-/// magnitudes and two compares, 20 bits), its shift by m, the exponent sum S and the sum of the
-/// three terms (24 bits each), and κ's leading one. Since session 22: six 34 × 34 products
-/// before, which in LUT4s were 35,000 of the default build.
+/// `rtl/coarse_edge.v` shifts Δ·2^33; the corner's own 18 bits are the culling's, below),
+/// X = ũ × Δ̃ (six 18 × 18 products, three subtractions of 36 bits), X's top bits into the
+/// words (a leading one, three shifters of five levels on 36 bits), and κ: the bound E (four
+/// negations of 18 bits, three sums of four 18-bit magnitudes and two compares, 20 bits), its
+/// shift by m, the exponent sum S and the sum of the three terms (24 bits each), and κ's
+/// leading one. Each bank's h product (32 × 34) is listed after its six, as before, so that
+/// the DSP tiles go to the banks in the same order. Since session 22: six 34 × 34 products
+/// before.
 fn narrow_edges(p: &mut Proxy, banks: u64) {
     for _ in 0..banks {
         p.mul(6, 18, 18);

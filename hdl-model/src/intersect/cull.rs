@@ -511,17 +511,16 @@ mod tests {
                 c.words[k] = coarse_edge(&e[k]);
                 continue;
             }
-            // the case's e is ±(a_k × a_k+1): its sign from the first nonzero component
+            // the case's e is ±(a_k × a_k+1): negated where it points against the product
             let (u, v) = (a[k], a[(k + 1) % a.len()]);
-            let x = (u[1] as i128 * v[2] as i128 - u[2] as i128 * v[1] as i128) as i64;
-            let y = (u[2] as i128 * v[0] as i128 - u[0] as i128 * v[2] as i128) as i64;
-            let first = if x != 0 { x } else { y };
-            let negate = if x != 0 {
-                e[k][0] != x
-            } else {
-                e[k][1] != first
-            };
-            let (w, kappa) = narrow_edge(&u, &v, 0, negate);
+            let (ui, vi) = (u.map(|c| c as i128), v.map(|c| c as i128));
+            let cross = [
+                ui[1] * vi[2] - ui[2] * vi[1],
+                ui[2] * vi[0] - ui[0] * vi[2],
+                ui[0] * vi[1] - ui[1] * vi[0],
+            ];
+            let along: i128 = (0..3).map(|c| cross[c] * e[k][c] as i128).sum();
+            let (w, kappa) = narrow_edge(&u, &v, 0, along < 0);
             c.words[k] = w;
             c.kappa = c.kappa.max(kappa);
         }
