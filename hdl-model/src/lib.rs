@@ -12,7 +12,9 @@
 //! - [`driver`]: the driver, generic over [`driver::RegisterAccess`] (the model here, volatile
 //!   MMIO in the firmware);
 //! - [`accel`]: [`accel::RegisterAccelerator`], the kernel's `Accelerator` on top of the driver
-//!   over any register access, and [`accel::ModelAccelerator`], that over the model's bus.
+//!   over any register access, and [`accel::ModelAccelerator`], that over the model's bus;
+//!   on hosts `accel::StreamingAccelerator`, which streams a scene larger than patch memory
+//!   through it in blocks;
 //!
 //! The datapath is integer/fixed point only; f32 appears only in [`accel`], where the kernel's
 //! values are converted to register words and back.
@@ -36,5 +38,7 @@ pub mod rotator;
 pub mod table;
 
 pub use accel::{ModelAccelerator, ModelConfig, ModelError, RegisterAccelerator};
+#[cfg(feature = "alloc")]
+pub use accel::{StreamingAccelerator, StreamingModel};
 pub use driver::{Driver, DriverError, ModelBus, RegisterAccess, StreamPort};
 pub use params::Params;

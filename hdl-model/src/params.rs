@@ -26,8 +26,11 @@ pub const MAX_LANES: u32 = 16;
 pub const MAX_SECTORS: u32 = 64;
 /// Widest front end.
 pub const MAX_RAYS_PER_CLOCK: u32 = 4;
-/// Most patch slots on chip (CAPS holds the count in 16 bits).
-pub const MAX_CAPACITY: u32 = 32768;
+/// Most patch slots on chip: the slots of the PATCH_DATA window below control-point memory
+/// (`CP_BASE / PATCH_WORDS`). Until the streaming of larger scenes this said 32,768 (what
+/// CAPS's 16 bits hold), and a build of more than 4,096 slots failed to load its scene.
+pub const MAX_CAPACITY: u32 =
+    crate::intersect::patch_mem::CP_BASE / crate::intersect::patch_mem::PATCH_WORDS as u32;
 
 /// The build parameters.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -38,7 +41,7 @@ pub struct Params {
     pub sectors: u32,
     /// Rays entering and leaving per clock (1..=4).
     pub rays_per_clock: u32,
-    /// Patch slots per bank (banks × bank_slots ≤ 32768).
+    /// Patch slots per bank (banks × bank_slots ≤ [`MAX_CAPACITY`]).
     pub bank_slots: u32,
     /// The compact datapath (CAPS_LANES bit 25): double-buffered set-up, coarse edge tests
     /// with a shared exact unit.

@@ -31,6 +31,11 @@ use hemi_kernel::hemisphere::Hemisphere;
 use hemi_kernel::patch::{Patch, Shape};
 use hemi_kernel::rotation::Rotation;
 
+#[cfg(feature = "alloc")]
+mod streaming;
+#[cfg(feature = "alloc")]
+pub use streaming::{StreamingAccelerator, StreamingModel};
+
 /// The accelerator's build parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ModelConfig {
@@ -109,9 +114,8 @@ impl From<DriverError> for ModelError {
 /// volatile MMIO on a board. Everything it does goes through the driver.
 pub struct RegisterAccelerator<B: RegisterAccess> {
     driver: Driver<B>,
-    centre: [f64; 3],
-    /// fixed-point units per scene unit (a power of two)
-    scale: f64,
+    /// scene units to fixed point (centre, a power-of-two scale)
+    norm: Normalise,
     frame: Option<Rotation>,
     origin: Option<[u32; 3]>,
     mode: Option<u32>,
@@ -146,8 +150,7 @@ impl ModelAccelerator {
         // by value.)
         let mut acc = RegisterAccelerator {
             driver: Driver::unattached(ModelBus::with_params(config.params)),
-            centre: [0.0; 3],
-            scale: 1.0,
+            norm: Normalise::IDENTITY,
             frame: None,
             origin: None,
             mode: None,
@@ -158,6 +161,23 @@ impl ModelAccelerator {
         };
         acc.load(patches, config)?;
         Ok(acc)
+    }
+
+    /// A model of `params`, not yet attached, configured or loaded: for hosts (the `alloc`
+    /// feature), whose model keeps its memories on the heap, so moving it is cheap.
+    #[cfg(feature = "alloc")]
+    fn unloaded_model(params: Params) -> Self {
+        RegisterAccelerator {
+            driver: Driver::unattached(ModelBus::with_params(params)),
+            norm: Normalise::IDENTITY,
+            frame: None,
+            origin: None,
+            mode: None,
+            origin_patch: None,
+            skip: None,
+            rays: 0,
+            out_of_range: 0,
+        }
     }
 
     /// Clocks the model has run (the CYCLE counter, read without spending bus cycles on it).
@@ -182,8 +202,7 @@ impl<B: RegisterAccess> RegisterAccelerator<B> {
     pub fn with_bus(bus: B, patches: &[Patch], config: ModelConfig) -> Result<Self, ModelError> {
         let mut acc = RegisterAccelerator {
             driver: Driver::unattached(bus),
-            centre: [0.0; 3],
-            scale: 1.0,
+            norm: Normalise::IDENTITY,
             frame: None,
             origin: None,
             mode: None,
@@ -213,95 +232,62 @@ impl<B: RegisterAccess> RegisterAccelerator<B> {
     }
 
     fn load(&mut self, patches: &[Patch], config: ModelConfig) -> Result<(), ModelError> {
-        let driver = &mut self.driver;
-        driver.attach()?;
-        driver.configure(config.iterations, config.width, config.depth)?;
-        driver.configure_subdivision(config.subdivision_depth, config.coord_width)?;
-        let capacity = driver.patch_capacity();
+        self.configure(config)?;
+        let capacity = self.driver.patch_capacity();
         if patches.len() > capacity as usize {
             return Err(ModelError::TooManyPatches {
                 count: patches.len(),
                 capacity,
             });
         }
-        let beziers = patches
-            .iter()
-            .filter(|p| matches!(p.shape, Shape::Bezier(_)))
-            .count();
+        let beziers = bezier_count(patches);
         if beziers > BEZIER_ROWS {
             return Err(ModelError::TooManyBezierPatches {
                 count: beziers,
                 capacity: BEZIER_ROWS,
             });
         }
-        // bounding box (of vertices and control points) → centre and power-of-two scale (so the
-        // conversion is exact)
-        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-        for p in patches {
-            for v in p.hull() {
-                for (c, x) in [v.x, v.y, v.z].into_iter().enumerate() {
-                    lo[c] = lo[c].min(x as f64);
-                    hi[c] = hi[c].max(x as f64);
-                }
-            }
-        }
-        let (centre, half) = if patches.is_empty() {
-            ([0.0; 3], 1.0)
-        } else {
-            let centre: [f64; 3] = core::array::from_fn(|c| (lo[c] + hi[c]) / 2.0);
-            let half = (0..3).map(|c| (hi[c] - lo[c]) / 2.0).fold(0.0, f64::max);
-            (centre, half)
-        };
-        let mut scale = 1.0f64;
-        while half * scale > 1.0 {
-            scale /= 2.0;
-        }
-        while half > 0.0 && half * scale * 2.0 <= 1.0 {
-            scale *= 2.0;
-        }
-        let frame = Normalise {
-            centre,
-            scale,
-            flatness: config.flatness,
-        };
-        // Check every patch converts, then stream the words: nothing patch-sized is kept on the
-        // stack (one model per worker thread lives there, and rayon's workers nest jobs).
-        let mut row = 0u32;
-        for (index, p) in patches.iter().enumerate() {
-            let ok = match &p.shape {
-                Shape::Polygon(_) => frame.encode(p).is_some(),
-                Shape::Bezier(b) => frame.encode_bezier(b, 0).is_some(),
-            };
-            if !ok {
-                return Err(ModelError::BadGeometry(index));
-            }
-        }
+        self.norm = Normalise::around(patches, config.flatness)?;
+        self.load_block(patches)
+    }
+
+    /// Attaches and configures the accelerator (CORDIC, (u,v) depth, Bezier subdivision).
+    fn configure(&mut self, config: ModelConfig) -> Result<(), ModelError> {
+        let driver = &mut self.driver;
+        driver.attach()?;
+        driver.configure(config.iterations, config.width, config.depth)?;
+        driver.configure_subdivision(config.subdivision_depth, config.coord_width)?;
+        Ok(())
+    }
+
+    /// Writes `block` into patch memory from slot 0 (its Bezier patches into control-point
+    /// rows from row 0) in the normalisation already chosen, whose range every patch of the
+    /// block was checked against ([`Normalise::around`]).
+    fn load_block(&mut self, block: &[Patch]) -> Result<(), ModelError> {
+        let frame = self.norm;
         // PATCH_ADDR auto-increments: one run of PATCH_DATA writes fills every control-point
-        // row, another every slot
-        driver.load_control_points(patches.iter().filter_map(|p| match &p.shape {
-            Shape::Bezier(b) => frame.encode_bezier(b, 0).map(|(_, words)| words),
-            Shape::Polygon(_) => None,
-        }))?;
-        driver.load_patches(patches.iter().map(|p| match &p.shape {
-            Shape::Polygon(_) => frame.encode(p).unwrap_or_default(),
-            Shape::Bezier(b) => {
-                let slot = frame.encode_bezier(b, row).map(|(s, _)| s);
-                row += 1;
-                slot.unwrap_or_default()
-            }
-        }))?;
-        self.centre = centre;
-        self.scale = scale;
+        // row, another every slot. Nothing patch-sized is kept on the stack (one model per
+        // worker thread lives there, and rayon's workers nest jobs).
+        self.driver
+            .load_control_points(block.iter().filter_map(|p| match &p.shape {
+                Shape::Bezier(b) => frame.encode_bezier(b, 0).map(|(_, words)| words),
+                Shape::Polygon(_) => None,
+            }))?;
+        let mut row = 0u32;
+        self.driver
+            .load_patches(block.iter().map(|p| match &p.shape {
+                Shape::Polygon(_) => frame.encode(p).unwrap_or_default(),
+                Shape::Bezier(b) => {
+                    let slot = frame.encode_bezier(b, row).map(|(s, _)| s);
+                    row += 1;
+                    slot.unwrap_or_default()
+                }
+            }))?;
         Ok(())
     }
 
     fn coord(&self, v: Vec3) -> Option<[u32; 3]> {
-        Normalise {
-            centre: self.centre,
-            scale: self.scale,
-            flatness: 0.0,
-        }
-        .coord(v)
+        self.norm.coord(v)
     }
 
     fn set_skip(&mut self, patch: Option<u32>) {
@@ -415,22 +401,8 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
         want_uv: bool,
         mut sink: F,
     ) {
-        if !self.set_origin(origin) {
-            self.out_of_range += dirs.len() as u64;
-            for i in 0..dirs.len() {
-                sink(i, None);
-            }
-            return;
-        }
-        self.set_mode(mode::TRACE | uv_flag(want_uv));
-        self.set_skip(self.origin_patch);
-        self.rays += dirs.len() as u64;
-        let mut hits = HitSink {
-            scale: self.scale,
-            sink: &mut sink,
-        };
-        let words = |i: usize| [dirs[i].x, dirs[i].y, dirs[i].z].map(unit_word);
-        self.stream(dirs.len(), words, |i, r| hits.put(i, r));
+        let scale = self.norm.scale;
+        self.cast_from_words(origin, dirs, want_uv, |i, r| sink(i, decode(scale, r)));
     }
 
     fn cast_rings<F: FnMut(usize, u32, Option<Hit>)>(
@@ -442,14 +414,65 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
         want_uv: bool,
         mut sink: F,
     ) {
+        let scale = self.norm.scale;
+        self.cast_rings_words(origin, rot, hemi, rings, want_uv, |j, k, r| {
+            sink(j, k, decode(scale, r))
+        });
+    }
+
+    fn cast_hemispheres<F: FnMut(usize, usize, u32, Option<Hit>)>(
+        &mut self,
+        shots: &[HemiShot],
+        hemi: &Hemisphere<'_>,
+        rings: core::ops::Range<usize>,
+        want_uv: bool,
+        mut sink: F,
+    ) {
+        let scale = self.norm.scale;
+        self.cast_hemispheres_words(shots, hemi, rings, want_uv, |s, j, k, r| {
+            sink(s, j, k, decode(scale, r))
+        });
+    }
+}
+
+/// The casts as the accelerator answers them: RESULT words (a miss, or an origin out of
+/// range, is [`MISS`]), which [`decode`] turns into hits and the streaming accelerator compares
+/// across blocks without rounding t to f32 first.
+impl<B: RegisterAccess> RegisterAccelerator<B> {
+    fn cast_from_words(
+        &mut self,
+        origin: Vec3,
+        dirs: &[Vec3],
+        want_uv: bool,
+        mut sink: impl FnMut(usize, [u32; 4]),
+    ) {
+        if !self.set_origin(origin) {
+            self.out_of_range += dirs.len() as u64;
+            (0..dirs.len()).for_each(|i| sink(i, MISS));
+            return;
+        }
+        self.set_mode(mode::TRACE | uv_flag(want_uv));
+        self.set_skip(self.origin_patch);
+        self.rays += dirs.len() as u64;
+        let words = |i: usize| [dirs[i].x, dirs[i].y, dirs[i].z].map(unit_word);
+        self.stream(dirs.len(), words, sink);
+    }
+
+    fn cast_rings_words(
+        &mut self,
+        origin: Vec3,
+        rot: &Rotation,
+        hemi: &Hemisphere<'_>,
+        rings: core::ops::Range<usize>,
+        want_uv: bool,
+        mut sink: impl FnMut(usize, u32, [u32; 4]),
+    ) {
         let all = hemi.rings();
-        let n: usize = rings.clone().map(|j| all[j].count as usize).sum();
+        let n = rays_in(hemi, rings.clone());
         if !self.set_origin(origin) {
             self.out_of_range += n as u64;
             for j in rings {
-                for k in 0..all[j].count {
-                    sink(j, k, None);
-                }
+                (0..all[j].count).for_each(|k| sink(j, k, MISS));
             }
             return;
         }
@@ -459,7 +482,6 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
         self.rays += n as u64;
         let mut push = RingCursor::new(hemi, rings.clone());
         let mut pop = RingCursor::new(hemi, rings);
-        let scale = self.scale;
         self.stream(
             n,
             |_| {
@@ -469,8 +491,7 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
             },
             |_, r| {
                 let (j, k) = pop.next_index();
-                let hit = decode(scale, r);
-                sink(j, k, hit);
+                sink(j, k, r);
             },
         );
     }
@@ -478,23 +499,19 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
     /// Every shot's registers and rays follow the last shot's rays into the FIFO without
     /// waiting for their results (the registers are latched per entry), so the pipeline drains
     /// once per batch instead of once per hemisphere.
-    fn cast_hemispheres<F: FnMut(usize, usize, u32, Option<Hit>)>(
+    fn cast_hemispheres_words(
         &mut self,
         shots: &[HemiShot],
         hemi: &Hemisphere<'_>,
         rings: core::ops::Range<usize>,
         want_uv: bool,
-        mut sink: F,
+        mut sink: impl FnMut(usize, usize, u32, [u32; 4]),
     ) {
         let mut pop = BatchCursor {
             shots,
             hemi,
             rings: rings.clone(),
-            frame: Normalise {
-                centre: self.centre,
-                scale: self.scale,
-                flatness: 0.0,
-            },
+            frame: self.norm,
             s: 0,
             j: rings.start,
             k: 0,
@@ -506,42 +523,38 @@ impl<B: RegisterAccess> Accelerator for RegisterAccelerator<B> {
             if !self.feed_shot(shot, hemi, rings.clone(), mode_word, &mut pop, &mut sink) {
                 self.out_of_range += rays_in(hemi, rings.clone()) as u64;
                 for j in rings.clone() {
-                    (0..hemi.rings()[j].count).for_each(|k| sink(s, j, k, None));
+                    (0..hemi.rings()[j].count).for_each(|k| sink(s, j, k, MISS));
                 }
             }
         }
-        let scale = self.scale;
         let rest = pop.outstanding;
         device_ok(self.driver.collect(rest, |_, r| {
             let (s, j, k) = pop.next_index();
-            sink(s, j, k, decode(scale, r));
+            sink(s, j, k, r);
         }));
         self.origin_patch = None;
     }
-}
 
-impl<B: RegisterAccess> RegisterAccelerator<B> {
     /// One shot of a batch: its registers written (origin, frame, mode, skip) and its rays fed
     /// while earlier shots' results are handed to `sink` through `pop`; false if its origin is
     /// out of range (nothing fed).
-    fn feed_shot<F: FnMut(usize, usize, u32, Option<Hit>)>(
+    fn feed_shot(
         &mut self,
         shot: &HemiShot,
         hemi: &Hemisphere<'_>,
         rings: core::ops::Range<usize>,
         mode_word: u32,
         pop: &mut BatchCursor<'_, '_>,
-        sink: &mut F,
+        sink: &mut impl FnMut(usize, usize, u32, [u32; 4]),
     ) -> bool {
         if !self.set_origin(shot.origin) {
             return false;
         }
         if self.frame != Some(shot.rot) {
             // the frame command is an entry of the ray FIFO, which the last shot may have filled
-            let scale = self.scale;
             let made = self.driver.make_room(|_, r| {
                 let (s, j, k) = pop.next_index();
-                sink(s, j, k, decode(scale, r));
+                sink(s, j, k, r);
             });
             device_ok(made);
         }
@@ -552,7 +565,6 @@ impl<B: RegisterAccess> RegisterAccelerator<B> {
         self.rays += n as u64;
         pop.outstanding += n;
         let mut push = RingCursor::new(hemi, rings);
-        let scale = self.scale;
         let fed = self.driver.feed(
             n,
             |_| {
@@ -562,7 +574,7 @@ impl<B: RegisterAccess> RegisterAccelerator<B> {
             },
             |_, r| {
                 let (s, j, k) = pop.next_index();
-                sink(s, j, k, decode(scale, r));
+                sink(s, j, k, r);
             },
         );
         device_ok(fed);
@@ -624,6 +636,57 @@ struct Normalise {
 }
 
 impl Normalise {
+    /// No shift, no scaling: what an accelerator holds before its first scene.
+    const IDENTITY: Normalise = Normalise {
+        centre: [0.0; 3],
+        scale: 1.0,
+        flatness: 0.0,
+    };
+
+    /// The normalisation of `patches`: about the centre of their bounding box (of vertices and
+    /// control points), scaled by a power of two (so the conversion is exact) to fill
+    /// [−1, 1]; an error names the first patch that does not convert.
+    fn around(patches: &[Patch], flatness: f32) -> Result<Normalise, ModelError> {
+        let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+        for p in patches {
+            for v in p.hull() {
+                for (c, x) in [v.x, v.y, v.z].into_iter().enumerate() {
+                    lo[c] = lo[c].min(x as f64);
+                    hi[c] = hi[c].max(x as f64);
+                }
+            }
+        }
+        let (centre, half) = if patches.is_empty() {
+            ([0.0; 3], 1.0)
+        } else {
+            let centre: [f64; 3] = core::array::from_fn(|c| (lo[c] + hi[c]) / 2.0);
+            let half = (0..3).map(|c| (hi[c] - lo[c]) / 2.0).fold(0.0, f64::max);
+            (centre, half)
+        };
+        let mut scale = 1.0f64;
+        while half * scale > 1.0 {
+            scale /= 2.0;
+        }
+        while half > 0.0 && half * scale * 2.0 <= 1.0 {
+            scale *= 2.0;
+        }
+        let norm = Normalise {
+            centre,
+            scale,
+            flatness,
+        };
+        for (index, p) in patches.iter().enumerate() {
+            let ok = match &p.shape {
+                Shape::Polygon(_) => norm.encode(p).is_some(),
+                Shape::Bezier(b) => norm.encode_bezier(b, 0).is_some(),
+            };
+            if !ok {
+                return Err(ModelError::BadGeometry(index));
+            }
+        }
+        Ok(norm)
+    }
+
     /// A scene point as Q8.24 words, if in range (f64 arithmetic: exact for f32 inputs).
     fn coord(&self, v: Vec3) -> Option<[u32; 3]> {
         let p = [v.x, v.y, v.z];
@@ -681,6 +744,14 @@ impl Normalise {
     }
 }
 
+/// Bezier patches among `patches` (each takes a row of control-point memory).
+fn bezier_count(patches: &[Patch]) -> usize {
+    patches
+        .iter()
+        .filter(|p| matches!(p.shape, Shape::Bezier(_)))
+        .count()
+}
+
 /// MODE.NO_UV unless the caller wants (u,v): short results cost two bus reads fewer per ray, and
 /// the model skips the (u,v) unit's arithmetic for them.
 fn uv_flag(want_uv: bool) -> u32 {
@@ -691,6 +762,10 @@ fn uv_flag(want_uv: bool) -> u32 {
     }
 }
 
+/// RESULT words of no hit.
+const MISS: [u32; 4] = [0; 4];
+
+/// A hit from RESULT words, t back in scene units.
 fn decode(scale: f64, r: [u32; 4]) -> Option<Hit> {
     if r[0] & result::HIT == 0 {
         return None;
@@ -703,17 +778,6 @@ fn decode(scale: f64, r: [u32; 4]) -> Option<Hit> {
         v: unit_f32(r[3]),
         front: r[0] & result::FRONT != 0,
     })
-}
-
-struct HitSink<'s, F: FnMut(usize, Option<Hit>)> {
-    scale: f64,
-    sink: &'s mut F,
-}
-
-impl<F: FnMut(usize, Option<Hit>)> HitSink<'_, F> {
-    fn put(&mut self, i: usize, r: [u32; 4]) {
-        (self.sink)(i, decode(self.scale, r));
-    }
 }
 
 /// Walks (ring, index) over a range of rings in the order the rays are streamed.
