@@ -11,7 +11,7 @@
 //! Every build of the accelerator (lanes, culling sectors, front-end width: `Params`) must give
 //! the default build's answers bit for bit; only its clocks differ.
 
-use hemi_hdl_model::{ModelAccelerator, ModelConfig, Params};
+use hemi_hdl_model::{ModelAccelerator, ModelConfig, Params, StreamingModel};
 use hemi_kernel::accel::{Accelerator, HemiShot, Hit, Ray};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
@@ -71,16 +71,33 @@ fn run(
     every: usize,
     want_uv: bool,
 ) -> (u64, u64, u64) {
+    let scene = load(scene);
+    let patches = scene.kernel_patches();
+    let mut model = Box::new(ModelAccelerator::new(&patches, cfg).unwrap());
+    let (all, no_uv) = answers(&scene, &mut *model, circles, every, want_uv);
+    (all, no_uv, model.cycles())
+}
+
+fn load(scene: &str) -> hemi::scene::Scene {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let scene = hemi::scene::load(&root.join(scene)).unwrap();
+    hemi::scene::load(&root.join(scene)).unwrap()
+}
+
+/// The digests of [`run`]'s workload on `model`, an engine over `scene`'s kernel patches.
+fn answers(
+    scene: &hemi::scene::Scene,
+    model: &mut impl Accelerator,
+    circles: u32,
+    every: usize,
+    want_uv: bool,
+) -> (u64, u64) {
     let patches = scene.kernel_patches();
     let hemi = OwnedHemisphere::new(circles, DeltaRule::Band).unwrap();
     let view = hemi.view();
-    let mut model = Box::new(ModelAccelerator::new(&patches, cfg).unwrap());
     let mut d = Digest::new();
     let points: Vec<_> = (0..patches.len())
         .flat_map(|i| {
-            hemi::shots::sample_points(&scene, i, 2)
+            hemi::shots::sample_points(scene, i, 2)
                 .into_iter()
                 .map(move |p| (i, p))
         })
@@ -115,7 +132,7 @@ fn run(
         );
         d.hit(h);
     }
-    (d.all.0, d.no_uv.0, model.cycles())
+    (d.all.0, d.no_uv.0)
 }
 
 /// Runs the workload with and without (u,v): the answers other than (u,v) must be the same.
@@ -242,6 +259,60 @@ fn every_build_gives_the_same_answers() {
     }
 }
 
+/// Builds whose patch memory holds fewer patches than the Cornell box (20) and the teapot scene
+/// (34): two lanes of four slots (8 a block) and four lanes in two groups of two slots (4 a
+/// block, and a sixteen-sector culling).
+const SMALL_MEMORIES: [Params; 2] = [
+    Params {
+        lanes: 2,
+        sectors: 32,
+        rays_per_clock: 2,
+        bank_slots: 4,
+        compact: true,
+        ray_groups: 1,
+    },
+    Params {
+        lanes: 4,
+        sectors: 16,
+        rays_per_clock: 1,
+        bank_slots: 2,
+        compact: true,
+        ray_groups: 2,
+    },
+];
+
+/// A scene larger than the build's patch memory, streamed through it in blocks, gives the
+/// answers of a memory that holds it all, bit for bit ((u,v) included): hemispheres whose own
+/// patch sits in one block and not in the others, rotations, single rays from outside, planar
+/// and Bezier patches; and the stream costs clocks.
+#[test]
+fn a_scene_streamed_in_blocks_answers_as_one_memory() {
+    for (scene, circles, every, pinned) in [
+        ("scenes/cornell.toml", 12, 3, PINNED_CORNELL),
+        ("scenes/teapot.toml", 4, 9, PINNED_TEAPOT),
+    ] {
+        let scene_data = load(scene);
+        let patches = scene_data.kernel_patches();
+        for params in SMALL_MEMORIES {
+            let cfg = ModelConfig {
+                params,
+                ..ModelConfig::default()
+            };
+            let mut model = Box::new(StreamingModel::new(&patches, cfg).unwrap());
+            assert!(model.blocks() >= 3, "{scene}: {} blocks", model.blocks());
+            let got = answers(&scene_data, &mut *model, circles, every, true);
+            println!(
+                "{scene} in {} blocks of {params:?}: {} clocks, {} streaming",
+                model.blocks(),
+                model.cycles(),
+                model.stream_cycles()
+            );
+            assert_eq!(got, (pinned.0, pinned.1), "{scene}, {params:?}");
+            assert!(model.stream_cycles() > 0);
+        }
+    }
+}
+
 // Clocks re-pinned (Cornell 73,668 → 73,749 and narrow 12,771 → 12,819; teapot 285,815 → 285,989
 // and narrow 100,912 → 100,981) when the compact datapath's plane unit read a pair's n from its
 // ray group's normal memory (a clock more of latency) instead of taking it from the lane's word;
@@ -307,17 +378,14 @@ fn a_batch_of_hemispheres_answers_as_its_shots_one_by_one() {
     }
 }
 
-fn batch_against_one_by_one(cfg: ModelConfig) {
-    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let scene = hemi::scene::load(&root.join("scenes/cornell.toml")).unwrap();
+/// The batch workload: Cornell box shots from every fourth patch (a third of them without their
+/// own patch), one far outside the coordinates' reach.
+fn batch_shots(scene: &hemi::scene::Scene) -> Vec<HemiShot> {
     let patches = scene.kernel_patches();
-    let hemi = OwnedHemisphere::new(8, DeltaRule::Band).unwrap();
-    let view = hemi.view();
-    let rings = 0..view.rings().len();
     let mut shots: Vec<HemiShot> = (0..patches.len())
         .step_by(4)
         .flat_map(|i| {
-            hemi::shots::sample_points(&scene, i, 2)
+            hemi::shots::sample_points(scene, i, 2)
                 .into_iter()
                 .map(move |p| (i, p))
         })
@@ -332,6 +400,16 @@ fn batch_against_one_by_one(cfg: ModelConfig) {
     let mut far = shots[1];
     far.origin = Vec3::new(1e6, 0.0, 0.0);
     shots.insert(2, far);
+    shots
+}
+
+fn batch_against_one_by_one(cfg: ModelConfig) {
+    let scene = load("scenes/cornell.toml");
+    let patches = scene.kernel_patches();
+    let hemi = OwnedHemisphere::new(8, DeltaRule::Band).unwrap();
+    let view = hemi.view();
+    let rings = 0..view.rings().len();
+    let shots = batch_shots(&scene);
     let mut one_by_one = Box::new(ModelAccelerator::new(&patches, cfg).unwrap());
     let mut want = Vec::new();
     for (s, shot) in shots.iter().enumerate() {
@@ -371,4 +449,52 @@ fn batch_against_one_by_one(cfg: ModelConfig) {
         batch_clocks < single_clocks,
         "{batch_clocks} ≥ {single_clocks}"
     );
+}
+
+/// A batch of hemispheres on a scene streamed in blocks answers as the same batch on one
+/// memory, in each shot's order of rays, each shot skipping its own patch in the block that holds it.
+#[test]
+fn a_streamed_batch_answers_as_one_memory() {
+    let scene = load("scenes/cornell.toml");
+    let patches = scene.kernel_patches();
+    let hemi = OwnedHemisphere::new(8, DeltaRule::Band).unwrap();
+    let view = hemi.view();
+    let rings = 0..view.rings().len();
+    let shots = batch_shots(&scene);
+    let mut one = Box::new(ModelAccelerator::new(&patches, ModelConfig::default()).unwrap());
+    let want = batch_answers(&mut *one, &shots, &view, rings.clone());
+    for params in SMALL_MEMORIES {
+        let cfg = ModelConfig {
+            params,
+            ..ModelConfig::default()
+        };
+        let mut streamed = Box::new(StreamingModel::new(&patches, cfg).unwrap());
+        let got = batch_answers(&mut *streamed, &shots, &view, rings.clone());
+        assert_eq!(got.len(), want.len());
+        if let Some(i) = (0..got.len()).find(|&i| got[i] != want[i]) {
+            panic!(
+                "{params:?}: result {i}: {:?} streamed, {:?} in one memory",
+                got[i], want[i]
+            );
+        }
+        assert_eq!(streamed.rays(), one.rays(), "rays counted once");
+        assert_eq!(streamed.out_of_range(), one.out_of_range());
+        assert!(one.out_of_range() > 0);
+    }
+}
+
+/// A batch's answers as (shot, ring, index, hit), each shot's in the order of its rays (a shot
+/// out of range is answered when it is fed, before earlier shots' results).
+fn batch_answers(
+    model: &mut impl Accelerator,
+    shots: &[HemiShot],
+    view: &hemi_kernel::hemisphere::Hemisphere<'_>,
+    rings: std::ops::Range<usize>,
+) -> Vec<(usize, usize, u32, Option<Hit>)> {
+    let mut out = Vec::new();
+    model.cast_hemispheres(shots, view, rings, true, |s, j, k, h| {
+        out.push((s, j, k, h))
+    });
+    out.sort_by_key(|g| g.0);
+    out
 }

@@ -127,11 +127,12 @@ impl ModelArgs {
         };
         anyhow::ensure!(
             params.is_valid(),
-            "--lanes {} --sectors {} --rays-per-clock {} --bank-slots {}: the model takes 1..=16 lanes, 0 or 8, 16, 32, 64 sectors, 1..=4 rays per clock and up to 32768 slots in all",
+            "--lanes {} --sectors {} --rays-per-clock {} --bank-slots {}: the model takes 1..=16 lanes, 0 or 8, 16, 32, 64 sectors, 1..=4 rays per clock and up to {} slots in all (banks × slots; a larger scene streams through them in blocks)",
             self.lanes,
             self.sectors,
             self.rays_per_clock,
-            self.bank_slots
+            self.bank_slots,
+            hemi_hdl_model::params::MAX_CAPACITY
         );
         Ok(ModelConfig {
             iterations: self.cordic_iterations,
@@ -190,6 +191,14 @@ impl Running<'_> {
         }
     }
 
+    /// The modelled accelerator's (blocks, streaming cycles) so far, for `--backend model`.
+    pub fn model_stream(&self) -> Option<(u64, u64)> {
+        match self {
+            Running::Model(b) => Some(b.engines().counters.stream()),
+            _ => None,
+        }
+    }
+
     /// The modelled accelerator's configuration, for `--backend model`.
     pub fn model_config(&self) -> Option<ModelConfig> {
         match self {
@@ -217,10 +226,18 @@ impl Running<'_> {
             0 => String::new(),
             n => format!(", {:.0} cycles/hemisphere", cycles as f64 / n as f64),
         };
+        let streamed = match self.model_stream() {
+            Some((blocks, clocks)) if blocks > 1 => format!(
+                " (the scene streamed through patch memory in {blocks} blocks: {clocks} of the \
+                 cycles, {:.1} %)",
+                100.0 * clocks as f64 / cycles.max(1) as f64
+            ),
+            _ => String::new(),
+        };
         eprintln!(
             "model ({} CORDIC iterations, {}-bit words; {} lanes, {} sectors, {} rays/clock): \
              {what}: {cycles} cycles for {rays} rays = {:.2} cycles/ray{per_hemisphere}; \
-             {:.3} s at {clock_mhz} MHz",
+             {:.3} s at {clock_mhz} MHz{streamed}",
             cfg.iterations,
             cfg.width,
             p.lanes,

@@ -178,8 +178,8 @@ pub struct ModelArgs {
     /// Rays its front end takes and returns per clock (`--backend model`; 1..=4).
     #[arg(long, default_value_t = Params::DEFAULT.rays_per_clock)]
     pub rays_per_clock: u32,
-    /// Patch slots per lane's bank of its on-chip patch memory (`--backend model`; lanes ×
-    /// slots ≤ 32768).
+    /// Patch slots per bank of its on-chip patch memory (`--backend model`; banks = lanes / ray
+    /// groups, banks × slots ≤ 4096; a larger scene streams through them in blocks).
     #[arg(long, default_value_t = Params::DEFAULT.bank_slots)]
     pub bank_slots: u32,
     /// The wide datapath instead of the compact one sized for an ECP5-85k (`--backend model`;

@@ -26,7 +26,7 @@ use std::ops::Range;
 
 /// Shots a worker casts in one batch (diffuse-only hemisphere shots): enough for a pipelined
 /// engine to drain seldom, few enough to keep the workers balanced.
-const SHOT_BATCH: usize = 8;
+pub const SHOT_BATCH: usize = 8;
 
 /// A kind of in-process engine: how to make one per worker thread over the kernel's patches.
 pub trait Engines: Sync {
@@ -46,6 +46,12 @@ pub trait Engines: Sync {
 
     /// An engine over `patches`; [`Engines::check`] has passed for them.
     fn engine<'p>(&'p self, patches: &'p [Patch]) -> Self::Engine<'p>;
+
+    /// Shots a batch holds for engines over `patches` (when [`Engines::BATCHES`]).
+    fn shot_batch(&self, patches: &[Patch]) -> usize {
+        let _ = patches;
+        SHOT_BATCH
+    }
 }
 
 /// Eye rays one pixel-tracer call casts at a time.
@@ -263,7 +269,11 @@ impl<E: Engines> Backend for InProcess<'_, E> {
         let batch =
             E::BATCHES && self.settings.method == Method::Hemisphere && !optics.has_specular();
         // one row per shot of a batch, made once per worker and left zero by `take`
-        let per_state = if batch { SHOT_BATCH } else { 1 };
+        let per_state = if batch {
+            self.engines.shot_batch(&self.optics.patches)
+        } else {
+            1
+        };
         let results: Vec<Vec<(ElementRow, ShotStats)>> = shots
             .par_chunks(per_state)
             .map_init(

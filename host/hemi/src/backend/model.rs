@@ -1,8 +1,9 @@
 //! The cycle-level model of the accelerator as an in-process engine, driven through its
 //! register driver, with the cycles and rays of all its per-thread engines summed.
 
+use super::in_process::SHOT_BATCH;
 use super::Engines;
-use hemi_hdl_model::{ModelAccelerator, ModelConfig, ModelError};
+use hemi_hdl_model::{ModelConfig, ModelError, StreamingModel};
 use hemi_kernel::accel::{Accelerator, HemiShot, Hit, Ray};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::Hemisphere;
@@ -44,6 +45,16 @@ impl Engines for Model {
         let inner = model_engine(patches, self.config).expect("checked when the backend was made");
         CountedModel::new(inner, &self.counters)
     }
+
+    /// A scene streamed in blocks reloads all but one of them for every batch: batches eight
+    /// times the usual size make that cost an eighth (the cut 8 × 8 box in three blocks:
+    /// 37 % of the clocks streaming at 8 shots, 7 % at 64; docs/PERFORMANCE.md).
+    fn shot_batch(&self, patches: &[Patch]) -> usize {
+        match StreamingModel::blocks_needed(patches, self.config.params) {
+            1 => SHOT_BATCH,
+            _ => 8 * SHOT_BATCH,
+        }
+    }
 }
 
 /// Cycles and rays summed over the model engines of a run (one engine per worker thread).
@@ -53,6 +64,10 @@ pub struct Counters {
     pub cycles: AtomicU64,
     /// Rays the accelerator cast.
     pub rays: AtomicU64,
+    /// Of the cycles, those spent streaming blocks of a scene larger than patch memory.
+    pub stream_cycles: AtomicU64,
+    /// Blocks the scene was cut into (1: it fits the patch memory).
+    pub blocks: AtomicU64,
 }
 
 impl Counters {
@@ -60,18 +75,23 @@ impl Counters {
     pub fn get(&self) -> (u64, u64) {
         (self.cycles.load(Relaxed), self.rays.load(Relaxed))
     }
+
+    /// (blocks, cycles spent streaming them) so far.
+    pub fn stream(&self) -> (u64, u64) {
+        (self.blocks.load(Relaxed), self.stream_cycles.load(Relaxed))
+    }
 }
 
 /// A model engine that adds its cycles and rays to shared [`Counters`] when dropped. The model
 /// (about 100 KB) lives on the heap: worker threads' stacks are rayon's 2 MiB by default.
 pub struct CountedModel<'c> {
-    inner: Box<ModelAccelerator>,
+    inner: Box<StreamingModel<'c>>,
     counters: &'c Counters,
 }
 
 impl<'c> CountedModel<'c> {
     /// Wraps `inner`.
-    pub fn new(inner: ModelAccelerator, counters: &'c Counters) -> Self {
+    pub fn new(inner: StreamingModel<'c>, counters: &'c Counters) -> Self {
         CountedModel {
             inner: Box::new(inner),
             counters,
@@ -83,6 +103,10 @@ impl Drop for CountedModel<'_> {
     fn drop(&mut self) {
         self.counters.cycles.fetch_add(self.inner.cycles(), Relaxed);
         self.counters.rays.fetch_add(self.inner.rays(), Relaxed);
+        let streamed = self.inner.stream_cycles();
+        self.counters.stream_cycles.fetch_add(streamed, Relaxed);
+        let blocks = self.inner.blocks() as u64;
+        self.counters.blocks.fetch_max(blocks, Relaxed);
     }
 }
 
@@ -130,15 +154,10 @@ impl Accelerator for CountedModel<'_> {
     }
 }
 
-/// Builds a model engine over `patches`, with an error that says what the model cannot load.
-pub fn model_engine(patches: &[Patch], config: ModelConfig) -> anyhow::Result<ModelAccelerator> {
-    ModelAccelerator::new(patches, config).map_err(|e| match e {
-        ModelError::TooManyPatches { count, capacity } => anyhow::anyhow!(
-            "--backend model: the scene has {count} patches, the accelerator's patch memory holds {capacity}"
-        ),
-        ModelError::TooManyBezierPatches { count, capacity } => anyhow::anyhow!(
-            "--backend model: the scene has {count} Bezier patches, the accelerator's control-point memory holds {capacity}"
-        ),
+/// Builds a model engine over `patches`, with an error that says what the model cannot load. A
+/// scene larger than the accelerator's patch memory is streamed through it in blocks.
+pub fn model_engine(patches: &[Patch], config: ModelConfig) -> anyhow::Result<StreamingModel<'_>> {
+    StreamingModel::new(patches, config).map_err(|e| match e {
         ModelError::BadGeometry(i) => anyhow::anyhow!(
             "--backend model: patch {i} does not fit the accelerator's fixed-point formats (non-finite or out of range)"
         ),
