@@ -163,23 +163,6 @@ impl ModelAccelerator {
         Ok(acc)
     }
 
-    /// A model of `params`, not yet attached, configured or loaded: for hosts (the `alloc`
-    /// feature), whose model keeps its memories on the heap, so moving it is cheap.
-    #[cfg(feature = "alloc")]
-    fn unloaded_model(params: Params) -> Self {
-        RegisterAccelerator {
-            driver: Driver::unattached(ModelBus::with_params(params)),
-            norm: Normalise::IDENTITY,
-            frame: None,
-            origin: None,
-            mode: None,
-            origin_patch: None,
-            skip: None,
-            rays: 0,
-            out_of_range: 0,
-        }
-    }
-
     /// Clocks the model has run (the CYCLE counter, read without spending bus cycles on it).
     pub fn cycles(&self) -> u64 {
         self.driver.bus().device().cycles()
@@ -200,7 +183,16 @@ impl<B: RegisterAccess> RegisterAccelerator<B> {
     /// Attaches to the accelerator behind `bus` (ID and version check), configures it and loads
     /// `patches` into its patch memory.
     pub fn with_bus(bus: B, patches: &[Patch], config: ModelConfig) -> Result<Self, ModelError> {
-        let mut acc = RegisterAccelerator {
+        let mut acc = Self::unattached(bus);
+        acc.load(patches, config)?;
+        Ok(acc)
+    }
+
+    /// Over `bus`, not yet attached, configured or loaded. (Moves the bus: a board's is a
+    /// pointer, a host's model keeps its memories on the heap; `ModelAccelerator::new` builds
+    /// the firmware's model in place instead.)
+    fn unattached(bus: B) -> Self {
+        RegisterAccelerator {
             driver: Driver::unattached(bus),
             norm: Normalise::IDENTITY,
             frame: None,
@@ -210,9 +202,7 @@ impl<B: RegisterAccess> RegisterAccelerator<B> {
             skip: None,
             rays: 0,
             out_of_range: 0,
-        };
-        acc.load(patches, config)?;
-        Ok(acc)
+        }
     }
 
     /// Loads a new scene into the accelerator it is attached to (configuring it again with

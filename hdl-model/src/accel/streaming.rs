@@ -61,7 +61,7 @@ impl<'p> StreamingModel<'p> {
         if !config.params.is_valid() {
             return Err(ModelError::BadParams);
         }
-        let mut hw = RegisterAccelerator::unloaded_model(config.params);
+        let mut hw = RegisterAccelerator::unattached(ModelBus::with_params(config.params));
         hw.configure(config)?;
         hw.norm = Normalise::around(patches, config.flatness)?;
         let blocks = blocks(patches, hw.driver.patch_capacity() as usize);
