@@ -92,6 +92,12 @@ impl<'p> StreamingModel<'p> {
     pub fn stream_cycles(&self) -> u64 {
         self.stream_clocks
     }
+
+    /// The lanes' work counters over every block: candidates tested, rays culled, set-up
+    /// passes.
+    pub fn lane_stats(&self) -> crate::intersect::LaneStats {
+        self.hw.lane_stats()
+    }
 }
 
 impl<B: RegisterAccess> StreamingAccelerator<'_, B> {

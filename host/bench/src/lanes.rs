@@ -7,7 +7,8 @@ use anyhow::{Context, Result};
 use hemi::scene::{Scene, Sides};
 use hemi_hdl_model::area;
 use hemi_hdl_model::cordic::CordicConfig;
-use hemi_hdl_model::{ModelAccelerator, ModelConfig, Params};
+use hemi_hdl_model::params::MAX_CAPACITY;
+use hemi_hdl_model::{ModelConfig, Params, StreamingModel};
 use hemi_kernel::accel::{Accelerator, HemiShot};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::{DeltaRule, OwnedHemisphere};
@@ -90,6 +91,8 @@ struct Run {
     full: f64,
     bins: f64,
     seconds: f64,
+    /// blocks the scene streamed through patch memory in (1: it fit)
+    blocks: usize,
 }
 
 /// Pass 1's hemispheres of `scene` (K × K sample points per patch, R circles) on a model of
@@ -104,7 +107,7 @@ fn run(scene: &Scene, params: Params, circles: u32, samples: u32) -> Result<Run>
         ..ModelConfig::default()
     };
     let mut model = Box::new(
-        ModelAccelerator::new(&patches, config).map_err(|e| anyhow::anyhow!("model: {e:?}"))?,
+        StreamingModel::new(&patches, config).map_err(|e| anyhow::anyhow!("model: {e:?}"))?,
     );
     let (c0, t0) = (model.cycles(), Instant::now());
     let mut q = 0u32;
@@ -134,6 +137,7 @@ fn run(scene: &Scene, params: Params, circles: u32, samples: u32) -> Result<Run>
         full: st.full_patches as f64 / st.culled_patches.max(1) as f64,
         bins: st.bins as f64 / st.culled_patches.max(1) as f64,
         seconds: t0.elapsed().as_secs_f64(),
+        blocks: model.blocks(),
     })
 }
 
@@ -146,17 +150,20 @@ fn walk_column(sectors: u32, clocks: u64, rays: u64) -> String {
     }
 }
 
-/// A build of `lanes` lanes whose banks hold `patches`: the default's datapath and ray groups
-/// (fewer when there are fewer lanes).
+/// A build of `lanes` lanes whose banks hold `patches` if the patch memory's window can
+/// ([`MAX_CAPACITY`] slots; a larger scene streams through it in blocks): the default's
+/// datapath and ray groups (fewer when there are fewer lanes).
 fn build(lanes: u32, sectors: u32, rays_per_clock: u32, patches: usize) -> Params {
     let ray_groups = Params::DEFAULT.ray_groups.min(lanes);
+    let banks = lanes / ray_groups;
     Params {
         lanes,
         sectors,
         rays_per_clock,
         bank_slots: (patches as u32)
-            .div_ceil(lanes / ray_groups)
-            .max(Params::DEFAULT.bank_slots),
+            .div_ceil(banks)
+            .max(Params::DEFAULT.bank_slots)
+            .min(MAX_CAPACITY / banks),
         compact: Params::DEFAULT.compact,
         ray_groups,
     }
@@ -190,7 +197,11 @@ pub fn bench(
                 let cpr = r.cycles as f64 / r.rays as f64;
                 writeln!(
                     out,
-                    "| {count} | {l} | {} | {} | {cpr:.2} | {:.2} | {:.3} | {} | {:.1} % | {:.1} | {:.1} | {:.2} |",
+                    "| {count}{} | {l} | {} | {} | {cpr:.2} | {:.2} | {:.3} | {} | {:.1} % | {:.1} | {:.1} | {:.2} |",
+                    match r.blocks {
+                        1 => String::new(),
+                        n => format!(" ({n} blocks)"),
+                    },
                     if sectors > 0 { "32 sectors × 16 bands" } else { "none" },
                     r.rays,
                     r.candidates as f64 / r.rays as f64,
