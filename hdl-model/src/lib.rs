@@ -13,7 +13,7 @@
 //!   MMIO in the firmware);
 //! - [`accel`]: [`accel::RegisterAccelerator`], the kernel's `Accelerator` on top of the driver
 //!   over any register access, and [`accel::ModelAccelerator`], that over the model's bus;
-//!   on hosts `accel::StreamingAccelerator`, which streams a scene larger than patch memory
+//!   on hosts `accel::StreamingModel`, which streams a scene larger than patch memory
 //!   through it in blocks;
 //!
 //! The datapath is integer/fixed point only; f32 appears only in [`accel`], where the kernel's
@@ -37,8 +37,8 @@ pub mod regs;
 pub mod rotator;
 pub mod table;
 
-pub use accel::{ModelAccelerator, ModelConfig, ModelError, RegisterAccelerator};
 #[cfg(feature = "alloc")]
-pub use accel::{StreamingAccelerator, StreamingModel};
+pub use accel::StreamingModel;
+pub use accel::{ModelAccelerator, ModelConfig, ModelError, RegisterAccelerator};
 pub use driver::{Driver, DriverError, ModelBus, RegisterAccess, StreamPort};
 pub use params::Params;

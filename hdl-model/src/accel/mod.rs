@@ -34,7 +34,7 @@ use hemi_kernel::rotation::Rotation;
 #[cfg(feature = "alloc")]
 mod streaming;
 #[cfg(feature = "alloc")]
-pub use streaming::{StreamingAccelerator, StreamingModel};
+pub use streaming::StreamingModel;
 
 /// The accelerator's build parameters.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -1,8 +1,8 @@
 //! Scenes larger than the accelerator's patch memory, streamed through it in blocks.
 //!
-//! The host (or the MCU, whose SRAM holds the scene) cuts the scene into blocks of consecutive
-//! patches that each fit the build: at most the patch memory's slots, at most
-//! [`BEZIER_ROWS`] Bezier patches. A cast runs once per block, the block written into patch
+//! The host cuts the scene into blocks of consecutive patches that each fit the build: at most
+//! the patch memory's slots, at most [`BEZIER_ROWS`] Bezier patches (a board's MCU could do the
+//! same from its SRAM over its own bus; none does today). A cast runs once per block, the block written into patch
 //! memory before it through the same PATCH_DATA window as any scene, and each ray keeps the
 //! nearest of its blocks' answers. So the stream's cost is in the clock count: a bus write a
 //! word, [`PATCH_WORDS`] words a slot, for every block a cast (a batch of hemispheres) needs
@@ -19,8 +19,8 @@
 
 extern crate alloc;
 
-use super::{decode, rays_in, ModelConfig, ModelError, Normalise, RegisterAccelerator, MISS};
-use crate::driver::{ModelBus, RegisterAccess};
+use super::{decode, ModelAccelerator, ModelConfig, ModelError, Normalise, RingCursor, MISS};
+use crate::driver::ModelBus;
 use crate::intersect::bezier::BEZIER_ROWS;
 #[cfg(doc)]
 use crate::intersect::patch_mem::PATCH_WORDS;
@@ -34,11 +34,11 @@ use hemi_kernel::hemisphere::Hemisphere;
 use hemi_kernel::patch::{Patch, Shape};
 use hemi_kernel::rotation::Rotation;
 
-/// The accelerator over a scene of any size: [`RegisterAccelerator`] with the scene's patches
-/// at hand, loading them block by block when they do not fit at once. A scene that fits is one
-/// block and costs nothing more than the accelerator alone.
-pub struct StreamingAccelerator<'p, B: RegisterAccess> {
-    hw: RegisterAccelerator<B>,
+/// The model's accelerator over a scene of any size: [`ModelAccelerator`] with the scene's
+/// patches at hand, loading them block by block when they do not fit at once. A scene that fits
+/// is one block and costs nothing more than the accelerator alone.
+pub struct StreamingModel<'p> {
+    hw: ModelAccelerator,
     patches: &'p [Patch],
     /// consecutive ranges of `patches`, each within the build's memories
     blocks: Vec<Range<usize>>,
@@ -47,13 +47,9 @@ pub struct StreamingAccelerator<'p, B: RegisterAccess> {
     origin_patch: Option<u32>,
     /// each ray's nearest answer so far, by its place in the cast
     nearest: Vec<Nearest>,
-    /// clocks spent writing blocks after the first, as `clock` reads the bus's clock
+    /// clocks spent writing blocks after the first
     stream_clocks: u64,
-    clock: fn(&B) -> u64,
 }
-
-/// The model's accelerator over a scene of any size.
-pub type StreamingModel<'p> = StreamingAccelerator<'p, ModelBus>;
 
 impl<'p> StreamingModel<'p> {
     /// Configures a model of `config` and loads the first block of `patches`.
@@ -61,12 +57,12 @@ impl<'p> StreamingModel<'p> {
         if !config.params.is_valid() {
             return Err(ModelError::BadParams);
         }
-        let mut hw = RegisterAccelerator::unattached(ModelBus::with_params(config.params));
+        let mut hw = ModelAccelerator::unattached(ModelBus::with_params(config.params));
         hw.configure(config)?;
         hw.norm = Normalise::around(patches, config.flatness)?;
         let blocks = blocks(patches, hw.driver.patch_capacity() as usize);
         hw.load_block(&patches[blocks[0].clone()])?;
-        Ok(StreamingAccelerator {
+        Ok(StreamingModel {
             hw,
             patches,
             blocks,
@@ -74,7 +70,6 @@ impl<'p> StreamingModel<'p> {
             origin_patch: None,
             nearest: Vec::new(),
             stream_clocks: 0,
-            clock: |bus| bus.device().cycles(),
         })
     }
 
@@ -98,9 +93,7 @@ impl<'p> StreamingModel<'p> {
     pub fn lane_stats(&self) -> crate::intersect::LaneStats {
         self.hw.lane_stats()
     }
-}
 
-impl<B: RegisterAccess> StreamingAccelerator<'_, B> {
     /// Blocks the scene is cut into (1 when it fits the patch memory).
     pub fn blocks(&self) -> usize {
         self.blocks.len()
@@ -122,7 +115,7 @@ impl<B: RegisterAccess> StreamingAccelerator<'_, B> {
     fn each_block(
         &mut self,
         n: usize,
-        mut cast: impl FnMut(&mut RegisterAccelerator<B>, Range<usize>, &mut dyn FnMut(usize, [u32; 4])),
+        mut cast: impl FnMut(&mut ModelAccelerator, Range<usize>, &mut dyn FnMut(usize, [u32; 4])),
         mut emit: impl FnMut(usize, Option<Hit>),
     ) {
         self.nearest.clear();
@@ -152,13 +145,13 @@ impl<B: RegisterAccess> StreamingAccelerator<'_, B> {
         if self.loaded == b {
             return;
         }
-        let before = (self.clock)(self.hw.driver.bus());
+        let before = self.hw.cycles();
         let block = &self.patches[self.blocks[b].clone()];
         // Every patch was checked against the normalisation when the scene was cut.
         if let Err(e) = self.hw.load_block(block) {
             panic!("streaming accelerator: a checked block did not load: {e:?}");
         }
-        self.stream_clocks += (self.clock)(self.hw.driver.bus()).saturating_sub(before);
+        self.stream_clocks += self.hw.cycles() - before;
         self.loaded = b;
     }
 }
@@ -225,7 +218,7 @@ impl Nearest {
     }
 }
 
-impl<B: RegisterAccess> Accelerator for StreamingAccelerator<'_, B> {
+impl Accelerator for StreamingModel<'_> {
     fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
         self.hw.rotate(rot, d)
     }
@@ -254,7 +247,7 @@ impl<B: RegisterAccess> Accelerator for StreamingAccelerator<'_, B> {
             return self.hw.cast_from(origin, dirs, want_uv, sink);
         }
         let own = self.origin_patch;
-        let cast = |hw: &mut RegisterAccelerator<B>,
+        let cast = |hw: &mut ModelAccelerator,
                     block: Range<usize>,
                     put: &mut dyn FnMut(usize, [u32; 4])| {
             hw.origin_patch = own.and_then(|p| local(block, p));
@@ -277,7 +270,7 @@ impl<B: RegisterAccess> Accelerator for StreamingAccelerator<'_, B> {
         }
         let places = RingPlaces::new(hemi, rings.clone());
         let own = self.origin_patch;
-        let cast = |hw: &mut RegisterAccelerator<B>,
+        let cast = |hw: &mut ModelAccelerator,
                     block: Range<usize>,
                     put: &mut dyn FnMut(usize, [u32; 4])| {
             hw.origin_patch = own.and_then(|p| local(block, p));
@@ -285,9 +278,9 @@ impl<B: RegisterAccess> Accelerator for StreamingAccelerator<'_, B> {
                 put(places.place(j, k), r)
             });
         };
-        let mut at = places.walk();
+        let mut at = RingCursor::new(hemi, rings.clone());
         self.each_block(places.len, cast, |_, hit| {
-            let (j, k) = at.next_ray();
+            let (j, k) = at.next_index();
             sink(j, k, hit)
         });
     }
@@ -306,7 +299,7 @@ impl<B: RegisterAccess> Accelerator for StreamingAccelerator<'_, B> {
         let places = RingPlaces::new(hemi, rings.clone());
         let per_shot = places.len;
         let mut local_shots = shots.to_vec();
-        let cast = |hw: &mut RegisterAccelerator<B>,
+        let cast = |hw: &mut ModelAccelerator,
                     block: Range<usize>,
                     put: &mut dyn FnMut(usize, [u32; 4])| {
             // each shot's own patch, as a slot of this block
@@ -317,14 +310,14 @@ impl<B: RegisterAccess> Accelerator for StreamingAccelerator<'_, B> {
                 put(s * per_shot + places.place(j, k), r)
             });
         };
-        let mut at = places.walk();
+        let mut at = RingCursor::new(hemi, rings.clone());
         let mut s = 0;
         self.each_block(shots.len() * per_shot, cast, |i, hit| {
             if i > 0 && i % per_shot == 0 {
                 s += 1;
-                at = places.walk();
+                at = RingCursor::new(hemi, rings.clone());
             }
-            let (j, k) = at.next_ray();
+            let (j, k) = at.next_index();
             sink(s, j, k, hit)
         });
         // as the accelerator underneath: a batch's shots name their own patches, and the one
@@ -333,63 +326,35 @@ impl<B: RegisterAccess> Accelerator for StreamingAccelerator<'_, B> {
     }
 }
 
-/// Places of a range of rings' rays in a flat array, ring after ring.
+/// Places of a range of rings' rays in a flat array, ring after ring (the order
+/// [`RingCursor`] walks them in).
 struct RingPlaces {
-    rings: Range<usize>,
-    /// each ring's first place, and the rays in all
+    first: usize,
+    /// each ring's first place
     starts: Vec<usize>,
-    counts: Vec<u32>,
+    /// the rays in all
     len: usize,
 }
 
 impl RingPlaces {
     fn new(hemi: &Hemisphere<'_>, rings: Range<usize>) -> Self {
-        let counts: Vec<u32> = rings.clone().map(|j| hemi.rings()[j].count).collect();
-        let mut starts = Vec::with_capacity(counts.len());
+        let mut starts = Vec::with_capacity(rings.len());
         let mut len = 0;
-        for &c in &counts {
+        for j in rings.clone() {
             starts.push(len);
-            len += c as usize;
+            len += hemi.rings()[j].count as usize;
         }
-        debug_assert_eq!(len, rays_in(hemi, rings.clone()));
         RingPlaces {
-            rings,
+            first: rings.start,
             starts,
-            counts,
             len,
         }
     }
 
     fn place(&self, j: usize, k: u32) -> usize {
-        self.starts[j - self.rings.start] + k as usize
-    }
-
-    /// A walk over (ring, index) in place order.
-    fn walk(&self) -> RingWalk<'_> {
-        RingWalk {
-            places: self,
-            j: 0,
-            k: 0,
-        }
+        self.starts[j - self.first] + k as usize
     }
 }
-
-struct RingWalk<'a> {
-    places: &'a RingPlaces,
-    j: usize,
-    k: u32,
-}
-
-impl RingWalk<'_> {
-    fn next_ray(&mut self) -> (usize, u32) {
-        while self.k >= self.places.counts[self.j] {
-            (self.j, self.k) = (self.j + 1, 0);
-        }
-        self.k += 1;
-        (self.places.rings.start + self.j, self.k - 1)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
