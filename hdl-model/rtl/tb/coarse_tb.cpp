@@ -147,7 +147,7 @@ int main(int argc, char **argv) {
     }
     double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     printf("coarse: rays=%zu vectors=%zu clocks=%" PRIu64 " mismatches=%" PRIu64 " seconds=%.3f\n",
-           pairs.size(), edges.size() + pairs.size(), clocks, bad, secs);
+           pairs.size(), edges.size(), clocks, bad, secs);
     u.final();
     return bad ? 1 : 0;
 }
