@@ -109,19 +109,35 @@ pub fn narrow_edge(u: &[i64; 3], v: &[i64; 3], shift: u32, negate: bool) -> ([i3
 /// Fraction bits of the set-up unit's κ arithmetic ([`narrow_edge`]).
 const FRACTION: u32 = 4;
 
+/// A ray's coarse direction d' with the bound's per-ray term Σ(|d'_c| + 1), formed once a ray
+/// (module doc).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct CoarseRay {
+    /// d' (the direction's Q2.30 words shifted down by [`COARSE_DIR_SHIFT`]).
+    pub d: [i32; 3],
+    dsum: i64,
+}
+
+impl CoarseRay {
+    /// The ray of coarse direction `d`.
+    pub fn new(d: [i32; 3]) -> CoarseRay {
+        let dsum = d.iter().map(|&c| c.unsigned_abs() as i64 + 1).sum();
+        CoarseRay { d, dsum }
+    }
+}
+
 /// The sign of d · e from the words alone (`kappa` bounds e's words), or `None` when they
 /// cannot tell (module doc).
-pub fn coarse_sign(d: &[i32; 3], e: &[i32; 3], kappa: u8) -> Option<bool> {
+pub fn coarse_sign(ray: &CoarseRay, e: &[i32; 3], kappa: u8) -> Option<bool> {
     if kappa >= KAPPA_DECLINE {
         return None;
     }
-    let (mut a, mut dsum, mut esum) = (0i64, 0i64, 0i64);
-    for c in 0..3 {
-        a += d[c] as i64 * e[c] as i64;
-        dsum += d[c].unsigned_abs() as i64 + 1;
-        esum += e[c].unsigned_abs() as i64;
+    let (mut a, mut esum) = (0i64, 0i64);
+    for (&d, &e) in ray.d.iter().zip(e) {
+        a += d as i64 * e as i64;
+        esum += e.unsigned_abs() as i64;
     }
-    let b = (dsum << kappa) + esum;
+    let b = (ray.dsum << kappa) + esum;
     if a >= b {
         Some(true)
     } else if a <= -b {
@@ -142,10 +158,13 @@ pub enum Verdict {
 }
 
 /// The coarse test of a (ray, patch) pair over the patch's first `sides` words.
-pub fn coarse_inside(d: &[i32; 3], coarse: &Coarse, sides: usize) -> Verdict {
+pub fn coarse_inside(ray: &CoarseRay, coarse: &Coarse, sides: usize) -> Verdict {
+    if coarse.kappa >= KAPPA_DECLINE {
+        return Verdict::Undecided(sides as u8);
+    }
     let mut undecided = 0;
     for e in &coarse.words[..sides] {
-        match coarse_sign(d, e, coarse.kappa) {
+        match coarse_sign(ray, e, coarse.kappa) {
             Some(false) => return Verdict::Decided(false),
             Some(true) => {}
             None => undecided += 1,
@@ -185,7 +204,7 @@ mod tests {
 
     /// Checks one (d, e) pair against the coarse words; true when they decided it.
     fn agrees(d: &[i32; 3], e: &[i64; 3], words: &[i32; 3], kappa: u8) -> bool {
-        let dc = d.map(|c| c >> COARSE_DIR_SHIFT);
+        let dc = CoarseRay::new(d.map(|c| c >> COARSE_DIR_SHIFT));
         match coarse_sign(&dc, words, kappa) {
             Some(positive) => {
                 let s = exact_sign(d, e);

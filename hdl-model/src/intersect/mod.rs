@@ -69,7 +69,9 @@ use crate::params::{Params, MAX_LANES, MAX_SECTORS};
 use crate::table::Table;
 use bezier::{BezierEngine, BezierStats, Box3, Job, RaySetup, SubdivConfig, BEZIER_ROWS};
 use bitmap_walk::WordWalk;
-use coarse::{coarse_edge, coarse_inside, narrow_edge, Coarse, Verdict, COARSE_DIR_SHIFT};
+use coarse::{
+    coarse_edge, coarse_inside, narrow_edge, Coarse, CoarseRay, Verdict, COARSE_DIR_SHIFT,
+};
 use cull::{CullUnit, Reach, Wedge};
 use fixed::types::extra::U24;
 use patch_mem::{
@@ -84,6 +86,15 @@ pub const DIV_LATENCY: usize = 34;
 /// Plane distances at or below this count as "origin in the patch's plane": its own patch and
 /// coplanar neighbours only graze. 2^-20 of the normalised scene half-size.
 pub const PLANE_EPS: PlaneDist = PlaneDist::from_bits(1 << 34);
+
+/// The set-up pass's origin-wide truncation of edge normals from origin `o` (Q8.24 words): a far
+/// origin (|a| up to 2^33) would need 67-bit edge normals; shifting every patch's by the same
+/// amount, towards zero, keeps shared edges exactly opposite.
+pub fn origin_shift(o: [i64; 3]) -> u32 {
+    let amax = o.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0) + (1 << 25);
+    let bits = 64 - amax.leading_zeros();
+    (2 * bits + 2).saturating_sub(62)
+}
 
 /// The per-patch set-up for one origin.
 #[derive(Clone, Copy, Debug, Default)]
@@ -760,12 +771,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             self.local[i] = lp;
             return;
         }
-        // origin-wide truncation: a far origin (|a| up to 2^33) would need 67-bit edge normals;
-        // shifting every patch's by the same amount, towards zero, keeps shared edges exactly
-        // opposite.
-        let amax = o.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0) + (1 << 25);
-        let bits = 64 - amax.leading_zeros();
-        let shift = (2 * bits + 2).saturating_sub(62);
+        let shift = origin_shift(o);
         let s: i128 = if h.is_positive() { 1 } else { -1 };
         for k in 0..sides {
             let (u, v) = (a[k], a[(k + 1) % sides]);
@@ -887,7 +893,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let mut exact = [0u64; MAX_LANES as usize];
         let mut best: Option<Best> = None;
         let compact = self.params.compact;
-        let dc = ray.dir.map(|c| c.to_bits() >> COARSE_DIR_SHIFT);
+        let dc = CoarseRay::new(ray.dir.map(|c| c.to_bits() >> COARSE_DIR_SHIFT));
         let c = &self.candidates;
         let mut inside = 0;
         // a culled ray's lanes walk its sector's bitmaps word by word

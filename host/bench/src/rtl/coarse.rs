@@ -19,9 +19,10 @@
 use super::plane::lattice_point;
 use crate::rng::XorShift;
 use hemi_hdl_model::intersect::coarse::{
-    coarse_inside, narrow_edge, Coarse, Verdict, COARSE_DIR_SHIFT,
+    coarse_inside, narrow_edge, Coarse, CoarseRay, Verdict, COARSE_DIR_SHIFT,
 };
 use hemi_hdl_model::intersect::patch_mem::{KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
+use hemi_hdl_model::intersect::{origin_shift, PLANE_EPS};
 use std::fmt::Write as _;
 
 /// What a file holds.
@@ -81,13 +82,11 @@ impl Vectors {
             .collect();
         let n: [i128; 3] = core::array::from_fn(|c| w[13 + c] as i32 as i128);
         let h: i128 = (0..3).map(|c| n[c] * a[0][c] as i128).sum();
-        if h == 0 {
+        // the set-up pass's rule: an origin on the patch's plane sets nothing up
+        if h.unsigned_abs() <= PLANE_EPS.to_bits().unsigned_abs() {
             return;
         }
-        // the set-up pass's origin-wide truncation
-        let amax = o.iter().map(|c| c.unsigned_abs() as u64).max().unwrap_or(0) + (1 << 25);
-        let shift = (2 * (64 - amax.leading_zeros()) + 2).saturating_sub(62);
-        self.patch(&a, shift, h < 0, rng);
+        self.patch(&a, origin_shift(o.map(i64::from)), h < 0, rng);
     }
 
     /// A patch's edges, then pairs of it: rays through points next to each edge (inside and
@@ -126,7 +125,7 @@ impl Vectors {
     }
 
     fn pair(&mut self, d: &[i32; 3], coarse: &Coarse, sides: usize) {
-        let (decided, inside, undecided) = match coarse_inside(d, coarse, sides) {
+        let (decided, inside, undecided) = match coarse_inside(&CoarseRay::new(*d), coarse, sides) {
             Verdict::Decided(inside) => (1, inside as u8, 0),
             Verdict::Undecided(n) => (0, 0, n),
         };
