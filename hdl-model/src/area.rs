@@ -418,15 +418,19 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
     }
     p.add(banks, 68);
     p.reg(banks * 1024);
+    if params.compact || params.sectors > 0 {
+        // the corner into 18 bits, which the narrow edge words and the culling share: its
+        // leading one (as a 34-bit adder) and three shifters of six levels of 2:1 multiplexers
+        // on 34 bits (a LUT4 a bit a level, counted as adders). Until session 23 counted with
+        // the culling only, so a compact build without culling went without it.
+        p.add(banks, 34);
+        p.add(banks * 3 * 6, 34);
+    }
     if params.sectors > 0 {
         for _ in 0..banks {
             p.mul(9, 18, 18);
             p.mul(3, 18, 18);
         }
-        // the corner into 18 bits: its leading one (as a 34-bit adder) and three shifters of
-        // six levels of 2:1 multiplexers on 34 bits (a LUT4 a bit a level, counted as adders)
-        p.add(banks, 34);
-        p.add(banks * 3 * 6, 34);
         // f = ã · x̃: two adds of 36 bits a component; the bounds Σ(|ã| + |x̃| + 1): three
         // negations and two adds for Σ|ã|, three adds of the frame's Σ|x̃| + 3
         p.add(banks * 3 * 2, 36);
