@@ -60,9 +60,14 @@ pub fn block18(v: &[i64; 3]) -> ([i64; 3], i32) {
 /// The wide datapath's coarse word of an exact edge normal: e' = ⌊e / 2^s⌋ with the least s
 /// that brings every |e'_c| below 2^17 (κ = 0).
 pub fn coarse_edge(e: &[i64; 3]) -> [i32; 3] {
-    let m = e.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
+    top18(e).0
+}
+
+/// ⌊v / 2^s⌋ as 18-bit words with the least s that brings every component below 2^17, and s.
+fn top18(v: &[i64; 3]) -> ([i32; 3], u32) {
+    let m = v.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
     let s = (64 - m.leading_zeros()).saturating_sub(WORD_BITS - 1);
-    e.map(|c| (c >> s) as i32)
+    (v.map(|c| (c >> s) as i32), s)
 }
 
 /// The compact set-up unit's coarse word of the edge normal e = trunc(±(u × v) / 2^shift) (the
@@ -72,8 +77,8 @@ pub fn coarse_edge(e: &[i64; 3]) -> [i32; 3] {
 /// It uses u × v = u × Δ, Δ = v − u (exact in integers, and better conditioned for a small
 /// patch, whose corners are nearly parallel). With u = 2^p (ũ + r), Δ = 2^q (Δ̃ + r')
 /// ([`block18`]) and X = ũ × Δ̃ (six 18 × 18 products), u × Δ = 2^(p+q) (X + η) with
-/// |η_x| < E_x = |ũ_y| + |ũ_z| + |Δ̃_y| + |Δ̃_z| + 1 (and so for y, z); E is the largest. Then e' = ⌊±X / 2^m⌋ (m: X's top bits into 18), and
-/// e = 2^S (e' + δ) with S = p + q + m − shift and |δ| < 1 + E / 2^m + 2^-S (the floor, η,
+/// |η_x| < E_x = |ũ_y| + |ũ_z| + |Δ̃_y| + |Δ̃_z| + 1 (and so for y, z); E is the largest.
+/// Then e' = ⌊±X / 2^m⌋ (m: X's top bits into 18), and e = 2^S (e' + δ) with S = p + q + m − shift and |δ| < 1 + E / 2^m + 2^-S (the floor, η,
 /// and the set-up's truncation of e, below 1 in e's units).
 pub fn narrow_edge(u: &[i64; 3], v: &[i64; 3], shift: u32, negate: bool) -> ([i32; 3], u8) {
     let delta = [0, 1, 2].map(|c| v[c] - u[c]);
@@ -90,14 +95,12 @@ pub fn narrow_edge(u: &[i64; 3], v: &[i64; 3], shift: u32, negate: bool) -> ([i3
             let (j, k) = ((c + 1) % 3, (c + 2) % 3);
             wu[j].abs() + wu[k].abs() + wd[j].abs() + wd[k].abs() + 1
         })
-        .max()
-        .unwrap_or(1);
-    let top = x.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
-    let m = (64 - top.leading_zeros()).saturating_sub(WORD_BITS - 1);
-    let words = x.map(|c| (c >> m) as i32);
+        .fold(1, i64::max);
+    let (words, m) = top18(&x);
     let s = p + q + m as i32 - shift as i32;
-    // 2^κ ≥ 1 + E / 2^m + 2^-S, in sixteenths rounded up: the bound's three terms, each
-    // rounded up to a whole (κ = 3 where this gives 2, most edges), doubled the undecided pairs
+    // 2^κ ≥ 1 + E / 2^m + 2^-S, in sixteenths rounded up: rounding each of the bound's terms
+    // up to a whole instead gives κ = 3 where sixteenths give 2 (most edges), and doubled the
+    // undecided pairs
     let eta = ((e_bound << FRACTION) + (1 << m) - 1) >> m;
     // (past 2^20 sixteenths κ is 15 whatever the rest: the unit's shifter stops there)
     let trunc = 1i64 << (FRACTION as i32 - s).clamp(0, 20);
