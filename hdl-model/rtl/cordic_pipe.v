@@ -110,11 +110,14 @@ module cordic_pipe #(
         end
     endgenerate
 
-    // gain stage: each component times 1/K_n, truncated back to Q2.(W-2)
+    // gain stage: each component times 1/K_n, truncated back to Q2.(W-2); the constant of the
+    // build in tables of its digits (const_mul.v: no DSP tile, where `*` took four a component)
     /* verilator lint_off UNUSEDSIGNAL */
-    wire signed [2*W-1:0] gx = x[ITER] * $signed(INV_GAIN);
-    wire signed [2*W-1:0] gy = y[ITER] * $signed(INV_GAIN);
+    wire signed [2*W-1:0] gx;
+    wire signed [2*W-1:0] gy;
     /* verilator lint_on UNUSEDSIGNAL */
+    const_mul #(.W(W), .C(INV_GAIN)) gain_x (.x(x[ITER]), .p(gx));
+    const_mul #(.W(W), .C(INV_GAIN)) gain_y (.x(y[ITER]), .p(gy));
     always @(posedge clk) begin
         if (rst) v[L-1] <= 1'b0;
         else v[L-1] <= v[L-2];

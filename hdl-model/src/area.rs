@@ -13,9 +13,10 @@
 //!   ideal array of full adders);
 //! - a multiplier by a constant fixed at build time (the gain compensation of the culling
 //!   unit's vectorings, whose CORDIC is not the CONFIG register's) is a shift-and-add tree: one
-//!   w-bit adder per nonzero digit of the constant's canonical signed-digit form but one (the
-//!   rotators' and the angle unit's gain constants are chosen by CONFIG.ITER at run time, so
-//!   theirs stay multipliers);
+//!   w-bit adder per nonzero digit of the constant's canonical signed-digit form but one;
+//! - the rotators' and the angle unit's gain stages, whose constant 1/K_n follows CONFIG's ITER
+//!   and WIDTH, are tables of the word's hex digits times the constant and a tree of adders
+//!   (`Proxy::const_products`, as `rtl/const_mul.v`; multipliers until session 24);
 //! - a register bit is a flip-flop;
 //! - a memory of depth d and width w is ⌈w/36⌉·⌈d/512⌉ block RAMs (512 × 36 per EBR), or
 //!   ⌈d·w/16⌉ LUT4s of distributed RAM when it holds under 2 kbit;
@@ -110,12 +111,22 @@ impl Proxy {
         self.memories.push((depth, width));
     }
 
-    /// A pipelined CORDIC of `cfg` (quadrant stage, micro-rotations, gain multipliers).
+    /// A pipelined CORDIC of `cfg` (quadrant stage, micro-rotations, gain stage).
     fn cordic(&mut self, cfg: CordicConfig, count: u64) {
         let (n, w) = (cfg.iterations as u64, cfg.width as u64);
         self.add_sub(count * 3 * (n + 1), w);
-        self.mul(2 * count as u32, cfg.width, cfg.width);
+        self.const_products(2 * count, w);
         self.reg(count * (n + 2) * 3 * w);
+    }
+
+    /// `count` products of a w-bit word by a constant in tables of its hex digits, as
+    /// `rtl/const_mul.v` builds the CORDIC gain stages: ⌈w/4⌉ tables of digit × C, each a LUT4
+    /// per bit of its (w + 5)-bit word, and a tree of ⌈w/4⌉ − 1 adders of up to 2w bits. Until
+    /// session 24 a w × w multiplier each (four DSP tiles at 32 bits, or 6.1·w² LUT4s).
+    fn const_products(&mut self, count: u64, w: u64) {
+        let digits = w.div_ceil(4);
+        self.add(count * digits, w + 5);
+        self.add(count * (digits - 1), 2 * w);
     }
 
     /// A pipelined vectoring CORDIC of `cfg`, fixed at build time, whose magnitude is used
@@ -554,12 +565,12 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 
 /// The angle unit as `frame.rs` models it: one vectoring pipe of `cfg` (x, y and the angle
 /// each iteration) whose x output, the magnitude ρ that the θ pass takes, is gain-compensated
-/// by a multiplier (CONFIG.ITER picks 1/K_n at run time). Until issue 19's fifth round the
+/// (a product by the constant 1/K_n in digit tables). Until issue 19's fifth round the
 /// proxy counted two rotation pipes here (four gain multipliers), a unit the model never had.
 fn angle_unit(p: &mut Proxy, cfg: CordicConfig) {
     let (n, w) = (cfg.iterations as u64, cfg.width as u64);
     p.add_sub(3 * (n + 1), w);
-    p.mul(1, cfg.width, cfg.width);
+    p.const_products(1, w);
     p.reg((n + 2) * 3 * w);
 }
 

@@ -55,6 +55,7 @@ pub struct Bench {
 pub const CORDIC_BENCH: Bench = Bench {
     top: "cosim_top",
     sources: &[
+        "const_mul.v",
         "cordic_pipe.v",
         "rotator.v",
         "frame_unit.v",
@@ -517,7 +518,7 @@ pub fn rotator_design(cfg: Cordic) -> Design {
     Design {
         name: format!("rotator-{}", cfg.name()),
         top: "syn_rotator",
-        files: &["cordic_pipe.v", "rotator.v", "syn/syn_rotator.v"],
+        files: &["const_mul.v", "cordic_pipe.v", "rotator.v", "syn/syn_rotator.v"],
         params: vec![("ITER", cfg.iterations), ("W", cfg.width)],
     }
 }
@@ -543,7 +544,7 @@ pub fn frame_design(cfg: Cordic) -> Design {
     Design {
         name: format!("frame-{}", cfg.name()),
         top: "syn_frame",
-        files: &["cordic_pipe.v", "frame_unit.v", "syn/syn_frame.v"],
+        files: &["const_mul.v", "cordic_pipe.v", "frame_unit.v", "syn/syn_frame.v"],
         params: vec![("ITER", cfg.iterations), ("W", cfg.width)],
     }
 }
