@@ -33,6 +33,8 @@ use crate::cordic::CordicConfig;
 use crate::intersect::bitmap_walk::{mask_row_bits, row_words, BITMAP_WORD};
 use crate::intersect::cull::{BANDS, CULL_CORDIC};
 use crate::intersect::{PLANE_UNITS, UV_UNITS};
+#[cfg(doc)]
+use crate::intersect::bezier::{SERIAL_LEAF_CLOCKS, SERIAL_SLAB_CLOCKS};
 use crate::params::Params;
 use alloc::vec::Vec;
 
@@ -580,8 +582,9 @@ fn angle_unit(p: &mut Proxy, cfg: CordicConfig) {
 /// control-point memory). The wide datapath (`compact` false) unrolls the (u,v) pipe into
 /// `uv_depth` levels (two 2D side tests of 34 × 34 products each, midpoints) and slab-tests a
 /// step's four children at once; the compact one has [`UV_UNITS`] iterative (u,v) units (one
-/// level a clock), one slab tester taking a child a clock and a leaf with six products
-/// instead of eighteen.
+/// level a clock), one slab tester of two multipliers (an axis a clock, three clocks a child)
+/// and a leaf of two multipliers instead of eighteen (six each until session 24; the clocks:
+/// [`SERIAL_SLAB_CLOCKS`], [`SERIAL_LEAF_CLOCKS`]).
 pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     let mut p = Proxy::default();
     angle_unit(&mut p, cfg);
@@ -602,10 +605,17 @@ pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     // Bezier engine
     p.add(3 * 66, 26);
     p.add(children * 3 * 2 * 15, 26);
-    p.mul(children as u32 * 6, 26, 64);
-    p.add(children * 6, 64);
-    // the leaf's products: both triangles' at once, or six at a time (compact)
-    p.mul(if compact { 6 } else { 18 }, 34, 34);
+    if compact {
+        // an axis's two bounds a clock, folded into the child's running entry and exit
+        p.mul(2, 26, 64);
+        p.add(4, 64);
+        p.reg(2 * 64);
+    } else {
+        p.mul(children as u32 * 6, 26, 64);
+        p.add(children * 6, 64);
+    }
+    // the leaf's products: both triangles' at once, or two a clock (compact)
+    p.mul(if compact { 2 } else { 18 }, 34, 34);
     p.add(3 * 32, 64);
     p.reg(3 * 32 * 128 + 2 * 1300);
     p.mem(40, 1300);

@@ -72,6 +72,20 @@ pub const LEAF_CLOCKS: u32 = 34;
 /// Clocks of the reciprocal unit that computes 1/d (three radix-2 dividers, 32 quotient bits,
 /// plus one to load): pipelined, at the input of the ray queue.
 pub const RECIP_LATENCY: u64 = 33;
+/// Clocks the compact datapath's slab tester adds to a step: one tester for the four children
+/// and two multipliers in it, an axis's two bounds (box − origin) · 1/d a clock, so three clocks
+/// a child and twelve a step where four testers of six take one. Why two: without DSP tiles
+/// left (the ray datapath takes them all) each 26 × 64 multiplier is about 10,000 LUT4s, and
+/// only Bezier patches use them. Until session 24 six multipliers, a child a clock (3 more).
+pub const SERIAL_SLAB_CLOCKS: u32 = 4 * 3 - 1;
+
+/// Clocks the compact datapath's leaf adds to [`LEAF_CLOCKS`]: its products on two 34 × 34
+/// multipliers, two a clock. A triangle is p = d × e2 (six products), det = e1 · p and
+/// b1 = s · p (six), q = s × e1 (six), b2 = d · q and t = e2 · q (six): 24 products, twelve
+/// clocks, the second triangle after the first, so 24 clocks where eighteen multipliers take
+/// two. Until session 24 six multipliers, eight clocks (6 more).
+pub const SERIAL_LEAF_CLOCKS: u32 = 2 * 24 / 2 - 2;
+
 /// Each slab interval is widened by this (two LSBs of Q8.24).
 pub const SLAB_MARGIN: Coord64 = Coord64::from_bits(2);
 /// The barycentric tolerance of the leaf test as a shift of the determinant: 2^-20 ≈ 1e-6, the
@@ -542,11 +556,10 @@ pub struct BezierEngine {
     overflow: bool,
     stats: BezierStats,
     /// clocks a step adds for its child boxes' slab tests beyond the first: 0 with four slab
-    /// testers, 3 with one tester taking a child a clock (the compact datapath)
+    /// testers, [`SERIAL_SLAB_CLOCKS`] with the compact datapath's one
     serial_slabs: u32,
-    /// clocks a leaf adds beyond [`LEAF_CLOCKS`]: 0 with both triangles' products at once, 6
-    /// with one bank of six products taking a cross product or two dot products a clock (the
-    /// compact datapath)
+    /// clocks a leaf adds beyond [`LEAF_CLOCKS`]: 0 with both triangles' products at once,
+    /// [`SERIAL_LEAF_CLOCKS`] with the compact datapath's two multipliers
     serial_leaf: u32,
 }
 
@@ -571,19 +584,18 @@ impl BezierEngine {
         }
     }
 
-    /// The engine with one slab tester for the four children of a step, a child a clock (three
-    /// clocks more a step), instead of four: the compact datapath's engine.
+    /// The engine with one slab tester for the four children of a step instead of four, and
+    /// that tester with two multipliers instead of six ([`SERIAL_SLAB_CLOCKS`]): the compact
+    /// datapath's engine.
     pub fn with_serial_slabs(mut self) -> Self {
-        self.serial_slabs = 3;
+        self.serial_slabs = SERIAL_SLAB_CLOCKS;
         self
     }
 
-    /// The engine whose leaf test has six 34 × 34 products instead of eighteen: a triangle's
-    /// p = d × e2, then det and b1 (two dot products), q = s × e1, then b2 and t, a clock each,
-    /// the second triangle after the first (eight clocks instead of two, before the dividers):
-    /// the compact datapath's engine.
+    /// The engine whose leaf test has two 34 × 34 multipliers instead of eighteen
+    /// ([`SERIAL_LEAF_CLOCKS`]): the compact datapath's engine.
     pub fn with_serial_leaf(mut self) -> Self {
-        self.serial_leaf = 6;
+        self.serial_leaf = SERIAL_LEAF_CLOCKS;
         self
     }
 

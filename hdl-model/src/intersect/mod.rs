@@ -291,8 +291,8 @@ fn setup_latency(culling: bool) -> u64 {
     }
 }
 
-/// The subdivision engine of a build: the compact datapath's tests a child box a clock and
-/// forms a leaf's products six at a time.
+/// The subdivision engine of a build: the compact datapath's tests a child box's axes one a
+/// clock and forms a leaf's products two at a time.
 fn engine(subdiv: SubdivConfig, compact: bool) -> BezierEngine {
     let e = BezierEngine::new(subdiv, bezier::STACK_ENTRIES);
     if compact {
