@@ -7,10 +7,13 @@
 //! - an adder, subtractor or comparator of w bits is w LUT4s (ECP5's carry chain: two bits per
 //!   slice of two LUTs); an adder-subtractor whose direction is data (a CORDIC stage's) 2w, a
 //!   LUT4 a bit inverting the operand beside the chain (calibrated against Yosys in session 21);
-//! - an a×b multiplier takes ⌈a/18⌉·⌈b/18⌉ DSP tiles while the part has tiles left (the
-//!   datapath's multipliers first, in the order they are listed), else about 6.1·a·b LUT4s,
-//!   what Yosys 0.23 maps one to without DSP tiles (`lut_multiplier`; until session 22 a·b, an
-//!   ideal array of full adders);
+//! - an a×b multiplier takes ⌈a/18⌉·⌈b/18⌉ DSP tiles while the part has tiles left: first the
+//!   fixed units' (the (u,v) units' and the Bezier engine's, whose products sit in a loop that
+//!   waits for them), then the ray datapath's in the order listed (until session 24 the ray
+//!   datapath's first). Without a tile it is an array of rows as `rtl/array_mul.v` builds it,
+//!   registered every three rows (`lut_multiplier`, `array_flip_flops`): about 2·a·b LUT4s,
+//!   where Yosys 0.23 maps `a * b` to about 6.1·a·b (the rule of sessions 22 and 23; a·b, an
+//!   ideal array of full adders, before);
 //! - a multiplier by a constant fixed at build time (the gain compensation of the culling
 //!   unit's vectorings, whose CORDIC is not the CONFIG register's) is a shift-and-add tree: one
 //!   w-bit adder per nonzero digit of the constant's canonical signed-digit form but one;
@@ -30,11 +33,11 @@
 extern crate alloc;
 
 use crate::cordic::CordicConfig;
+#[cfg(doc)]
+use crate::intersect::bezier::{SERIAL_LEAF_CLOCKS, SERIAL_SLAB_CLOCKS};
 use crate::intersect::bitmap_walk::{mask_row_bits, row_words, BITMAP_WORD};
 use crate::intersect::cull::{BANDS, CULL_CORDIC};
 use crate::intersect::{PLANE_UNITS, UV_UNITS};
-#[cfg(doc)]
-use crate::intersect::bezier::{SERIAL_LEAF_CLOCKS, SERIAL_SLAB_CLOCKS};
 use crate::params::Params;
 use alloc::vec::Vec;
 
@@ -169,12 +172,14 @@ impl Proxy {
     pub fn ecp5(&self, dsps_free: u64) -> Fpga {
         let mut out = Fpga::default();
         let mut luts = self.adder_bits;
+        let mut array_ffs = 0;
         for &(a, b) in &self.multipliers {
             let tiles = (a as u64).div_ceil(18) * (b as u64).div_ceil(18);
             if out.dsps + tiles <= dsps_free {
                 out.dsps += tiles;
             } else {
                 luts += lut_multiplier(a, b);
+                array_ffs += array_flip_flops(a, b);
             }
         }
         for &(d, w) in &self.memories {
@@ -185,17 +190,30 @@ impl Proxy {
             }
         }
         out.luts = luts + luts / 10;
-        out.ffs = self.register_bits;
+        out.ffs = self.register_bits + array_ffs;
         out
     }
 }
 
-/// LUT4s of an a × b multiplier without DSP tiles: about 6.1 a·b, as Yosys 0.23 maps one
-/// (`synth_ecp5 -nodsp`, a registered product: 18 × 18 took 2,078 LUT4s with its carry cells,
-/// 26 × 26 3,981, 34 × 34 7,040; docs/PERFORMANCE.md, "The coarse edge units in RTL"). Until
-/// session 22 the proxy charged a·b, an ideal array of full adders, six times too few.
+/// LUT4s of an a × b multiplier without DSP tiles, as `rtl/array_mul.v` builds it with r rows
+/// (the narrower operand) of c + 2 bits (the wider): a carry chain of c + 2 bits a row (two bits
+/// a carry cell, each counted two LUT4s as nextpnr counts them) and an AND a bit, 2·r·c + 2·r,
+/// and c more for the last row's sign. Yosys 0.23 (session 24), as this rule: 18 × 18 702
+/// LUT4s, 34 × 34 2,414 (2,380 placed by nextpnr-ecp5, at 107 MHz), 26 × 64 3,444. Yosys
+/// maps `a * b` without DSP tiles to about 6.1·a·b LUT4s (18 × 18: 2,078), the rule until this
+/// session: it builds the partial products as one logic network, not as rows of carry chains.
 fn lut_multiplier(a: u32, b: u32) -> u64 {
-    (a as u64 * b as u64 * 61).div_ceil(10)
+    let (r, c) = (a.min(b) as u64, a.max(b) as u64);
+    2 * r * c + 2 * r + c
+}
+
+/// Flip-flops of [`lut_multiplier`]'s array registered every three rows (`STAGE = 3`, which
+/// placed 34 × 34 at 107 MHz; unregistered, 62.7 MHz at six rows a stage): ⌈r/3⌉ − 1 stages of
+/// the running sum (c + 1 bits), its final low bits and the operand bits still to come (r in
+/// all) and the wide operand (c). 34 × 34: 1,133, as placed.
+fn array_flip_flops(a: u32, b: u32) -> u64 {
+    let (r, c) = (a.min(b) as u64, a.max(b) as u64);
+    (r.div_ceil(3) - 1) * (r + 2 * c + 1)
 }
 
 /// Nonzero digits of the canonical signed-digit (non-adjacent) form of `c`.
@@ -623,11 +641,13 @@ pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     p
 }
 
-/// The whole build on an ECP5-85k: the ray datapath mapped first (its multipliers get the DSP
-/// tiles), then the fixed units with the tiles left. Returns (ray datapath, fixed units).
+/// The whole build on an ECP5-85k: the fixed units mapped first (the (u,v) units and the
+/// Bezier engine wait for their products in a loop, where an array multiplier's latency would
+/// be paid at every level and step), then the ray datapath with the tiles left, whose
+/// multipliers feed pipelines. Returns (ray datapath, fixed units).
 pub fn on_ecp5(params: &Params, cfg: CordicConfig, uv_depth: u32) -> (Fpga, Fpga) {
-    let ray = ray_datapath(params, cfg).ecp5(ECP5_85K.dsps);
-    let fixed = fixed_units(cfg, uv_depth, params.compact).ecp5(ECP5_85K.dsps - ray.dsps);
+    let fixed = fixed_units(cfg, uv_depth, params.compact).ecp5(ECP5_85K.dsps);
+    let ray = ray_datapath(params, cfg).ecp5(ECP5_85K.dsps - fixed.dsps);
     (ray, fixed)
 }
 
@@ -645,5 +665,17 @@ mod tests {
         assert_eq!(csd_digits(u32::MAX as u64), 2);
         // the culling unit's gain constant has far fewer digits than its width
         assert!(gain_digits(CULL_CORDIC) < CULL_CORDIC.width / 2);
+    }
+
+    /// The array multiplier's rule against what Yosys 0.23 and nextpnr-ecp5 made of
+    /// `rtl/array_mul.v` (session 24; LUT4s with each carry cell as two, before packing).
+    #[test]
+    fn array_multipliers_as_synthesised() {
+        assert_eq!(lut_multiplier(18, 18), 702);
+        assert_eq!(lut_multiplier(34, 34), 2_414);
+        assert_eq!(lut_multiplier(64, 26), 3_444);
+        // the placed 34 × 34 held 1,133 flip-flops of its own (1,269 with its harness's 136)
+        assert_eq!(array_flip_flops(34, 34), 1_133);
+        assert_eq!(array_flip_flops(2, 18), 0);
     }
 }

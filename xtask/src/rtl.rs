@@ -86,6 +86,18 @@ pub const COARSE_BENCH: Bench = Bench {
     report: "coarse",
 };
 
+/// The multipliers: `array_mul.v` (a multiplier without DSP tiles) and `const_mul.v` (a product
+/// by a constant), against the exact integer products, not against model vectors.
+pub const MUL_BENCH: Bench = Bench {
+    top: "mul_top",
+    sources: &["array_mul.v", "const_mul.v", "tb/mul_top.v"],
+    cpp: "tb/mul_tb.cpp",
+    report: "mul",
+};
+
+/// Clocks of the multipliers' testbench: five products checked a clock.
+const MUL_CLOCKS: u32 = 20_000;
+
 /// The register file and its AHB-Lite slave, without the datapath behind it.
 pub const REGS_BENCH: Bench = Bench {
     top: "ahb_regs",
@@ -155,6 +167,7 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     lint_top(PLANE_BENCH.top, PLANE_BENCH.sources, &plane_generics(depth))?;
     lint_top(REGS_BENCH.top, REGS_BENCH.sources, &[])?;
     lint_top(COARSE_BENCH.top, COARSE_BENCH.sources, &[])?;
+    lint_top(MUL_BENCH.top, MUL_BENCH.sources, &[])?;
     for d in designs(cfg, depth) {
         let generics: Vec<String> = d.params.iter().map(|(k, v)| format!("-G{k}={v}")).collect();
         lint_top(d.top, d.files, &generics)?;
@@ -375,8 +388,20 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     CORDIC_MUTANT.caught(&name, &cfg.generics(), &args, opt)?;
     REGS_MUTANT.caught("mutant-regs", &[], &[file("regs.txt")], opt)?;
     COARSE_MUTANT.caught("mutant-coarse", &[], &[file("coarse.txt")], opt)?;
+    MUL_MUTANT.caught("mutant-mul", &[], &[MUL_CLOCKS.to_string()], opt)?;
     Ok(())
 }
+
+/// The array multiplier's last row adding a·b where it must subtract it (a's top bit weighs
+/// −2^(A−1)), moved one row up.
+const MUL_MUTANT: Mutant = Mutant {
+    bench: MUL_BENCH,
+    extra: &[],
+    file: "array_mul.v",
+    from: ".NEG((i == A - 1) ? 1 : 0)",
+    to: ".NEG((i == A - 2) ? 1 : 0)",
+    what: "the array multiplier's subtracting row",
+};
 
 /// The constant 15 of need - 1 = 15 + eta + 2^(4 - S) in the set-up unit's κ (one bit: 14), so
 /// that κ is sometimes one smaller than the model's.
@@ -432,6 +457,9 @@ fn cosim_run(
         let exe = build(COARSE_BENCH, &[], &src, &dir.join("coarse"), opt)?;
         let r = cosim(COARSE_BENCH, &exe, &[ev.display().to_string()])?;
         out.push(("coarse edge units".to_string(), r));
+        let exe = build(MUL_BENCH, &[], &src, &dir.join("mul"), opt)?;
+        let r = cosim(MUL_BENCH, &exe, &[MUL_CLOCKS.to_string()])?;
+        out.push(("multipliers".to_string(), r));
     }
     if let Some(d) = depth {
         let pdir = dir.join(format!("plane-d{d}"));
@@ -518,7 +546,12 @@ pub fn rotator_design(cfg: Cordic) -> Design {
     Design {
         name: format!("rotator-{}", cfg.name()),
         top: "syn_rotator",
-        files: &["const_mul.v", "cordic_pipe.v", "rotator.v", "syn/syn_rotator.v"],
+        files: &[
+            "const_mul.v",
+            "cordic_pipe.v",
+            "rotator.v",
+            "syn/syn_rotator.v",
+        ],
         params: vec![("ITER", cfg.iterations), ("W", cfg.width)],
     }
 }
@@ -544,7 +577,12 @@ pub fn frame_design(cfg: Cordic) -> Design {
     Design {
         name: format!("frame-{}", cfg.name()),
         top: "syn_frame",
-        files: &["const_mul.v", "cordic_pipe.v", "frame_unit.v", "syn/syn_frame.v"],
+        files: &[
+            "const_mul.v",
+            "cordic_pipe.v",
+            "frame_unit.v",
+            "syn/syn_frame.v",
+        ],
         params: vec![("ITER", cfg.iterations), ("W", cfg.width)],
     }
 }

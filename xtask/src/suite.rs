@@ -120,9 +120,10 @@ fn steps() -> Vec<Step> {
             what: "the accelerator's RTL (hdl-model/rtl/) Verilated and co-simulated against the \
                    model on Cornell-box hemispheres, random rays and frames, answers and clocks \
                    bit for bit, random register traffic on the register file's AHB-Lite bus, \
-                   and the coarse edge units' words and verdicts on the Cornell box's set-up \
-                   passes and random patches, then three one-bit mutants of the RTL shown to be \
-                   caught (cargo xtask rtl is the full form, with synthesis)",
+                   the coarse edge units' words and verdicts on the Cornell box's set-up \
+                   passes and random patches, and the multipliers against exact products, then \
+                   four one-bit mutants of the RTL shown to be caught (cargo xtask rtl is the \
+                   full form, with synthesis)",
             kind: Kind::Check(crate::rtl::ci),
         },
         Step {

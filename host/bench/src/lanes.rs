@@ -259,13 +259,15 @@ fn default_parts(out: &mut impl Write) -> Result<()> {
         total.dsps += f.dsps;
         total.brams += f.brams;
     };
+    // mapped as `area::on_ecp5` maps them: the fixed units first, printed last
+    let fixed = area::fixed_units(CordicConfig::DEFAULT, 16, p.compact).ecp5(dsps);
+    dsps -= fixed.dsps;
     for (name, part) in area::compact_parts(&p, CordicConfig::DEFAULT) {
         let f = part.ecp5(dsps);
         dsps -= f.dsps;
         sum(f);
         row(name, f)?;
     }
-    let fixed = area::fixed_units(CordicConfig::DEFAULT, 16, p.compact).ecp5(dsps);
     sum(fixed);
     row(
         "fixed units (angle unit, (u,v) units, Bezier engine)",
