@@ -345,7 +345,7 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     exact.add(6, 68);
     exact.add(1, 62);
     exact.add(2, 98);
-    exact.mem(crate::intersect::RAY_SLOTS as u64, 8 + 16 + 4 + 4);
+    exact.mem(crate::intersect::RAY_SLOTS as u64, tag_bits() + 16 + 4 + 4);
     exact.reg(4 * 3 * 34 + 3 * 68 + 2 * 68 + 98);
     let mut setup = Proxy::default();
     setup_units(&mut setup, params, b);
@@ -534,13 +534,20 @@ fn front_end(p: &mut Proxy, params: &Params, cfg: CordicConfig) {
 /// The descriptor FIFOs, the ray table, ray queue, result FIFO and ray FIFO.
 fn queues(p: &mut Proxy, lanes: u64) {
     let slots_in_flight = crate::intersect::RAY_SLOTS as u64;
+    let tag = tag_bits();
     for _ in 0..lanes {
-        p.mem(slots_in_flight, 8 + 6);
+        p.mem(slots_in_flight, tag + 6);
     }
     p.mem(slots_in_flight, 3 * 32 + 3 * 32 + 32);
     p.mem(slots_in_flight, 3 * 32 + 3 * 32 + 3 * 32);
-    p.mem(slots_in_flight, 4 * 32);
+    p.mem(crate::device::RESULT_FIFO_DEPTH as u64, 4 * 32);
     p.mem(crate::device::RAY_FIFO_DEPTH as u64, 3 * 32 + 3 * 32 + 40);
+}
+
+/// Bits of a ray's tag, its place among the rays in flight (8 while they were 255, until
+/// session 24).
+fn tag_bits() -> u64 {
+    (crate::intersect::RAY_SLOTS as u64 + 1).ilog2() as u64
 }
 
 /// The wide datapath: every lane with the exact edge products.

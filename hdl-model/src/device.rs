@@ -7,9 +7,10 @@
 //!                      └─► frame entries ─► angle unit (vectoring CORDIC) ─► ψ θ φ ─┘
 //! ```
 //!
-//! Flow control is by credits, as in hardware: the rotator only takes an entry when the ray queue
-//! behind it will have room for everything in flight, and the intersection unit only starts a ray
-//! when the result FIFO will have room for it, so no pipeline ever stalls mid-way.
+//! Flow control is by credits, as in hardware: an entry leaves the ray FIFO only while fewer
+//! than [`CREDITS`] rays are between it and the result FIFO, so the ray queue and the
+//! intersection unit's buffers always have room and no pipeline stalls mid-way; only the
+//! intersection unit's retirement waits when the result FIFO is full.
 //!
 //! The front end is `rays_per_clock` wide ([`Params`]): that many entries leave the ray FIFO,
 //! enter as many rotators, start in the intersection unit and retire into the result FIFO per
@@ -32,15 +33,20 @@ use crate::rotator::{RotIn, Rotator};
 
 /// Ray FIFO depth (entries).
 pub const RAY_FIFO_DEPTH: usize = 32;
-/// Result FIFO depth (results), and the credits of the whole datapath: an entry leaves the ray
-/// FIFO only with a result slot reserved for it, so the rotators, the ray queue and the
-/// intersection unit never hold more than this together and no pipeline stalls mid-way. It
-/// bounds the rays in flight, so it is as deep as the CAPS field allows: with the rotators'
-/// 80 clocks and the unit's ~60 at the default CORDIC, 255 credits keep up to about 1.8 rays a
-/// clock in flight.
-pub const RESULT_FIFO_DEPTH: usize = crate::intersect::RAY_SLOTS;
+/// Result FIFO depth (results): what CAPS bits 15:8 can say. Until session 24 it was also the
+/// datapath's credits ([`CREDITS`]).
+pub const RESULT_FIFO_DEPTH: usize = 255;
+/// Rays between the ray FIFO and the result FIFO at most, results waiting in it included: the
+/// ray queue's depth and the intersection unit's ([`crate::intersect::RAY_SLOTS`]). They are how
+/// far the set-up units can look ahead: an origin's set-up pass begins when its first ray
+/// reaches the ray FIFO's head, that is once the last origin's rays are all in flight
+/// ([`crate::intersect::IntersectUnit::announce`]). With 255 (the result FIFO's depth, until
+/// session 24) the next pass overlapped only the last 255 rays of a hemisphere of 621, and the
+/// 1,216-patch Cornell box cast at 3.93 cycles a ray; 511 gave 3.38, 1,023 2.62 and 2,047 2.60
+/// (`hemi form-factors scenes/cornell-8x8.toml --backend model --circles 16 --samples 2`).
+pub const CREDITS: usize = crate::intersect::RAY_SLOTS;
 /// Ray queue between the rotators and the intersection unit (covered by the credits).
-const QUEUE_DEPTH: usize = RESULT_FIFO_DEPTH;
+const QUEUE_DEPTH: usize = CREDITS;
 
 /// The reset value of CONFIG: 24 iterations, 32-bit words, 16 (u,v) levels.
 pub const CONFIG_RESET: u32 = 24 | (32 << config::WIDTH_SHIFT) | (16 << config::DEPTH_SHIFT);
@@ -522,16 +528,19 @@ impl Device {
         self.rotators.iter().map(|r| r.occupancy()).sum()
     }
 
-    /// Up to `rays_per_clock` rays from the intersection unit into the result FIFO (room was
-    /// reserved when each started).
+    /// Up to `rays_per_clock` rays from the intersection unit into the result FIFO, while it has
+    /// room (the rays behind wait in the unit's retirement buffer, which the credits size).
     fn retire(&mut self) {
         for _ in 0..self.rays_per_clock() {
+            if self.result_fifo.is_full() {
+                break;
+            }
             let Some(r) = self.intersect.take_done(self.cycles) else {
                 break;
             };
             let words = Self::result_words(&r);
             let pushed = self.result_fifo.push(words);
-            debug_assert!(pushed.is_ok(), "result credit accounting");
+            debug_assert!(pushed.is_ok(), "room checked above");
             self.results_done = self.results_done.wrapping_add(1);
             self.irq_status |= irq::RESULT;
         }
@@ -584,7 +593,7 @@ impl Device {
                 break;
             }
             let rotates = e.mode & mode::KIND_MASK != mode::TRACE;
-            if held + taken >= RESULT_FIFO_DEPTH || (rotates && self.frame.busy()) {
+            if held + taken >= CREDITS || (rotates && self.frame.busy()) {
                 break;
             }
             let e = *e;

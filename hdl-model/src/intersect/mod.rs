@@ -165,8 +165,9 @@ pub struct RayOut<T: Copy + Default> {
 }
 
 /// Rays in the unit at once (entered and not yet retired): the depth of each lane's descriptor
-/// FIFO and of the retirement buffer. The device's result credits keep it below this.
-pub const RAY_SLOTS: usize = 255;
+/// FIFO and of the retirement buffer. The device's credits ([`crate::device::CREDITS`], why
+/// 1,023) keep it below this; 255, the result FIFO's depth, until session 24.
+pub const RAY_SLOTS: usize = 1023;
 
 /// A Bezier patch's answer, computed by the subdivision engine: t, u, v, side.
 #[derive(Clone, Copy, Debug, Default)]
