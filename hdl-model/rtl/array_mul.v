@@ -2,9 +2,9 @@
 // for. Row i adds a_i · b (the last row subtracts it: a's top bit weighs −2^(A−1)) to the
 // running sum's high B + 1 bits, and the sum's lowest bit is then final, so each row is one
 // (B + 2)-bit carry chain and an AND a bit: about 2·A·B + 2·A LUT4s, where Yosys 0.23 maps
-// `a * b` without DSP tiles to about 6.1·A·B (docs/PERFORMANCE.md, "Multipliers without DSP
-// tiles"). Each row is its own module kept whole (`keep_hierarchy`), or ABC flattens the rows
-// into one logic network of the larger size. A register every STAGE rows (0: none) keeps a
+// `a * b` without DSP tiles to about 6.1·A·B (docs/PERFORMANCE.md, "Gain stages in digit
+// tables, arrays for LUT multipliers"). Each row is its own module kept whole, or ABC merges
+// the rows into one logic network of the larger size. A register every STAGE rows (0: none) keeps a
 // path to STAGE carry chains: ⌈A/STAGE⌉ − 1 clocks of latency; STAGE = 3 places a 34 × 34 at
 // 107 MHz on an ECP5-85k. A is best the narrower operand (fewer rows).
 (* keep_hierarchy *)

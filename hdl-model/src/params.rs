@@ -57,11 +57,11 @@ impl Params {
     /// The default build: 8 lanes in 2 ray groups of 4 banks of 512 slots (2,048 patches), 32
     /// sectors (and the culling unit's 16 polar bands), 2 rays per clock, the compact datapath:
     /// the fewest lanes that cast the Cornell box at under 1 cycle a ray and its 1,216-patch
-    /// subdivision at under 4 (docs/PERFORMANCE.md: 0.85 and 3.84–3.90 by `form-factors` since
-    /// issue 19's fourth round, whose culling hands the lanes fewer candidates; 10 lanes before,
-    /// when 8 needed 4.02; 6 lanes need 4.84). Its area proxy does not fit an ECP5-85k (`area`:
-    /// 550,628 LUT4s since session 22 counts LUT multipliers as Yosys maps them; no build of
-    /// docs/PERFORMANCE.md's table fits whole, one or two lanes' ray datapath alone does).
+    /// subdivision at under 4 (docs/PERFORMANCE.md: 0.80 and 2.62 by `form-factors` since
+    /// session 24's deeper credits; 0.85 and 3.84–3.93 before; 6 lanes needed 4.84). Its area
+    /// proxy does not fit an ECP5-85k (`area`, session 24: 238,070 LUT4s, 110,014 flip-flops,
+    /// 394 block RAMs); of the builds docs/PERFORMANCE.md lists, two lanes in two groups at one
+    /// ray a clock is the fastest that does (1.56 and 8.82 cycles a ray).
     pub const DEFAULT: Params = Params {
         lanes: 8,
         sectors: 32,
