@@ -74,9 +74,10 @@ pub const LEAF_CLOCKS: u32 = 34;
 pub const RECIP_LATENCY: u64 = 33;
 /// Clocks the compact datapath's slab tester adds to a step: one tester for the four children
 /// and two multipliers in it, an axis's two bounds (box − origin) · 1/d a clock, so three clocks
-/// a child and twelve a step where four testers of six take one. Why two: without DSP tiles
-/// left (the ray datapath takes them all) each 26 × 64 multiplier is about 10,000 LUT4s, and
-/// only Bezier patches use them. Until session 24 six multipliers, a child a clock (3 more).
+/// a child and twelve a step where four testers of six take one. Why two: each 26 × 64
+/// multiplier is eight DSP tiles of the part's 156 (or, without tiles, an array of about 3,400
+/// LUT4s; 10,000 as Yosys maps `a * b`), for a unit only Bezier patches use. Until session 24
+/// six multipliers, a child a clock (3 more).
 pub const SERIAL_SLAB_CLOCKS: u32 = 4 * 3 - 1;
 
 /// Clocks the compact datapath's leaf adds to [`LEAF_CLOCKS`]: its products on two 34 × 34
