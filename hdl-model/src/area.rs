@@ -345,7 +345,7 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     exact.add(6, 68);
     exact.add(1, 62);
     exact.add(2, 98);
-    exact.mem(crate::intersect::RAY_SLOTS as u64, tag_bits() + 16 + 4 + 4);
+    exact.mem(params.ray_slots() as u64, tag_bits(params) + 16 + 4 + 4);
     exact.reg(4 * 3 * 34 + 3 * 68 + 2 * 68 + 98);
     let mut setup = Proxy::default();
     setup_units(&mut setup, params, b);
@@ -357,7 +357,7 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     walks(&mut coarse, params, l);
     let mut front = Proxy::default();
     front_end(&mut front, params, cfg);
-    queues(&mut front, l);
+    queues(&mut front, params);
     alloc::vec![
         ("coarse edge tests and bitmap walks", coarse),
         ("plane units (n · d, dividers, minima)", plane),
@@ -527,14 +527,14 @@ fn front_end(p: &mut Proxy, params: &Params, cfg: CordicConfig) {
     p.add(dividers * 33, 64);
     p.reg(dividers * 33 * 128);
     if params.compact {
-        p.mem(crate::intersect::RAY_SLOTS as u64, 3 * 64);
+        p.mem(params.ray_slots() as u64, 3 * 64);
     }
 }
 
 /// The descriptor FIFOs, the ray table, ray queue, result FIFO and ray FIFO.
-fn queues(p: &mut Proxy, lanes: u64) {
-    let slots_in_flight = crate::intersect::RAY_SLOTS as u64;
-    let tag = tag_bits();
+fn queues(p: &mut Proxy, params: &Params) {
+    let (lanes, slots_in_flight) = (params.lanes as u64, params.ray_slots() as u64);
+    let tag = tag_bits(params);
     for _ in 0..lanes {
         p.mem(slots_in_flight, tag + 6);
     }
@@ -544,10 +544,10 @@ fn queues(p: &mut Proxy, lanes: u64) {
     p.mem(crate::device::RAY_FIFO_DEPTH as u64, 3 * 32 + 3 * 32 + 40);
 }
 
-/// Bits of a ray's tag, its place among the rays in flight (8 while they were 255, until
-/// session 24).
-fn tag_bits() -> u64 {
-    (crate::intersect::RAY_SLOTS as u64 + 1).ilog2() as u64
+/// Bits of a ray's tag, its place among the rays in flight (8 while they were 255 in every
+/// build, until session 24).
+fn tag_bits(params: &Params) -> u64 {
+    (params.ray_slots() as u64 + 1).ilog2() as u64
 }
 
 /// The wide datapath: every lane with the exact edge products.
@@ -586,7 +586,7 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
         }
     }
     walks(&mut p, params, l);
-    queues(&mut p, l);
+    queues(&mut p, params);
     p
 }
 

@@ -36,8 +36,9 @@ pub const RAY_FIFO_DEPTH: usize = 32;
 /// Result FIFO depth (results): what CAPS bits 15:8 can say. Until session 24 it was also the
 /// datapath's credits ([`CREDITS`]).
 pub const RESULT_FIFO_DEPTH: usize = 255;
-/// Rays between the ray FIFO and the result FIFO at most, results waiting in it included: the
-/// ray queue's depth and the intersection unit's ([`crate::intersect::RAY_SLOTS`]). They are how
+/// Rays between the ray FIFO and the result FIFO at most, results waiting in it included, on the
+/// compact datapath ([`Params::ray_slots`]; the wide one keeps the result FIFO's 255, as
+/// `rtl/plane_unit.v` does): the ray queue's depth and the intersection unit's. They are how
 /// far the set-up units can look ahead: an origin's set-up pass begins when its first ray
 /// reaches the ray FIFO's head, that is once the last origin's rays are all in flight
 /// ([`crate::intersect::IntersectUnit::announce`]). With 255 (the result FIFO's depth, until
@@ -593,7 +594,7 @@ impl Device {
                 break;
             }
             let rotates = e.mode & mode::KIND_MASK != mode::TRACE;
-            if held + taken >= CREDITS || (rotates && self.frame.busy()) {
+            if held + taken >= self.params.ray_slots() || (rotates && self.frame.busy()) {
                 break;
             }
             let e = *e;

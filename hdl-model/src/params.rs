@@ -87,6 +87,18 @@ impl Params {
         self.lanes / self.ray_groups.max(1)
     }
 
+    /// Rays the intersection unit holds at once, and the device's credits (rays between the ray
+    /// FIFO and the result FIFO): 1,023 on the compact datapath, whose set-up pass for the next
+    /// origin runs ahead of the last origin's rays only as far as these (`device::CREDITS`);
+    /// 255, the result FIFO's depth, on the wide one, as `rtl/plane_unit.v` holds them.
+    pub fn ray_slots(&self) -> usize {
+        if self.compact {
+            crate::intersect::RAY_SLOTS
+        } else {
+            crate::device::RESULT_FIFO_DEPTH
+        }
+    }
+
     /// Patch slots on chip.
     pub fn capacity(&self) -> u32 {
         self.banks() * self.bank_slots

@@ -164,9 +164,10 @@ pub struct RayOut<T: Copy + Default> {
     pub hit: Option<HitOut>,
 }
 
-/// Rays in the unit at once (entered and not yet retired): the depth of each lane's descriptor
-/// FIFO and of the retirement buffer. The device's credits ([`crate::device::CREDITS`], why
-/// 1,023) keep it below this; 255, the result FIFO's depth, until session 24.
+/// Rays in the unit at once (entered and not yet retired) at most: the depth of each lane's
+/// descriptor FIFO and of the retirement buffer. A build holds [`Params::ray_slots`] of them:
+/// all on the compact datapath (why 1,023: [`crate::device::CREDITS`]), 255 on the wide one;
+/// 255 on both until session 24.
 pub const RAY_SLOTS: usize = 1023;
 
 /// A Bezier patch's answer, computed by the subdivision engine: t, u, v, side.
@@ -582,7 +583,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
 
     /// Whether a new ray can be started this clock.
     pub fn ready(&self) -> bool {
-        self.retire.len() < RAY_SLOTS
+        self.retire.len() < self.params.ray_slots()
     }
 
     /// Rays started and not yet out.
