@@ -13,8 +13,14 @@
 // CONFIG is applied: not built.
 module const_mul #(
     parameter integer W = 32,
-    parameter [W-1:0] C = 0
+    parameter [W-1:0] C = 0,
+    // 1: the tree registered after its second level, so the product is out a clock after x
+    // (the CORDIC gain stage's two clocks; in one, a 32-bit tree held the rotator to 76 MHz)
+    parameter integer REG = 0
 ) (
+    /* verilator lint_off UNUSEDSIGNAL */
+    input  wire                  clk,  // unused without the register (REG = 0)
+    /* verilator lint_on UNUSEDSIGNAL */
     input  wire signed [W-1:0]   x,
     output wire signed [2*W-1:0] p
 );
@@ -74,5 +80,16 @@ module const_mul #(
     wire signed [2*W-1:0] s67 = term[6] + term[7];
     wire signed [2*W-1:0] s03 = s01 + s23;
     wire signed [2*W-1:0] s47 = s45 + s67;
-    assign p = s03 + s47;
+    generate
+        if (REG != 0) begin : staged
+            reg signed [2*W-1:0] s03_q, s47_q;
+            always @(posedge clk) begin
+                s03_q <= s03;
+                s47_q <= s47;
+            end
+            assign p = s03_q + s47_q;
+        end else begin : direct
+            assign p = s03 + s47;
+        end
+    endgenerate
 endmodule

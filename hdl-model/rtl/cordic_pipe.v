@@ -1,6 +1,7 @@
 // A fully pipelined CORDIC (paper §3.4), the RTL of hdl-model/src/cordic/stage.rs: a coarse
-// quadrant stage, ITER micro-rotation stages and a gain stage, one register after each, so a
-// vector entering on one clock edge is at the output ITER + 2 edges later (CordicConfig::latency).
+// quadrant stage, ITER micro-rotation stages, one register after each, and a gain stage of two
+// registers (its adder tree registered halfway), so a vector entering on one clock edge is at
+// the output ITER + 3 edges later (CordicConfig::latency).
 //
 // Words are W bits with the model's binary points: x and y Q2.(W-2), z Q3.(W-3). The model keeps
 // the top W bits of 32-bit containers; a W-bit datapath computes exactly those bits, so the
@@ -38,9 +39,10 @@ module cordic_pipe #(
     localparam [63:0] INV_GAIN_R = rom_round(inv_gain_q62(ITER), W - 2);
     localparam [W-1:0] HALF_PI = HALF_PI_R[W-1:0];
     localparam [W-1:0] INV_GAIN = INV_GAIN_R[W-1:0];
-    localparam integer L = ITER + 2;
+    localparam integer L = ITER + 3;
 
-    // register k holds the vector after stage k (0: quadrant, 1..ITER: micro, ITER+1: gain)
+    // register k holds the vector after stage k (0: quadrant, 1..ITER: micro, ITER+1: the gain
+    // stage's first half, whose partial sums are inside const_mul, ITER+2: gain)
     reg signed [W-1:0] x [0:L-1];
     reg signed [W-1:0] y [0:L-1];
     reg signed [W-1:0] z [0:L-1];
@@ -116,8 +118,16 @@ module cordic_pipe #(
     wire signed [2*W-1:0] gx;
     wire signed [2*W-1:0] gy;
     /* verilator lint_on UNUSEDSIGNAL */
-    const_mul #(.W(W), .C(INV_GAIN)) gain_x (.x(x[ITER]), .p(gx));
-    const_mul #(.W(W), .C(INV_GAIN)) gain_y (.x(y[ITER]), .p(gy));
+    const_mul #(.W(W), .C(INV_GAIN), .REG(1)) gain_x (.clk(clk), .x(x[ITER]), .p(gx));
+    const_mul #(.W(W), .C(INV_GAIN), .REG(1)) gain_y (.clk(clk), .x(y[ITER]), .p(gy));
+    // the first half carries what is not multiplied (x and y are in const_mul's registers)
+    always @(posedge clk) begin
+        if (rst) v[ITER+1] <= 1'b0;
+        else v[ITER+1] <= v[ITER];
+        z[ITER+1] <= z[ITER];
+        zero[ITER+1] <= zero[ITER];
+        pay[ITER+1] <= pay[ITER];
+    end
     always @(posedge clk) begin
         if (rst) v[L-1] <= 1'b0;
         else v[L-1] <= v[L-2];

@@ -121,17 +121,22 @@ impl Proxy {
         let (n, w) = (cfg.iterations as u64, cfg.width as u64);
         self.add_sub(count * 3 * (n + 1), w);
         self.const_products(2 * count, w);
-        self.reg(count * (n + 2) * 3 * w);
+        // n + 2 stages of x, y and z, and z beside the gain stage's partial sums
+        self.reg(count * ((n + 2) * 3 * w + w));
     }
 
     /// `count` products of a w-bit word by a constant in tables of its hex digits, as
     /// `rtl/const_mul.v` builds the CORDIC gain stages: ⌈w/4⌉ tables of digit × C, each a LUT4
-    /// per bit of its (w + 5)-bit word, and a tree of ⌈w/4⌉ − 1 adders of up to 2w bits. Until
-    /// session 24 a w × w multiplier each (four DSP tiles at 32 bits, or 6.1·w² LUT4s).
+    /// per bit of its (w + 5)-bit word, and a tree of ⌈w/4⌉ − 1 adders of up to 2w bits,
+    /// registered after its second level. Until session 24 a w × w multiplier each (four DSP
+    /// tiles at 32 bits, or 6.1·w² LUT4s).
     fn const_products(&mut self, count: u64, w: u64) {
         let digits = w.div_ceil(4);
         self.add(count * digits, w + 5);
         self.add(count * (digits - 1), 2 * w);
+        // the tree registered after its second level (two sums of 2w bits): the gain stage's
+        // second clock (since session 24)
+        self.reg(count * 4 * w);
     }
 
     /// A pipelined vectoring CORDIC of `cfg`, fixed at build time, whose magnitude is used
@@ -598,7 +603,7 @@ fn angle_unit(p: &mut Proxy, cfg: CordicConfig) {
     let (n, w) = (cfg.iterations as u64, cfg.width as u64);
     p.add_sub(3 * (n + 1), w);
     p.const_products(1, w);
-    p.reg((n + 2) * 3 * w);
+    p.reg((n + 2) * 3 * w + w);
 }
 
 /// The units every build has: the angle unit (one vectoring CORDIC pipe, `frame.rs`), the (u,v)

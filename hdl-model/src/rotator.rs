@@ -6,7 +6,7 @@
 //! 2. θ about y: (z, x) turned by θ (so x₁ = x cos θ + z sin θ, z₁ = z cos θ − x sin θ), y carried;
 //! 3. φ about z: (x₁, y) turned by φ, z₁ carried.
 //!
-//! One direction enters per clock; latency 3(n + 2) + 2 (a register between consecutive pipes). A bypass bit (trace mode: the direction is
+//! One direction enters per clock; latency 3(n + 3) + 2 (a register between consecutive pipes). A bypass bit (trace mode: the direction is
 //! already in scene space) returns the input unchanged after the same latency, so results stay in
 //! order without a second path.
 
@@ -34,10 +34,10 @@ struct Side<T: Copy + Default> {
     info: T,
 }
 
-/// Side-table slots: more than the longest rotator latency (3 (30 + 2) + 2 = 98 clocks), so a
+/// Side-table slots: more than the longest rotator latency (3 (30 + 3) + 2 = 101 clocks), so a
 /// slot allocated round-robin, at most one per clock, is free again before it is reused.
 const SLOTS: usize = 128;
-const _: () = assert!(SLOTS > 3 * (crate::cordic::MAX_ITERATIONS as usize + 2) + 2);
+const _: () = assert!(SLOTS > 3 * (crate::cordic::MAX_ITERATIONS as usize + 3) + 2);
 
 /// A direction and its frame entering the rotator.
 #[derive(Clone, Copy, Debug, Default)]
@@ -52,12 +52,12 @@ pub struct RotIn<T: Copy + Default> {
     pub info: T,
 }
 
-/// The rotator's registers: three pipes of n + 2 and the register between consecutive pipes.
-const CHAIN: usize = 3 * (crate::cordic::MAX_ITERATIONS as usize + 2) + 2;
+/// The rotator's registers: three pipes of n + 3 and the register between consecutive pipes.
+const CHAIN: usize = 3 * (crate::cordic::MAX_ITERATIONS as usize + 3) + 2;
 
 /// The three CORDIC pipes.
 ///
-/// Their registers are kept as one ring of 3(n + 2) + 2 ([`Pipe`]), and each pipe's stages are
+/// Their registers are kept as one ring of 3(n + 3) + 2 ([`Pipe`]), and each pipe's stages are
 /// applied as a direction leaves the ring (`Pipe::shift`): the pipes never stall and nothing
 /// reads their registers, so the direction and its clock are those of three pipes ticked one
 /// after the other, at the cost of one register shift a clock instead of three.

@@ -1,6 +1,7 @@
 // The multipliers' testbench top: `array_mul.v` at the shapes the area proxy maps to it (18 ×
 // 18 unregistered, 34 × 34 and 26 × 64 with a register every three rows) and `const_mul.v` (the
-// CORDIC gain stage's product by 1/K_24 at 32 and 16 bits), fed a vector a clock by
+// CORDIC gain stage's product by 1/K_24 at 32 bits unregistered and 16 registered, as the gain
+// stage has it), fed a vector a clock by
 // `mul_tb.cpp`, which checks each product against the integer one after the unit's latency.
 module mul_top (
     input  wire               clk,
@@ -21,6 +22,6 @@ module mul_top (
     array_mul #(.A(18), .B(18), .STAGE(0)) m18 (.clk(clk), .a(a18), .b(b18), .p(p18));
     array_mul #(.A(34), .B(34), .STAGE(3)) m34 (.clk(clk), .a(a34), .b(b34), .p(p34));
     array_mul #(.A(26), .B(64), .STAGE(3)) m90 (.clk(clk), .a(a26), .b(b64), .p(p90));
-    const_mul #(.W(32), .C(32'h26dd_3b6a)) c32 (.x(x32), .p(k32));
-    const_mul #(.W(16), .C(16'h26dd)) c16 (.x(x16), .p(k16));
+    const_mul #(.W(32), .C(32'h26dd_3b6a)) c32 (.clk(clk), .x(x32), .p(k32));
+    const_mul #(.W(16), .C(16'h26dd), .REG(1)) c16 (.clk(clk), .x(x16), .p(k16));
 endmodule

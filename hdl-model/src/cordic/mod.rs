@@ -3,7 +3,7 @@
 //! One pipe is a coarse-rotation stage, `n` micro-rotation stages (stage i adds or subtracts the
 //! other component shifted right by the constant i, and ±atan 2^-i from ROM) and a gain
 //! compensation stage (a constant multiply by 1/K_n, for each component separately). It accepts
-//! one vector per clock and returns it n + 2 clocks later.
+//! one vector per clock and returns it n + 3 clocks later.
 //!
 //! - **Rotation mode** turns (x, y) by the angle z. The coarse stage first turns by ±π/2 so that
 //!   the residual angle is within the ±1.743 rad the micro-rotations converge over, which covers
@@ -56,8 +56,10 @@ impl CordicConfig {
             && self.iterations <= self.width - 2
     }
 
-    /// Pipeline latency in clocks: coarse stage, n micro-rotations, gain stage.
+    /// Pipeline latency in clocks: coarse stage, n micro-rotations, and the gain stage in two
+    /// (its adder tree registered halfway, `rtl/const_mul.v`: in one clock the 32-bit tree
+    /// held the rotator to 76 MHz; until session 24, n + 2).
     pub fn latency(&self) -> u32 {
-        self.iterations + 2
+        self.iterations + 3
     }
 }
