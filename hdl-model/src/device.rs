@@ -8,7 +8,7 @@
 //! ```
 //!
 //! Flow control is by credits, as in hardware: an entry leaves the ray FIFO only while fewer
-//! than [`CREDITS`] rays are between it and the result FIFO, so the ray queue and the
+//! than [`Params::ray_slots`] rays are between it and the result FIFO, so the ray queue and the
 //! intersection unit's buffers always have room and no pipeline stalls mid-way; only the
 //! intersection unit's retirement waits when the result FIFO is full.
 //!
@@ -33,21 +33,11 @@ use crate::rotator::{RotIn, Rotator};
 
 /// Ray FIFO depth (entries).
 pub const RAY_FIFO_DEPTH: usize = 32;
-/// Result FIFO depth (results): what CAPS bits 15:8 can say. Until session 24 it was also the
-/// datapath's credits ([`CREDITS`]).
+/// Result FIFO depth (results): what CAPS bits 15:8 can say. Until session 24 it was also every
+/// build's credits (now [`Params::ray_slots`]).
 pub const RESULT_FIFO_DEPTH: usize = 255;
-/// Rays between the ray FIFO and the result FIFO at most, results waiting in it included, on the
-/// compact datapath ([`Params::ray_slots`]; the wide one keeps the result FIFO's 255, as
-/// `rtl/plane_unit.v` does): the ray queue's depth and the intersection unit's. They are how
-/// far the set-up units can look ahead: an origin's set-up pass begins when its first ray
-/// reaches the ray FIFO's head, that is once the last origin's rays are all in flight
-/// ([`crate::intersect::IntersectUnit::announce`]). With 255 (the result FIFO's depth, until
-/// session 24) the next pass overlapped only the last 255 rays of a hemisphere of 621, and the
-/// 1,216-patch Cornell box cast at 3.93 cycles a ray; 511 gave 3.38, 1,023 2.62 and 2,047 2.60
-/// (`hemi form-factors scenes/cornell-8x8.toml --backend model --circles 16 --samples 2`).
-pub const CREDITS: usize = crate::intersect::RAY_SLOTS;
 /// Ray queue between the rotators and the intersection unit (covered by the credits).
-const QUEUE_DEPTH: usize = CREDITS;
+const QUEUE_DEPTH: usize = crate::intersect::RAY_SLOTS;
 
 /// The reset value of CONFIG: 24 iterations, 32-bit words, 16 (u,v) levels.
 pub const CONFIG_RESET: u32 = 24 | (32 << config::WIDTH_SHIFT) | (16 << config::DEPTH_SHIFT);

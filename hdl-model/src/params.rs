@@ -89,7 +89,7 @@ impl Params {
 
     /// Rays the intersection unit holds at once, and the device's credits (rays between the ray
     /// FIFO and the result FIFO): 1,023 on the compact datapath, whose set-up pass for the next
-    /// origin runs ahead of the last origin's rays only as far as these (`device::CREDITS`);
+    /// origin runs ahead of the last origin's rays only as far as these (`intersect::RAY_SLOTS`);
     /// 255, the result FIFO's depth, on the wide one, as `rtl/plane_unit.v` holds them.
     pub fn ray_slots(&self) -> usize {
         if self.compact {

@@ -165,9 +165,15 @@ pub struct RayOut<T: Copy + Default> {
 }
 
 /// Rays in the unit at once (entered and not yet retired) at most: the depth of each lane's
-/// descriptor FIFO and of the retirement buffer. A build holds [`Params::ray_slots`] of them:
-/// all on the compact datapath (why 1,023: [`crate::device::CREDITS`]), 255 on the wide one;
-/// 255 on both until session 24.
+/// descriptor FIFO and of the retirement buffer. A build holds [`Params::ray_slots`] of them,
+/// all on the compact datapath, 255 on the wide one (255 on both until session 24).
+///
+/// Why 1,023: they are also the device's credits, and so how far the set-up units look ahead.
+/// An origin's set-up pass begins when its first ray reaches the ray FIFO's head, that is once
+/// the last origin's rays are all in flight ([`IntersectUnit::announce`]). With 255 the next
+/// pass overlapped only the last 255 rays of a hemisphere of 621, and the 1,216-patch Cornell
+/// box cast at 3.93 cycles a ray; 511 gave 3.38, 1,023 2.62 and 2,047 2.60 (`hemi form-factors
+/// scenes/cornell-8x8.toml --backend model --circles 16 --samples 2`).
 pub const RAY_SLOTS: usize = 1023;
 
 /// A Bezier patch's answer, computed by the subdivision engine: t, u, v, side.
