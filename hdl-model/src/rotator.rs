@@ -37,7 +37,7 @@ struct Side<T: Copy + Default> {
 /// Side-table slots: more than the longest rotator latency (3 (30 + 3) + 2 = 101 clocks), so a
 /// slot allocated round-robin, at most one per clock, is free again before it is reused.
 const SLOTS: usize = 128;
-const _: () = assert!(SLOTS > 3 * (crate::cordic::MAX_ITERATIONS as usize + 3) + 2);
+const _: () = assert!(SLOTS > CHAIN);
 
 /// A direction and its frame entering the rotator.
 #[derive(Clone, Copy, Debug, Default)]
@@ -52,8 +52,14 @@ pub struct RotIn<T: Copy + Default> {
     pub info: T,
 }
 
-/// The rotator's registers: three pipes of n + 3 and the register between consecutive pipes.
-const CHAIN: usize = 3 * (crate::cordic::MAX_ITERATIONS as usize + 3) + 2;
+/// The rotator's latency at `iterations`: three pipes and the register between consecutive
+/// pipes, 3(n + 3) + 2.
+const fn chain(iterations: u32) -> usize {
+    3 * crate::cordic::pipe_latency(iterations) as usize + 2
+}
+
+/// The rotator's registers at the most iterations.
+const CHAIN: usize = chain(crate::cordic::MAX_ITERATIONS);
 
 /// The three CORDIC pipes.
 ///
@@ -81,7 +87,7 @@ impl<T: Copy + Default> Rotator<T> {
             psi: CordicPipe::new(Mode::Rotate, cfg),
             theta: CordicPipe::new(Mode::Rotate, cfg),
             phi: CordicPipe::new(Mode::Rotate, cfg),
-            regs: Pipe::new(3 * cfg.latency() as usize + 2),
+            regs: Pipe::new(chain(cfg.iterations)),
             side: [Side::default(); SLOTS],
             next_slot: 0,
             in_flight: 0,
@@ -90,7 +96,7 @@ impl<T: Copy + Default> Rotator<T> {
 
     /// Latency in clocks.
     pub fn latency(&self) -> u32 {
-        3 * self.psi.latency() + 2
+        chain(self.psi.config().iterations) as u32
     }
 
     /// Directions in flight.

@@ -31,6 +31,13 @@ pub struct CordicConfig {
     pub width: u32,
 }
 
+/// Clocks of a pipe of `iterations` micro-rotations: the coarse stage, the micro-rotations and
+/// the gain stage in two (its adder tree registered halfway, `rtl/const_mul.v`: in one clock
+/// the 32-bit tree held the rotator to 76 MHz; until session 24, n + 2).
+pub const fn pipe_latency(iterations: u32) -> u32 {
+    iterations + 3
+}
+
 /// Fewest iterations accepted (below this the coarse stage alone would be most of the answer).
 pub const MIN_ITERATIONS: u32 = 4;
 /// Most iterations accepted (the ROM has 32 entries; 30 fraction bits at W = 32).
@@ -56,10 +63,8 @@ impl CordicConfig {
             && self.iterations <= self.width - 2
     }
 
-    /// Pipeline latency in clocks: coarse stage, n micro-rotations, and the gain stage in two
-    /// (its adder tree registered halfway, `rtl/const_mul.v`: in one clock the 32-bit tree
-    /// held the rotator to 76 MHz; until session 24, n + 2).
+    /// Pipeline latency in clocks ([`pipe_latency`]).
     pub fn latency(&self) -> u32 {
-        self.iterations + 3
+        pipe_latency(self.iterations)
     }
 }
