@@ -663,6 +663,31 @@ pub fn on_ecp5(params: &Params, cfg: CordicConfig, uv_depth: u32) -> (Fpga, Fpga
     (ray, fixed)
 }
 
+/// A compact build on an ECP5-85k unit by unit, mapped as [`on_ecp5`] maps the whole (the
+/// fixed units first, listed last), each with its own 10 % for control: what does not fit,
+/// named.
+pub fn compact_parts_on_ecp5(
+    params: &Params,
+    cfg: CordicConfig,
+    uv_depth: u32,
+) -> Vec<(&'static str, Fpga)> {
+    let fixed = fixed_units(cfg, uv_depth, params.compact).ecp5(ECP5_85K.dsps);
+    let mut dsps = ECP5_85K.dsps - fixed.dsps;
+    let mut out: Vec<(&'static str, Fpga)> = compact_parts(params, cfg)
+        .into_iter()
+        .map(|(name, part)| {
+            let f = part.ecp5(dsps);
+            dsps -= f.dsps;
+            (name, f)
+        })
+        .collect();
+    out.push((
+        "fixed units (angle unit, (u,v) units, Bezier engine)",
+        fixed,
+    ));
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -244,7 +244,6 @@ fn default_parts(out: &mut impl Write) -> Result<()> {
     writeln!(out, "\nThe default build unit by unit ({p:?})\n")?;
     writeln!(out, "| unit | LUT4 | FF | DSP | EBR |")?;
     writeln!(out, "|---|---|---|---|---|")?;
-    let mut dsps = area::ECP5_85K.dsps;
     let mut row = |name: &str, f: area::Fpga| {
         writeln!(
             out,
@@ -253,26 +252,13 @@ fn default_parts(out: &mut impl Write) -> Result<()> {
         )
     };
     let mut total = area::Fpga::default();
-    let mut sum = |f: area::Fpga| {
+    for (name, f) in area::compact_parts_on_ecp5(&p, CordicConfig::DEFAULT, 16) {
         total.luts += f.luts;
         total.ffs += f.ffs;
         total.dsps += f.dsps;
         total.brams += f.brams;
-    };
-    // mapped as `area::on_ecp5` maps them: the fixed units first, printed last
-    let fixed = area::fixed_units(CordicConfig::DEFAULT, 16, p.compact).ecp5(dsps);
-    dsps -= fixed.dsps;
-    for (name, part) in area::compact_parts(&p, CordicConfig::DEFAULT) {
-        let f = part.ecp5(dsps);
-        dsps -= f.dsps;
-        sum(f);
         row(name, f)?;
     }
-    sum(fixed);
-    row(
-        "fixed units (angle unit, (u,v) units, Bezier engine)",
-        fixed,
-    )?;
     row("total (each row with its own 10 % for control)", total)?;
     row("ECP5-85k", area::ECP5_85K)?;
     Ok(())
