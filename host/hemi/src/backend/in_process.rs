@@ -48,8 +48,7 @@ pub trait Engines: Sync {
     fn engine<'p>(&'p self, patches: &'p [Patch]) -> Self::Engine<'p>;
 
     /// Shots a batch holds for engines over `patches` (when [`Engines::BATCHES`]).
-    fn shot_batch(&self, patches: &[Patch]) -> usize {
-        let _ = patches;
+    fn shot_batch(&self, _patches: &[Patch]) -> usize {
         SHOT_BATCH
     }
 }
