@@ -1,7 +1,8 @@
 // A fully pipelined CORDIC (paper §3.4), the RTL of hdl-model/src/cordic/stage.rs: a coarse
-// quadrant stage, ITER micro-rotation stages, one register after each, and a gain stage of two
-// registers (its adder tree registered halfway), so a vector entering on one clock edge is at
-// the output ITER + 3 edges later (CordicConfig::latency).
+// quadrant stage of two registers (the decision, then the turn), ITER micro-rotation stages,
+// one register after each, and a gain stage of two registers (its adder tree registered
+// halfway), so a vector entering on one clock edge is at the output ITER + 4 edges later
+// (CordicConfig::latency).
 //
 // Words are W bits with the model's binary points: x and y Q2.(W-2), z Q3.(W-3). The model keeps
 // the top W bits of 32-bit containers; a W-bit datapath computes exactly those bits, so the
@@ -41,8 +42,9 @@ module cordic_pipe #(
     localparam [W-1:0] INV_GAIN = INV_GAIN_R[W-1:0];
     localparam integer L = ITER + 3;
 
-    // register k holds the vector after stage k (0: quadrant, 1..ITER: micro, ITER+1: the gain
-    // stage's first half, whose partial sums are inside const_mul, ITER+2: gain)
+    // register k holds the vector after stage k (0: the quadrant's turn, 1..ITER: micro,
+    // ITER+1: the gain stage's first half, whose partial sums are inside const_mul, ITER+2:
+    // gain); the quadrant's decision is registered before them
     reg signed [W-1:0] x [0:L-1];
     reg signed [W-1:0] y [0:L-1];
     reg signed [W-1:0] z [0:L-1];
@@ -50,43 +52,50 @@ module cordic_pipe #(
     reg                 zero [0:L-1];
     reg                 v [0:L-1];
 
-    // quadrant stage: bring the vector (or the angle) within the micro-rotations' reach. The
-    // negations and the shifted angles are formed beside the compares and only chosen after
-    // them (kept: written inside the choice, Yosys built a compare's carry chain in series with
-    // a negation's, the reset configuration's critical path at 82.6 MHz)
-    (* keep *) wire signed [W-1:0] neg_x = -in_x;
-    (* keep *) wire signed [W-1:0] neg_y = -in_y;
-    (* keep *) wire signed [W-1:0] z_down = in_z - HALF_PI;
-    (* keep *) wire signed [W-1:0] z_up = in_z + HALF_PI;
-    reg signed [W-1:0] qx, qy, qz;
-    reg qzero;
-    always @* begin
-        qx = in_x;
-        qy = in_y;
-        qz = in_z;
-        qzero = 1'b0;
+    // quadrant stage, in two clocks: the first decides (the compare of z with ±π/2, or the
+    // signs) and registers the decision, the second turns by ±π/2 as decided, to bring the
+    // vector (or the angle) within the micro-rotations' reach. In one clock the compare's carry
+    // chain and the choice's fanout to 3W multiplexers were the reset configuration's critical
+    // path (85.3 MHz, session 24). The negations and the shifted angles are formed beside the
+    // choice (kept: written inside it, Yosys built them in series with its select)
+    reg signed [W-1:0] dx0, dy0, dz0;
+    reg [PW-1:0] dpay;
+    reg dv, turn_dn, turn_up, dzero;
+    always @(posedge clk) begin
+        if (rst) dv <= 1'b0;
+        else dv <= in_valid;
+        dx0 <= in_x; dy0 <= in_y; dz0 <= in_z; dpay <= in_payload;
         if (MODE == 0) begin
-            if ($signed(in_z) > $signed(HALF_PI)) begin
-                qx = neg_y; qy = in_x; qz = z_down;
-            end else if ($signed(in_z) < -$signed(HALF_PI)) begin
-                qx = in_y; qy = neg_x; qz = z_up;
-            end
+            turn_dn <= $signed(in_z) > $signed(HALF_PI);
+            turn_up <= $signed(in_z) < -$signed(HALF_PI);
+            dzero <= 1'b0;
         end else begin
-            qzero = (in_x == 0) && (in_y == 0);
-            if (in_x < 0) begin
-                if (in_y >= 0) begin
-                    qx = in_y; qy = neg_x; qz = z_up;
-                end else begin
-                    qx = neg_y; qy = in_x; qz = z_down;
-                end
-            end
+            turn_dn <= in_x < 0 && in_y < 0;
+            turn_up <= in_x < 0 && in_y >= 0;
+            dzero <= (in_x == 0) && (in_y == 0);
+        end
+    end
+
+    (* keep *) wire signed [W-1:0] neg_x = -dx0;
+    (* keep *) wire signed [W-1:0] neg_y = -dy0;
+    (* keep *) wire signed [W-1:0] z_down = dz0 - HALF_PI;
+    (* keep *) wire signed [W-1:0] z_up = dz0 + HALF_PI;
+    reg signed [W-1:0] qx, qy, qz;
+    always @* begin
+        qx = dx0;
+        qy = dy0;
+        qz = dz0;
+        if (turn_dn) begin
+            qx = neg_y; qy = dx0; qz = z_down;
+        end else if (turn_up) begin
+            qx = dy0; qy = neg_x; qz = z_up;
         end
     end
 
     always @(posedge clk) begin
         if (rst) v[0] <= 1'b0;
-        else v[0] <= in_valid;
-        x[0] <= qx; y[0] <= qy; z[0] <= qz; zero[0] <= qzero; pay[0] <= in_payload;
+        else v[0] <= dv;
+        x[0] <= qx; y[0] <= qy; z[0] <= qz; zero[0] <= dzero; pay[0] <= dpay;
     end
 
     genvar i;

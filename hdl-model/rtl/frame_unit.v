@@ -9,7 +9,7 @@
 // - From pairs (pairs = 1; w1, w2 = (cos φ, sin φ), w3, w4 = (cos θ, sin θ), w5, w6 = (cos ψ,
 //   sin ψ)): φ enters on the start's clock, θ and ψ on the next two.
 //
-// Latency: 2(n + 3) + 1 clocks from a normal, n + 5 from pairs (n = ITER). `done` is high on the
+// Latency: 2(n + 4) + 1 clocks from a normal, n + 6 from pairs (n = ITER). `done` is high on the
 // clock the last angle leaves the pipe (the model's `FrameUnit::tick` returning true), and each
 // angle's register takes its value on the edge that ends the clock its pass leaves. Words are W
 // bits, the top W of the model's 32-bit containers. A start must come while the unit is idle.

@@ -1,11 +1,11 @@
 // The ray rotator (paper §3.4, fig. 6), the RTL of hdl-model/src/rotator.rs: three rotation-mode
-// CORDIC pipes in series with a register between consecutive pipes, 3 (ITER + 3) + 2 clocks.
+// CORDIC pipes in series with a register between consecutive pipes, 3 (ITER + 4) + 2 clocks.
 //   1. psi about z: (x, y) turned by psi, z carried;
 //   2. theta about y: (z, x) turned by theta, y carried;
 //   3. phi about z: (x1, y) turned by phi, z1 carried.
 // The later pipes' angles, the unrotated direction and the bypass bit wait in a side table of
 // 128 slots, allocated round robin, and a 7-bit tag rides with the vector (as in the model: the
-// longest latency, 101 clocks, is under 128, so a slot is free again before it is reused).
+// longest latency, 104 clocks, is under 128, so a slot is free again before it is reused).
 // Ports are the model's 32-bit containers: the pipes take their top W bits, and a bypassed
 // direction (trace mode) leaves exactly as written.
 module rotator #(

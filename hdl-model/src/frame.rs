@@ -7,7 +7,7 @@
 //!   waits for ρ. The spin ψ is vectored from its (cos ψ, sin ψ) in between.
 //! - From three (cos, sin) pairs, as `Rotation` holds them: one pass each, back to back.
 //!
-//! Latency: 2(n + 3) + 1 clocks from a normal, n + 5 from pairs.
+//! Latency: 2(n + 4) + 1 clocks from a normal, n + 6 from pairs.
 
 use crate::cordic::{CordicConfig, CordicPipe, CordicSlot, Mode};
 use crate::format::{Angle, Unit};

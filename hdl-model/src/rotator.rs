@@ -6,7 +6,7 @@
 //! 2. θ about y: (z, x) turned by θ (so x₁ = x cos θ + z sin θ, z₁ = z cos θ − x sin θ), y carried;
 //! 3. φ about z: (x₁, y) turned by φ, z₁ carried.
 //!
-//! One direction enters per clock; latency 3(n + 3) + 2 (a register between consecutive pipes). A bypass bit (trace mode: the direction is
+//! One direction enters per clock; latency 3(n + 4) + 2 (a register between consecutive pipes). A bypass bit (trace mode: the direction is
 //! already in scene space) returns the input unchanged after the same latency, so results stay in
 //! order without a second path.
 
@@ -53,7 +53,7 @@ pub struct RotIn<T: Copy + Default> {
 }
 
 /// The rotator's latency at `iterations`: three pipes and the register between consecutive
-/// pipes, 3(n + 3) + 2.
+/// pipes, 3(n + 4) + 2.
 const fn chain(iterations: u32) -> usize {
     3 * crate::cordic::pipe_latency(iterations) as usize + 2
 }
@@ -63,7 +63,7 @@ const CHAIN: usize = chain(crate::cordic::MAX_ITERATIONS);
 
 /// The three CORDIC pipes.
 ///
-/// Their registers are kept as one ring of 3(n + 3) + 2 ([`Pipe`]), and each pipe's stages are
+/// Their registers are kept as one ring of 3(n + 4) + 2 ([`Pipe`]), and each pipe's stages are
 /// applied as a direction leaves the ring (`Pipe::shift`): the pipes never stall and nothing
 /// reads their registers, so the direction and its clock are those of three pipes ticked one
 /// after the other, at the cost of one register shift a clock instead of three.

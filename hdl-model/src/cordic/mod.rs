@@ -3,7 +3,7 @@
 //! One pipe is a coarse-rotation stage, `n` micro-rotation stages (stage i adds or subtracts the
 //! other component shifted right by the constant i, and ±atan 2^-i from ROM) and a gain
 //! compensation stage (a constant multiply by 1/K_n, for each component separately). It accepts
-//! one vector per clock and returns it n + 3 clocks later.
+//! one vector per clock and returns it n + 4 clocks later.
 //!
 //! - **Rotation mode** turns (x, y) by the angle z. The coarse stage first turns by ±π/2 so that
 //!   the residual angle is within the ±1.743 rad the micro-rotations converge over, which covers
@@ -31,11 +31,13 @@ pub struct CordicConfig {
     pub width: u32,
 }
 
-/// Clocks of a pipe of `iterations` micro-rotations: the coarse stage, the micro-rotations and
-/// the gain stage in two (its adder tree registered halfway, `rtl/const_mul.v`: in one clock
-/// the 32-bit tree held the rotator to 76 MHz; until session 24, n + 2).
+/// Clocks of a pipe of `iterations` micro-rotations: the coarse stage in two (the decision,
+/// then the turn: in one clock the compare and its fanout held the rotator to 85 MHz; until
+/// session 25, one), the micro-rotations and the gain stage in two (its adder tree registered
+/// halfway, `rtl/const_mul.v`: in one clock the 32-bit tree held the rotator to 76 MHz; until
+/// session 24, one).
 pub const fn pipe_latency(iterations: u32) -> u32 {
-    iterations + 3
+    iterations + 4
 }
 
 /// Fewest iterations accepted (below this the coarse stage alone would be most of the answer).

@@ -270,7 +270,7 @@ pub fn cordic_rotation_error(cfg: hemi_hdl_model::cordic::CordicConfig, n: usize
 /// with the pipe's latency in clocks and an area proxy (the rotator's 3 pipes × n stages × 3
 /// W-bit adders); a markdown table of every configuration and, with `svg`, the chart of error
 /// against the area proxy, one line per W (n rising along it), with the Pareto front. (Against
-/// latency alone, n + 3 clocks whatever W, the widest word always wins: area is the cost that
+/// latency alone, n + 4 clocks whatever W, the widest word always wins: area is the cost that
 /// separates the configurations.)
 pub fn cordic_pareto(out: &mut impl Write, svg: Option<&std::path::Path>) -> Result<()> {
     use hemi_hdl_model::cordic::CordicConfig;
