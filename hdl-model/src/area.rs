@@ -121,8 +121,9 @@ impl Proxy {
         let (n, w) = (cfg.iterations as u64, cfg.width as u64);
         self.add_sub(count * 3 * (n + 1), w);
         self.const_products(2 * count, w);
-        // n + 2 stages of x, y and z, and z beside the gain stage's partial sums
-        self.reg(count * ((n + 2) * 3 * w + w));
+        // n + 3 stages of x, y and z (the quadrant stage's decision and turn since session 25,
+        // the micro-rotations, the gain), and z beside the gain stage's partial sums
+        self.reg(count * ((n + 3) * 3 * w + w));
     }
 
     /// `count` products of a w-bit word by a constant in tables of its hex digits, as
@@ -148,7 +149,7 @@ impl Proxy {
         if magnitude {
             self.add(count * (gain_digits(cfg) as u64 - 1), w);
         }
-        self.reg(count * (n + 2) * 3 * w);
+        self.reg(count * (n + 3) * 3 * w);
     }
 
     /// Adds `other`'s counts to these (its multipliers after these in mapping order).
@@ -603,7 +604,7 @@ fn angle_unit(p: &mut Proxy, cfg: CordicConfig) {
     let (n, w) = (cfg.iterations as u64, cfg.width as u64);
     p.add_sub(3 * (n + 1), w);
     p.const_products(1, w);
-    p.reg((n + 2) * 3 * w + w);
+    p.reg((n + 3) * 3 * w + w);
 }
 
 /// The units every build has: the angle unit (one vectoring CORDIC pipe, `frame.rs`), the (u,v)
