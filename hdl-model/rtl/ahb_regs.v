@@ -1,16 +1,21 @@
 // The accelerator's register file behind an AHB-Lite slave (docs/register-map.md; the model is
 // hdl-model/src/device.rs, whose `read`, `write` and `tick` this mirrors clock for clock).
 //
-// The bus: AHB-Lite, zero wait states (HREADYOUT 1, HRESP OKAY), word transfers (HSIZE is not
-// decoded: a narrower write acts as a word write). An access's address phase is latched; its
-// read data is driven combinationally in its data phase from the registers as they are then,
-// and its effects (a write's, and a read's side effects: RESULT_OUT's pop, PATCH_DATA's
-// increment, the latching of CYCLE_HI and BUSY_HI, RESULT_UNDERFLOW and PATCH_RANGE) take place
-// on the clock edge that ends the data phase, together with that clock's counting. So
-// back-to-back accesses, each one clock, see each other in order, as the model's accesses do
-// (the model's clock n is the data phase of the access it makes then). Patch memory is a
-// synchronous block RAM: its read is issued in the address phase, from the PATCH_ADDR the access
-// in its data phase leaves behind, and is ready in the data phase.
+// The bus: AHB-Lite, HRESP OKAY, word transfers (HSIZE is not decoded: a narrower write acts as
+// a word write), zero wait states but for a PATCH_DATA read, which takes two
+// (PATCH_DATA_READ_WAITS in hdl-model/src/regs.rs). An access's address phase is latched; its
+// read data is driven combinationally in its data phase's last clock from the registers as they
+// are then, and its effects (a write's, and a read's side effects: RESULT_OUT's pop,
+// PATCH_DATA's increment, the latching of CYCLE_HI and BUSY_HI, RESULT_UNDERFLOW and
+// PATCH_RANGE) take place on the clock edge that ends the data phase, together with that
+// clock's counting. So back-to-back accesses see each other in order, as the model's accesses
+// do (the model's clock n is the data phase of the access it makes then; a wait state is a
+// clock of counting, as the model's idle ticks). Patch memory is a synchronous block RAM, read
+// every clock at PATCH_ADDR and its word registered: a PATCH_DATA read waits for both. Until
+// session 25 the read was issued in the address phase from the PATCH_ADDR the access in its
+// data phase leaves behind, and its word went to the bus unregistered: no wait state, but the
+// address's logic before the 64 block RAMs' spread-out address pins, and their slow output
+// after them, held the file to 54–70 MHz.
 //
 // What lies behind the registers (the angle unit, the rotators, the intersection unit, the
 // result FIFO) is not here: its state comes in on the dp_*, frame_* and result_* ports and the
@@ -88,15 +93,18 @@ module ahb_regs #(
     // IRQ_STATUS bits
     localparam [3:0] I_RESULT = 4'h1, I_IDLE = 4'h2, I_ERROR = 4'h4, I_FRAME = 4'h8;
 
-    assign hreadyout = 1'b1;
     assign hresp = 1'b0;
 
-    // ---- the access in its data phase
+    // ---- the access in its data phase (a PATCH_DATA read waits two clocks, `waits`, before
+    // its last: the slave holds HREADYOUT low and the master holds the next address phase)
     reg       d_valid, d_write;
     reg [9:0] d_addr;
+    reg [1:0] waits;
     wire      a_valid = hsel && htrans[1] && hready;
+    wire      stall = d_valid && !d_write && d_addr == A_PATCH_DATA && waits != 2'd2;
     wire      d_wr = d_valid && d_write;
-    wire      d_rd = d_valid && !d_write;
+    wire      d_rd = d_valid && !d_write && !stall;
+    assign hreadyout = !stall;
 
     // ---- registers
     reg [31:0] config_reg, config_act, bz_reg, bz_act, error, mode, skip_reg, patch_addr, pcount;
@@ -155,23 +163,28 @@ module ahb_regs #(
     endfunction
 
     wire d_ctrl_reset = d_wr && d_addr == A_CTRL && hwdata[31];
-    wire d_patch_step = d_valid && d_addr == A_PATCH_DATA;
-    // PATCH_ADDR as the access in its data phase leaves it (the next access's RAM read)
+    wire d_patch_step = (d_wr || d_rd) && d_addr == A_PATCH_DATA;
+    // PATCH_ADDR as the access in its data phase leaves it
     wire [31:0] patch_addr_next = d_ctrl_reset ? 32'd0
         : (d_wr && d_addr == A_PATCH_ADDR) ? hwdata
         : d_patch_step ? patch_addr + 32'd1 : patch_addr;
-    wire [31:0] cp_index = patch_addr_next - 32'h0001_0000;
     wire [31:0] cp_here = patch_addr - 32'h0001_0000;
     // where PATCH_ADDR points: a slot word, a control-point word, or neither (PATCH_RANGE)
-    wire at_slot = in_slots(patch_addr), at_cp = in_cp(patch_addr);
-    wire mem_write = d_wr && d_addr == A_PATCH_DATA && !busy && (at_slot || at_cp);
+    // (registered with PATCH_ADDR, as is whether the access in its data phase writes
+    // PATCH_DATA: decoded in the data phase, both were the logic before the write enables'
+    // fanout to 64 block RAMs, the critical path at 74.6 MHz)
+    reg at_slot, at_cp, d_patch_write;
+    wire mem_write = d_patch_write && !busy && (at_slot || at_cp);
+    // read every clock at PATCH_ADDR (a write at the edge before is seen: read after write),
+    // the word registered the clock after: a PATCH_DATA read's second wait
+    reg [31:0] patch_word;
     always @(posedge hclk) begin
-        slot_q <= slot_mem[patch_addr_next[WORD_BITS-1:0]];
-        cp_q <= cp_mem[cp_index[11:0]];
+        slot_q <= slot_mem[patch_addr[WORD_BITS-1:0]];
+        cp_q <= cp_mem[cp_here[11:0]];
         if (mem_write && at_slot) slot_mem[patch_addr[WORD_BITS-1:0]] <= hwdata;
         if (mem_write && at_cp) cp_mem[cp_here[11:0]] <= hwdata;
+        patch_word <= at_slot ? slot_q : at_cp ? cp_q : 32'd0;
     end
-    wire [31:0] patch_word = at_slot ? slot_q : at_cp ? cp_q : 32'd0;
 
     // ---- CONFIG and BZ_CONFIG as APPLY_CONFIG validates them
     wire [4:0] c_iter = config_reg[4:0];
@@ -362,7 +375,12 @@ module ahb_regs #(
             n_irq_status = n_irq_status | I_FRAME;
         end
         if (result_push) n_irq_status = n_irq_status | I_RESULT;
-        n_busy = n_count != 6'd0 || dp_busy;
+        // n_count != 0 from the pushes and the pop rather than from n_count's adders (through
+        // them, the busy counter's enable was the critical path, 70 MHz): a pop takes one of
+        // count + pushes when there is one
+        n_busy = dp_busy || count > 6'd1
+            || (count == 6'd1 && (push_a || !entry_pop))
+            || (count == 6'd0 && (push_b || (push_a && !entry_pop)));
         tail_b = tail + {4'd0, push_a};
         n_tail = tail_b + {4'd0, push_b};
         if (!n_busy && was_busy) n_irq_status = n_irq_status | I_IDLE;
@@ -371,8 +389,12 @@ module ahb_regs #(
     // one write port a bank: two pushes go to tail and tail + 1, one even place and one odd
     wire a_even = push_a && !tail[0], a_odd = push_a && tail[0];
     wire even_we = a_even || (push_b && !tail_b[0]), odd_we = a_odd || (push_b && tail_b[0]);
-    wire [3:0] even_at = a_even ? tail[4:1] : tail_b[4:1];
-    wire [3:0] odd_at = a_odd ? tail[4:1] : tail_b[4:1];
+    // each bank's place from tail alone, whatever is pushed (the odd place is at tail[4:1]
+    // whether the first push or the second takes it, the even one a row on when tail is odd):
+    // chosen by the pushes, the LUT RAMs' write address waited for the access's decoding, the
+    // critical path at 78.2 MHz
+    wire [3:0] even_at = tail[4:1] + {3'd0, tail[0]};
+    wire [3:0] odd_at = tail[4:1];
     wire [255:0] even_entry = a_even ? entry_a : entry_b;
     wire [255:0] odd_entry = a_odd ? entry_a : entry_b;
 
@@ -390,7 +412,7 @@ module ahb_regs #(
             end else begin
                 config_reg <= config_act;
                 bz_reg <= bz_act;
-                d_valid <= a_valid;
+                if (hready) d_valid <= a_valid;
             end
             error <= 32'd0;
             irq_status <= 4'd0;
@@ -407,6 +429,8 @@ module ahb_regs #(
             mode <= 32'd0;
             skip_reg <= 32'd0;
             patch_addr <= 32'd0;
+            at_slot <= 1'b1;
+            at_cp <= 1'b0;
             staged <= 2'd0;
             result_word <= 2'd0;
             head <= 5'd0;
@@ -423,7 +447,8 @@ module ahb_regs #(
             theta[0] <= 32'd0;
             theta[1] <= 32'd0;
         end else begin
-            d_valid <= a_valid;
+            // the next access only when the bus is ready (not while a read waits)
+            if (hready) d_valid <= a_valid;
             error <= n_error;
             irq_status <= n_irq_status;
             irq_enable <= n_irq_enable;
@@ -445,6 +470,8 @@ module ahb_regs #(
             bz_act <= n_bz_act;
             pcount <= n_pcount;
             patch_addr <= patch_addr_next;
+            at_slot <= in_slots(patch_addr_next);
+            at_cp <= in_cp(patch_addr_next);
             staged <= n_staged;
             result_word <= n_word;
             count <= n_count;
@@ -466,11 +493,14 @@ module ahb_regs #(
             d_write <= hwrite;
             d_addr <= haddr[11:2];
         end
+        if (!hresetn) d_patch_write <= 1'b0;
+        else if (hready) d_patch_write <= a_valid && hwrite && haddr[11:2] == A_PATCH_DATA;
+        waits <= hresetn && stall ? waits + 2'd1 : 2'd0;
     end
     // (HSIZE, HTRANS's SEQ bit and the byte lane bits are not decoded, nor the index bits
     // above each register group)
     /* verilator lint_off UNUSEDSIGNAL */
     wire unused = &{1'b0, haddr[1:0], htrans[0], hsize, origin_ix[9:2], normal_ix[9:2],
-        spin_ix[9:1], phi_ix[9:1], theta_ix[9:1], cp_index[31:12], cp_here[31:12]};
+        spin_ix[9:1], phi_ix[9:1], theta_ix[9:1], cp_here[31:12]};
     /* verilator lint_on UNUSEDSIGNAL */
 endmodule

@@ -78,6 +78,9 @@ impl ModelBus {
 impl RegisterAccess for ModelBus {
     #[inline]
     fn read(&mut self, offset: u32) -> u32 {
+        if offset == crate::regs::PATCH_DATA {
+            self.idle(crate::regs::PATCH_DATA_READ_WAITS);
+        }
         let v = self.dev.read(offset);
         self.dev.tick();
         v

@@ -94,23 +94,35 @@ int main(int argc, char **argv) {
             fprintf(stderr, "regs: clock %" PRIu64 " (model %" PRIu64 ") %s %03x: %s %08x, model %08x\n",
                     t, o.model_clk, o.write ? "W" : "R", o.addr, what, got, want);
     };
-    // clock t: the data phase of ops[t], the address phase of ops[t + 1]
+    // clock t: the data phase of ops[t], the address phase of ops[t + 1]; while the slave
+    // holds HREADYOUT low (a PATCH_DATA read's wait states) both are held, as a master holds
+    // them, and the clock passes (the model ticked as many times before its read)
     for (uint64_t t = 0; t <= ops.size(); t++) {
         const Op *next = t + 1 < ops.size() ? &ops[t + 1] : nullptr;
         u.hsel = next && next->access;
         u.htrans = next && next->access ? 2 : 0;
         u.hwrite = next && next->write;
         u.haddr = next ? next->addr & 0xFFF : 0;
+        u.hwdata = t < ops.size() && ops[t].access && ops[t].write ? ops[t].data : 0;
+        u.eval();
+        for (int w = 0; !u.hreadyout; w++) {
+            if (w == 8) {
+                mismatches++;
+                fprintf(stderr, "regs: clock %" PRIu64 ": HREADYOUT low for 8 clocks\n", t);
+                break;
+            }
+            u.hready = 0;
+            u.eval();
+            tick(u);
+            clocks++;
+            u.hready = 1;
+            u.eval();
+        }
         if (t < ops.size() && ops[t].access) {
             const Op &o = ops[t];
-            u.hwdata = o.write ? o.data : 0;
-            u.eval();
             accesses++;
             if (!o.write && u.hrdata != o.data) report("read", o, t, u.hrdata, o.data);
             if (u.irq != o.irq) report("irq", o, t, u.irq, o.irq);
-        } else {
-            u.hwdata = 0;
-            u.eval();
         }
         tick(u);
         clocks++;

@@ -116,7 +116,18 @@ impl Bench {
         self.counts.clocks += 1;
     }
 
+    /// A read; a PATCH_DATA read's wait states first (clocks of counting: the testbench sees
+    /// them as HREADYOUT low).
     fn read(&mut self, addr: u32) {
+        let waits = if addr == regs::PATCH_DATA {
+            regs::PATCH_DATA_READ_WAITS
+        } else {
+            0
+        };
+        for _ in 0..waits {
+            self.dev.tick();
+        }
+        self.counts.clocks += waits;
         let (clk, irq) = (self.clock(), self.dev.irq_line() as u32);
         let data = self.dev.read(addr);
         self.dev.tick();
