@@ -2,7 +2,7 @@
 // hdl-model/src/device.rs, whose `read`, `write` and `tick` this mirrors clock for clock).
 //
 // The bus: AHB-Lite, HRESP OKAY, word transfers (HSIZE is not decoded: a narrower write acts as
-// a word write), zero wait states but for a PATCH_DATA read, which takes two
+// a word write), zero wait states but for a PATCH_DATA read, which takes three
 // (PATCH_DATA_READ_WAITS in hdl-model/src/regs.rs). An access's address phase is latched; its
 // read data is driven combinationally in its data phase's last clock from the registers as they
 // are then, and its effects (a write's, and a read's side effects: RESULT_OUT's pop,
@@ -10,8 +10,9 @@
 // PATCH_RANGE) take place on the clock edge that ends the data phase, together with that
 // clock's counting. So back-to-back accesses see each other in order, as the model's accesses
 // do (the model's clock n is the data phase of the access it makes then; a wait state is a
-// clock of counting, as the model's idle ticks). Patch memory is a synchronous block RAM, read
-// every clock at PATCH_ADDR and its word registered: a PATCH_DATA read waits for both. Until
+// clock of counting, as the model's idle ticks). Patch memory is synchronous block RAM, read
+// every clock at PATCH_ADDR, its word registered twice (below): a PATCH_DATA read waits for
+// the read and both registers. Until
 // session 25 the read was issued in the address phase from the PATCH_ADDR the access in its
 // data phase leaves behind, and its word went to the bus unregistered: no wait state, but the
 // address's logic before the 64 block RAMs' spread-out address pins, and their slow output
@@ -95,13 +96,17 @@ module ahb_regs #(
 
     assign hresp = 1'b0;
 
-    // ---- the access in its data phase (a PATCH_DATA read waits two clocks, `waits`, before
+    // ---- the access in its data phase (a PATCH_DATA read waits three clocks, `waits`, before
     // its last: the slave holds HREADYOUT low and the master holds the next address phase)
     reg       d_valid, d_write;
     reg [9:0] d_addr;
     reg [1:0] waits;
+    // the writes decoded in the address phase (CTRL, RAY_IN and PATCH_DATA: from the data
+    // phase's address, their decoding was the start of the critical paths into the FIFO and
+    // the patch RAMs)
+    reg       d_patch_write, d_ctrl_write, d_ray_in_write;
     wire      a_valid = hsel && htrans[1] && hready;
-    wire      stall = d_valid && !d_write && d_addr == A_PATCH_DATA && waits != 2'd2;
+    wire      stall = d_valid && !d_write && d_addr == A_PATCH_DATA && waits != 2'd3;
     wire      d_wr = d_valid && d_write;
     wire      d_rd = d_valid && !d_write && !stall;
     assign hreadyout = !stall;
@@ -134,7 +139,17 @@ module ahb_regs #(
     assign bz_config_active = bz_act;
     assign patch_count = pcount;
     assign entry_valid = count != 6'd0;
-    assign entry = head[0] ? fifo_odd[head[4:1]] : fifo_even[head[4:1]];
+    // a push is written into its bank a clock after its access, from registers (pend_*), so
+    // that the LUT RAMs' write enables are a register's fanout and not the access's decoding;
+    // the head is read past a write still pending
+    reg         pend_even_we, pend_odd_we;
+    reg [3:0]   pend_even_at, pend_odd_at;
+    reg [255:0] pend_even, pend_odd;
+    wire [255:0] head_even = pend_even_we && pend_even_at == head[4:1] ? pend_even
+        : fifo_even[head[4:1]];
+    wire [255:0] head_odd = pend_odd_we && pend_odd_at == head[4:1] ? pend_odd
+        : fifo_odd[head[4:1]];
+    assign entry = head[0] ? head_odd : head_even;
 
     wire busy = count != 6'd0 || dp_busy;
     // the data phase's word within the register groups
@@ -142,18 +157,6 @@ module ahb_regs #(
     wire [9:0] spin_ix = d_addr - A_SPIN, phi_ix = d_addr - A_PHI, theta_ix = d_addr - A_THETA;
 
     // ---- patch memory: the slots and the control-point rows (64 × 48 words at 0x1_0000)
-    reg [31:0] slot_mem [0:(1 << WORD_BITS)-1];
-    reg [31:0] cp_mem [0:3071];
-    reg [31:0] slot_q, cp_q;
-    integer i;
-`ifndef SYNTHESIS
-    // (power-on zero, as the model's; an ECP5's block RAMs start at zero without it, and Yosys
-    // would unroll the loops word by word)
-    initial begin
-        for (i = 0; i < (1 << WORD_BITS); i = i + 1) slot_mem[i] = 32'd0;
-        for (i = 0; i < 3072; i = i + 1) cp_mem[i] = 32'd0;
-    end
-`endif
 
     function in_slots(input [31:0] a);
         in_slots = (a >> WORD_BITS) == 32'd0;
@@ -162,7 +165,7 @@ module ahb_regs #(
         in_cp = a[31:16] == 16'd1 && a[15:0] < 16'd3072;
     endfunction
 
-    wire d_ctrl_reset = d_wr && d_addr == A_CTRL && hwdata[31];
+    wire d_ctrl_reset = d_ctrl_write && hwdata[31];
     wire d_patch_step = (d_wr || d_rd) && d_addr == A_PATCH_DATA;
     // PATCH_ADDR as the access in its data phase leaves it
     wire [31:0] patch_addr_next = d_ctrl_reset ? 32'd0
@@ -171,20 +174,72 @@ module ahb_regs #(
     wire [31:0] cp_here = patch_addr - 32'h0001_0000;
     // where PATCH_ADDR points: a slot word, a control-point word, or neither (PATCH_RANGE)
     // (registered with PATCH_ADDR, as is whether the access in its data phase writes
-    // PATCH_DATA: decoded in the data phase, both were the logic before the write enables'
-    // fanout to 64 block RAMs, the critical path at 74.6 MHz)
-    reg at_slot, at_cp, d_patch_write;
-    wire mem_write = d_patch_write && !busy && (at_slot || at_cp);
-    // read every clock at PATCH_ADDR (a write at the edge before is seen: read after write),
-    // the word registered the clock after: a PATCH_DATA read's second wait
+    // PATCH_DATA, below: decoded in the data phase, both were the logic before the write
+    // enables' fanout to 64 block RAMs, the critical path at 74.6 MHz)
+    reg at_slot, at_cp;
+    // which group's memory PATCH_ADDR points into, one-hot, registered with it (decoded from
+    // PATCH_ADDR, the group was the logic before its four RAMs' write enables, the critical
+    // path at 87–90 MHz)
+    localparam integer GROUP_BITS = 11;
+    localparam integer GROUPS = 1 << (WORD_BITS - GROUP_BITS);
+    reg [GROUPS-1:0] at_group;
+    reg [5:0]        at_cp_group;
+    function [GROUPS-1:0] group_of(input [31:0] a);
+        group_of = in_slots(a) ? {{(GROUPS - 1){1'b0}}, 1'b1} << a[WORD_BITS-1:GROUP_BITS]
+            : {GROUPS{1'b0}};
+    endfunction
+    // (a control-point word's group from its index a − 0x1_0000, bits 11:9: the subtraction
+    // leaves a[11:9] as they are, since 0x1_0000 has no bit below 16)
+    function [5:0] cp_group_of(input [31:0] a);
+        cp_group_of = in_cp(a) ? 6'd1 << a[11:9] : 6'd0;
+    endfunction
+    // read every clock at PATCH_ADDR (a write at the edge before is seen: read after write):
+    // the slots in groups of 2,048 words (four block RAMs each) and the control points in
+    // groups of 512 (one), each group's word registered the clock after its read, then the
+    // group's word at PATCH_ADDR the clock after that: a PATCH_DATA read's three waits. (As
+    // one memory each, the RAMs' slow output went through a 64-way (6-way) multiplexer into
+    // one register, the critical path at 85–86 MHz (83 MHz).) Memories start at zero, as the
+    // model's (an ECP5's block RAMs do without the initial loops, and Yosys would unroll them
+    // word by word).
+    integer i;
+    wire [31:0] group_word [0:GROUPS-1];
+    wire [31:0] cp_group_word [0:5];
+    genvar g;
+    generate
+        for (g = 0; g < 6; g = g + 1) begin : cp_group
+            reg [31:0] mem [0:511];
+            reg [31:0] q, r;
+            integer j;
+`ifndef SYNTHESIS
+            initial for (j = 0; j < 512; j = j + 1) mem[j] = 32'd0;
+`endif
+            always @(posedge hclk) begin
+                q <= mem[cp_here[8:0]];
+                r <= q;
+                if (d_patch_write && !busy && at_cp_group[g]) mem[cp_here[8:0]] <= hwdata;
+            end
+            assign cp_group_word[g] = r;
+        end
+        for (g = 0; g < GROUPS; g = g + 1) begin : slot_group
+            reg [31:0] mem [0:(1 << GROUP_BITS)-1];
+            reg [31:0] q, r;
+            integer j;
+`ifndef SYNTHESIS
+            initial for (j = 0; j < (1 << GROUP_BITS); j = j + 1) mem[j] = 32'd0;
+`endif
+            always @(posedge hclk) begin
+                q <= mem[patch_addr[GROUP_BITS-1:0]];
+                r <= q;
+                if (d_patch_write && !busy && at_group[g])
+                    mem[patch_addr[GROUP_BITS-1:0]] <= hwdata;
+            end
+            assign group_word[g] = r;
+        end
+    endgenerate
     reg [31:0] patch_word;
-    always @(posedge hclk) begin
-        slot_q <= slot_mem[patch_addr[WORD_BITS-1:0]];
-        cp_q <= cp_mem[cp_here[11:0]];
-        if (mem_write && at_slot) slot_mem[patch_addr[WORD_BITS-1:0]] <= hwdata;
-        if (mem_write && at_cp) cp_mem[cp_here[11:0]] <= hwdata;
-        patch_word <= at_slot ? slot_q : at_cp ? cp_q : 32'd0;
-    end
+    always @(posedge hclk)
+        patch_word <= at_slot ? group_word[patch_addr[WORD_BITS-1:GROUP_BITS]]
+            : at_cp ? cp_group_word[cp_here[11:9]] : 32'd0;
 
     // ---- CONFIG and BZ_CONFIG as APPLY_CONFIG validates them
     wire [4:0] c_iter = config_reg[4:0];
@@ -252,7 +307,18 @@ module ahb_regs #(
     reg [5:0]  n_count;
     reg [4:0]  n_tail, tail_b;
     reg        push_a, push_b;
-    reg [255:0] entry_a, entry_b;
+    // the entries a CTRL write or RAY_IN's third write queues, first (a) and second (b), chosen
+    // by the access alone: which of them a bank takes follows from the tail, whether it takes
+    // one from the pushes (chosen by the pushes, the 512 multiplexers were their fanout, and
+    // the pushes' logic sat far from the count it feeds)
+    wire [255:0] frame_normal = {32'd0, 32'd0, spin[1], spin[0], normal[2], normal[1],
+        normal[0], 32'h0001_0000};
+    wire [255:0] frame_pairs = {32'd0, spin[1], spin[0], theta[1], theta[0], phi[1], phi[0],
+        32'h0002_0000};
+    wire [255:0] ray_entry = {hwdata, staging[1], staging[0], skip_reg[31] ? skip_reg : 32'd0,
+        origin[2], origin[1], origin[0], mode};
+    wire [255:0] entry_a = d_ray_in_write ? ray_entry : hwdata[1] ? frame_normal : frame_pairs;
+    wire [255:0] entry_b = frame_pairs;
     reg [31:0] n_cycle_hi, n_busy_hi;
 
     task raise(input [31:0] bits);
@@ -262,19 +328,13 @@ module ahb_regs #(
         end
     endtask
 
-    task queue(input [255:0] e);
+    // (full from count and the first push, not from a running count's adders)
+    task queue;
         begin
-            if (n_count == RAY_DEPTH[5:0]) raise(E_RAY_OVERFLOW);
-            else begin
-                if (!push_a) begin
-                    push_a = 1'b1;
-                    entry_a = e;
-                end else begin
-                    push_b = 1'b1;
-                    entry_b = e;
-                end
-                n_count = n_count + 6'd1;
-            end
+            if (push_a ? count == RAY_DEPTH[5:0] - 6'd1 : count == RAY_DEPTH[5:0])
+                raise(E_RAY_OVERFLOW);
+            else if (!push_a) push_a = 1'b1;
+            else push_b = 1'b1;
         end
     endtask
 
@@ -298,8 +358,6 @@ module ahb_regs #(
         n_busy_hi = busy_hi;
         push_a = 1'b0;
         push_b = 1'b0;
-        entry_a = 256'd0;
-        entry_b = 256'd0;
         apply = 1'b0;
         invalidate = 1'b0;
         result_pop = 1'b0;
@@ -317,12 +375,6 @@ module ahb_regs #(
                             apply = 1'b1;
                         end else raise(E_BAD_CONFIG);
                     end
-                    if (hwdata[1])
-                        queue({32'd0, 32'd0, spin[1], spin[0], normal[2], normal[1], normal[0],
-                            32'h0001_0000});
-                    if (hwdata[2])
-                        queue({32'd0, spin[1], spin[0], theta[1], theta[0], phi[1], phi[0],
-                            32'h0002_0000});
                 end
                 A_ERROR: n_error = error & ~hwdata;
                 A_IRQ_STATUS: n_irq_status = irq_status & ~hwdata[3:0];
@@ -333,12 +385,7 @@ module ahb_regs #(
                 A_MODE:
                     if ((hwdata & ~32'h0000_0103) == 32'd0 && hwdata[1:0] != 2'd3) n_mode = hwdata;
                     else raise(E_BAD_CONFIG);
-                A_RAY_IN:
-                    if (staged == 2'd2) begin
-                        n_staged = 2'd0;
-                        queue({hwdata, staging[1], staging[0], skip_reg[31] ? skip_reg : 32'd0,
-                            origin[2], origin[1], origin[0], mode});
-                    end else n_staged = staged + 2'd1;
+                A_RAY_IN: n_staged = staged == 2'd2 ? 2'd0 : staged + 2'd1;
                 A_PATCH_DATA:
                     if (busy) raise(E_PATCH_BUSY);
                     else if (at_slot || at_cp) invalidate = 1'b1;
@@ -353,6 +400,12 @@ module ahb_regs #(
                 default: ;
             endcase
         end
+        // the ray FIFO's pushes, from the access decoded in its address phase
+        if (d_ctrl_write && !d_ctrl_reset) begin
+            if (hwdata[1]) queue;
+            if (hwdata[2]) queue;
+        end
+        if (d_ray_in_write && staged == 2'd2) queue;
         if (d_rd) begin
             case (d_addr)
                 A_CYCLE_LO: n_cycle_hi = cycles[63:32];
@@ -369,6 +422,7 @@ module ahb_regs #(
             endcase
         end
         // the clock: the datapath takes the head, a frame completes, a result comes
+        n_count = count + {5'd0, push_a} + {5'd0, push_b};
         if (entry_pop && n_count != 6'd0) n_count = n_count - 6'd1;
         if (frame_done) begin
             n_frame_valid = 1'b1;
@@ -395,8 +449,13 @@ module ahb_regs #(
     // critical path at 78.2 MHz
     wire [3:0] even_at = tail[4:1] + {3'd0, tail[0]};
     wire [3:0] odd_at = tail[4:1];
-    wire [255:0] even_entry = a_even ? entry_a : entry_b;
-    wire [255:0] odd_entry = a_odd ? entry_a : entry_b;
+    wire [255:0] even_entry = tail[0] ? entry_b : entry_a;
+    wire [255:0] odd_entry = tail[0] ? entry_a : entry_b;
+
+    always @(posedge hclk) begin
+        if (pend_even_we) fifo_even[pend_even_at] <= pend_even;
+        if (pend_odd_we) fifo_odd[pend_odd_at] <= pend_odd;
+    end
 
     always @(posedge hclk) begin
         if (!hresetn || d_ctrl_reset) begin
@@ -431,10 +490,14 @@ module ahb_regs #(
             patch_addr <= 32'd0;
             at_slot <= 1'b1;
             at_cp <= 1'b0;
+            at_group <= group_of(32'd0);
+            at_cp_group <= 6'd0;
             staged <= 2'd0;
             result_word <= 2'd0;
             head <= 5'd0;
             tail <= 5'd0;
+            pend_even_we <= 1'b0;
+            pend_odd_we <= 1'b0;
             count <= 6'd0;
             for (i = 0; i < 3; i = i + 1) begin
                 origin[i] <= 32'd0;
@@ -472,12 +535,18 @@ module ahb_regs #(
             patch_addr <= patch_addr_next;
             at_slot <= in_slots(patch_addr_next);
             at_cp <= in_cp(patch_addr_next);
+            at_group <= group_of(patch_addr_next);
+            at_cp_group <= cp_group_of(patch_addr_next);
             staged <= n_staged;
             result_word <= n_word;
             count <= n_count;
             if (entry_pop && count != 6'd0) head <= head + 5'd1;
-            if (even_we) fifo_even[even_at] <= even_entry;
-            if (odd_we) fifo_odd[odd_at] <= odd_entry;
+            pend_even_we <= even_we;
+            pend_odd_we <= odd_we;
+            pend_even_at <= even_at;
+            pend_odd_at <= odd_at;
+            pend_even <= even_entry;
+            pend_odd <= odd_entry;
             tail <= n_tail;
             if (d_wr && d_addr == A_RAY_IN && staged != 2'd2) staging[staged[0]] <= hwdata;
             if (d_wr && d_addr >= A_ORIGIN && d_addr < A_ORIGIN + 10'd3)
@@ -493,8 +562,15 @@ module ahb_regs #(
             d_write <= hwrite;
             d_addr <= haddr[11:2];
         end
-        if (!hresetn) d_patch_write <= 1'b0;
-        else if (hready) d_patch_write <= a_valid && hwrite && haddr[11:2] == A_PATCH_DATA;
+        if (!hresetn) begin
+            d_patch_write <= 1'b0;
+            d_ctrl_write <= 1'b0;
+            d_ray_in_write <= 1'b0;
+        end else if (hready) begin
+            d_patch_write <= a_valid && hwrite && haddr[11:2] == A_PATCH_DATA;
+            d_ctrl_write <= a_valid && hwrite && haddr[11:2] == A_CTRL;
+            d_ray_in_write <= a_valid && hwrite && haddr[11:2] == A_RAY_IN;
+        end
         waits <= hresetn && stall ? waits + 2'd1 : 2'd0;
     end
     // (HSIZE, HTRANS's SEQ bit and the byte lane bits are not decoded, nor the index bits

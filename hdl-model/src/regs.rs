@@ -71,11 +71,12 @@ pub const RESULT_OUT: u32 = 0x084;
 pub const PATCH_ADDR: u32 = 0x090;
 /// Patch memory data window.
 pub const PATCH_DATA: u32 = 0x094;
-/// Wait states of a PATCH_DATA read (writes have none): its block RAM is read at PATCH_ADDR,
-/// then the word registered before it goes to the bus, so that neither the address's logic
-/// nor the RAM's slow output lies in one clock with the bus (`rtl/ahb_regs.v`; since session
+/// Wait states of a PATCH_DATA read (writes have none): patch memory's block RAMs are read at
+/// PATCH_ADDR, each group's word is registered, then the word of PATCH_ADDR's group, before it
+/// goes to the bus, so that neither the address's logic nor the RAMs' slow output lies in one
+/// clock with the bus or with the multiplexer over the RAMs (`rtl/ahb_regs.v`; since session
 /// 25, none before). A read's clocks are these and its data phase's.
-pub const PATCH_DATA_READ_WAITS: u64 = 2;
+pub const PATCH_DATA_READ_WAITS: u64 = 3;
 /// Number of patch slots scanned per ray.
 pub const PATCH_COUNT: u32 = 0x098;
 /// Patch the following ray entries skip (bit 31 enables; latched per entry).
