@@ -203,14 +203,24 @@ fn mode_word(rng: &mut XorShift) -> u32 {
     }
 }
 
-/// A PATCH_ADDR: a slot word, a control-point word, or outside both.
+/// A PATCH_ADDR: a slot word, a control-point word, or outside both; near the ends of each
+/// range, so that a burst's auto-increment leaves it, or enters it (from below the control
+/// points, and past 2^32 − 1 into the slots); and just below a multiple of 512 words inside
+/// each, where a memory built of 512-word block RAMs moves to the next.
 fn patch_addr(rng: &mut XorShift, slots: u32) -> u32 {
     let words = slots * 16;
-    match rng.bits() % 6 {
+    let below_512 = |n: u64, rng: &mut XorShift| {
+        ((rng.bits() % n) as u32 + 1) * 512 - 1 - (rng.bits() % 8) as u32
+    };
+    match rng.bits() % 10 {
+        6 => below_512(words as u64 / 512, rng),
+        7 => CP_BASE + below_512(CP_END as u64 / 512, rng),
         0 => CP_BASE + (rng.bits() % CP_END as u64) as u32,
         1 => CP_BASE + CP_END - (rng.bits() % 8) as u32,
         2 => words - (rng.bits() % 8) as u32,
         3 => value(rng),
+        4 => CP_BASE - 1 - (rng.bits() % 8) as u32,
+        5 => u32::MAX - (rng.bits() % 8) as u32,
         _ => (rng.bits() % words as u64) as u32,
     }
 }
@@ -311,6 +321,25 @@ fn directed(b: &mut Bench) {
     b.write(regs::PATCH_ADDR, CP_BASE + CP_END - 2);
     for _ in 0..6 {
         b.read(regs::PATCH_DATA);
+    }
+    // a burst across every 512-word boundary of both memories (where one built of 512-word
+    // block RAMs moves to the next), written, then read back
+    let slot_words = b.dev.params().capacity() * 16;
+    let bounds: Vec<u32> = (1..slot_words / 512)
+        .map(|k| k * 512)
+        .chain((1..CP_END / 512).map(|k| CP_BASE + k * 512))
+        .collect();
+    for (n, &at) in bounds.iter().enumerate() {
+        b.write(regs::PATCH_ADDR, at - 2);
+        for k in 0..4 {
+            b.write(regs::PATCH_DATA, 0xB000_0000 | (n as u32) << 8 | k);
+        }
+    }
+    for &at in &bounds {
+        b.write(regs::PATCH_ADDR, at - 2);
+        for _ in 0..4 {
+            b.read(regs::PATCH_DATA);
+        }
     }
     b.write(regs::MODE, 2 | 0x100);
     b.write(regs::SKIP_PATCH, 0x8000_0007);
