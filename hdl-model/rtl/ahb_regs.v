@@ -188,6 +188,20 @@ module ahb_regs #(
         group_of = in_slots(a) ? {{(GROUPS - 1){1'b0}}, 1'b1} << a[WORD_BITS-1:GROUP_BITS]
             : {GROUPS{1'b0}};
     endfunction
+    // where PATCH_ADDR + 1 points, from where PATCH_ADDR points rather than through the 32-bit
+    // increment (through it, the ranges and groups of an auto-increment were the critical path
+    // at 88–91 MHz): it leaves the slots past their last word and enters them past 2^32 − 1,
+    // leaves the control points past their last and enters them past 0xFFFF, and moves a group
+    // on past a group's last word
+    wire slot_end = patch_addr[WORD_BITS-1:0] == {WORD_BITS{1'b1}};
+    wire step_slot = at_slot ? !slot_end : patch_addr == 32'hFFFF_FFFF;
+    wire [GROUPS-1:0] step_group = !step_slot ? {GROUPS{1'b0}}
+        : !at_slot ? {{(GROUPS - 1){1'b0}}, 1'b1}
+        : &patch_addr[GROUP_BITS-1:0] ? at_group << 1 : at_group;
+    wire cp_end = patch_addr[15:0] == 16'd3071;
+    wire step_cp = at_cp ? !cp_end : patch_addr == 32'h0000_FFFF;
+    wire [5:0] step_cp_group = !step_cp ? 6'd0 : !at_cp ? 6'd1
+        : &patch_addr[8:0] ? at_cp_group << 1 : at_cp_group;
     // (a control-point word's group from its index a − 0x1_0000, bits 11:9: the subtraction
     // leaves a[11:9] as they are, since 0x1_0000 has no bit below 16)
     function [5:0] cp_group_of(input [31:0] a);
@@ -204,6 +218,13 @@ module ahb_regs #(
     integer i;
     wire [31:0] group_word [0:GROUPS-1];
     wire [31:0] cp_group_word [0:5];
+    // a PATCH_DATA write reaches its RAM a clock after its access, from registers (`pend`,
+    // `pend_at`, `pend_word`): decided in its data phase, BUSY's logic was in one clock with
+    // the write enables' routing to four RAMs, the critical path at 89–95 MHz. A read cannot
+    // miss it: the next access is at least a clock, and PATCH_ADDR has moved on past the word
+    // unless that access wrote PATCH_ADDR, after which the read's RAM read is a clock later.
+    reg [31:0] pend_word;
+    always @(posedge hclk) pend_word <= hwdata;
     genvar g;
     generate
         for (g = 0; g < 6; g = g + 1) begin : cp_group
@@ -213,10 +234,14 @@ module ahb_regs #(
 `ifndef SYNTHESIS
             initial for (j = 0; j < 512; j = j + 1) mem[j] = 32'd0;
 `endif
+            reg pend;
+            reg [8:0] pend_at;
             always @(posedge hclk) begin
                 q <= mem[cp_here[8:0]];
                 r <= q;
-                if (d_patch_write && !busy && at_cp_group[g]) mem[cp_here[8:0]] <= hwdata;
+                pend <= hresetn && d_patch_write && !busy && at_cp_group[g];
+                pend_at <= cp_here[8:0];
+                if (pend) mem[pend_at] <= pend_word;
             end
             assign cp_group_word[g] = r;
         end
@@ -227,11 +252,14 @@ module ahb_regs #(
 `ifndef SYNTHESIS
             initial for (j = 0; j < (1 << GROUP_BITS); j = j + 1) mem[j] = 32'd0;
 `endif
+            reg pend;
+            reg [GROUP_BITS-1:0] pend_at;
             always @(posedge hclk) begin
                 q <= mem[patch_addr[GROUP_BITS-1:0]];
                 r <= q;
-                if (d_patch_write && !busy && at_group[g])
-                    mem[patch_addr[GROUP_BITS-1:0]] <= hwdata;
+                pend <= hresetn && d_patch_write && !busy && at_group[g];
+                pend_at <= patch_addr[GROUP_BITS-1:0];
+                if (pend) mem[pend_at] <= pend_word;
             end
             assign group_word[g] = r;
         end
@@ -533,10 +561,17 @@ module ahb_regs #(
             bz_act <= n_bz_act;
             pcount <= n_pcount;
             patch_addr <= patch_addr_next;
-            at_slot <= in_slots(patch_addr_next);
-            at_cp <= in_cp(patch_addr_next);
-            at_group <= group_of(patch_addr_next);
-            at_cp_group <= cp_group_of(patch_addr_next);
+            if (d_wr && d_addr == A_PATCH_ADDR) begin
+                at_slot <= in_slots(hwdata);
+                at_cp <= in_cp(hwdata);
+                at_group <= group_of(hwdata);
+                at_cp_group <= cp_group_of(hwdata);
+            end else if (d_patch_step) begin
+                at_slot <= step_slot;
+                at_cp <= step_cp;
+                at_group <= step_group;
+                at_cp_group <= step_cp_group;
+            end
             staged <= n_staged;
             result_word <= n_word;
             count <= n_count;
