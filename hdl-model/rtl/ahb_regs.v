@@ -178,9 +178,9 @@ module ahb_regs #(
     // enables' fanout to 64 block RAMs, the critical path at 74.6 MHz)
     reg at_slot, at_cp;
     // which group's memory PATCH_ADDR points into, one-hot, registered with it (decoded from
-    // PATCH_ADDR, the group was the logic before its four RAMs' write enables, the critical
+    // PATCH_ADDR, the group was the logic before its RAMs' write enables, the critical
     // path at 87–90 MHz)
-    localparam integer GROUP_BITS = 11;
+    localparam integer GROUP_BITS = 10;
     localparam integer GROUPS = 1 << (WORD_BITS - GROUP_BITS);
     reg [GROUPS-1:0] at_group;
     reg [5:0]        at_cp_group;
@@ -208,11 +208,13 @@ module ahb_regs #(
         cp_group_of = in_cp(a) ? 6'd1 << a[11:9] : 6'd0;
     endfunction
     // read every clock at PATCH_ADDR (a write at the edge before is seen: read after write):
-    // the slots in groups of 2,048 words (four block RAMs each) and the control points in
+    // the slots in groups of 1,024 words (two block RAMs each) and the control points in
     // groups of 512 (one), each group's word registered the clock after its read, then the
     // group's word at PATCH_ADDR the clock after that: a PATCH_DATA read's three waits. (As
     // one memory each, the RAMs' slow output went through a 64-way (6-way) multiplexer into
-    // one register, the critical path at 85–86 MHz (83 MHz).) Memories start at zero, as the
+    // one register, the critical path at 85–86 MHz (83 MHz); in groups of 2,048 words, through
+    // a 4-way one, at 92–94 MHz; in groups of one RAM, the 64-way choice of their words took
+    // its place, at twice the LUT4s.) Memories start at zero, as the
     // model's (an ECP5's block RAMs do without the initial loops, and Yosys would unroll them
     // word by word).
     integer i;
@@ -220,7 +222,7 @@ module ahb_regs #(
     wire [31:0] cp_group_word [0:5];
     // a PATCH_DATA write reaches its RAM a clock after its access, from registers (`pend`,
     // `pend_at`, `pend_word`): decided in its data phase, BUSY's logic was in one clock with
-    // the write enables' routing to four RAMs, the critical path at 89–95 MHz. A read cannot
+    // the write enables' routing to a group's RAMs, the critical path at 89–95 MHz. A read cannot
     // miss it: the next access is at least a clock, and PATCH_ADDR has moved on past the word
     // unless that access wrote PATCH_ADDR, after which the read's RAM read is a clock later.
     reg [31:0] pend_word;
