@@ -7,16 +7,15 @@
 // read data is driven combinationally in its data phase's last clock from the registers as they
 // are then, and its effects (a write's, and a read's side effects: RESULT_OUT's pop,
 // PATCH_DATA's increment, the latching of CYCLE_HI and BUSY_HI, RESULT_UNDERFLOW and
-// PATCH_RANGE) take place on the clock edge that ends the data phase, together with that
-// clock's counting. So back-to-back accesses see each other in order, as the model's accesses
-// do (the model's clock n is the data phase of the access it makes then; a wait state is a
-// clock of counting, as the model's idle ticks). Patch memory is synchronous block RAM, read
-// every clock at PATCH_ADDR, its word registered twice (below): a PATCH_DATA read waits for
-// the read and both registers. Until
-// session 25 the read was issued in the address phase from the PATCH_ADDR the access in its
-// data phase leaves behind, and its word went to the bus unregistered: no wait state, but the
-// address's logic before the 64 block RAMs' spread-out address pins, and their slow output
-// after them, held the file to 54–70 MHz.
+// PATCH_RANGE) take place on the clock edge that ends the data phase, together with that clock's
+// counting. So back-to-back accesses see each other in order, as the model's accesses do (the
+// model's clock n is the data phase of the access it makes then; a wait state is a clock of
+// counting, as the model's idle ticks). Patch memory is synchronous block RAM, read every clock
+// at PATCH_ADDR, its word registered twice (below): a PATCH_DATA read waits for the read and
+// both registers. Until session 25 the read was issued in the address phase from the PATCH_ADDR
+// the access in its data phase leaves behind, and its word went to the bus unregistered: no wait
+// state, but the address's logic before the 64 block RAMs' spread-out address pins, and their
+// slow output after them, held the file to 54–70 MHz.
 //
 // What lies behind the registers (the angle unit, the rotators, the intersection unit, the
 // result FIFO) is not here: its state comes in on the dp_*, frame_* and result_* ports and the
@@ -174,12 +173,12 @@ module ahb_regs #(
     wire [31:0] cp_here = patch_addr - 32'h0001_0000;
     // where PATCH_ADDR points: a slot word, a control-point word, or neither (PATCH_RANGE)
     // (registered with PATCH_ADDR, as is whether the access in its data phase writes
-    // PATCH_DATA, below: decoded in the data phase, both were the logic before the write
+    // PATCH_DATA, above: decoded in the data phase, both were the logic before the write
     // enables' fanout to 64 block RAMs, the critical path at 74.6 MHz)
     reg at_slot, at_cp;
     // which group's memory PATCH_ADDR points into, one-hot, registered with it (decoded from
     // PATCH_ADDR, the group was the logic before its RAMs' write enables, the critical
-    // path at 87–90 MHz)
+    // path at 87–91 MHz)
     localparam integer GROUP_BITS = 10;
     localparam integer GROUPS = 1 << (WORD_BITS - GROUP_BITS);
     reg [GROUPS-1:0] at_group;
@@ -207,22 +206,21 @@ module ahb_regs #(
     function [5:0] cp_group_of(input [31:0] a);
         cp_group_of = in_cp(a) ? 6'd1 << a[11:9] : 6'd0;
     endfunction
-    // read every clock at PATCH_ADDR (a write at the edge before is seen: read after write):
-    // the slots in groups of 1,024 words (two block RAMs each) and the control points in
-    // groups of 512 (one), each group's word registered the clock after its read, then the
-    // group's word at PATCH_ADDR the clock after that: a PATCH_DATA read's three waits. (As
-    // one memory each, the RAMs' slow output went through a 64-way (6-way) multiplexer into
-    // one register, the critical path at 85–86 MHz (83 MHz); in groups of 2,048 words, through
-    // a 4-way one, at 92–94 MHz; in groups of one RAM, the 64-way choice of their words took
-    // its place, at twice the LUT4s.) Memories start at zero, as the
-    // model's (an ECP5's block RAMs do without the initial loops, and Yosys would unroll them
-    // word by word).
+    // read every clock at PATCH_ADDR (a write at the edge before is seen: read after write): the
+    // slots in groups of 1,024 words (two block RAMs each) and the control points in groups of
+    // 512 (one), each group's word registered the clock after its read, then the group's word at
+    // PATCH_ADDR the clock after that: a PATCH_DATA read's three waits. (As one memory each, the
+    // RAMs' slow output went through a 64-way (6-way) multiplexer into one register, the
+    // critical path at 85–86 MHz (83 MHz); in groups of 2,048 words, through a 4-way one, at
+    // 92–94 MHz; in groups of one RAM, the 64-way choice of their words took its place, at twice
+    // the LUT4s.) Memories start at zero, as the model's (an ECP5's block RAMs do without the
+    // initial loops, and Yosys would unroll them word by word).
     integer i;
     wire [31:0] group_word [0:GROUPS-1];
     wire [31:0] cp_group_word [0:5];
     // a PATCH_DATA write reaches its RAM a clock after its access, from registers (`pend`,
-    // `pend_at`, `pend_word`): decided in its data phase, BUSY's logic was in one clock with
-    // the write enables' routing to a group's RAMs, the critical path at 89–95 MHz. A read cannot
+    // `pend_at`, `pend_word`): decided in its data phase, BUSY's logic was in one clock with the
+    // write enables' routing to a group's RAMs, the critical path at 89–95 MHz. A read cannot
     // miss it: the next access is at least a clock, and PATCH_ADDR has moved on past the word
     // unless that access wrote PATCH_ADDR, after which the read's RAM read is a clock later.
     reg [31:0] pend_word;
