@@ -78,9 +78,7 @@ impl ModelBus {
 impl RegisterAccess for ModelBus {
     #[inline]
     fn read(&mut self, offset: u32) -> u32 {
-        if offset == crate::regs::PATCH_DATA {
-            self.idle(crate::regs::PATCH_DATA_READ_WAITS);
-        }
+        self.idle(crate::regs::read_waits(offset));
         let v = self.dev.read(offset);
         self.dev.tick();
         v

@@ -75,8 +75,18 @@ pub const PATCH_DATA: u32 = 0x094;
 /// PATCH_ADDR, each group's word is registered, then the word of PATCH_ADDR's group, before it
 /// goes to the bus, so that neither the address's logic nor the RAMs' slow output lies in one
 /// clock with the bus or with the multiplexer over the RAMs (`rtl/ahb_regs.v`; since session
-/// 25, none before). A read's clocks are these and its data phase's.
+/// 25, none before). A read's clocks are these and its data phase's ([`read_waits`]).
 pub const PATCH_DATA_READ_WAITS: u64 = 3;
+
+/// Wait states of a read of the register at `offset`, which a bus master sees as clocks
+/// before the read's data phase: [`PATCH_DATA_READ_WAITS`] for PATCH_DATA, none for the rest.
+pub const fn read_waits(offset: u32) -> u64 {
+    if offset == PATCH_DATA {
+        PATCH_DATA_READ_WAITS
+    } else {
+        0
+    }
+}
 /// Number of patch slots scanned per ray.
 pub const PATCH_COUNT: u32 = 0x098;
 /// Patch the following ray entries skip (bit 31 enables; latched per entry).

@@ -119,11 +119,7 @@ impl Bench {
     /// A read; a PATCH_DATA read's wait states first (clocks of counting: the testbench sees
     /// them as HREADYOUT low).
     fn read(&mut self, addr: u32) {
-        let waits = if addr == regs::PATCH_DATA {
-            regs::PATCH_DATA_READ_WAITS
-        } else {
-            0
-        };
+        let waits = regs::read_waits(addr);
         for _ in 0..waits {
             self.dev.tick();
         }
