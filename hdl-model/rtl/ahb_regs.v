@@ -175,6 +175,8 @@ module ahb_regs #(
     // (registered with PATCH_ADDR, as is whether the access in its data phase writes
     // PATCH_DATA, above: decoded in the data phase, both were the logic before the write
     // enables' fanout to 64 block RAMs, the critical path at 74.6 MHz)
+    // (at_slot is |at_group and at_cp |at_cp_group, below: kept as flip-flops of their own so
+    // that the read's choice and PATCH_RANGE do not wait for an OR over the groups)
     reg at_slot, at_cp;
     // which group's memory PATCH_ADDR points into, one-hot, registered with it (decoded from
     // PATCH_ADDR, the group was the logic before its RAMs' write enables, the critical

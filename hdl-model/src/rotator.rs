@@ -34,8 +34,9 @@ struct Side<T: Copy + Default> {
     info: T,
 }
 
-/// Side-table slots: more than the longest rotator latency (3 (30 + 3) + 2 = 101 clocks), so a
-/// slot allocated round-robin, at most one per clock, is free again before it is reused.
+/// Side-table slots: more than the longest rotator latency ([`CHAIN`], 3 (30 + 4) + 2 = 104
+/// clocks), so a slot allocated round-robin, at most one per clock, is free again before it is
+/// reused.
 const SLOTS: usize = 128;
 const _: () = assert!(SLOTS > CHAIN);
 
