@@ -435,8 +435,8 @@ fn bitmaps(p: &mut Proxy, params: &Params, copies: u64) {
 /// patch's three or four corner clocks), and with
 /// culling (`intersect::cull`, on 18-bit words) the corner's block-floating-point shift into 18
 /// bits, its three dot products with the axes (nine 18 × 18) and their error bounds, its edge's
-/// coarse normal dotted with the frame's axis (three 18 × 18) and its bound, the shift into the
-/// vectoring's 27 bits, the azimuth's vectoring CORDIC (the magnitude feeds the polar
+/// coarse normal dotted with the frame's axis (three 18 × 18) and its bound, the normalisation
+/// of each vectoring's input, the azimuth's vectoring CORDIC (the magnitude feeds the polar
 /// vectoring), the arc and band bounds and the constant multiplies that turn angles into
 /// sectors and bands; the rays' sector and band vectorings and constant multiplies,
 /// `rays_per_clock` of each.
@@ -474,9 +474,12 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
         p.add(banks * 8, 20);
         // |f|∞ and the largest bound, the horizon and near-axis compares (twelve of 36 bits)
         p.add(banks * 12, 36);
-        // into the vectoring's 27 bits: leading one and three shifters of four levels
-        p.add(banks, 36);
-        p.add(banks * 3 * 4, 27);
+        // each vectoring's input normalised (`cull::NORM_TOP`): ρ's leading one and x, y
+        // shifted (six levels either way on 36 bits), then max(|z|, r)'s and z, r shifted (z by
+        // both shifts at once); until session 26 one leading one and x, y, z shifted four
+        // levels into 27 bits
+        p.add(banks * 2, 36);
+        p.add(banks * 4 * 6, 36);
         // ce · w̃ (two adds of 36 bits), its bound (five of 20), ±bound and the two compares
         p.add(banks * 2, 36);
         p.add(banks * 5, 20);
@@ -488,6 +491,10 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
         // constant (S / 2π, 32 / π) of 16 significant bits, six adders of 32 bits each
         p.add(banks * 4 * 6, 32);
         let rays = params.rays_per_clock as u64;
+        // a ray's two normalisations (since session 26): leading ones of 32 bits, and x, y,
+        // then z, r shifted five levels
+        p.add(rays * 2, 32);
+        p.add(rays * 4 * 5, 32);
         p.vectoring(CULL_CORDIC, rays, true);
         p.vectoring(CULL_CORDIC, rays, false);
         p.add(rays * 2 * 6, 32);

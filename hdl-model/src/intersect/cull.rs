@@ -18,8 +18,8 @@
 //!    e_i · w > −|e_i|∞ 2^-10, or every one < |e_i|∞ 2^-10), or if a corner may lie within 2^-4
 //!    of the axis, where its azimuth is ill-conditioned (its bands then from the first);
 //! 4. otherwise the azimuths φ_i = atan2(f_i.y, f_i.x) (a vectoring CORDIC of the unit's own,
-//!    18 iterations on 24 bits), their smallest enclosing arc widened by [`MARGIN`] on each side,
-//!    and the sectors its ends fall in.
+//!    14 iterations on 20 bits, its input normalised: [`NORM_TOP`]), their smallest enclosing
+//!    arc widened by [`MARGIN`] on each side, and the sectors its ends fall in.
 //!
 //! 5. **polar bands**: the corners' polar angles θ_i (a second vectoring, of (z, ρ)), and the
 //!    polygon's θ range bounded from its boundary (θ has no extremum inside the polygon but at
@@ -49,9 +49,13 @@
 //! below the horizon only if certainly so (and by 2^-9 instead of 2^-10), a corner counts as
 //! next to the axis if it may be within 2^-4 of it plus B, the axis test's thresholds are moved
 //! out by B. The corners' direction error is then at most B/ρ ≤ 2^-7.8 rad in azimuth (|ã|∞ ≥
-//! 2^16, ρ ≥ 2^-4 |f|∞) and less in θ, the vectorings (18 iterations on 24 bits, [`CULL_CORDIC`])
-//! add about 2^-15, and [`MARGIN`] is 2^-7 rad: 2^-9 (the exact products' margin, which covers
-//! the rotator) plus more than those errors. A test (`narrow_reach_holds_the_wide_one`) checks
+//! 2^16, ρ ≥ 2^-4 |f|∞) and less in θ, the vectorings (14 iterations on 20 bits, [`CULL_CORDIC`],
+//! each input scaled by a power of two of its own, [`NORM_TOP`]) add at most [`VECTOR_ERROR`]
+//! = 2^-12 each, a corner's and a ray's 2^-11, and [`MARGIN`] is 2^-7 rad: 2^-9 (the exact
+//! products' margin, which covers the rotator) + 2^-7.8 + 2^-11 = 6.9·10⁻³ < 7.8·10⁻³. (Until
+//! session 26 the vectorings were 18 iterations on 24 bits, fed the corner scaled by its largest
+//! component, so that a corner 2^-4 from the axis lost 4 bits: 14 on 20 did not fit the margin
+//! that way.) A test (`narrow_reach_holds_the_wide_one`) checks
 //! on random patches, origins and frames that the reach holds the one the exact products and
 //! the 32-bit vectorings give (with the same polar bound and near-axis bands, at the old
 //! margin and near-axis threshold), and (`culled_rays_inside_a_patch_are_handed_it`) that a
@@ -71,12 +75,22 @@ use crate::format::{Angle, Unit};
 /// The widening of a wedge (and a band range) on each side, in Q3.29 radians: 2^-7 rad (see
 /// the module doc, "Narrow arithmetic").
 pub const MARGIN: i64 = 1 << 22;
-/// The culling unit's vectoring CORDIC (corners' and rays' azimuths and polar angles): 18
-/// iterations on 24-bit words.
+/// The culling unit's vectoring CORDIC (corners' and rays' azimuths and polar angles): 14
+/// iterations on 20-bit words, fed [`NORM_TOP`]-normalised vectors (18 iterations on 24 bits
+/// until session 26, fed vectors normalised by the corner's largest component, so that a
+/// corner next to the axis reached the vectoring with 4 bits fewer).
 pub const CULL_CORDIC: CordicConfig = CordicConfig {
-    iterations: 18,
-    width: 24,
+    iterations: 14,
+    width: 20,
 };
+/// Every vectoring's input is scaled by a power of two (either way: a leading-one detector and
+/// shifters) so that its larger component is in [2^(NORM_TOP − 1), 2^NORM_TOP): the most a
+/// Q2.30 container holds after the vectoring's gain of 1.65 on up to √2 times that. Its error
+/// is then that of the word, whatever the vector's length (measured: at most 1.7·10⁻⁴ rad,
+/// 2^-12.5, `normalised_vectorings_stay_within_their_budget`).
+pub const NORM_TOP: u32 = 29;
+/// The bound a test holds a normalised vectoring's angle error to: 2^-12 rad (Q3.29 bits).
+pub const VECTOR_ERROR: i64 = 1 << 17;
 /// Bits dropped from the frame's axes (Q2.30) for the corner transform and the axis test:
 /// Q2.16 words of 18 bits.
 const AXIS_SHIFT: u32 = 14;
@@ -161,6 +175,21 @@ impl CullUnit {
         (s.z.to_bits() as i64, s.x.to_bits())
     }
 
+    /// atan2(y, x) of any (x, y) (Q3.29 bits), normalised ([`NORM_TOP`]) into the vectoring,
+    /// with the magnitude it returns and the shift s it was taken at (the magnitude is
+    /// |(x, y)|·2^s).
+    fn azimuth(&self, x: i128, y: i128) -> (i64, i128, i32) {
+        let s = norm_shift(x, y);
+        let (a, r) = self.vector(scale(x, s) as i32, scale(y, s) as i32);
+        (a, r as i128, s)
+    }
+
+    /// The polar angle atan2(r, z) of a vector whose azimuth vectoring returned magnitude `r` at
+    /// shift `s` (so z is taken at that scale, then the pair normalised for the second vectoring).
+    fn polar(&self, z: i128, r: i128, s: i32) -> i64 {
+        self.azimuth(scale(z, s), r).0
+    }
+
     /// The band of a polar angle (Q3.29 bits), clamped to the bands.
     fn band_of(a: i64) -> u32 {
         (a.max(0) * BANDS as i64 * 2 / PI).min(BANDS as i64 - 1) as u32
@@ -180,8 +209,8 @@ impl CullUnit {
         if self.sectors == 0 || z < 0 || rho < 1 << 25 {
             return None;
         }
-        let (phi, r) = self.vector(x, y);
-        let (theta, _) = self.vector(z, r);
+        let (phi, r, s) = self.azimuth(x as i128, y as i128);
+        let theta = self.polar(z as i128, r, s);
         Some((self.sector_of(phi), Self::band_of(theta)))
     }
 
@@ -225,12 +254,10 @@ impl CullUnit {
             let rho = v[0].abs().max(v[1].abs());
             let (n, eb) = (norm(v), norm(e));
             near |= rho < eb + ((n + eb) >> NEAR_AXIS);
-            // block floating point: the largest component into 27 bits (the angles ignore the
-            // scale; the vectorings' gain of 1.65 on |v| ≤ √3 · 2^27 stays inside Q2.30)
-            let shift = (64 - n.leading_zeros()).saturating_sub(27);
-            let (az, r) = self.vector((v[0] >> shift) as i32, (v[1] >> shift) as i32);
+            // each vectoring's input normalised on its own (the angles ignore the scale)
+            let (az, r, s) = self.azimuth(v[0] as i128, v[1] as i128);
             *p = az;
-            *t = self.vector((v[2] >> shift) as i32, r).0;
+            *t = self.polar(v[2] as i128, r, s);
         }
         let phi = &phi[..f.len()];
         let (lo_t, hi_t) = polar_range(phi, &theta[..f.len()]);
@@ -270,6 +297,25 @@ impl CullUnit {
             },
             ..full
         }
+    }
+}
+
+/// The shift that brings the larger of |x|, |y| into [2^(NORM_TOP − 1), 2^NORM_TOP) (0 for a
+/// zero vector).
+fn norm_shift(x: i128, y: i128) -> i32 {
+    let m = x.unsigned_abs().max(y.unsigned_abs());
+    if m == 0 {
+        return 0;
+    }
+    NORM_TOP as i32 - (128 - m.leading_zeros()) as i32
+}
+
+/// v·2^s, truncated (towards −∞) when s < 0.
+fn scale(v: i128, s: i32) -> i128 {
+    if s >= 0 {
+        v << s
+    } else {
+        v >> -s
     }
 }
 
@@ -574,6 +620,42 @@ mod tests {
             cases > 100_000 && sectored > 20_000,
             "{cases} cases, {sectored} in sectors"
         );
+    }
+
+    /// Every vectoring is normalised before the CORDIC, so its angle is within [`VECTOR_ERROR`]
+    /// of atan2 whatever the vector's length: the budget the module doc's margin counts, for
+    /// vectors of every length from one bit to 2^40 and every direction.
+    #[test]
+    fn normalised_vectorings_stay_within_their_budget() {
+        let unit = CullUnit::new(32);
+        let mut rng = Rng(0x5851_f42d_4c95_7f2d);
+        let mut worst = 0f64;
+        for k in 0..300_000u32 {
+            let a = (rng.unit() * 2.0 - 1.0) * core::f64::consts::PI;
+            let len = (2.0f64).powf(1.0 + 39.0 * rng.unit());
+            let (x, y) = ((a.cos() * len) as i128, (a.sin() * len) as i128);
+            if x == 0 && y == 0 {
+                continue;
+            }
+            let (got, _, _) = unit.azimuth(x, y);
+            let want = (y as f64).atan2(x as f64);
+            let mut d = (got as f64 / (1u64 << 29) as f64 - want).abs();
+            if d > core::f64::consts::PI {
+                d = 2.0 * core::f64::consts::PI - d;
+            }
+            worst = worst.max(d);
+            // the polar vectoring of the same vector's z against its magnitude
+            if k % 2 == 0 {
+                let z = ((rng.unit() * 2.0 - 1.0) * len * 4.0) as i128;
+                let (_, r, s) = unit.azimuth(x, y);
+                let got = unit.polar(z, r, s) as f64 / (1u64 << 29) as f64;
+                let want = ((x * x + y * y) as f64).sqrt().atan2(z as f64);
+                worst = worst.max((got - want).abs());
+            }
+        }
+        let bound = VECTOR_ERROR as f64 / (1u64 << 29) as f64;
+        assert!(worst <= bound, "worst {worst:e} rad, budget {bound:e}");
+        std::println!("worst vectoring error {worst:e} rad");
     }
 
     /// A culled ray through a point of a patch is handed the patch: its sector and band are in

@@ -290,10 +290,12 @@ fn merge_latency(lanes: u32) -> u64 {
 
 /// Latency of the set-up pipe after its last patch: the edge normals' products, and with
 /// culling the corners' dot products with the axes, the azimuth's vectoring CORDIC and the
-/// polar one chained after it (it takes the azimuth's magnitude), and the sector compare.
+/// polar one chained after it (it takes the azimuth's magnitude), each after a clock that
+/// normalises its input (the second since session 26, [`cull::NORM_TOP`]), and the sector
+/// compare.
 fn setup_latency(culling: bool) -> u64 {
     if culling {
-        2 * cull::CULL_CORDIC.latency() as u64 + 4
+        2 * cull::CULL_CORDIC.latency() as u64 + 5
     } else {
         2
     }
