@@ -2,7 +2,7 @@
 // hdl-model/src/device.rs, whose `read`, `write` and `tick` this mirrors clock for clock).
 //
 // The bus: AHB-Lite, HRESP OKAY, word transfers (HSIZE is not decoded: a narrower write acts as
-// a word write), zero wait states but for a PATCH_DATA read, which takes three
+// a word write), zero wait states but for a PATCH_DATA read, which takes four
 // (PATCH_DATA_READ_WAITS in hdl-model/src/regs.rs). An access's address phase is latched; its
 // read data is driven combinationally in its data phase's last clock from the registers as they
 // are then, and its effects (a write's, and a read's side effects: RESULT_OUT's pop,
@@ -11,8 +11,8 @@
 // counting. So back-to-back accesses see each other in order, as the model's accesses do (the
 // model's clock n is the data phase of the access it makes then; a wait state is a clock of
 // counting, as the model's idle ticks). Patch memory is synchronous block RAM, read every clock
-// at PATCH_ADDR, its word registered twice (below): a PATCH_DATA read waits for the read and
-// both registers. Until session 25 the read was issued in the address phase from the PATCH_ADDR
+// at PATCH_ADDR, its word registered three times (below): a PATCH_DATA read waits for the read
+// and the registers. Until session 25 the read was issued in the address phase from the PATCH_ADDR
 // the access in its data phase leaves behind, and its word went to the bus unregistered: no wait
 // state, but the address's logic before the 64 block RAMs' spread-out address pins, and their
 // slow output after them, held the file to 54–70 MHz.
@@ -95,17 +95,17 @@ module ahb_regs #(
 
     assign hresp = 1'b0;
 
-    // ---- the access in its data phase (a PATCH_DATA read waits three clocks, `waits`, before
+    // ---- the access in its data phase (a PATCH_DATA read waits four clocks, `waits`, before
     // its last: the slave holds HREADYOUT low and the master holds the next address phase)
     reg       d_valid, d_write;
     reg [9:0] d_addr;
-    reg [1:0] waits;
+    reg [2:0] waits;
     // the writes decoded in the address phase (CTRL, RAY_IN and PATCH_DATA: from the data
     // phase's address, their decoding was the start of the critical paths into the FIFO and
     // the patch RAMs)
-    reg       d_patch_write, d_ctrl_write, d_ray_in_write;
+    reg       d_patch_write, d_ctrl_write, d_ray_in_write, d_config_write, d_bz_write;
     wire      a_valid = hsel && htrans[1] && hready;
-    wire      stall = d_valid && !d_write && d_addr == A_PATCH_DATA && waits != 2'd3;
+    wire      stall = d_valid && !d_write && d_addr == A_PATCH_DATA && waits != 3'd4;
     wire      d_wr = d_valid && d_write;
     wire      d_rd = d_valid && !d_write && !stall;
     assign hreadyout = !stall;
@@ -210,12 +210,14 @@ module ahb_regs #(
     endfunction
     // read every clock at PATCH_ADDR (a write at the edge before is seen: read after write): the
     // slots in groups of 1,024 words (two block RAMs each) and the control points in groups of
-    // 512 (one), each group's word registered the clock after its read, then the group's word at
-    // PATCH_ADDR the clock after that: a PATCH_DATA read's three waits. (As one memory each, the
-    // RAMs' slow output went through a 64-way (6-way) multiplexer into one register, the
-    // critical path at 85–86 MHz (83 MHz); in groups of 2,048 words, through a 4-way one, at
-    // 92–94 MHz; in groups of one RAM, the 64-way choice of their words took its place, at twice
-    // the LUT4s.) Memories start at zero, as the model's (an ECP5's block RAMs do without the
+    // 512 (one), each group's word registered the clock after its read, then the word of each
+    // four groups' at PATCH_ADDR (and the control points' group's) the clock after that, then
+    // the word at PATCH_ADDR: a PATCH_DATA read's four waits. (As one memory each, the RAMs'
+    // slow output went through a 64-way (6-way) multiplexer into one register, the critical
+    // path at 85–86 MHz (83 MHz); in groups of 2,048 words, through a 4-way one, at 92–94 MHz;
+    // in groups of one RAM, the 64-way choice of their words took its place, at twice the
+    // LUT4s; with the groups' words chosen among all 32 in one clock, their registers sat by
+    // that choice, up to 45 columns from their RAMs, whose output takes 5.8 ns: 99.9 MHz.) Memories start at zero, as the model's (an ECP5's block RAMs do without the
     // initial loops, and Yosys would unroll them word by word).
     integer i;
     wire [31:0] group_word [0:GROUPS-1];
@@ -225,12 +227,17 @@ module ahb_regs #(
     // write enables' routing to a group's RAMs, the critical path at 89–95 MHz. A read cannot
     // miss it: the next access is at least a clock, and PATCH_ADDR has moved on past the word
     // unless that access wrote PATCH_ADDR, after which the read's RAM read is a clock later.
+    // No RAM is read at the word being written on the same clock (the write comes a clock after
+    // its access, when PATCH_ADDR has moved on by one word, so to another word of any group), so
+    // the RAMs are marked `no_rw_check`: otherwise Yosys keeps the read-before-write order of a
+    // collision with a bypass after each RAM (1,400 LUT4s, and a LUT between the RAM's slow
+    // output and its register on the critical path). A simulation that meets one stops.
     reg [31:0] pend_word;
     always @(posedge hclk) pend_word <= hwdata;
     genvar g;
     generate
         for (g = 0; g < 6; g = g + 1) begin : cp_group
-            reg [31:0] mem [0:511];
+            (* no_rw_check *) reg [31:0] mem [0:511];
             reg [31:0] q, r;
             integer j;
 `ifndef SYNTHESIS
@@ -244,11 +251,14 @@ module ahb_regs #(
                 pend <= hresetn && d_patch_write && !busy && at_cp_group[g];
                 pend_at <= cp_here[8:0];
                 if (pend) mem[pend_at] <= pend_word;
+`ifndef SYNTHESIS
+                if (pend && pend_at == cp_here[8:0]) $fatal(1, "a RAM read the word it writes");
+`endif
             end
             assign cp_group_word[g] = r;
         end
         for (g = 0; g < GROUPS; g = g + 1) begin : slot_group
-            reg [31:0] mem [0:(1 << GROUP_BITS)-1];
+            (* no_rw_check *) reg [31:0] mem [0:(1 << GROUP_BITS)-1];
             reg [31:0] q, r;
             integer j;
 `ifndef SYNTHESIS
@@ -262,26 +272,49 @@ module ahb_regs #(
                 pend <= hresetn && d_patch_write && !busy && at_group[g];
                 pend_at <= patch_addr[GROUP_BITS-1:0];
                 if (pend) mem[pend_at] <= pend_word;
+`ifndef SYNTHESIS
+                if (pend && pend_at == patch_addr[GROUP_BITS-1:0]) $fatal(1, "a RAM read the word it writes");
+`endif
             end
             assign group_word[g] = r;
         end
     endgenerate
-    reg [31:0] patch_word;
-    always @(posedge hclk)
-        patch_word <= at_slot ? group_word[patch_addr[WORD_BITS-1:GROUP_BITS]]
-            : at_cp ? cp_group_word[cp_here[11:9]] : 32'd0;
+    localparam integer QUADS = GROUPS >= 4 ? GROUPS / 4 : 1;
+    reg [31:0] quad_word [0:QUADS-1];
+    reg [31:0] cp_word, patch_word;
+    generate
+        for (g = 0; g < QUADS; g = g + 1) begin : slot_quad
+            wire [31:0] at = 4 * g + {30'd0, patch_addr[GROUP_BITS+1:GROUP_BITS]};
+            always @(posedge hclk) quad_word[g] <= at < GROUPS ? group_word[at] : 32'd0;
+        end
+    endgenerate
+    always @(posedge hclk) begin
+        cp_word <= cp_group_word[cp_here[11:9]];
+        patch_word <= at_slot ? quad_word[(patch_addr >> (GROUP_BITS + 2)) % QUADS]
+            : at_cp ? cp_word : 32'd0;
+    end
 
-    // ---- CONFIG and BZ_CONFIG as APPLY_CONFIG validates them
-    wire [4:0] c_iter = config_reg[4:0];
-    wire [5:0] c_width = config_reg[13:8];
-    wire [4:0] c_depth = config_reg[20:16];
-    wire config_ok = c_iter >= 5'd4 && c_iter <= 5'd30 && c_width >= 6'd12 &&
-        c_width <= 6'd32 && {1'b0, c_iter} + 6'd2 <= c_width && c_depth >= 5'd1 &&
-        c_depth <= 5'd24;
-    wire [4:0] b_depth = bz_reg[4:0];
-    wire [5:0] b_width = bz_reg[13:8];
-    // depth 1..=16 and 3·depth ≤ the stack's 40 entries
-    wire bz_ok = b_depth >= 5'd1 && b_depth <= 5'd13 && b_width >= 6'd12 && b_width <= 6'd26;
+    // ---- CONFIG and BZ_CONFIG as APPLY_CONFIG validates them, `configs_ok`: registered with
+    // them from the words they take (checked from the registers, the checks' adders were in one
+    // clock with APPLY_CONFIG's decision and its fanout to CONFIG's and BZ_CONFIG's copies in
+    // force, the critical path at 95.7 MHz once patch memory's paths were shorter)
+    // (the words' other bits are not the checks')
+    /* verilator lint_off UNUSEDSIGNAL */
+    function configs_ok_of(input [31:0] c, input [31:0] b);
+        reg [4:0] c_iter, c_depth, b_depth;
+        reg [5:0] c_width, b_width;
+        begin
+            {c_iter, c_width, c_depth} = {c[4:0], c[13:8], c[20:16]};
+            {b_depth, b_width} = {b[4:0], b[13:8]};
+            // BZ_CONFIG: depth 1..=16 and 3·depth ≤ the stack's 40 entries
+            configs_ok_of = c_iter >= 5'd4 && c_iter <= 5'd30 && c_width >= 6'd12 &&
+                c_width <= 6'd32 && {1'b0, c_iter} + 6'd2 <= c_width && c_depth >= 5'd1 &&
+                c_depth <= 5'd24 && b_depth >= 5'd1 && b_depth <= 5'd13 && b_width >= 6'd12 &&
+                b_width <= 6'd26;
+        end
+    endfunction
+    /* verilator lint_on UNUSEDSIGNAL */
+    reg configs_ok;
 
     // ---- read data, in the data phase
     reg [31:0] rdata;
@@ -334,7 +367,7 @@ module ahb_regs #(
     reg [3:0]  n_irq_status, n_irq_enable;
     reg        n_enable, n_frame_valid, n_busy;
     reg [1:0]  n_staged, n_word;
-    reg [5:0]  n_count;
+    reg [5:0]  n_count, n_step;
     reg [4:0]  n_tail, tail_b;
     reg        push_a, push_b;
     // the entries a CTRL write or RAY_IN's third write queues, first (a) and second (b), chosen
@@ -384,6 +417,7 @@ module ahb_regs #(
         n_staged = staged;
         n_word = result_word;
         n_count = count;
+        n_step = 6'd0;
         n_cycle_hi = cycle_hi;
         n_busy_hi = busy_hi;
         push_a = 1'b0;
@@ -398,7 +432,7 @@ module ahb_regs #(
                     n_enable = hwdata[0];
                     if (hwdata[3]) begin
                         if (busy) raise(E_CONFIG_BUSY);
-                        else if (config_ok && bz_ok) begin
+                        else if (configs_ok) begin
                             n_config_act = config_reg;
                             n_bz_act = bz_reg;
                             n_frame_valid = 1'b0;
@@ -452,8 +486,13 @@ module ahb_regs #(
             endcase
         end
         // the clock: the datapath takes the head, a frame completes, a result comes
-        n_count = count + {5'd0, push_a} + {5'd0, push_b};
-        if (entry_pop && n_count != 6'd0) n_count = n_count - 6'd1;
+        // the count's step (the pushes less a pop) into one adder: as two adders and a
+        // decrement after them, chained behind the pushes, it was the critical path (97 MHz);
+        // a second push comes only with a first, and a pop takes one of count + pushes
+        if (push_b) n_step = entry_pop ? 6'd1 : 6'd2;
+        else if (push_a) n_step = entry_pop ? 6'd0 : 6'd1;
+        else n_step = entry_pop && count != 6'd0 ? 6'h3F : 6'd0;
+        n_count = count + n_step;
         if (frame_done) begin
             n_frame_valid = 1'b1;
             n_irq_status = n_irq_status | I_FRAME;
@@ -496,11 +535,13 @@ module ahb_regs #(
                 bz_act <= BZ_CONFIG_RESET;
                 config_reg <= CONFIG_RESET;
                 bz_reg <= BZ_CONFIG_RESET;
+                configs_ok <= configs_ok_of(CONFIG_RESET, BZ_CONFIG_RESET);
                 pcount <= 32'd0;
                 d_valid <= 1'b0;
             end else begin
                 config_reg <= config_act;
                 bz_reg <= bz_act;
+                configs_ok <= configs_ok_of(config_act, bz_act);
                 if (hready) d_valid <= a_valid;
             end
             error <= 32'd0;
@@ -559,6 +600,10 @@ module ahb_regs #(
             skip_reg <= n_skip;
             config_reg <= n_config;
             bz_reg <= n_bz;
+            // (the words CONFIG and BZ_CONFIG take, from the writes decoded in the address
+            // phase: through n_config's decoding the check was the critical path, 91 MHz)
+            configs_ok <= configs_ok_of(d_config_write ? hwdata : config_reg,
+                d_bz_write ? hwdata : bz_reg);
             config_act <= n_config_act;
             bz_act <= n_bz_act;
             pcount <= n_pcount;
@@ -603,12 +648,16 @@ module ahb_regs #(
             d_patch_write <= 1'b0;
             d_ctrl_write <= 1'b0;
             d_ray_in_write <= 1'b0;
+            d_config_write <= 1'b0;
+            d_bz_write <= 1'b0;
         end else if (hready) begin
             d_patch_write <= a_valid && hwrite && haddr[11:2] == A_PATCH_DATA;
             d_ctrl_write <= a_valid && hwrite && haddr[11:2] == A_CTRL;
             d_ray_in_write <= a_valid && hwrite && haddr[11:2] == A_RAY_IN;
+            d_config_write <= a_valid && hwrite && haddr[11:2] == A_CONFIG;
+            d_bz_write <= a_valid && hwrite && haddr[11:2] == A_BZ_CONFIG;
         end
-        waits <= hresetn && stall ? waits + 2'd1 : 2'd0;
+        waits <= hresetn && stall ? waits + 3'd1 : 3'd0;
     end
     // (HSIZE, HTRANS's SEQ bit and the byte lane bits are not decoded, nor the index bits
     // above each register group)

@@ -72,11 +72,12 @@ pub const PATCH_ADDR: u32 = 0x090;
 /// Patch memory data window.
 pub const PATCH_DATA: u32 = 0x094;
 /// Wait states of a PATCH_DATA read (writes have none): patch memory's block RAMs are read at
-/// PATCH_ADDR, each group's word is registered, then the word of PATCH_ADDR's group, before it
-/// goes to the bus, so that neither the address's logic nor the RAMs' slow output lies in one
-/// clock with the bus or with the multiplexer over the RAMs (`rtl/ahb_regs.v`; since session
-/// 25, none before). A read's clocks are these and its data phase's ([`read_waits`]).
-pub const PATCH_DATA_READ_WAITS: u64 = 3;
+/// PATCH_ADDR, each group's word is registered, then the word of each four groups', then the
+/// word of PATCH_ADDR's group, before it goes to the bus, so that neither the address's logic
+/// nor the RAMs' slow output lies in one clock with the bus or with a wide multiplexer over the
+/// RAMs (`rtl/ahb_regs.v`; since session 25, none before; three until session 26). A read's
+/// clocks are these and its data phase's ([`read_waits`]).
+pub const PATCH_DATA_READ_WAITS: u64 = 4;
 
 /// Wait states of a read of the register at `offset`, which a bus master sees as clocks
 /// before the read's data phase: [`PATCH_DATA_READ_WAITS`] for PATCH_DATA, none for the rest.
