@@ -12,10 +12,10 @@
 // model's clock n is the data phase of the access it makes then; a wait state is a clock of
 // counting, as the model's idle ticks). Patch memory is synchronous block RAM, read every clock
 // at PATCH_ADDR, its word registered three times (below): a PATCH_DATA read waits for the read
-// and the registers. Until session 25 the read was issued in the address phase from the PATCH_ADDR
-// the access in its data phase leaves behind, and its word went to the bus unregistered: no wait
-// state, but the address's logic before the 64 block RAMs' spread-out address pins, and their
-// slow output after them, held the file to 54–70 MHz.
+// and the registers. Until session 25 the read was issued in the address phase from the
+// PATCH_ADDR the access in its data phase leaves behind, and its word went to the bus
+// unregistered: no wait state, but the address's logic before the 64 block RAMs' spread-out
+// address pins, and their slow output after them, held the file to 54–70 MHz.
 //
 // What lies behind the registers (the angle unit, the rotators, the intersection unit, the
 // result FIFO) is not here: its state comes in on the dp_*, frame_* and result_* ports and the
@@ -217,8 +217,9 @@ module ahb_regs #(
     // path at 85–86 MHz (83 MHz); in groups of 2,048 words, through a 4-way one, at 92–94 MHz;
     // in groups of one RAM, the 64-way choice of their words took its place, at twice the
     // LUT4s; with the groups' words chosen among all 32 in one clock, their registers sat by
-    // that choice, up to 45 columns from their RAMs, whose output takes 5.8 ns: 99.9 MHz.) Memories start at zero, as the model's (an ECP5's block RAMs do without the
-    // initial loops, and Yosys would unroll them word by word).
+    // that choice, up to 45 columns from their RAMs, whose output takes 5.8 ns: 99.9 MHz.)
+    // Memories start at zero, as the model's (an ECP5's block RAMs do without the initial
+    // loops, and Yosys would unroll them word by word).
     integer i;
     wire [31:0] group_word [0:GROUPS-1];
     wire [31:0] cp_group_word [0:5];
@@ -273,7 +274,8 @@ module ahb_regs #(
                 pend_at <= patch_addr[GROUP_BITS-1:0];
                 if (pend) mem[pend_at] <= pend_word;
 `ifndef SYNTHESIS
-                if (pend && pend_at == patch_addr[GROUP_BITS-1:0]) $fatal(1, "a RAM read the word it writes");
+                if (pend && pend_at == patch_addr[GROUP_BITS-1:0])
+                    $fatal(1, "a RAM read the word it writes");
 `endif
             end
             assign group_word[g] = r;
