@@ -86,6 +86,15 @@ pub const COARSE_BENCH: Bench = Bench {
     report: "coarse",
 };
 
+/// The culling unit's ray side: a ray's sector and band (`cull_ray.v`, at the default build's
+/// 32 sectors).
+pub const CULL_BENCH: Bench = Bench {
+    top: "cull_ray",
+    sources: &["cull_ray.v", "cordic_pipe.v", "const_mul.v"],
+    cpp: "tb/cull_tb.cpp",
+    report: "cull",
+};
+
 /// The multipliers: `array_mul.v` (a multiplier without DSP tiles) and `const_mul.v` (a product
 /// by a constant), against the exact integer products, not against model vectors.
 pub const MUL_BENCH: Bench = Bench {
@@ -167,6 +176,7 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     lint_top(PLANE_BENCH.top, PLANE_BENCH.sources, &plane_generics(depth))?;
     lint_top(REGS_BENCH.top, REGS_BENCH.sources, &[])?;
     lint_top(COARSE_BENCH.top, COARSE_BENCH.sources, &[])?;
+    lint_top(CULL_BENCH.top, CULL_BENCH.sources, &[])?;
     lint_top(MUL_BENCH.top, MUL_BENCH.sources, &[])?;
     for d in designs(cfg, depth) {
         let generics: Vec<String> = d.params.iter().map(|(k, v)| format!("-G{k}={v}")).collect();
@@ -193,10 +203,14 @@ pub struct Workload {
     /// patches.
     pub coarse_samples: u32,
     pub coarse_random: u32,
+    /// Random directions, words and boundary cases for the culling unit's ray side (after the
+    /// hemispheres' and the boundary sweeps).
+    pub cull_random: u32,
 }
 
-/// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's and
-/// the coarse edge units' (`once`: neither depends on the CORDIC words) and the planar unit's
+/// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's, the
+/// coarse edge units' and the culling unit's (`once`: none depends on CONFIG's CORDIC words)
+/// and the planar unit's
 /// at a depth (each into its own file) on the Cornell box, with the release build of the
 /// generator (`release`) or the test suite's debug build.
 pub fn vectors(
@@ -204,7 +218,7 @@ pub fn vectors(
     plane: Option<(u32, &Path)>,
     w: Workload,
     release: bool,
-    (cordic_out, once): (&Path, Option<(&Path, &Path)>),
+    (cordic_out, once): (&Path, Option<[&Path; 3]>),
 ) -> Result<(), String> {
     let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
     if release {
@@ -217,7 +231,7 @@ pub fn vectors(
         .args(["--scene", "scenes/cornell.toml"])
         .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
         .args(["--random", &n(w.random)]);
-    if let Some((regs_out, coarse_out)) = once {
+    if let Some([regs_out, coarse_out, cull_out]) = once {
         c.arg("--regs")
             .arg(regs_out)
             .args(["--regs-steps", &n(w.regs_steps)]);
@@ -225,6 +239,9 @@ pub fn vectors(
             .arg(coarse_out)
             .args(["--coarse-samples", &n(w.coarse_samples)])
             .args(["--coarse-random", &n(w.coarse_random)]);
+        c.arg("--cull")
+            .arg(cull_out)
+            .args(["--cull-random", &n(w.cull_random)]);
     }
     if let Some((depth, out)) = plane {
         c.arg("--plane")
@@ -388,6 +405,7 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     CORDIC_MUTANT.caught(&name, &cfg.generics(), &args, opt)?;
     REGS_MUTANT.caught("mutant-regs", &[], &[file("regs.txt")], opt)?;
     COARSE_MUTANT.caught("mutant-coarse", &[], &[file("coarse.txt")], opt)?;
+    CULL_MUTANT.caught("mutant-cull", &[], &[file("cull.txt")], opt)?;
     MUL_MUTANT.caught("mutant-mul", &[], &[MUL_CLOCKS.to_string()], opt)?;
     Ok(())
 }
@@ -414,8 +432,19 @@ const COARSE_MUTANT: Mutant = Mutant {
     what: "bit 0 of the constant 15 in the coarse edge unit's need - 1",
 };
 
-/// Co-simulates the CORDIC units at `cfg` and, if asked, the register file and the coarse edge
-/// units (`once`) and the planar unit at a `depth` (none of them depends on the CORDIC words),
+/// The culling unit's normalisation aiming at bit 27 instead of 28 (NORM_TOP 28 for 29, one
+/// bit), so that its vectorings see a bit fewer than the model's.
+const CULL_MUTANT: Mutant = Mutant {
+    bench: CULL_BENCH,
+    extra: &["cordic_rom.vh"],
+    file: "cull_ray.v",
+    from: "localparam integer NORM_TOP = 29;",
+    to: "localparam integer NORM_TOP = 28;",
+    what: "bit 0 of the culling unit's NORM_TOP",
+};
+
+/// Co-simulates the CORDIC units at `cfg` and, if asked, the register file, the coarse edge
+/// units and the culling unit's ray side (`once`) and the planar unit at a `depth` (none of them depends on the CORDIC words),
 /// on `w`; the reports.
 fn cosim_run(
     cfg: Cordic,
@@ -426,13 +455,14 @@ fn cosim_run(
     opt: &str,
     dir: &Path,
 ) -> Result<Vec<(String, Cosim)>, String> {
-    let (cv, pv, rv, ev) = (
+    let (cv, pv, rv, ev, uv) = (
         dir.join("cordic.txt"),
         dir.join("plane.txt"),
         dir.join("regs.txt"),
         dir.join("coarse.txt"),
+        dir.join("cull.txt"),
     );
-    let once_out = once.then_some((rv.as_path(), ev.as_path()));
+    let once_out = once.then_some([rv.as_path(), ev.as_path(), uv.as_path()]);
     vectors(
         cfg,
         depth.map(|d| (d, pv.as_path())),
@@ -457,6 +487,9 @@ fn cosim_run(
         let exe = build(COARSE_BENCH, &[], &src, &dir.join("coarse"), opt)?;
         let r = cosim(COARSE_BENCH, &exe, &[ev.display().to_string()])?;
         out.push(("coarse edge units".to_string(), r));
+        let exe = build(CULL_BENCH, &[], &src, &dir.join("cull"), opt)?;
+        let r = cosim(CULL_BENCH, &exe, &[uv.display().to_string()])?;
+        out.push(("culling unit's ray side".to_string(), r));
         let exe = build(MUL_BENCH, &[], &src, &dir.join("mul"), opt)?;
         let r = cosim(MUL_BENCH, &exe, &[MUL_CLOCKS.to_string()])?;
         out.push(("multipliers".to_string(), r));
@@ -491,6 +524,7 @@ pub fn ci() -> Result<(), String> {
         regs_steps: 20_000,
         coarse_samples: 1,
         coarse_random: 5_000,
+        cull_random: 5_000,
     };
     let reports = cosim_run(cfg, Some(depth), true, w, false, "-O1", &dir)?;
     let bad: u64 = reports.iter().map(|(_, r)| r.mismatches).sum();
@@ -607,15 +641,32 @@ pub fn coarse_design() -> Design {
     }
 }
 
+/// The culling unit's ray side's harness (`cull_ray.v` at its defaults: 14 iterations on 20
+/// bits, 32 sectors, as `intersect::cull` and the default build have them).
+pub fn cull_design() -> Design {
+    Design {
+        name: "cull".to_string(),
+        top: "syn_cull",
+        files: &[
+            "cull_ray.v",
+            "cordic_pipe.v",
+            "const_mul.v",
+            "syn/syn_cull.v",
+        ],
+        params: vec![],
+    }
+}
+
 /// Every synthesis harness at CORDIC `cfg` and (u,v) depth `depth`, the rotator's first (the
 /// final line's figures are its own).
-fn designs(cfg: Cordic, depth: u32) -> [Design; 5] {
+fn designs(cfg: Cordic, depth: u32) -> [Design; 6] {
     [
         rotator_design(cfg),
         plane_design(depth),
         regs_design(),
         frame_design(cfg),
         coarse_design(),
+        cull_design(),
     ]
 }
 
@@ -835,6 +886,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
         regs_steps: 200_000,
         coarse_samples: 2,
         coarse_random: 20_000,
+        cull_random: 100_000,
     };
     let mut total = Cosim::default();
     for (k, cfg) in CONFIGS.iter().enumerate() {

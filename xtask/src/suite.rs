@@ -121,8 +121,10 @@ fn steps() -> Vec<Step> {
                    model on Cornell-box hemispheres, random rays and frames, answers and clocks \
                    bit for bit, random register traffic on the register file's AHB-Lite bus, \
                    the coarse edge units' words and verdicts on the Cornell box's set-up \
-                   passes and random patches, and the multipliers against exact products, then \
-                   four one-bit mutants of the RTL shown to be caught (cargo xtask rtl is the \
+                   passes and random patches, the culling unit's sectors and bands of \
+                   hemisphere and random directions, and the multipliers against exact \
+                   products, then five one-bit mutants of the RTL shown to be caught (cargo \
+                   xtask rtl is the \
                    full form, with synthesis)",
             kind: Kind::Check(crate::rtl::ci),
         },

@@ -12,11 +12,14 @@
 //! - with `--regs OUT3`: the register file's bus accesses (`--regs-steps N` random steps after
 //!   the directed ones);
 //! - with `--coarse OUT4`: the compact datapath's coarse edge units on the scene's set-up
-//!   passes (`--coarse-samples K` lattice points a slot) and `--coarse-random N` random patches.
+//!   passes (`--coarse-samples K` lattice points a slot) and `--coarse-random N` random patches;
+//! - with `--cull OUT5`: the culling unit's ray side (the default build's sectors) on the
+//!   reference directions of hemispheres of 8 to `--circles` circles and `--cull-random N`
+//!   random directions, words and boundary cases.
 
 use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
-use hemi_bench::rtl::{coarse, cordic, plane, regs};
+use hemi_bench::rtl::{coarse, cordic, cull, plane, regs};
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use std::time::Instant;
@@ -38,6 +41,8 @@ struct Args {
     coarse: Option<String>,
     coarse_samples: u32,
     coarse_random: usize,
+    cull: Option<String>,
+    cull_random: usize,
     seed: u64,
 }
 
@@ -59,6 +64,8 @@ fn parse() -> Result<Args> {
         coarse: None,
         coarse_samples: 2,
         coarse_random: 20_000,
+        cull: None,
+        cull_random: 20_000,
         seed: 0x2545_f491_4f6c_dd1d,
     };
     let mut it = std::env::args().skip(1);
@@ -81,13 +88,15 @@ fn parse() -> Result<Args> {
             "--coarse" => a.coarse = Some(value()?),
             "--coarse-samples" => a.coarse_samples = value()?.parse()?,
             "--coarse-random" => a.coarse_random = value()?.parse()?,
+            "--cull" => a.cull = Some(value()?),
+            "--cull-random" => a.cull_random = value()?.parse()?,
             "--seed" => a.seed = value()?.parse()?,
             s if !s.starts_with('-') && a.out.is_empty() => a.out = s.to_string(),
             s => bail!("unknown argument `{s}`"),
         }
     }
     if a.out.is_empty() || !a.cfg.is_valid() || !(1..=24).contains(&a.depth) {
-        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--seed S]");
+        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--seed S]");
     }
     Ok(a)
 }
@@ -144,6 +153,22 @@ fn main() -> Result<()> {
             c.edges, c.pairs, c.undecided
         );
     }
+    if let Some(out) = &a.cull {
+        cull_vectors(&a, out)?;
+    }
+    Ok(())
+}
+
+/// The culling unit's file, at the default build's sectors (`cull_ray.v`'s default SECTORS).
+fn cull_vectors(a: &Args, out: &str) -> Result<()> {
+    let sectors = hemi_hdl_model::params::Params::DEFAULT.sectors;
+    let circles: Vec<u32> = [8, 16, 32, 64]
+        .into_iter()
+        .filter(|&r| r <= a.circles.max(8))
+        .collect();
+    let (text, c) = cull::vectors(sectors, &circles, a.cull_random, a.seed);
+    std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
+    println!("rtl-vectors: cull rays={} culled={}", c.rays, c.culled);
     Ok(())
 }
 

@@ -7,10 +7,12 @@
 //! - [`coarse`]: the compact datapath's coarse edge units (the set-up unit's edge words, a
 //!   lane's test on them);
 //! - [`cordic`]: the rotator and the angle unit's vectoring pipe;
+//! - [`cull`]: the culling unit's ray side (a ray's sector and band);
 //! - [`plane`]: the planar intersection unit with (u,v) (one lane, no culling);
 //! - [`regs`]: the register file and its AHB-Lite bus interface.
 
 pub mod coarse;
 pub mod cordic;
+pub mod cull;
 pub mod plane;
 pub mod regs;
