@@ -62,7 +62,7 @@ impl Params {
     /// 3.84–3.93 before; 6 lanes needed 4.84). Its area
     /// proxy does not fit an ECP5-85k (`area`, session 26: 229,323 LUT4s, 107,534 flip-flops,
     /// 394 block RAMs); of the builds docs/PERFORMANCE.md lists, two lanes in two groups at one
-    /// ray a clock is the fastest that does (1.56 and 8.82 cycles a ray).
+    /// ray a clock is the fastest that does (1.55 and 8.81 cycles a ray).
     pub const DEFAULT: Params = Params {
         lanes: 8,
         sectors: 32,
