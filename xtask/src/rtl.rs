@@ -210,9 +210,8 @@ pub struct Workload {
 
 /// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's, the
 /// coarse edge units' and the culling unit's (`once`: none depends on CONFIG's CORDIC words)
-/// and the planar unit's
-/// at a depth (each into its own file) on the Cornell box, with the release build of the
-/// generator (`release`) or the test suite's debug build.
+/// and the planar unit's at a depth (each into its own file) on the Cornell box, with the
+/// release build of the generator (`release`) or the test suite's debug build.
 pub fn vectors(
     cfg: Cordic,
     plane: Option<(u32, &Path)>,
