@@ -218,67 +218,30 @@ module ahb_regs #(
     // in groups of one RAM, the 64-way choice of their words took its place, at twice the
     // LUT4s; with the groups' words chosen among all 32 in one clock, their registers sat by
     // that choice, up to 45 columns from their RAMs, whose output takes 5.8 ns: 99.9 MHz.)
-    // Memories start at zero, as the model's (an ECP5's block RAMs do without the initial
-    // loops, and Yosys would unroll them word by word).
     integer i;
     wire [31:0] group_word [0:GROUPS-1];
     wire [31:0] cp_group_word [0:5];
-    // a PATCH_DATA write reaches its RAM a clock after its access, from registers (`pend`,
-    // `pend_at`, `pend_word`): decided in its data phase, BUSY's logic was in one clock with the
-    // write enables' routing to a group's RAMs, the critical path at 89–95 MHz. A read cannot
-    // miss it: the next access is at least a clock, and PATCH_ADDR has moved on past the word
-    // unless that access wrote PATCH_ADDR, after which the read's RAM read is a clock later.
-    // No RAM is read at the word being written on the same clock (the write comes a clock after
-    // its access, when PATCH_ADDR has moved on by one word, so to another word of any group), so
-    // the RAMs are marked `no_rw_check`: otherwise Yosys keeps the read-before-write order of a
-    // collision with a bypass after each RAM (1,400 LUT4s, and a LUT between the RAM's slow
-    // output and its register on the critical path). A simulation that meets one stops.
+    // a PATCH_DATA write reaches its RAM a clock after its access, from registers (in
+    // `patch_group.v`, with `pend_word`): decided in its data phase, BUSY's logic was in one
+    // clock with the write enables' routing to a group's RAMs, the critical path at 89–95 MHz.
+    // A read cannot miss it: the next access is at least a clock, and PATCH_ADDR has moved on
+    // past the word unless that access wrote PATCH_ADDR, after which the read's RAM read is a
+    // clock later.
     reg [31:0] pend_word;
     always @(posedge hclk) pend_word <= hwdata;
     genvar g;
     generate
         for (g = 0; g < 6; g = g + 1) begin : cp_group
-            (* no_rw_check *) reg [31:0] mem [0:511];
-            reg [31:0] q, r;
-            integer j;
-`ifndef SYNTHESIS
-            initial for (j = 0; j < 512; j = j + 1) mem[j] = 32'd0;
-`endif
-            reg pend;
-            reg [8:0] pend_at;
-            always @(posedge hclk) begin
-                q <= mem[cp_here[8:0]];
-                r <= q;
-                pend <= hresetn && d_patch_write && !busy && at_cp_group[g];
-                pend_at <= cp_here[8:0];
-                if (pend) mem[pend_at] <= pend_word;
-`ifndef SYNTHESIS
-                if (pend && pend_at == cp_here[8:0]) $fatal(1, "a RAM read the word it writes");
-`endif
-            end
-            assign cp_group_word[g] = r;
+            patch_group #(.AW(9)) ram (
+                .clk(hclk), .at(cp_here[8:0]),
+                .write(hresetn && d_patch_write && !busy && at_cp_group[g]), .data(pend_word),
+                .word(cp_group_word[g]));
         end
         for (g = 0; g < GROUPS; g = g + 1) begin : slot_group
-            (* no_rw_check *) reg [31:0] mem [0:(1 << GROUP_BITS)-1];
-            reg [31:0] q, r;
-            integer j;
-`ifndef SYNTHESIS
-            initial for (j = 0; j < (1 << GROUP_BITS); j = j + 1) mem[j] = 32'd0;
-`endif
-            reg pend;
-            reg [GROUP_BITS-1:0] pend_at;
-            always @(posedge hclk) begin
-                q <= mem[patch_addr[GROUP_BITS-1:0]];
-                r <= q;
-                pend <= hresetn && d_patch_write && !busy && at_group[g];
-                pend_at <= patch_addr[GROUP_BITS-1:0];
-                if (pend) mem[pend_at] <= pend_word;
-`ifndef SYNTHESIS
-                if (pend && pend_at == patch_addr[GROUP_BITS-1:0])
-                    $fatal(1, "a RAM read the word it writes");
-`endif
-            end
-            assign group_word[g] = r;
+            patch_group #(.AW(GROUP_BITS)) ram (
+                .clk(hclk), .at(patch_addr[GROUP_BITS-1:0]),
+                .write(hresetn && d_patch_write && !busy && at_group[g]), .data(pend_word),
+                .word(group_word[g]));
         end
     endgenerate
     localparam integer QUADS = GROUPS >= 4 ? GROUPS / 4 : 1;

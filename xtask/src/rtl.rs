@@ -110,7 +110,7 @@ const MUL_CLOCKS: u32 = 20_000;
 /// The register file and its AHB-Lite slave, without the datapath behind it.
 pub const REGS_BENCH: Bench = Bench {
     top: "ahb_regs",
-    sources: &["ahb_regs.v"],
+    sources: &["ahb_regs.v", "patch_group.v"],
     cpp: "tb/regs_tb.cpp",
     report: "regs",
 };
@@ -625,7 +625,7 @@ pub fn regs_design() -> Design {
     Design {
         name: "regs".to_string(),
         top: "syn_regs",
-        files: &["ahb_regs.v", "syn/syn_regs.v"],
+        files: &["ahb_regs.v", "patch_group.v", "syn/syn_regs.v"],
         params: vec![("SLOT_BITS", 11)],
     }
 }
