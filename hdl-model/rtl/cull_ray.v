@@ -53,22 +53,28 @@ module cull_ray #(
         y0 <= in_y;
         z0 <= in_z;
     end
-    // 2^s · v for the s that brings rho's leading one to bit NORM_TOP - 1 (rho's leading one at
-    // bits 25..31 for a culled ray; any other ray is scaled as if at bit 25). Only the top W
-    // bits of a word below 2^31 go on (hence the lint pragmas on the words' other bits).
+    // Both normalisations: 2^s · v for the s that brings m's leading one to bit NORM_TOP - 1,
+    // the leading one looked for among bits lo..hi only (at lo if none: the bits a culled ray's
+    // words can have), each place choosing its constant shift (a shift by a computed amount put
+    // a subtraction and a barrel shifter in the path: 98.9 MHz). Only the top W bits of a word
+    // below 2^31 go on (hence the lint pragmas on the words' other bits).
+    localparam integer LEAD = NORM_TOP - 1;
+    function signed [34:0] shifted(input signed [34:0] v, input integer place);
+        shifted = place >= LEAD ? v >>> (place - LEAD) : v <<< (LEAD - place);
+    endfunction
     /* verilator lint_off UNUSEDSIGNAL */
-    function signed [34:0] norm1(input signed [31:0] v, input [32:0] r);
+    function signed [34:0] norm(input signed [34:0] v, input [34:0] m, input integer lo,
+        input integer hi);
+        integer b;
         begin
-            if (r[31]) norm1 = {{3{v[31]}}, v} >>> 3;
-            else if (r[30]) norm1 = {{3{v[31]}}, v} >>> 2;
-            else if (r[29]) norm1 = {{3{v[31]}}, v} >>> 1;
-            else if (r[28]) norm1 = {{3{v[31]}}, v};
-            else if (r[27]) norm1 = {{3{v[31]}}, v} <<< 1;
-            else if (r[26]) norm1 = {{3{v[31]}}, v} <<< 2;
-            else norm1 = {{3{v[31]}}, v} <<< 3;
+            norm = shifted(v, lo);
+            for (b = lo + 1; b <= hi; b = b + 1) if (m[b]) norm = shifted(v, b);
         end
     endfunction
-    wire signed [34:0] nx = norm1(x0, rho), ny = norm1(y0, rho), nz = norm1(z0, rho);
+    // rho's leading one at bits 25..31 for a culled ray (any other ray is scaled as if at 25)
+    wire signed [34:0] nx = norm({{3{x0[31]}}, x0}, {2'b0, rho}, 25, 31),
+        ny = norm({{3{y0[31]}}, y0}, {2'b0, rho}, 25, 31),
+        nz = norm({{3{z0[31]}}, z0}, {2'b0, rho}, 25, 31);
     /* verilator lint_on UNUSEDSIGNAL */
 
     reg                v1, c1;
@@ -115,26 +121,8 @@ module cull_ray #(
         rm <= rw;
         phim <= phi2;
     end
-    // the leading one's place among bits 27..34 (27 if none)
-    function [5:0] top_bit(input [34:0] m);
-        integer b;
-        begin
-            top_bit = 6'd27;
-            for (b = 28; b < 35; b = b + 1) if (m[b]) top_bit = b[5:0];
-        end
-    endfunction
-    wire [5:0] lead2 = top_bit(m2);
-    // 2^s2 · v, s2 = NORM_TOP - 1 - lead2 (a zero pair stays zero whatever the shift)
-    localparam integer LEAD_AT = NORM_TOP - 1;
-    localparam [5:0] LEAD = LEAD_AT[5:0];
-    function signed [34:0] norm2(input signed [34:0] v, input [5:0] lead);
-        begin
-            if (lead >= LEAD) norm2 = v >>> (lead - LEAD);
-            else norm2 = v <<< (LEAD - lead);
-        end
-    endfunction
     /* verilator lint_off UNUSEDSIGNAL */
-    wire signed [34:0] zn = norm2(zm, lead2), rn = norm2(rm, lead2);
+    wire signed [34:0] zn = norm(zm, m2, 27, 34), rn = norm(rm, m2, 27, 34);
     /* verilator lint_on UNUSEDSIGNAL */
 
     reg                v3, c3;
