@@ -86,11 +86,20 @@ pub const COARSE_BENCH: Bench = Bench {
     report: "coarse",
 };
 
-/// The culling unit's ray side: a ray's sector and band (`cull_ray.v`, at the default build's
-/// 32 sectors).
+/// The culling unit, both sides at the default build's 32 sectors: a ray's sector and band
+/// (`cull_ray.v`) and a patch's reach (`cull_reach.v`), on their shared vectorings
+/// (`cull_angles.v`) and bins (`cull_bin.v`).
 pub const CULL_BENCH: Bench = Bench {
-    top: "cull_ray",
-    sources: &["cull_ray.v", "cordic_pipe.v", "const_mul.v"],
+    top: "cull_top",
+    sources: &[
+        "cull_ray.v",
+        "cull_reach.v",
+        "cull_angles.v",
+        "cull_bin.v",
+        "cordic_pipe.v",
+        "const_mul.v",
+        "tb/cull_top.v",
+    ],
     cpp: "tb/cull_tb.cpp",
     report: "cull",
 };
@@ -405,6 +414,7 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     REGS_MUTANT.caught("mutant-regs", &[], &[file("regs.txt")], opt)?;
     COARSE_MUTANT.caught("mutant-coarse", &[], &[file("coarse.txt")], opt)?;
     CULL_MUTANT.caught("mutant-cull", &[], &[file("cull.txt")], opt)?;
+    REACH_MUTANT.caught("mutant-reach", &[], &[file("cull.txt")], opt)?;
     MUL_MUTANT.caught("mutant-mul", &[], &[MUL_CLOCKS.to_string()], opt)?;
     Ok(())
 }
@@ -436,10 +446,21 @@ const COARSE_MUTANT: Mutant = Mutant {
 const CULL_MUTANT: Mutant = Mutant {
     bench: CULL_BENCH,
     extra: &["cordic_rom.vh"],
-    file: "cull_ray.v",
+    file: "cull_angles.v",
     from: "localparam integer NORM_TOP = 29;",
     to: "localparam integer NORM_TOP = 28;",
     what: "bit 0 of the culling unit's NORM_TOP",
+};
+
+/// The patch side's near-axis threshold 2^-4 as 2^-5 (`cull::NEAR_AXIS` 4 for 5, one bit of
+/// its shift), so that fewer corners count as next to the axis than the model's.
+const REACH_MUTANT: Mutant = Mutant {
+    bench: CULL_BENCH,
+    extra: &["cordic_rom.vh"],
+    file: "cull_reach.v",
+    from: "{4'd0, nb7[38:4]}",
+    to: "{5'd0, nb7[38:5]}",
+    what: "bit 0 of the culling unit's NEAR_AXIS",
 };
 
 /// Co-simulates the CORDIC units at `cfg` and, if asked, the register file, the coarse edge
@@ -488,7 +509,7 @@ fn cosim_run(
         out.push(("coarse edge units".to_string(), r));
         let exe = build(CULL_BENCH, &[], &src, &dir.join("cull"), opt)?;
         let r = cosim(CULL_BENCH, &exe, &[uv.display().to_string()])?;
-        out.push(("culling unit's ray side".to_string(), r));
+        out.push(("culling unit".to_string(), r));
         let exe = build(MUL_BENCH, &[], &src, &dir.join("mul"), opt)?;
         let r = cosim(MUL_BENCH, &exe, &[MUL_CLOCKS.to_string()])?;
         out.push(("multipliers".to_string(), r));
@@ -648,6 +669,8 @@ pub fn cull_design() -> Design {
         top: "syn_cull",
         files: &[
             "cull_ray.v",
+            "cull_angles.v",
+            "cull_bin.v",
             "cordic_pipe.v",
             "const_mul.v",
             "syn/syn_cull.v",
@@ -656,9 +679,26 @@ pub fn cull_design() -> Design {
     }
 }
 
+/// The culling unit's patch side's harness (`cull_reach.v` at the same defaults).
+pub fn reach_design() -> Design {
+    Design {
+        name: "reach".to_string(),
+        top: "syn_reach",
+        files: &[
+            "cull_reach.v",
+            "cull_angles.v",
+            "cull_bin.v",
+            "cordic_pipe.v",
+            "const_mul.v",
+            "syn/syn_reach.v",
+        ],
+        params: vec![],
+    }
+}
+
 /// Every synthesis harness at CORDIC `cfg` and (u,v) depth `depth`, the rotator's first (the
 /// final line's figures are its own).
-fn designs(cfg: Cordic, depth: u32) -> [Design; 6] {
+fn designs(cfg: Cordic, depth: u32) -> [Design; 7] {
     [
         rotator_design(cfg),
         plane_design(depth),
@@ -666,6 +706,7 @@ fn designs(cfg: Cordic, depth: u32) -> [Design; 6] {
         frame_design(cfg),
         coarse_design(),
         cull_design(),
+        reach_design(),
     ]
 }
 

@@ -122,9 +122,9 @@ fn steps() -> Vec<Step> {
                    bit for bit, random register traffic on the register file's AHB-Lite bus, \
                    the coarse edge units' words and verdicts on the Cornell box's set-up \
                    passes and random patches, the culling unit's sectors and bands of \
-                   hemisphere and random directions, and the multipliers against exact \
-                   products, then five one-bit mutants of the RTL shown to be caught (cargo \
-                   xtask rtl is the \
+                   hemisphere and random directions and its reach of the Cornell box's \
+                   patches and random ones, and the multipliers against exact products, then \
+                   six one-bit mutants of the RTL shown to be caught (cargo xtask rtl is the \
                    full form, with synthesis)",
             kind: Kind::Check(crate::rtl::ci),
         },

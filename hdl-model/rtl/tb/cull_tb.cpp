@@ -1,10 +1,13 @@
-// The culling unit's ray-side testbench: reads the model's vectors (hemi-bench's `rtl-vectors
-// --cull`, host/bench/src/rtl/cull.rs), feeds one reference direction a clock to `cull_ray.v`
-// and compares, in order, whether it is culled and, for a culled ray, its sector and band with
-// the model's. Prints `cull: rays=N vectors=0 clocks=C mismatches=K seconds=S` (rays: the
-// directions fed), exits 1 on any mismatch.
-#include "Vcull_ray.h"
+// The culling unit's testbench: reads the model's vectors (hemi-bench's `rtl-vectors --cull`,
+// host/bench/src/rtl/cull.rs) and feeds `cull_top.v` both streams at once: one reference
+// direction a clock to the ray side (`cull_ray.v`), one corner a clock to the patch side
+// (`cull_reach.v`). It compares, in order, whether a ray is culled and a culled ray's sector
+// and band, and a patch's kind, bands and (for a wedge of sectors) its first sector and count.
+// Prints `cull: rays=N vectors=P clocks=C mismatches=K seconds=S` (rays: the directions fed;
+// vectors: the patches), exits 1 on any mismatch.
+#include "Vcull_top.h"
 #include "verilated.h"
+#include <algorithm>
 #include <chrono>
 #include <cinttypes>
 #include <cstdint>
@@ -19,7 +22,23 @@ struct Ray {
     uint32_t culled, sector, band;
 };
 
-static bool read_vectors(const char *path, std::vector<Ray> &rays) {
+struct Patch {
+    uint32_t n, kappa;
+    int64_t axes[9], a[4][3], e[4][3];
+    uint32_t kind, lo, len, band_lo, band_hi;
+};
+
+static bool read_patch(std::istringstream &in, Patch &p) {
+    in >> p.n >> p.kappa;
+    for (auto &x : p.axes) in >> x;
+    if (!in || p.n < 3 || p.n > 4) return false;
+    for (uint32_t k = 0; k < p.n; k++) in >> p.a[k][0] >> p.a[k][1] >> p.a[k][2];
+    for (uint32_t k = 0; k < p.n; k++) in >> p.e[k][0] >> p.e[k][1] >> p.e[k][2];
+    in >> p.kind >> p.lo >> p.len >> p.band_lo >> p.band_hi;
+    return bool(in);
+}
+
+static bool read_vectors(const char *path, std::vector<Ray> &rays, std::vector<Patch> &patches) {
     std::ifstream f(path);
     if (!f) return false;
     std::string line;
@@ -27,16 +46,55 @@ static bool read_vectors(const char *path, std::vector<Ray> &rays) {
         std::istringstream in(line);
         std::string tag;
         in >> tag;
-        if (tag != "R") continue;
-        Ray r;
-        in >> r.d[0] >> r.d[1] >> r.d[2] >> r.culled >> r.sector >> r.band;
-        if (!in) {
-            fprintf(stderr, "cull: bad line: %s\n", line.c_str());
-            return false;
+        if (tag == "R") {
+            Ray r;
+            in >> r.d[0] >> r.d[1] >> r.d[2] >> r.culled >> r.sector >> r.band;
+            if (!in) {
+                fprintf(stderr, "cull: bad line: %s\n", line.c_str());
+                return false;
+            }
+            rays.push_back(r);
+        } else if (tag == "P") {
+            Patch p;
+            if (!read_patch(in, p)) {
+                fprintf(stderr, "cull: bad line: %s\n", line.c_str());
+                return false;
+            }
+            patches.push_back(p);
         }
-        rays.push_back(r);
     }
     return true;
+}
+
+// Verilator's words for a signed port of `bits` bits (two's complement, the rest cleared).
+static uint64_t word(int64_t v, int bits) { return (uint64_t)v & ((1ull << bits) - 1); }
+
+// Drives one corner of a patch (or none) onto the patch side's inputs.
+static void feed_corner(Vcull_top &u, const Patch *p, uint32_t k) {
+    u.p_valid = p != nullptr;
+    if (!p) return;
+    u.p_last = k + 1 == p->n;
+    u.p_ax = word(p->a[k][0], 33);
+    u.p_ay = word(p->a[k][1], 33);
+    u.p_az = word(p->a[k][2], 33);
+    u.p_ex = word(p->e[k][0], 18);
+    u.p_ey = word(p->e[k][1], 18);
+    u.p_ez = word(p->e[k][2], 18);
+    u.p_kappa = p->kappa;
+    u.p_ux = word(p->axes[0], 32);
+    u.p_uy = word(p->axes[1], 32);
+    u.p_uz = word(p->axes[2], 32);
+    u.p_vx = word(p->axes[3], 32);
+    u.p_vy = word(p->axes[4], 32);
+    u.p_vz = word(p->axes[5], 32);
+    u.p_wx = word(p->axes[6], 32);
+    u.p_wy = word(p->axes[7], 32);
+    u.p_wz = word(p->axes[8], 32);
+}
+
+static bool same_reach(const Vcull_top &u, const Patch &p) {
+    bool same = u.p_kind == p.kind && u.p_band_lo == p.band_lo && u.p_band_hi == p.band_hi;
+    return same && (p.kind != 2 || (u.p_lo == p.lo && u.p_len == p.len));
 }
 
 int main(int argc, char **argv) {
@@ -46,49 +104,65 @@ int main(int argc, char **argv) {
         return 2;
     }
     std::vector<Ray> rays;
-    if (!read_vectors(argv[1], rays)) {
+    std::vector<Patch> patches;
+    if (!read_vectors(argv[1], rays, patches)) {
         fprintf(stderr, "cull: cannot read %s\n", argv[1]);
         return 2;
     }
+    size_t corners = 0;
+    for (const Patch &p : patches) corners += p.n;
     auto t0 = std::chrono::steady_clock::now();
-    Vcull_ray u;
+    Vcull_top u;
     u.clk = 0;
     u.eval();
     uint64_t bad = 0, clocks = 0;
-    size_t in = 0, out = 0;
-    while (out < rays.size()) {
-        u.in_valid = in < rays.size();
-        if (u.in_valid) {
+    size_t in = 0, out = 0, pin = 0, pk = 0, pout = 0;
+    const size_t limit = std::max(rays.size(), corners) + 256;
+    while (out < rays.size() || pout < patches.size()) {
+        u.r_valid = in < rays.size();
+        if (u.r_valid) {
             const Ray &r = rays[in++];
-            u.in_x = (uint32_t)r.d[0];
-            u.in_y = (uint32_t)r.d[1];
-            u.in_z = (uint32_t)r.d[2];
+            u.r_x = (uint32_t)r.d[0];
+            u.r_y = (uint32_t)r.d[1];
+            u.r_z = (uint32_t)r.d[2];
         }
+        feed_corner(u, pin < patches.size() ? &patches[pin] : nullptr, pk);
+        if (pin < patches.size() && ++pk == patches[pin].n) pin++, pk = 0;
         u.clk = 1;
         u.eval();
         u.clk = 0;
         u.eval();
         clocks++;
-        if (u.out_valid) {
+        if (u.r_out_valid && out < rays.size()) {
             const Ray &r = rays[out];
-            bool same = u.out_culled == r.culled &&
-                        (!r.culled || (u.out_sector == r.sector && u.out_band == r.band));
+            bool same = u.r_culled == r.culled &&
+                        (!r.culled || (u.r_sector == r.sector && u.r_band == r.band));
             if (!same && bad++ < 10)
                 printf("cull: ray %zu (%" PRId64 " %" PRId64 " %" PRId64 "): model culled %u "
                        "sector %u band %u, RTL %u %u %u\n",
-                       out, r.d[0], r.d[1], r.d[2], r.culled, r.sector, r.band, u.out_culled,
-                       u.out_sector, u.out_band);
+                       out, r.d[0], r.d[1], r.d[2], r.culled, r.sector, r.band, u.r_culled,
+                       u.r_sector, u.r_band);
             out++;
         }
-        if (clocks > rays.size() + 256) {
+        if (u.p_out_valid && pout < patches.size()) {
+            const Patch &p = patches[pout];
+            if (!same_reach(u, p) && bad++ < 10)
+                printf("cull: patch %zu: model kind %u sectors %u+%u bands %u..%u, RTL %u "
+                       "%u+%u %u..%u\n",
+                       pout, p.kind, p.lo, p.len, p.band_lo, p.band_hi, u.p_kind, u.p_lo,
+                       u.p_len, u.p_band_lo, u.p_band_hi);
+            pout++;
+        }
+        if (clocks > limit) {
             printf("cull: outputs missing after %" PRIu64 " clocks\n", clocks);
-            bad += rays.size() - out;
+            bad += rays.size() - out + patches.size() - pout;
             break;
         }
     }
     double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    printf("cull: rays=%zu vectors=0 clocks=%" PRIu64 " mismatches=%" PRIu64 " seconds=%.3f\n",
-           rays.size(), clocks, bad, secs);
+    printf("cull: rays=%zu vectors=%zu clocks=%" PRIu64 " mismatches=%" PRIu64
+           " seconds=%.3f\n",
+           rays.size(), patches.size(), clocks, bad, secs);
     u.final();
     return bad ? 1 : 0;
 }

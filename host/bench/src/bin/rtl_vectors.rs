@@ -13,13 +13,15 @@
 //!   the directed ones);
 //! - with `--coarse OUT4`: the compact datapath's coarse edge units on the scene's set-up
 //!   passes (`--coarse-samples K` lattice points a slot) and `--coarse-random N` random patches;
-//! - with `--cull OUT5`: the culling unit's ray side (the default build's sectors) on the
+//! - with `--cull OUT5`: the culling unit (the default build's sectors): its ray side on the
 //!   reference directions of hemispheres of 8 to `--circles` circles and `--cull-random N`
-//!   random directions, words and boundary cases.
+//!   random directions, words and boundary cases; its patch side on the scene's set-up passes
+//!   (`--coarse-samples K` lattice points a slot) and as many random patches, words and edge
+//!   cases.
 
 use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
-use hemi_bench::rtl::{coarse, cordic, cull, plane, regs};
+use hemi_bench::rtl::{coarse, cordic, cull, plane, reach, regs};
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use std::time::Instant;
@@ -129,7 +131,7 @@ fn main() -> Result<()> {
     );
     // the scene's slots as the model's patch memory holds them, read once for both units
     let slots = match &scene {
-        Some(s) if a.plane.is_some() || a.coarse.is_some() => {
+        Some(s) if a.plane.is_some() || a.coarse.is_some() || a.cull.is_some() => {
             plane::loaded_slots(&s.kernel_patches())?
         }
         _ => Vec::new(),
@@ -154,21 +156,27 @@ fn main() -> Result<()> {
         );
     }
     if let Some(out) = &a.cull {
-        cull_vectors(&a, out)?;
+        cull_vectors(&a, &slots, out)?;
     }
     Ok(())
 }
 
-/// The culling unit's file, at the default build's sectors (`cull_ray.v`'s default SECTORS).
-fn cull_vectors(a: &Args, out: &str) -> Result<()> {
+/// The culling unit's file, both sides, at the default build's sectors (`cull_ray.v`'s and
+/// `cull_reach.v`'s default SECTORS).
+fn cull_vectors(a: &Args, slots: &[[u32; PATCH_WORDS]], out: &str) -> Result<()> {
     let sectors = hemi_hdl_model::params::Params::DEFAULT.sectors;
     let circles: Vec<u32> = [8, 16, 32, 64]
         .into_iter()
         .filter(|&r| r <= a.circles.max(8))
         .collect();
-    let (text, c) = cull::vectors(sectors, &circles, a.cull_random, a.seed);
+    let (mut text, c) = cull::vectors(sectors, &circles, a.cull_random, a.seed);
+    let (patches, p) = reach::vectors(sectors, slots, a.coarse_samples, a.cull_random, a.seed);
+    text.push_str(&patches);
     std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
-    println!("rtl-vectors: cull rays={} culled={}", c.rays, c.culled);
+    println!(
+        "rtl-vectors: cull rays={} culled={} patches={} below={} wedges={}",
+        c.rays, c.culled, p.patches, p.below, p.wedges
+    );
     Ok(())
 }
 

@@ -159,7 +159,7 @@ fn direction(g: [f64; 3]) -> [i32; 3] {
 /// A random patch's corners relative to its origin (33-bit values, as a − O of Q8.24 words)
 /// and an origin-wide truncation: near and far, from 2^4 to 2^31, a fifth with an edge seen
 /// end-on, an occasional corner at the origin.
-fn random_patch(rng: &mut XorShift, n: usize) -> (Vec<[i64; 3]>, u32) {
+pub(super) fn random_patch(rng: &mut XorShift, n: usize) -> (Vec<[i64; 3]>, u32) {
     let signed = |rng: &mut XorShift, bits: u32| (rng.bits() as i64) >> (64 - bits);
     let far = 8 + (n % 25) as u32;
     let size = 4 + ((n / 5) % 28) as u32;

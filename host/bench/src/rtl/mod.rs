@@ -8,6 +8,7 @@
 //!   lane's test on them);
 //! - [`cordic`]: the rotator and the angle unit's vectoring pipe;
 //! - [`cull`]: the culling unit's ray side (a ray's sector and band);
+//! - [`reach`]: the culling unit's patch side (a patch's sectors and bands);
 //! - [`plane`]: the planar intersection unit with (u,v) (one lane, no culling);
 //! - [`regs`]: the register file and its AHB-Lite bus interface.
 
@@ -15,4 +16,5 @@ pub mod coarse;
 pub mod cordic;
 pub mod cull;
 pub mod plane;
+pub mod reach;
 pub mod regs;

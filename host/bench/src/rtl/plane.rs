@@ -83,13 +83,13 @@ pub(super) fn lattice_point(w: &[u32; PATCH_WORDS], a: u32, b: u32, k: u32) -> [
 }
 
 /// The slot's normal as the f32 vector the host's frame would be built from.
-fn slot_normal(w: &[u32; PATCH_WORDS]) -> Vec3 {
+pub(super) fn slot_normal(w: &[u32; PATCH_WORDS]) -> Vec3 {
     let n = |c: usize| Unit::from_bits(w[13 + c] as i32).to_num::<f32>();
     Vec3::new(n(0), n(1), n(2))
 }
 
 /// Hemisphere directions turned by `angles` through the model's rotator.
-fn turned(dirs: &[[i32; 3]], angles: [i32; 3], cfg: CordicConfig) -> Vec<[i32; 3]> {
+pub(super) fn turned(dirs: &[[i32; 3]], angles: [i32; 3], cfg: CordicConfig) -> Vec<[i32; 3]> {
     let mut rot: Rotator<()> = Rotator::new(cfg);
     let mut out = Vec::with_capacity(dirs.len());
     let mut next = 0;

@@ -1,0 +1,269 @@
+//! Vectors for the culling unit's patch side (`hdl-model/rtl/cull_reach.v`): the model's
+//! [`CullUnit::reach`] (where a planar patch can be met by a hemisphere ray: below the horizon,
+//! every sector or a wedge of them, and its polar bands) on the inputs the set-up pass gives it,
+//! for the testbench to feed the RTL a corner a clock and compare in order. The model gives the
+//! unit no clocks of its own (the set-up pipe's latency is charged once, after its last patch),
+//! so the answers are compared, not clocks.
+//!
+//! File lines (decimal): `P n κ u0 u1 u2 v0 v1 v2 w0 w1 w2 a… e… kind lo len band_lo band_hi`:
+//! the corner count, the coarse words' κ, the frame's axes (Q2.30 words), the n corners a = v −
+//! O (three words each), the n edges' coarse words, then the reach (kind 0 below the horizon, 1
+//! every sector, 2 sectors lo .. lo + len − 1; lo and len 0 unless 2).
+//!
+//! Workloads: the set-up passes of pass 1 on a scene (every slot from K × K lattice points of
+//! every slot, in that sample point's frame as the model's rotator turns its axes), random
+//! patches of every size and distance in random frames, random words (none of them need be a
+//! patch or a frame), and the edges of what the unit decides: corners on the axis and at the
+//! origin, patches straddling the horizon, the wrap of φ at ±π, and κ that bounds nothing.
+
+use super::coarse::random_patch;
+use super::plane::{lattice_point, slot_normal, turned};
+use crate::rng::XorShift;
+use crate::rtl::cordic::frame_angles;
+use hemi_hdl_model::cordic::CordicConfig;
+use hemi_hdl_model::format::Unit;
+use hemi_hdl_model::intersect::coarse::{narrow_edge, Coarse, KAPPA_DECLINE};
+use hemi_hdl_model::intersect::cull::{CullUnit, Wedge};
+use hemi_hdl_model::intersect::patch_mem::{KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
+use hemi_hdl_model::intersect::{origin_shift, PLANE_EPS};
+use hemi_kernel::rotation::{spin_for_sample, Rotation};
+use std::fmt::Write as _;
+
+/// What a file's `P` lines hold.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    /// Patches.
+    pub patches: usize,
+    /// Of them, below the horizon.
+    pub below: usize,
+    /// Of them, in a wedge of sectors.
+    pub wedges: usize,
+}
+
+/// The frame's axes u, v, w as Q2.30 words.
+type Axes = [[i32; 3]; 3];
+
+/// The vectors for a unit of `sectors` sectors: the set-up passes over `slots` from K × K
+/// (`samples`) lattice points of each slot, then `random` random patches, words and edge cases.
+pub fn vectors(
+    sectors: u32,
+    slots: &[[u32; PATCH_WORDS]],
+    samples: u32,
+    random: usize,
+    seed: u64,
+) -> (String, Counts) {
+    let mut out = Vectors {
+        unit: CullUnit::new(sectors),
+        text: String::new(),
+        counts: Counts::default(),
+    };
+    let mut q = 0;
+    for slot in slots.iter().filter(|s| sides(s).is_some()) {
+        for a in 0..samples {
+            for b in 0..samples {
+                let rot = Rotation::onto_spun(slot_normal(slot), spin_for_sample(q));
+                q += 1;
+                let axes = rotated_axes(frame_angles(&rot, CordicConfig::DEFAULT));
+                let o = lattice_point(slot, a, b, samples);
+                for s in slots {
+                    out.scene_patch(s, o, &axes);
+                }
+            }
+        }
+    }
+    let mut rng = XorShift::new(seed ^ 0x9e37_79b9_7f4a_7c15);
+    for n in 0..random {
+        match n % 4 {
+            0 | 1 => {
+                let (a, shift) = random_patch(&mut rng, n);
+                out.patch(&a, shift, n % 8 < 4, &random_axes(&mut rng));
+            }
+            2 => out.random_words(&mut rng, n),
+            _ => out.edge_case(&mut rng, n),
+        }
+    }
+    (out.text, out.counts)
+}
+
+struct Vectors {
+    unit: CullUnit,
+    text: String,
+    counts: Counts,
+}
+
+impl Vectors {
+    /// Slot `w` as the set-up pass sees it from origin `o` (Q8.24 words) in the frame `axes`.
+    fn scene_patch(&mut self, w: &[u32; PATCH_WORDS], o: [i32; 3], axes: &Axes) {
+        let Some(n) = sides(w) else { return };
+        let a: Vec<[i64; 3]> = (0..n)
+            .map(|k| core::array::from_fn(|c| w[1 + 3 * k + c] as i32 as i64 - o[c] as i64))
+            .collect();
+        let normal: [i128; 3] = core::array::from_fn(|c| w[13 + c] as i32 as i128);
+        let h: i128 = (0..3).map(|c| normal[c] * a[0][c] as i128).sum();
+        // the set-up pass's rule: an origin on the patch's plane sets nothing up
+        if h.unsigned_abs() <= PLANE_EPS.to_bits().unsigned_abs() {
+            return;
+        }
+        self.patch(&a, origin_shift(o.map(i64::from)), h < 0, axes);
+    }
+
+    /// A patch with the coarse words the set-up unit forms for it.
+    fn patch(&mut self, a: &[[i64; 3]], shift: u32, negate: bool, axes: &Axes) {
+        let mut coarse = Coarse::default();
+        for k in 0..a.len() {
+            let (words, kappa) = narrow_edge(&a[k], &a[(k + 1) % a.len()], shift, negate);
+            coarse.words[k] = words;
+            coarse.kappa = coarse.kappa.max(kappa);
+        }
+        self.line(a, &coarse, axes);
+    }
+
+    /// Words of any size: corners of 1 to 33 bits, coarse words of 1 to 18, any κ, axes of
+    /// any length (the unit's answer is a function of its words, frame or not).
+    fn random_words(&mut self, rng: &mut XorShift, n: usize) {
+        // a signed word of 1 to `most` bits
+        let signed = |rng: &mut XorShift, most: u64| {
+            let bits = 1 + rng.bits() % most;
+            (rng.bits() as i64) >> (64 - bits)
+        };
+        let sides = 3 + n % 2;
+        let a: Vec<[i64; 3]> = (0..sides)
+            .map(|_| [0; 3].map(|_| signed(rng, 33)))
+            .collect();
+        let mut coarse = Coarse {
+            kappa: (rng.bits() % (KAPPA_DECLINE as u64 + 1)) as u8,
+            ..Coarse::default()
+        };
+        for w in &mut coarse.words[..sides] {
+            *w = [0; 3].map(|_| signed(rng, 18) as i32);
+        }
+        let axes = [0; 3].map(|_| [0; 3].map(|_| signed(rng, 32) as i32));
+        self.line(&a, &coarse, &axes);
+    }
+
+    /// A patch at an edge of what the unit decides, in the identity frame or a random one.
+    fn edge_case(&mut self, rng: &mut XorShift, n: usize) {
+        let (mut a, shift) = random_patch(rng, n);
+        let big = 1i64 << (8 + rng.bits() % 24);
+        match (n / 4) % 6 {
+            // a corner on the axis (its (x, y) zero in the identity frame)
+            0 => a[0] = [0, 0, if rng.chance(0.5) { big } else { -big }],
+            // a corner at the origin
+            1 => a[1] = [0; 3],
+            // every corner at z = ±1 of the horizon
+            2 => a
+                .iter_mut()
+                .for_each(|v| v[2] = (rng.bits() % 3) as i64 - 1),
+            // corners around φ = ±π: x < 0, y of either sign and small
+            3 => a.iter_mut().for_each(|v| {
+                v[0] = -big;
+                v[1] = (rng.bits() % 64) as i64 - 32;
+            }),
+            // a corner straight up
+            4 => a[2] = [(rng.bits() % 3) as i64 - 1, 0, big],
+            _ => {}
+        }
+        let axes = if rng.chance(0.5) {
+            [0, 1, 2].map(|k| core::array::from_fn(|c| if c == k { 1 << 30 } else { 0 }))
+        } else {
+            random_axes(rng)
+        };
+        if n.is_multiple_of(13) {
+            // κ that bounds nothing
+            let mut c = Coarse {
+                kappa: KAPPA_DECLINE,
+                ..Coarse::default()
+            };
+            c.words[..a.len()].iter_mut().for_each(|w| *w = [1, -1, 1]);
+            self.line(&a, &c, &axes);
+        } else {
+            self.patch(&a, shift, rng.chance(0.5), &axes);
+        }
+    }
+
+    /// The line of one patch, with the model's reach.
+    fn line(&mut self, a: &[[i64; 3]], coarse: &Coarse, axes: &Axes) {
+        let reach = self
+            .unit
+            .reach(a, coarse, &axes.map(|v| v.map(Unit::from_bits)));
+        let (kind, lo, len) = match reach.wedge {
+            Wedge::Below => (0, 0, 0),
+            Wedge::Full => (1, 0, 0),
+            Wedge::Sectors { lo, len } => (2, lo, len),
+        };
+        self.counts.patches += 1;
+        self.counts.below += (kind == 0) as usize;
+        self.counts.wedges += (kind == 2) as usize;
+        let t = &mut self.text;
+        let _ = write!(t, "P {} {}", a.len(), coarse.kappa);
+        let words = axes
+            .iter()
+            .flatten()
+            .map(|&c| c as i64)
+            .chain(a.iter().flatten().copied())
+            .chain(coarse.words[..a.len()].iter().flatten().map(|&c| c as i64));
+        for w in words {
+            let _ = write!(t, " {w}");
+        }
+        let _ = writeln!(t, " {kind} {lo} {len} {} {}", reach.band_lo, reach.band_hi);
+    }
+}
+
+/// A slot's corner count, if it is planar.
+fn sides(w: &[u32; PATCH_WORDS]) -> Option<usize> {
+    match w[0] & 0xF {
+        KIND_TRIANGLE => Some(3),
+        KIND_QUAD => Some(4),
+        _ => None,
+    }
+}
+
+/// The frame's axes as the culling unit gets them: x̂, ŷ, ẑ turned by the model's rotator.
+fn rotated_axes(angles: [i32; 3]) -> Axes {
+    let unit = [0, 1, 2].map(|k| core::array::from_fn(|c| if c == k { 1 << 30 } else { 0 }));
+    let t = turned(&unit, angles, CordicConfig::DEFAULT);
+    [t[0], t[1], t[2]]
+}
+
+/// The axes of a random rotation (a random unit quaternion), as Q2.30 words.
+fn random_axes(rng: &mut XorShift) -> Axes {
+    let q = loop {
+        let q = [0; 4].map(|_| rng.f64() * 2.0 - 1.0);
+        let l = q.iter().map(|c| c * c).sum::<f64>().sqrt();
+        if (0.1..=1.0).contains(&l) {
+            break q.map(|c| c / l);
+        }
+    };
+    let [w, x, y, z] = q;
+    let m = [
+        [
+            1.0 - 2.0 * (y * y + z * z),
+            2.0 * (x * y + w * z),
+            2.0 * (x * z - w * y),
+        ],
+        [
+            2.0 * (x * y - w * z),
+            1.0 - 2.0 * (x * x + z * z),
+            2.0 * (y * z + w * x),
+        ],
+        [
+            2.0 * (x * z + w * y),
+            2.0 * (y * z - w * x),
+            1.0 - 2.0 * (x * x + y * y),
+        ],
+    ];
+    m.map(|r| r.map(|c| Unit::saturating_from_num(c).to_bits()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_workload_holds_every_kind_of_reach() {
+        let (text, c) = vectors(32, &[], 0, 400, 1);
+        assert_eq!(text.lines().count(), c.patches);
+        assert!(c.below > 20 && c.wedges > 20, "{c:?}");
+        assert!(c.below + c.wedges < c.patches, "{c:?}");
+    }
+}
