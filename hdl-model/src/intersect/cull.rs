@@ -83,6 +83,13 @@ pub const CULL_CORDIC: CordicConfig = CordicConfig {
     iterations: 14,
     width: 20,
 };
+/// Clocks from a patch's last corner to its reach, as the RTL (`hdl-model/rtl/cull_reach.v`)
+/// pipelines them for 100 MHz: the corner's block scaling (3), its products and bounds (2), its
+/// decisions (3), the two vectorings ([`CULL_CORDIC`]) each after a normalisation of 3 clocks
+/// (`cull_angles.v`), the patch gathered (1), its wedge and polar range (7), the ends' sectors
+/// and bands (3, `cull_bin.v`) and the answer's register (1): 62. (Until session 27 the model
+/// charged two vectorings and 5 clocks, 41 in all, before the RTL existed.)
+pub const REACH_LATENCY: u32 = 2 * crate::cordic::pipe_latency(CULL_CORDIC.iterations) + 26;
 /// Every vectoring's input is scaled by a power of two (either way: a leading-one detector and
 /// shifters) so that its larger component is in [2^(NORM_TOP − 1), 2^NORM_TOP): the most a
 /// Q2.30 container holds after the vectoring's gain of 1.65 on up to √2 times that. Its error

@@ -288,14 +288,12 @@ fn merge_latency(lanes: u32) -> u64 {
     (32 - lanes.leading_zeros()) as u64 + 1
 }
 
-/// Latency of the set-up pipe after its last patch: the edge normals' products, and with
-/// culling the corners' dot products with the axes, the azimuth's vectoring CORDIC and the
-/// polar one chained after it (it takes the azimuth's magnitude), each after a clock that
-/// normalises its input (the second since session 26, [`cull::NORM_TOP`]), and the sector
-/// compare.
+/// Latency of the set-up pipe after its last patch: without culling, the edge normals'
+/// products; with it, the culling unit's reach of the last patch ([`cull::REACH_LATENCY`], as
+/// its RTL `cull_reach.v` takes it), which the edge words join early enough to hide.
 fn setup_latency(culling: bool) -> u64 {
     if culling {
-        2 * cull::CULL_CORDIC.latency() as u64 + 5
+        cull::REACH_LATENCY as u64
     } else {
         2
     }
