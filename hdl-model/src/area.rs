@@ -484,7 +484,10 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
         p.add(banks * 2, 36);
         p.add(banks * 5, 20);
         p.add(banks * 4, 37);
+        // a corner's azimuth (its magnitude kept for the polar angle) and its polar angle: two
+        // chained pipes, as `cull_angles.v` has them (until session 27 the proxy counted one)
         p.vectoring(CULL_CORDIC, banks, true);
+        p.vectoring(CULL_CORDIC, banks, false);
         // the arc's and the bands' bounds (angle compares and halvings)
         p.add(banks * 8, 32);
         // sector and band of the arc's two ends and the band range's two: four multiplies by a
