@@ -72,21 +72,9 @@ struct Vectors {
 impl Vectors {
     /// Slot `w` as the set-up pass sees it from origin `o` (Q8.24 words).
     fn scene_patch(&mut self, w: &[u32; PATCH_WORDS], o: [i32; 3], rng: &mut XorShift) {
-        let sides = match w[0] & 0xF {
-            KIND_TRIANGLE => 3,
-            KIND_QUAD => 4,
-            _ => return,
-        };
-        let a: Vec<[i64; 3]> = (0..sides)
-            .map(|k| core::array::from_fn(|c| w[1 + 3 * k + c] as i32 as i64 - o[c] as i64))
-            .collect();
-        let n: [i128; 3] = core::array::from_fn(|c| w[13 + c] as i32 as i128);
-        let h: i128 = (0..3).map(|c| n[c] * a[0][c] as i128).sum();
-        // the set-up pass's rule: an origin on the patch's plane sets nothing up
-        if h.unsigned_abs() <= PLANE_EPS.to_bits().unsigned_abs() {
-            return;
+        if let Some(v) = set_up_view(w, o) {
+            self.patch(&v.corners, v.shift, v.negate, rng);
         }
-        self.patch(&a, origin_shift(o.map(i64::from)), h < 0, rng);
     }
 
     /// A patch's edges, then pairs of it: rays through points next to each edge (inside and
@@ -154,6 +142,40 @@ impl Vectors {
 fn direction(g: [f64; 3]) -> [i32; 3] {
     let l = g.iter().map(|c| c * c).sum::<f64>().sqrt().max(1e-300);
     g.map(|c| (((c / l) * (1u64 << 30) as f64).round() as i32) >> COARSE_DIR_SHIFT)
+}
+
+/// A planar slot as the set-up pass sees it from an origin.
+pub(super) struct SetUpView {
+    /// The corners a = v − O (33-bit values).
+    pub corners: Vec<[i64; 3]>,
+    /// The origin-wide truncation of the edge products.
+    pub shift: u32,
+    /// The origin is on the back of the slot (h < 0): the edge words are negated.
+    pub negate: bool,
+}
+
+/// Slot `w` from origin `o` (Q8.24 words), or `None` if the set-up pass sets nothing up: a slot
+/// that is not planar, or an origin on its plane.
+pub(super) fn set_up_view(w: &[u32; PATCH_WORDS], o: [i32; 3]) -> Option<SetUpView> {
+    let sides = match w[0] & 0xF {
+        KIND_TRIANGLE => 3,
+        KIND_QUAD => 4,
+        _ => return None,
+    };
+    let corners: Vec<[i64; 3]> = (0..sides)
+        .map(|k| core::array::from_fn(|c| w[1 + 3 * k + c] as i32 as i64 - o[c] as i64))
+        .collect();
+    let n: [i128; 3] = core::array::from_fn(|c| w[13 + c] as i32 as i128);
+    let h: i128 = (0..3).map(|c| n[c] * corners[0][c] as i128).sum();
+    // the set-up pass's rule: an origin on the patch's plane sets nothing up
+    if h.unsigned_abs() <= PLANE_EPS.to_bits().unsigned_abs() {
+        return None;
+    }
+    Some(SetUpView {
+        corners,
+        shift: origin_shift(o.map(i64::from)),
+        negate: h < 0,
+    })
 }
 
 /// A random patch's corners relative to its origin (33-bit values, as a − O of Q8.24 words)

@@ -151,7 +151,8 @@ pub fn hemispheres(
     Ok(rays)
 }
 
-fn unit_vec(rng: &mut XorShift) -> [f64; 3] {
+/// A random unit vector (uniform over the sphere, by rejection).
+pub(super) fn unit_vec(rng: &mut XorShift) -> [f64; 3] {
     loop {
         let v = [0; 3].map(|_| rng.f64() * 2.0 - 1.0);
         let n = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();

@@ -16,8 +16,8 @@
 //! patch or a frame), and the edges of what the unit decides: corners on the axis and at the
 //! origin, patches straddling the horizon, the wrap of φ at ±π, and κ that bounds nothing.
 
-use super::coarse::random_patch;
-use super::plane::{lattice_point, slot_normal, turned};
+use super::coarse::{random_patch, set_up_view};
+use super::plane::{lattice_point, slot_normal, turned, unit_vec};
 use crate::rng::XorShift;
 use crate::rtl::cordic::frame_angles;
 use hemi_hdl_model::cordic::CordicConfig;
@@ -25,7 +25,7 @@ use hemi_hdl_model::format::Unit;
 use hemi_hdl_model::intersect::coarse::{narrow_edge, Coarse, KAPPA_DECLINE};
 use hemi_hdl_model::intersect::cull::{CullUnit, Wedge};
 use hemi_hdl_model::intersect::patch_mem::{KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
-use hemi_hdl_model::intersect::{origin_shift, PLANE_EPS};
+use hemi_kernel::geometry::Vec3;
 use hemi_kernel::rotation::{spin_for_sample, Rotation};
 use std::fmt::Write as _;
 
@@ -58,7 +58,10 @@ pub fn vectors(
         counts: Counts::default(),
     };
     let mut q = 0;
-    for slot in slots.iter().filter(|s| sides(s).is_some()) {
+    for slot in slots
+        .iter()
+        .filter(|s| matches!(s[0] & 0xF, KIND_TRIANGLE | KIND_QUAD))
+    {
         for a in 0..samples {
             for b in 0..samples {
                 let rot = Rotation::onto_spun(slot_normal(slot), spin_for_sample(q));
@@ -94,17 +97,9 @@ struct Vectors {
 impl Vectors {
     /// Slot `w` as the set-up pass sees it from origin `o` (Q8.24 words) in the frame `axes`.
     fn scene_patch(&mut self, w: &[u32; PATCH_WORDS], o: [i32; 3], axes: &Axes) {
-        let Some(n) = sides(w) else { return };
-        let a: Vec<[i64; 3]> = (0..n)
-            .map(|k| core::array::from_fn(|c| w[1 + 3 * k + c] as i32 as i64 - o[c] as i64))
-            .collect();
-        let normal: [i128; 3] = core::array::from_fn(|c| w[13 + c] as i32 as i128);
-        let h: i128 = (0..3).map(|c| normal[c] * a[0][c] as i128).sum();
-        // the set-up pass's rule: an origin on the patch's plane sets nothing up
-        if h.unsigned_abs() <= PLANE_EPS.to_bits().unsigned_abs() {
-            return;
+        if let Some(v) = set_up_view(w, o) {
+            self.patch(&v.corners, v.shift, v.negate, axes);
         }
-        self.patch(&a, origin_shift(o.map(i64::from)), h < 0, axes);
     }
 
     /// A patch with the coarse words the set-up unit forms for it.
@@ -209,15 +204,6 @@ impl Vectors {
     }
 }
 
-/// A slot's corner count, if it is planar.
-fn sides(w: &[u32; PATCH_WORDS]) -> Option<usize> {
-    match w[0] & 0xF {
-        KIND_TRIANGLE => Some(3),
-        KIND_QUAD => Some(4),
-        _ => None,
-    }
-}
-
 /// The frame's axes as the culling unit gets them: x̂, ŷ, ẑ turned by the model's rotator.
 fn rotated_axes(angles: [i32; 3]) -> Axes {
     let unit = [0, 1, 2].map(|k| core::array::from_fn(|c| if c == k { 1 << 30 } else { 0 }));
@@ -225,34 +211,13 @@ fn rotated_axes(angles: [i32; 3]) -> Axes {
     [t[0], t[1], t[2]]
 }
 
-/// The axes of a random rotation (a random unit quaternion), as Q2.30 words.
+/// The axes of a random frame, as pass 1 would build one for a random normal and spin and the
+/// model's rotator turn them.
 fn random_axes(rng: &mut XorShift) -> Axes {
-    let q = loop {
-        let q = [0; 4].map(|_| rng.f64() * 2.0 - 1.0);
-        let l = q.iter().map(|c| c * c).sum::<f64>().sqrt();
-        if (0.1..=1.0).contains(&l) {
-            break q.map(|c| c / l);
-        }
-    };
-    let [w, x, y, z] = q;
-    let m = [
-        [
-            1.0 - 2.0 * (y * y + z * z),
-            2.0 * (x * y + w * z),
-            2.0 * (x * z - w * y),
-        ],
-        [
-            2.0 * (x * y - w * z),
-            1.0 - 2.0 * (x * x + z * z),
-            2.0 * (y * z + w * x),
-        ],
-        [
-            2.0 * (x * z + w * y),
-            2.0 * (y * z - w * x),
-            1.0 - 2.0 * (x * x + y * y),
-        ],
-    ];
-    m.map(|r| r.map(|c| Unit::saturating_from_num(c).to_bits()))
+    let n = unit_vec(rng).map(|c| c as f32);
+    let spin = (rng.f64() * std::f64::consts::TAU) as f32;
+    let rot = Rotation::onto_spun(Vec3::new(n[0], n[1], n[2]), spin);
+    rotated_axes(frame_angles(&rot, CordicConfig::DEFAULT))
 }
 
 #[cfg(test)]
