@@ -325,6 +325,9 @@ pub fn cosim(bench: Bench, exe: &Path, args: &[String]) -> Result<Cosim, String>
     parse_report(bench.report, &text).ok_or_else(|| format!("{} printed no report", exe.display()))
 }
 
+/// What every testbench includes (`tb::read_lines`, `tb::tick`, `tb::report`).
+const TB_HEADER: &str = "tb/tb.h";
+
 /// A one-bit mutation of the RTL: in a copy of `bench`'s sources (and `extra` files), the
 /// constant `from` in `file` becomes `to`; the co-simulation must then see mismatches.
 struct Mutant {
@@ -364,7 +367,8 @@ impl Mutant {
     fn write(&self, into: &Path) -> Result<(), String> {
         std::fs::create_dir_all(into.join("tb")).map_err(|e| e.to_string())?;
         let b = self.bench;
-        for f in b.sources.iter().chain(self.extra).chain(&[b.cpp]) {
+        let shared = [b.cpp, TB_HEADER];
+        for f in b.sources.iter().chain(self.extra).chain(&shared) {
             std::fs::copy(rtl_dir().join(f), into.join(f))
                 .map_err(|e| format!("copying {f}: {e}"))?;
         }

@@ -5,15 +5,8 @@
 // and compares every output, in order, with the model's. Prints `coarse: rays=N vectors=M
 // clocks=C mismatches=K seconds=S` (rays: the pairs tested), exits 1 on any mismatch.
 #include "Vcoarse_top.h"
+#include "tb.h"
 #include "verilated.h"
-#include <chrono>
-#include <cinttypes>
-#include <cstdint>
-#include <cstdio>
-#include <deque>
-#include <fstream>
-#include <sstream>
-#include <string>
 #include <vector>
 
 struct Edge {
@@ -30,13 +23,7 @@ struct Pair {
 };
 
 static bool read_vectors(const char *path, std::vector<Edge> &edges, std::vector<Pair> &pairs) {
-    std::ifstream f(path);
-    if (!f) return false;
-    std::string line;
-    while (std::getline(f, line)) {
-        std::istringstream in(line);
-        std::string tag;
-        in >> tag;
+    return tb::read_lines("coarse", path, [&](const std::string &tag, std::istringstream &in) {
         if (tag == "E") {
             Edge e;
             in >> e.u[0] >> e.u[1] >> e.u[2] >> e.v[0] >> e.v[1] >> e.v[2] >> e.shift >> e.negate >>
@@ -48,15 +35,9 @@ static bool read_vectors(const char *path, std::vector<Edge> &edges, std::vector
             for (auto &x : p.e) in >> x;
             in >> p.decided >> p.inside >> p.undecided;
             pairs.push_back(p);
-        } else {
-            continue;
         }
-        if (!in) {
-            fprintf(stderr, "coarse: bad line: %s\n", line.c_str());
-            return false;
-        }
-    }
-    return true;
+        return bool(in);
+    });
 }
 
 // `width` bits of `value` (two's complement) at bit `lo` of a Verilator wide signal
@@ -80,11 +61,8 @@ int main(int argc, char **argv) {
     }
     std::vector<Edge> edges;
     std::vector<Pair> pairs;
-    if (!read_vectors(argv[1], edges, pairs)) {
-        fprintf(stderr, "coarse: cannot read %s\n", argv[1]);
-        return 2;
-    }
-    auto t0 = std::chrono::steady_clock::now();
+    if (!read_vectors(argv[1], edges, pairs)) return 2;
+    tb::Stopwatch watch;
     Vcoarse_top u;
     u.clk = 0;
     u.eval();
@@ -111,10 +89,7 @@ int main(int argc, char **argv) {
             u.t_kappa = p.kappa;
             u.t_quad = p.quad;
         }
-        u.clk = 1;
-        u.eval();
-        u.clk = 0;
-        u.eval();
+        tb::tick(u);
         clocks++;
         if (u.e_out_valid && eo < edges.size()) {
             const Edge &e = edges[eo];
@@ -145,9 +120,7 @@ int main(int argc, char **argv) {
             break;
         }
     }
-    double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    printf("coarse: rays=%zu vectors=%zu clocks=%" PRIu64 " mismatches=%" PRIu64 " seconds=%.3f\n",
-           pairs.size(), edges.size(), clocks, bad, secs);
+    tb::report("coarse", pairs.size(), edges.size(), clocks, bad, watch.seconds());
     u.final();
     return bad ? 1 : 0;
 }

@@ -7,15 +7,9 @@
 // seen are the registers' contents before the edge, then the edge. An entry the model takes on
 // clock c and returns on clock c + L is L register stages in the RTL.
 #include "Vcosim_top.h"
+#include "tb.h"
 #include "verilated.h"
-#include <chrono>
-#include <cstdint>
-#include <cstdio>
 #include <cstring>
-#include <deque>
-#include <fstream>
-#include <sstream>
-#include <string>
 #include <vector>
 
 struct Event {
@@ -27,12 +21,10 @@ struct Streams {
     std::vector<Event> rot_in, rot_out, vec_in, vec_out, frame_in, frame_angles, frame_done;
 };
 
-static bool parse_line(const std::string &line, Streams &s) {
-    if (line.empty() || line[0] == '#') return true;
-    std::istringstream in(line);
-    std::string tag;
+static bool parse_line(const std::string &tag, std::istringstream &in, Streams &s) {
+    if (tag[0] == '#') return true;
     Event e{};
-    in >> tag >> e.clk;
+    in >> e.clk;
     int n = tag == "R" || tag == "F" ? 7 : tag == "f" ? 0 : 3;
     for (int i = 0; i < n; i++) in >> std::hex >> e.w[i];
     if (!in) return false;
@@ -90,24 +82,17 @@ int main(int argc, char **argv) {
         return 2;
     }
     W_BITS = atoi(argv[1]);
-    std::ifstream f(argv[2]);
-    if (!f) {
-        fprintf(stderr, "cosim: cannot read %s\n", argv[2]);
-        return 2;
-    }
     Streams s;
-    std::string line;
-    for (size_t n = 1; std::getline(f, line); n++)
-        if (!parse_line(line, s)) {
-            fprintf(stderr, "cosim: %s:%zu: bad line\n", argv[2], n);
-            return 2;
-        }
+    auto line = [&](const std::string &tag, std::istringstream &in) {
+        return parse_line(tag, in, s);
+    };
+    if (!tb::read_lines("cosim", argv[2], line)) return 2;
     uint64_t end = 0;
     for (auto *v : {&s.rot_out, &s.vec_out, &s.rot_in, &s.vec_in, &s.frame_in, &s.frame_done})
         if (!v->empty()) end = std::max(end, v->back().clk);
     end += 200;
 
-    auto t0 = std::chrono::steady_clock::now();
+    tb::Stopwatch watch;
     Vcosim_top top;
     top.clk = 0;
     top.rst = 1;
@@ -171,11 +156,8 @@ int main(int argc, char **argv) {
         frame_bad += s.frame_done.size() - di;
     }
     uint64_t bad = rot.finish() + vec.finish() + frame_bad;
-    double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    printf("cosim: rays=%zu vectors=%zu clocks=%llu mismatches=%llu seconds=%.3f\n",
-           s.rot_in.size(), s.vec_in.size() + s.frame_in.size(), (unsigned long long)end,
-           (unsigned long long)bad,
-           secs);
+    tb::report("cosim", s.rot_in.size(), s.vec_in.size() + s.frame_in.size(), end, bad,
+               watch.seconds());
     top.final();
     return bad ? 1 : 0;
 }

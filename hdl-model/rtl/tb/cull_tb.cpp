@@ -6,15 +6,9 @@
 // Prints `cull: rays=N vectors=P clocks=C mismatches=K seconds=S` (rays: the directions fed;
 // vectors: the patches), exits 1 on any mismatch.
 #include "Vcull_top.h"
+#include "tb.h"
 #include "verilated.h"
 #include <algorithm>
-#include <chrono>
-#include <cinttypes>
-#include <cstdint>
-#include <cstdio>
-#include <fstream>
-#include <sstream>
-#include <string>
 #include <vector>
 
 struct Ray {
@@ -39,31 +33,20 @@ static bool read_patch(std::istringstream &in, Patch &p) {
 }
 
 static bool read_vectors(const char *path, std::vector<Ray> &rays, std::vector<Patch> &patches) {
-    std::ifstream f(path);
-    if (!f) return false;
-    std::string line;
-    while (std::getline(f, line)) {
-        std::istringstream in(line);
-        std::string tag;
-        in >> tag;
+    return tb::read_lines("cull", path, [&](const std::string &tag, std::istringstream &in) {
         if (tag == "R") {
             Ray r;
             in >> r.d[0] >> r.d[1] >> r.d[2] >> r.culled >> r.sector >> r.band;
-            if (!in) {
-                fprintf(stderr, "cull: bad line: %s\n", line.c_str());
-                return false;
-            }
             rays.push_back(r);
-        } else if (tag == "P") {
+            return bool(in);
+        }
+        if (tag == "P") {
             Patch p;
-            if (!read_patch(in, p)) {
-                fprintf(stderr, "cull: bad line: %s\n", line.c_str());
-                return false;
-            }
+            if (!read_patch(in, p)) return false;
             patches.push_back(p);
         }
-    }
-    return true;
+        return true;
+    });
 }
 
 // Verilator's words for a signed port of `bits` bits (two's complement, the rest cleared).
@@ -105,13 +88,10 @@ int main(int argc, char **argv) {
     }
     std::vector<Ray> rays;
     std::vector<Patch> patches;
-    if (!read_vectors(argv[1], rays, patches)) {
-        fprintf(stderr, "cull: cannot read %s\n", argv[1]);
-        return 2;
-    }
+    if (!read_vectors(argv[1], rays, patches)) return 2;
     size_t corners = 0;
     for (const Patch &p : patches) corners += p.n;
-    auto t0 = std::chrono::steady_clock::now();
+    tb::Stopwatch watch;
     Vcull_top u;
     u.clk = 0;
     u.eval();
@@ -128,10 +108,7 @@ int main(int argc, char **argv) {
         }
         feed_corner(u, pin < patches.size() ? &patches[pin] : nullptr, pk);
         if (pin < patches.size() && ++pk == patches[pin].n) pin++, pk = 0;
-        u.clk = 1;
-        u.eval();
-        u.clk = 0;
-        u.eval();
+        tb::tick(u);
         clocks++;
         if (u.r_out_valid && out < rays.size()) {
             const Ray &r = rays[out];
@@ -159,10 +136,7 @@ int main(int argc, char **argv) {
             break;
         }
     }
-    double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    printf("cull: rays=%zu vectors=%zu clocks=%" PRIu64 " mismatches=%" PRIu64
-           " seconds=%.3f\n",
-           rays.size(), patches.size(), clocks, bad, secs);
+    tb::report("cull", rays.size(), patches.size(), clocks, bad, watch.seconds());
     u.final();
     return bad ? 1 : 0;
 }

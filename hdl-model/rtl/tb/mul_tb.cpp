@@ -4,10 +4,8 @@
 // vectors=N clocks=C mismatches=K seconds=S` (a vector: one product checked), exits 1 on any
 // mismatch. Argument: the clocks to run (default 20,000).
 #include "Vmul_top.h"
+#include "tb.h"
 #include "verilated.h"
-#include <chrono>
-#include <cstdint>
-#include <cstdio>
 #include <cstdlib>
 #include <vector>
 
@@ -61,7 +59,7 @@ int main(int argc, char **argv) {
     Vmul_top u;
     std::vector<In> hist;
     uint64_t vectors = 0, bad = 0;
-    auto t0 = std::chrono::steady_clock::now();
+    tb::Stopwatch watch;
     for (long t = 0; t < clocks; t++) {
         int64_t a18 = operand(18), b18 = operand(18), x32 = operand(32);
         In in = {operand(34), operand(34), operand(26), operand(64), operand(16)};
@@ -97,8 +95,6 @@ int main(int argc, char **argv) {
         u.clk = 1;
         u.eval();
     }
-    double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    printf("mul: rays=0 vectors=%llu clocks=%ld mismatches=%llu seconds=%.3f\n",
-           (unsigned long long)vectors, clocks, (unsigned long long)bad, s);
+    tb::report("mul", 0, vectors, clocks, bad, watch.seconds());
     return bad ? 1 : 0;
 }

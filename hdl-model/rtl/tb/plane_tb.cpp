@@ -5,14 +5,8 @@
 // memory reloaded between them). Prints `plane: rays=N clocks=C mismatches=K seconds=S`, exits 1
 // on any mismatch.
 #include "Vplane_unit.h"
+#include "tb.h"
 #include "verilated.h"
-#include <chrono>
-#include <cinttypes>
-#include <cstdint>
-#include <cstdio>
-#include <fstream>
-#include <sstream>
-#include <string>
 #include <vector>
 
 struct Ray {
@@ -35,14 +29,8 @@ struct Segment {
 };
 
 static bool read_segments(const char *path, std::vector<Segment> &out) {
-    std::ifstream f(path);
-    if (!f) return false;
-    std::string line;
     Segment seg;
-    while (std::getline(f, line)) {
-        std::istringstream in(line);
-        std::string tag;
-        in >> tag;
+    return tb::read_lines("plane", path, [&](const std::string &tag, std::istringstream &in) {
         if (tag == "P") {
             uint32_t slot;
             in >> std::dec >> slot;
@@ -63,20 +51,10 @@ static bool read_segments(const char *path, std::vector<Segment> &out) {
         } else if (tag == "E") {
             out.push_back(seg);
             seg = Segment();
+            return true;
         }
-        if (!in && tag != "E") {
-            fprintf(stderr, "plane: bad line: %s\n", line.c_str());
-            return false;
-        }
-    }
-    return true;
-}
-
-static void tick(Vplane_unit &u) {
-    u.clk = 1;
-    u.eval();
-    u.clk = 0;
-    u.eval();
+        return bool(in);
+    });
 }
 
 // one segment; returns its mismatches
@@ -93,10 +71,10 @@ static uint64_t run(Vplane_unit &u, const Segment &s, uint64_t &clocks) {
             u.pm_we = 1;
             u.pm_addr = (uint32_t)(i * 16 + w);
             u.pm_data = s.slots[i][w];
-            tick(u);
+            tb::tick(u);
         }
     u.pm_we = 0;
-    tick(u);
+    tb::tick(u);
     u.rst = 0;
     uint64_t bad = 0;
     size_t ri = 0, oi = 0;
@@ -151,11 +129,8 @@ int main(int argc, char **argv) {
         return 2;
     }
     std::vector<Segment> segs;
-    if (!read_segments(argv[1], segs)) {
-        fprintf(stderr, "plane: cannot read %s\n", argv[1]);
-        return 2;
-    }
-    auto t0 = std::chrono::steady_clock::now();
+    if (!read_segments(argv[1], segs)) return 2;
+    tb::Stopwatch watch;
     Vplane_unit u;
     u.clk = 0;
     uint64_t bad = 0, clocks = 0, rays = 0;
@@ -163,9 +138,7 @@ int main(int argc, char **argv) {
         bad += run(u, s, clocks);
         rays += s.rays.size();
     }
-    double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    printf("plane: rays=%" PRIu64 " clocks=%" PRIu64 " mismatches=%" PRIu64 " seconds=%.3f\n", rays,
-           clocks, bad, secs);
+    tb::report("plane", rays, 0, clocks, bad, watch.seconds());
     u.final();
     return bad ? 1 : 0;
 }

@@ -6,14 +6,8 @@
 // The datapath's inputs stay idle (the workload never lets an entry leave the FIFO). Prints
 // `regs: rays=0 vectors=N clocks=C mismatches=K seconds=S`, exits 1 on any mismatch.
 #include "Vahb_regs.h"
+#include "tb.h"
 #include "verilated.h"
-#include <chrono>
-#include <cinttypes>
-#include <cstdint>
-#include <cstdio>
-#include <fstream>
-#include <sstream>
-#include <string>
 #include <vector>
 
 struct Op {
@@ -24,13 +18,7 @@ struct Op {
 
 static bool read_vectors(const char *path, std::vector<Op> &ops,
                          std::vector<std::vector<uint32_t>> &fifo) {
-    std::ifstream f(path);
-    if (!f) return false;
-    std::string line;
-    while (std::getline(f, line)) {
-        std::istringstream in(line);
-        std::string tag;
-        in >> tag;
+    return tb::read_lines("regs", path, [&](const std::string &tag, std::istringstream &in) {
         if (tag == "I") {
             uint32_t n;
             in >> std::dec >> n;
@@ -49,14 +37,11 @@ static bool read_vectors(const char *path, std::vector<Op> &ops,
             for (auto &x : w) in >> std::hex >> x;
             fifo.push_back(w);
         }
-        if (!in) {
-            fprintf(stderr, "regs: bad line: %s\n", line.c_str());
-            return false;
-        }
-    }
-    return true;
+        return bool(in);
+    });
 }
 
+// The slave's clock is HCLK, not `clk` (`tb::tick`'s).
 static void tick(Vahb_regs &u) {
     u.hclk = 1;
     u.eval();
@@ -72,11 +57,8 @@ int main(int argc, char **argv) {
     }
     std::vector<Op> ops;
     std::vector<std::vector<uint32_t>> fifo;
-    if (!read_vectors(argv[1], ops, fifo)) {
-        fprintf(stderr, "regs: cannot read %s\n", argv[1]);
-        return 2;
-    }
-    auto t0 = std::chrono::steady_clock::now();
+    if (!read_vectors(argv[1], ops, fifo)) return 2;
+    tb::Stopwatch watch;
     Vahb_regs u;
     u.hclk = 0;
     u.hresetn = 0;
@@ -151,9 +133,6 @@ int main(int argc, char **argv) {
         mismatches++;
         fprintf(stderr, "regs: %zu FIFO entries, model %zu\n", k, fifo.size());
     }
-    double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    printf("regs: rays=0 vectors=%" PRIu64 " clocks=%" PRIu64 " mismatches=%" PRIu64
-           " seconds=%.3f\n",
-           accesses + fifo.size(), clocks, mismatches, secs);
+    tb::report("regs", 0, accesses + fifo.size(), clocks, mismatches, watch.seconds());
     return mismatches ? 1 : 0;
 }
