@@ -270,14 +270,17 @@ module cull_reach #(
     reg        [1:0]   cnt;
     reg signed [34:0]  gphi [0:2];
     reg signed [34:0]  gtheta [0:2];
-    reg                gbelow, gnear, gpos, gneg;
+    // the patch's decisions so far, {below, near, +z, −z}: every corner below, any near,
+    // every edge allowing +z, every edge allowing −z
+    localparam [3:0] NONE_YET = 4'b1011;
+    reg        [3:0]   gf;
     // the patch: its corners' angles (a triangle's fourth the first's again, so that its last
     // edge is from corner 0 to itself: no bulge, no turn, θ_0 again, which changes no minimum
     // or maximum below and lets every edge be k to k + 1 mod 4), its decisions
     reg                rv;
     reg signed [34:0]  rphi [0:3];
     reg signed [34:0]  rtheta [0:3];
-    reg                rbelow, rnear, rpos, rneg;
+    reg        [3:0]   rf;
     always @(posedge clk) begin
         rv <= cv && cflags[4];
         if (cv) begin
@@ -288,40 +291,29 @@ module cull_reach #(
                 end
                 rphi[3] <= cnt == 2'd3 ? cphi_w : gphi[0];
                 rtheta[3] <= cnt == 2'd3 ? ctheta_w : gtheta[0];
-                rbelow <= gbelow && cflags[3];
-                rnear <= gnear || cflags[2];
-                rpos <= gpos && cflags[1];
-                rneg <= gneg && cflags[0];
+                rf <= merge(gf, cflags[3:0]);
                 cnt <= 2'd0;
-                gbelow <= 1'b1;
-                gnear <= 1'b0;
-                gpos <= 1'b1;
-                gneg <= 1'b1;
+                gf <= NONE_YET;
             end else begin
                 if (cnt != 2'd3) begin
                     gphi[cnt] <= cphi_w;
                     gtheta[cnt] <= ctheta_w;
                     cnt <= cnt + 2'd1;
                 end
-                gbelow <= gbelow && cflags[3];
-                gnear <= gnear || cflags[2];
-                gpos <= gpos && cflags[1];
-                gneg <= gneg && cflags[0];
+                gf <= merge(gf, cflags[3:0]);
             end
         end
     end
     initial begin
         cnt = 2'd0;
-        gbelow = 1'b1;
-        gnear = 1'b0;
-        gpos = 1'b1;
-        gneg = 1'b1;
+        gf = NONE_YET;
     end
 
     // Then seven clocks, each at most two carry chains deep (as three, the unit placed at
     // 57 MHz): g1 the differences, g2 wrapped, g3 and g4 the ends' and the bulges' mins and
     // maxes, g5 and g6 the polar range, the wedge's ends and the kind, g7 the bands' ends.
-    reg                g1v, g1below, g1near, g1pos, g1neg;
+    reg                g1v;
+    reg        [3:0]   g1f;
     reg signed [34:0]  g1phi0;
     reg signed [34:0]  g1d [1:3];
     reg signed [34:0]  g1e [0:3];
@@ -330,10 +322,7 @@ module cull_reach #(
     integer k;
     always @(posedge clk) begin
         g1v <= rv;
-        g1below <= rbelow;
-        g1near <= rnear;
-        g1pos <= rpos;
-        g1neg <= rneg;
+        g1f <= rf;
         g1phi0 <= rphi[0];
         for (k = 1; k < 4; k = k + 1) g1d[k] <= rphi[k] - rphi[0];
         for (k = 0; k < 4; k = k + 1) begin
@@ -342,7 +331,8 @@ module cull_reach #(
             g1tmax[k] <= rtheta[k];
         end
     end
-    reg                g2v, g2below, g2near, g2pos, g2neg;
+    reg                g2v;
+    reg        [3:0]   g2f;
     reg signed [34:0]  g2phi0;
     reg signed [34:0]  g2d [1:3];
     reg signed [34:0]  g2e [0:3];
@@ -350,10 +340,7 @@ module cull_reach #(
     reg signed [34:0]  g2tmax [0:1];
     always @(posedge clk) begin
         g2v <= g1v;
-        g2below <= g1below;
-        g2near <= g1near;
-        g2pos <= g1pos;
-        g2neg <= g1neg;
+        g2f <= g1f;
         g2phi0 <= g1phi0;
         for (k = 1; k < 4; k = k + 1) g2d[k] <= wrap(g1d[k]);
         for (k = 0; k < 4; k = k + 1) begin
@@ -363,7 +350,8 @@ module cull_reach #(
         g2tmax[0] <= max35(g1tmax[0], g1tmax[1]);
         g2tmax[1] <= max35(g1tmax[2], g1tmax[3]);
     end
-    reg                g3v, g3below, g3near, g3pos, g3neg;
+    reg                g3v;
+    reg        [3:0]   g3f;
     reg signed [34:0]  g3phi0, g3hit;
     reg signed [34:0]  g3lo [0:1];
     reg signed [34:0]  g3hi [0:1];
@@ -371,10 +359,7 @@ module cull_reach #(
     reg signed [34:0]  g3tmin [0:3];
     always @(posedge clk) begin
         g3v <= g2v;
-        g3below <= g2below;
-        g3near <= g2near;
-        g3pos <= g2pos;
-        g3neg <= g2neg;
+        g3f <= g2f;
         g3phi0 <= g2phi0;
         g3hit <= max35(g2tmax[0], g2tmax[1]);
         g3lo[0] <= min35(35'sd0, g2d[1]);
@@ -386,15 +371,13 @@ module cull_reach #(
             g3tmin[k] <= g2tmin[k];
         end
     end
-    reg                g4v, g4below, g4near, g4pos, g4neg;
+    reg                g4v;
+    reg        [3:0]   g4f;
     reg signed [34:0]  g4phi0, g4hit, g4lo, g4hi;
     reg signed [34:0]  g4lt [0:3];
     always @(posedge clk) begin
         g4v <= g3v;
-        g4below <= g3below;
-        g4near <= g3near;
-        g4pos <= g3pos;
-        g4neg <= g3neg;
+        g4f <= g3f;
         g4phi0 <= g3phi0;
         g4hit <= g3hit;
         g4lo <= min35(g3lo[0], g3lo[1]);
@@ -402,15 +385,13 @@ module cull_reach #(
         for (k = 0; k < 4; k = k + 1)
             g4lt[k] <= g3tmin[k] - g3bulge[k];
     end
-    reg                g5v, g5below, g5near, g5pos, g5neg;
+    reg                g5v;
+    reg        [3:0]   g5f;
     reg signed [34:0]  g5hit, g5span, g5alo, g5ahi;
     reg signed [34:0]  g5lt [0:1];
     always @(posedge clk) begin
         g5v <= g4v;
-        g5below <= g4below;
-        g5near <= g4near;
-        g5pos <= g4pos;
-        g5neg <= g4neg;
+        g5f <= g4f;
         g5hit <= g4hit;
         g5span <= g4hi - g4lo;
         g5alo <= g4phi0 + g4lo;
@@ -425,8 +406,8 @@ module cull_reach #(
     reg signed [34:0]  g6hit, g6lot, g6alo, g6ahi;
     always @(posedge clk) begin
         g6v <= g5v;
-        g6pos_near <= g5pos || g5near;
-        g6kind <= g5below ? 2'd0 : g5pos || g5neg || g5near || spans ? 2'd1 : 2'd2;
+        g6pos_near <= g5f[1] || g5f[2];
+        g6kind <= g5f[3] ? 2'd0 : g5f[2] || g5f[1] || g5f[0] || spans ? 2'd1 : 2'd2;
         g6hit <= g5hit;
         g6lot <= min35(g5lt[0], g5lt[1]);
         g6alo <= g5alo - MARGIN;
@@ -471,6 +452,10 @@ module cull_reach #(
     end
 
     // ---- helpers
+    // a corner's decisions {below, near, +z, −z} into the patch's so far
+    function [3:0] merge(input [3:0] acc, input [3:0] f);
+        merge = {acc[3] && f[3], acc[2] || f[2], acc[1] && f[1], acc[0] && f[0]};
+    endfunction
     function [32:0] mag33(input signed [32:0] v);
         mag33 = v[32] ? -v : v;
     endfunction
