@@ -4,7 +4,7 @@
 // its own (it runs beside the rotator, on the reference direction the rotator turns), so the
 // co-simulation compares its answers in order. Its latency, 2 · ITER + 17 = 45 clocks, is
 // within the rotator's 3(n + 4) + 2 for CONFIG.ITER n >= 11 (86 at the reset n = 24); below
-// that the model does not charge the difference.
+// that a culled ray's lanes wait for the difference (`cull::RAY_LATENCY`, as the model charges).
 //
 // A ray (x, y, z: Q2.30 words) is culled when z >= 0 and rho = max(|x|, |y|) >= 2^25 (sin θ at
 // least 2^-5); the outputs of any other ray are don't-care. Its angles come from the unit's

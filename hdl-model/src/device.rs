@@ -26,7 +26,7 @@ use crate::intersect::bezier::{
     BezierStats, SubdivConfig, BEZIER_ROWS, MAX_DEPTH, RECIP_LATENCY, STACK_ENTRIES,
 };
 use crate::intersect::patch_mem::{PatchMem, PATCH_WORDS};
-use crate::intersect::{IntersectUnit, LaneStats, RayIn, RayOut};
+use crate::intersect::{cull, IntersectUnit, LaneStats, RayIn, RayOut};
 use crate::params::{Params, MAX_RAYS_PER_CLOCK};
 use crate::regs::{self, bz_config, config, ctrl, error, irq, mode, result, skip, status};
 use crate::rotator::{RotIn, Rotator};
@@ -639,6 +639,7 @@ impl Device {
         let rot_in = self.issue();
         self.announce_head();
         for (rotator, input) in self.rotators.iter_mut().zip(rot_in) {
+            let turned = rotator.latency() as u64;
             let Some((dir, info)) = rotator.tick(input) else {
                 continue;
             };
@@ -653,6 +654,8 @@ impl Device {
                 uv: info.mode & mode::NO_UV == 0,
                 skip: info.skip,
                 recip_at: self.cycles + RECIP_LATENCY,
+                // the culling unit's ray side started with the rotator
+                bin_at: self.cycles + (cull::RAY_LATENCY as u64).saturating_sub(turned),
                 frame: info.frame,
                 dir_ref: info.dir_ref,
                 info,

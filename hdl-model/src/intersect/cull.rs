@@ -90,6 +90,11 @@ pub const CULL_CORDIC: CordicConfig = CordicConfig {
 /// and bands (3, `cull_bin.v`) and the answer's register (1): 62. (Until session 27 the model
 /// charged two vectorings and 5 clocks, 41 in all, before the RTL existed.)
 pub const REACH_LATENCY: u32 = 2 * crate::cordic::pipe_latency(CULL_CORDIC.iterations) + 26;
+/// Clocks from a reference direction to its sector and band, as the RTL (`cull_ray.v`) takes
+/// them: the two vectorings ([`CULL_CORDIC`]) each after a normalisation of 3 clocks, and the
+/// bins (3): 45. The unit runs beside the rotator from the clock the direction enters it, so a
+/// culled ray waits only where the rotator is shorter (CONFIG.ITER below 11).
+pub const RAY_LATENCY: u32 = 2 * crate::cordic::pipe_latency(CULL_CORDIC.iterations) + 9;
 /// Every vectoring's input is scaled by a power of two (either way: a leading-one detector and
 /// shifters) so that its larger component is in [2^(NORM_TOP − 1), 2^NORM_TOP): the most a
 /// Q2.30 container holds after the vectoring's gain of 1.65 on up to √2 times that. Its error

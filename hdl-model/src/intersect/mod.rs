@@ -131,6 +131,9 @@ pub struct RayIn<T: Copy + Default> {
     /// The clock from which its reciprocals 1/d are ready (the reciprocal unit at the ray
     /// queue's input); Bezier slots wait for it.
     pub recip_at: u64,
+    /// The clock from which its sector and band are ready ([`cull::RAY_LATENCY`] after it
+    /// entered the rotator); a culled ray's lanes wait for it.
+    pub bin_at: u64,
     /// The frame a ROTATE_TRACE entry was turned by (ψ, θ, φ), and its direction before the
     /// turn (the culling unit's input); `None` for entries traced as given.
     pub frame: Option<[Angle; 3]>,
@@ -847,7 +850,12 @@ impl<T: Copy + Default> IntersectUnit<T> {
             };
             self.stats.rays += 1;
             self.stats.culled_rays += bin.is_some() as u64;
-            let (planar, end) = self.lanes(&ray, bin, now);
+            let at = if bin.is_some() {
+                now.max(ray.bin_at)
+            } else {
+                now
+            };
+            let (planar, end) = self.lanes(&ray, bin, at);
             let (curved, bez_end) = self.bezier_lane(mem, &ray, now);
             finish = end.max(bez_end);
             let used = &mut self.clocks.release[self.clocks.buffer];

@@ -300,6 +300,7 @@ fn ray_in(r: &PlaneRay, seq: u32) -> RayIn<u32> {
         uv: r.uv,
         skip: r.skip,
         recip_at: 0,
+        bin_at: 0,
         frame: None,
         dir_ref: dir,
         info: seq,
