@@ -283,7 +283,7 @@ mod tests {
                 u[0] as i128 * v[1] as i128 - u[1] as i128 * v[0] as i128,
             ];
             let sign = if negate { -1 } else { 1 };
-            let e = cross.map(|c| ((c * sign) / (1i128 << shift)) as i64);
+            let e = cross.map(|c| crate::intersect::shift_toward_zero(c * sign, shift) as i64);
             let (words, kappa) = narrow_edge(&u, &v, shift, negate);
             assert!(words.iter().all(|w| (-(1 << 17)..(1 << 17)).contains(w)));
             kappas[kappa as usize] += 1;

@@ -96,6 +96,18 @@ pub fn origin_shift(o: [i64; 3]) -> u32 {
     (2 * bits + 2).saturating_sub(62)
 }
 
+/// x / 2^k rounded towards zero, as the set-up's truncation of edge normals is: −x gives
+/// −(x / 2^k), so a shared edge's two normals stay exactly opposite. Shifts on the magnitude,
+/// as the hardware does, rather than a 128-bit division (5 % of the model's time on a scene of a
+/// thousand patches, where every origin sets up every patch).
+pub fn shift_toward_zero(x: i128, k: u32) -> i128 {
+    if x < 0 {
+        -((-x) >> k)
+    } else {
+        x >> k
+    }
+}
+
 /// The per-patch set-up for one origin.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct LocalPatch {
@@ -791,8 +803,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 u[2] as i128 * v[0] as i128 - u[0] as i128 * v[2] as i128,
                 u[0] as i128 * v[1] as i128 - u[1] as i128 * v[0] as i128,
             ];
-            // division by a power of two rounds towards zero: −x keeps giving −(x/2^k)
-            lp.e[k] = cross.map(|c| ((c * s) / (1i128 << shift)) as i64);
+            lp.e[k] = cross.map(|c| shift_toward_zero(c * s, shift) as i64);
         }
         lp.coarse = self.coarse_words(&a[..sides], &lp.e[..sides], shift, s < 0);
         lp.sides = sides as u8;
@@ -1251,5 +1262,21 @@ mod tests {
         pub(super) fn sym(&mut self) -> f64 {
             2.0 * self.unit() - 1.0
         }
+    }
+
+    #[test]
+    fn the_shift_rounds_towards_zero_as_the_division_did() {
+        let mut rng = Rng(0x9e37_79b9_7f4a_7c15);
+        for n in 0..20_000u32 {
+            // edge normals' components: products of 33-bit words, either sign
+            let x = rng.signed(60) as i128 * rng.signed(8) as i128;
+            let k = n % 41;
+            assert_eq!(
+                super::shift_toward_zero(x, k),
+                x / (1i128 << k),
+                "{x} >> {k}"
+            );
+        }
+        assert_eq!(super::shift_toward_zero(-1, 3), 0);
     }
 }
