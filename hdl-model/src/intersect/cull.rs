@@ -88,7 +88,8 @@ pub const CULL_CORDIC: CordicConfig = CordicConfig {
 /// decisions (3), the two vectorings ([`CULL_CORDIC`]) each after a normalisation of 3 clocks
 /// (`cull_angles.v`), the patch gathered (1), its wedge and polar range (7), the ends' sectors
 /// and bands (3, `cull_bin.v`) and the answer's register (1): 62. (Until session 27 the model
-/// charged two vectorings and 5 clocks, 41 in all, before the RTL existed.)
+/// charged two vectorings and 5 clocks, 41 in all, before the RTL existed.) In the compact
+/// set-up unit a corner first waits for its edge's words: `intersect::CULL_SETUP_LATENCY`.
 pub const REACH_LATENCY: u32 = 2 * crate::cordic::pipe_latency(CULL_CORDIC.iterations) + 26;
 /// Clocks from a reference direction to its sector and band, as the RTL (`cull_ray.v`) takes
 /// them: the two vectorings ([`CULL_CORDIC`]) each after a normalisation of 3 clocks, and the

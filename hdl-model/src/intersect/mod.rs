@@ -303,14 +303,31 @@ fn merge_latency(lanes: u32) -> u64 {
     (32 - lanes.leading_zeros()) as u64 + 1
 }
 
-/// Latency of the set-up pipe after its last patch: without culling, the edge normals'
-/// products; with it, the culling unit's reach of the last patch ([`cull::REACH_LATENCY`], as
-/// its RTL `cull_reach.v` takes it), which the edge words join early enough to hide.
-fn setup_latency(culling: bool) -> u64 {
-    if culling {
-        cull::REACH_LATENCY as u64
-    } else {
-        2
+/// Clocks from a planar patch's last corner to its last edge's coarse words and its κ, in the
+/// compact set-up unit (`rtl/setup_unit.v`): the closing edge enters the edge unit two clocks
+/// after the last corner (an edge is formed a clock after its second corner, the closing one a
+/// clock after that), takes its 15, and the patch's κ is registered.
+pub const EDGE_SETUP_LATENCY: u32 = 18;
+/// Clocks a corner waits in the compact set-up unit before the culling unit's reach takes it
+/// with its edge's words and the patch's κ (`rtl/setup_unit.v`): a quad's κ is in 19 clocks
+/// after its first corner's edge words could be, so every corner waits 21.
+pub const REACH_DELAY: u32 = 21;
+/// Clocks from a planar patch's last corner to its reach in the compact set-up unit:
+/// [`REACH_DELAY`] + [`cull::REACH_LATENCY`] = 83, as `rtl/setup_unit.v` takes them (until
+/// session 28 the model charged the reach's 62 alone, as if the edge words were there at once).
+pub const CULL_SETUP_LATENCY: u32 = REACH_DELAY + cull::REACH_LATENCY;
+
+/// Latency of the set-up pipe after its last patch: the wide datapath's edge normals' products
+/// (`rtl/plane_setup.v`), or with culling the reach ([`cull::REACH_LATENCY`]); the compact
+/// one's edge words ([`EDGE_SETUP_LATENCY`]; 2 until session 28), or with culling the reach of
+/// the last patch ([`CULL_SETUP_LATENCY`]).
+fn setup_latency(compact: bool, culling: bool) -> u64 {
+    match (compact, culling) {
+        (true, true) => CULL_SETUP_LATENCY as u64,
+        (true, false) => EDGE_SETUP_LATENCY as u64,
+        // the wide datapath's words are truncated from its exact edges, early enough to hide
+        (false, true) => cull::REACH_LATENCY as u64,
+        (false, false) => 2,
     }
 }
 
@@ -680,7 +697,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         } else {
             (count as u64).div_ceil(self.params.banks() as u64)
         };
-        let latency = setup_latency(axes.is_some());
+        let latency = setup_latency(self.params.compact, axes.is_some());
         if self.params.compact {
             let begun = match self.clocks.lookahead.take() {
                 Some((k, at)) if k == key => at,
