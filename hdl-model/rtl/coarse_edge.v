@@ -18,13 +18,19 @@
 //   12. eta = ceil(16 E / 2^m) and the truncation term 2^(4 - S);
 //   13. need - 1 = 15 + eta + 2^(4 - S);
 // 14-15. kappa = bits(need - 1) - 4, at most 15 ("no bound"), in two clocks (its leading one).
-module coarse_edge (
+//
+// The side's sign is taken with the edge (LATE_NEGATE = 0) or, for a set-up unit that learns it
+// from h while the edge is in the pipe (`setup_unit.v`), seven clocks after it, as stage 8 uses
+// it (LATE_NEGATE = 1).
+module coarse_edge #(
+    parameter integer LATE_NEGATE = 0
+) (
     input  wire         clk,
     input  wire         in_valid,
     input  wire [98:0]  in_u,      // u_c (33 bits each) at bits 33c
     input  wire [98:0]  in_v,
     input  wire [2:0]   in_shift,  // the set-up pass's origin-wide truncation
-    input  wire         in_negate, // the side's sign (h < 0)
+    input  wire         in_negate, // the side's sign (h < 0): see LATE_NEGATE
     output reg          out_valid,
     output reg  [53:0]  out_words, // e'_c (18-bit signed) at bits 18c
     output reg  [3:0]   out_kappa
@@ -215,6 +221,7 @@ module coarse_edge (
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
+    wire side = (LATE_NEGATE != 0) ? in_negate : negate[6];
     reg signed [36:0] s8_x [0:2];
     reg [35:0]        s8_or;
     reg [19:0]        s8_e;
@@ -223,7 +230,7 @@ module coarse_edge (
         s8_or <= mag37(s7_x[0]) | mag37(s7_x[1]) | mag37(s7_x[2]);
         s8_e <= e_max[19:0];
         s8_pq <= s7_pq;
-        for (i = 0; i < 3; i = i + 1) s8_x[i] <= negate[6] ? -s7_x[i] : s7_x[i];
+        for (i = 0; i < 3; i = i + 1) s8_x[i] <= side ? -s7_x[i] : s7_x[i];
     end
 
     // 9: the top of |X|'s leading one (its place's three upper bits and the byte below them)

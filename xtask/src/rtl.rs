@@ -104,6 +104,24 @@ pub const CULL_BENCH: Bench = Bench {
     report: "cull",
 };
 
+/// The compact set-up unit for planar patches (`setup_unit.v`): the plane test, the edge words
+/// (`coarse_edge.v`) and the reach (`cull_reach.v`) of a patch, a corner a clock, pass after
+/// pass, its answers compared with their clocks.
+pub const SETUP_BENCH: Bench = Bench {
+    top: "setup_unit",
+    sources: &[
+        "setup_unit.v",
+        "coarse_edge.v",
+        "cull_reach.v",
+        "cull_angles.v",
+        "cull_bin.v",
+        "cordic_pipe.v",
+        "const_mul.v",
+    ],
+    cpp: "tb/setup_tb.cpp",
+    report: "setup",
+};
+
 /// The multipliers: `array_mul.v` (a multiplier without DSP tiles) and `const_mul.v` (a product
 /// by a constant), against the exact integer products, not against model vectors.
 pub const MUL_BENCH: Bench = Bench {
@@ -186,6 +204,7 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     lint_top(REGS_BENCH.top, REGS_BENCH.sources, &[])?;
     lint_top(COARSE_BENCH.top, COARSE_BENCH.sources, &[])?;
     lint_top(CULL_BENCH.top, CULL_BENCH.sources, &[])?;
+    lint_top(SETUP_BENCH.top, SETUP_BENCH.sources, &[])?;
     lint_top(MUL_BENCH.top, MUL_BENCH.sources, &[])?;
     for d in designs(cfg, depth) {
         let generics: Vec<String> = d.params.iter().map(|(k, v)| format!("-G{k}={v}")).collect();
@@ -215,10 +234,14 @@ pub struct Workload {
     /// Random directions, words and boundary cases for the culling unit's ray side (after the
     /// hemispheres' and the boundary sweeps).
     pub cull_random: u32,
+    /// Random patches, in passes of one to eight, for the set-up unit (after the scene's
+    /// set-up passes from `coarse_samples` points a slot).
+    pub setup_random: u32,
 }
 
 /// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's, the
-/// coarse edge units' and the culling unit's (`once`: none depends on CONFIG's CORDIC words)
+/// coarse edge units', the culling unit's and the set-up unit's (`once`: none depends on
+/// CONFIG's CORDIC words)
 /// and the planar unit's at a depth (each into its own file) on the Cornell box, with the
 /// release build of the generator (`release`) or the test suite's debug build.
 pub fn vectors(
@@ -226,7 +249,7 @@ pub fn vectors(
     plane: Option<(u32, &Path)>,
     w: Workload,
     release: bool,
-    (cordic_out, once): (&Path, Option<[&Path; 3]>),
+    (cordic_out, once): (&Path, Option<[&Path; 4]>),
 ) -> Result<(), String> {
     let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
     if release {
@@ -239,7 +262,7 @@ pub fn vectors(
         .args(["--scene", "scenes/cornell.toml"])
         .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
         .args(["--random", &n(w.random)]);
-    if let Some([regs_out, coarse_out, cull_out]) = once {
+    if let Some([regs_out, coarse_out, cull_out, setup_out]) = once {
         c.arg("--regs")
             .arg(regs_out)
             .args(["--regs-steps", &n(w.regs_steps)]);
@@ -250,6 +273,9 @@ pub fn vectors(
         c.arg("--cull")
             .arg(cull_out)
             .args(["--cull-random", &n(w.cull_random)]);
+        c.arg("--setup")
+            .arg(setup_out)
+            .args(["--setup-random", &n(w.setup_random)]);
     }
     if let Some((depth, out)) = plane {
         c.arg("--plane")
@@ -419,6 +445,7 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     COARSE_MUTANT.caught("mutant-coarse", &[], &[file("coarse.txt")], opt)?;
     CULL_MUTANT.caught("mutant-cull", &[], &[file("cull.txt")], opt)?;
     REACH_MUTANT.caught("mutant-reach", &[], &[file("cull.txt")], opt)?;
+    SETUP_MUTANT.caught("mutant-setup", &[], &[file("setup.txt")], opt)?;
     MUL_MUTANT.caught("mutant-mul", &[], &[MUL_CLOCKS.to_string()], opt)?;
     Ok(())
 }
@@ -467,9 +494,20 @@ const REACH_MUTANT: Mutant = Mutant {
     what: "bit 0 of the culling unit's NEAR_AXIS",
 };
 
+/// The set-up unit's plane test at 2^35 instead of 2^34 (`intersect::PLANE_EPS`, one bit of its
+/// shift), so that an origin within 2^35 of a patch's plane sets it up as on the plane.
+const SETUP_MUTANT: Mutant = Mutant {
+    bench: SETUP_BENCH,
+    extra: &["cordic_rom.vh"],
+    file: "setup_unit.v",
+    from: "67'd1 << 34",
+    to: "67'd1 << 35",
+    what: "bit 0 of the set-up unit's PLANE_EPS shift",
+};
+
 /// Co-simulates the CORDIC units at `cfg` and, if asked, the register file, the coarse edge
-/// units and the culling unit's ray side (`once`) and the planar unit at a `depth` (none of them depends on the CORDIC words),
-/// on `w`; the reports.
+/// units, the culling unit, the set-up unit and the multipliers (`once`) and the planar unit at
+/// a `depth` (none of them depends on the CORDIC words), on `w`; the reports.
 fn cosim_run(
     cfg: Cordic,
     depth: Option<u32>,
@@ -486,7 +524,8 @@ fn cosim_run(
         dir.join("coarse.txt"),
         dir.join("cull.txt"),
     );
-    let once_out = once.then_some([rv.as_path(), ev.as_path(), uv.as_path()]);
+    let sv = dir.join("setup.txt");
+    let once_out = once.then_some([rv.as_path(), ev.as_path(), uv.as_path(), sv.as_path()]);
     vectors(
         cfg,
         depth.map(|d| (d, pv.as_path())),
@@ -514,6 +553,9 @@ fn cosim_run(
         let exe = build(CULL_BENCH, &[], &src, &dir.join("cull"), opt)?;
         let r = cosim(CULL_BENCH, &exe, &[uv.display().to_string()])?;
         out.push(("culling unit".to_string(), r));
+        let exe = build(SETUP_BENCH, &[], &src, &dir.join("setup"), opt)?;
+        let r = cosim(SETUP_BENCH, &exe, &[sv.display().to_string()])?;
+        out.push(("set-up unit".to_string(), r));
         let exe = build(MUL_BENCH, &[], &src, &dir.join("mul"), opt)?;
         let r = cosim(MUL_BENCH, &exe, &[MUL_CLOCKS.to_string()])?;
         out.push(("multipliers".to_string(), r));
@@ -549,6 +591,7 @@ pub fn ci() -> Result<(), String> {
         coarse_samples: 1,
         coarse_random: 5_000,
         cull_random: 5_000,
+        setup_random: 5_000,
     };
     let reports = cosim_run(cfg, Some(depth), true, w, false, "-O1", &dir)?;
     let bad: u64 = reports.iter().map(|(_, r)| r.mismatches).sum();
@@ -700,9 +743,28 @@ pub fn reach_design() -> Design {
     }
 }
 
+/// The compact set-up unit's harness (`setup_unit.v`, with its edge unit and reach).
+pub fn setup_design() -> Design {
+    Design {
+        name: "setup".to_string(),
+        top: "syn_setup",
+        files: &[
+            "setup_unit.v",
+            "coarse_edge.v",
+            "cull_reach.v",
+            "cull_angles.v",
+            "cull_bin.v",
+            "cordic_pipe.v",
+            "const_mul.v",
+            "syn/syn_setup.v",
+        ],
+        params: vec![],
+    }
+}
+
 /// Every synthesis harness at CORDIC `cfg` and (u,v) depth `depth`, the rotator's first (the
 /// final line's figures are its own).
-fn designs(cfg: Cordic, depth: u32) -> [Design; 7] {
+fn designs(cfg: Cordic, depth: u32) -> [Design; 8] {
     [
         rotator_design(cfg),
         plane_design(depth),
@@ -711,6 +773,7 @@ fn designs(cfg: Cordic, depth: u32) -> [Design; 7] {
         coarse_design(),
         cull_design(),
         reach_design(),
+        setup_design(),
     ]
 }
 
@@ -931,6 +994,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
         coarse_samples: 2,
         coarse_random: 20_000,
         cull_random: 100_000,
+        setup_random: 100_000,
     };
     let mut total = Cosim::default();
     for (k, cfg) in CONFIGS.iter().enumerate() {

@@ -123,9 +123,11 @@ fn steps() -> Vec<Step> {
                    the coarse edge units' words and verdicts on the Cornell box's set-up \
                    passes and random patches, the culling unit's sectors and bands of \
                    hemisphere and random directions and its reach of the Cornell box's \
-                   patches and random ones, and the multipliers against exact products, then \
-                   six one-bit mutants of the RTL shown to be caught (cargo xtask rtl is the \
-                   full form, with synthesis)",
+                   patches and random ones, the set-up unit's plane tests, edge words and \
+                   reaches of the Cornell box's set-up passes and random passes with their \
+                   clocks, and the multipliers against exact products, then seven one-bit \
+                   mutants of the RTL shown to be caught (cargo xtask rtl is the full form, \
+                   with synthesis)",
             kind: Kind::Check(crate::rtl::ci),
         },
         Step {

@@ -17,11 +17,13 @@
 //!   reference directions of hemispheres of 8 to `--circles` circles and `--cull-random N`
 //!   random directions, words and boundary cases; its patch side on the scene's set-up passes
 //!   (`--coarse-samples K` lattice points a slot) and as many random patches, words and edge
-//!   cases.
+//!   cases;
+//! - with `--setup OUT6`: the compact set-up unit on the scene's set-up passes (`--coarse-samples
+//!   K` lattice points a slot) and random passes of `--setup-random N` patches in all.
 
 use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
-use hemi_bench::rtl::{coarse, cordic, cull, plane, reach, regs};
+use hemi_bench::rtl::{coarse, cordic, cull, plane, reach, regs, setup};
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use std::time::Instant;
@@ -45,6 +47,8 @@ struct Args {
     coarse_random: usize,
     cull: Option<String>,
     cull_random: usize,
+    setup: Option<String>,
+    setup_random: usize,
     seed: u64,
 }
 
@@ -68,6 +72,8 @@ fn parse() -> Result<Args> {
         coarse_random: 20_000,
         cull: None,
         cull_random: 20_000,
+        setup: None,
+        setup_random: 20_000,
         seed: 0x2545_f491_4f6c_dd1d,
     };
     let mut it = std::env::args().skip(1);
@@ -92,13 +98,15 @@ fn parse() -> Result<Args> {
             "--coarse-random" => a.coarse_random = value()?.parse()?,
             "--cull" => a.cull = Some(value()?),
             "--cull-random" => a.cull_random = value()?.parse()?,
+            "--setup" => a.setup = Some(value()?),
+            "--setup-random" => a.setup_random = value()?.parse()?,
             "--seed" => a.seed = value()?.parse()?,
             s if !s.starts_with('-') && a.out.is_empty() => a.out = s.to_string(),
             s => bail!("unknown argument `{s}`"),
         }
     }
     if a.out.is_empty() || !a.cfg.is_valid() || !(1..=24).contains(&a.depth) {
-        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--seed S]");
+        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--seed S]");
     }
     Ok(a)
 }
@@ -131,7 +139,9 @@ fn main() -> Result<()> {
     );
     // the scene's slots as the model's patch memory holds them, read once for both units
     let slots = match &scene {
-        Some(s) if a.plane.is_some() || a.coarse.is_some() || a.cull.is_some() => {
+        Some(s)
+            if a.plane.is_some() || a.coarse.is_some() || a.cull.is_some() || a.setup.is_some() =>
+        {
             plane::loaded_slots(&s.kernel_patches())?
         }
         _ => Vec::new(),
@@ -157,6 +167,15 @@ fn main() -> Result<()> {
     }
     if let Some(out) = &a.cull {
         cull_vectors(&a, &slots, out)?;
+    }
+    if let Some(out) = &a.setup {
+        let sectors = hemi_hdl_model::params::Params::DEFAULT.sectors;
+        let (text, c) = setup::vectors(sectors, &slots, a.coarse_samples, a.setup_random, a.seed);
+        std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
+        println!(
+            "rtl-vectors: setup passes={} patches={} inactive={} below={} wedges={}",
+            c.passes, c.patches, c.inactive, c.below, c.wedges
+        );
     }
     Ok(())
 }

@@ -9,6 +9,7 @@
 //! - [`cordic`]: the rotator and the angle unit's vectoring pipe;
 //! - [`cull`]: the culling unit's ray side (a ray's sector and band);
 //! - [`reach`]: the culling unit's patch side (a patch's sectors and bands);
+//! - [`setup`]: the compact set-up unit (a patch's plane test, edge words and reach, per origin);
 //! - [`plane`]: the planar intersection unit with (u,v) (one lane, no culling);
 //! - [`regs`]: the register file and its AHB-Lite bus interface.
 
@@ -18,3 +19,4 @@ pub mod cull;
 pub mod plane;
 pub mod reach;
 pub mod regs;
+pub mod setup;

@@ -41,7 +41,7 @@ pub struct Counts {
 }
 
 /// The frame's axes u, v, w as Q2.30 words.
-type Axes = [[i32; 3]; 3];
+pub(super) type Axes = [[i32; 3]; 3];
 
 /// The vectors for a unit of `sectors` sectors: the set-up passes over `slots` from K × K
 /// (`samples`) lattice points of each slot, then `random` random patches, words and edge cases.
@@ -205,7 +205,7 @@ impl Vectors {
 }
 
 /// The frame's axes as the culling unit gets them: x̂, ŷ, ẑ turned by the model's rotator.
-fn rotated_axes(angles: [i32; 3]) -> Axes {
+pub(super) fn rotated_axes(angles: [i32; 3]) -> Axes {
     let unit = [0, 1, 2].map(|k| core::array::from_fn(|c| if c == k { 1 << 30 } else { 0 }));
     let t = turned(&unit, angles, CordicConfig::DEFAULT);
     [t[0], t[1], t[2]]
@@ -213,7 +213,7 @@ fn rotated_axes(angles: [i32; 3]) -> Axes {
 
 /// The axes of a random frame, as pass 1 would build one for a random normal and spin and the
 /// model's rotator turn them.
-fn random_axes(rng: &mut XorShift) -> Axes {
+pub(super) fn random_axes(rng: &mut XorShift) -> Axes {
     let n = unit_vec(rng).map(|c| c as f32);
     let spin = (rng.f64() * std::f64::consts::TAU) as f32;
     let rot = Rotation::onto_spun(Vec3::new(n[0], n[1], n[2]), spin);
