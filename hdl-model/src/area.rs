@@ -463,6 +463,14 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
         p.add(banks, 34);
         p.add(banks * 3 * 6, 34);
     }
+    if params.sectors > 0 && params.compact {
+        // each corner waits for its edge's words and the patch's κ before the reach takes it
+        // (`rtl/setup_unit.v`, since session 28): the corner and its flags, the words, and the
+        // patch's plane test and κ beside the reach
+        let wait = crate::intersect::REACH_DELAY as u64;
+        let reach = crate::intersect::cull::REACH_LATENCY as u64;
+        p.reg(banks * ((wait - 1) * (3 * 33 + 4) + (wait - 17) * 54 + reach * 5));
+    }
     if params.sectors > 0 {
         for _ in 0..banks {
             p.mul(9, 18, 18);
