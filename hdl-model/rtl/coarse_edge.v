@@ -33,7 +33,10 @@ module coarse_edge #(
     input  wire         in_negate, // the side's sign (h < 0): see LATE_NEGATE
     output reg          out_valid,
     output reg  [53:0]  out_words, // e'_c (18-bit signed) at bits 18c
-    output reg  [3:0]   out_kappa
+    output reg  [3:0]   out_kappa,
+    // u~, u scaled to 18 bits (`coarse::block18`), 5 clocks after the edge: a set-up unit's
+    // reach takes the corner in these words rather than scaling it again
+    output wire [53:0]  out_u18
 );
     // The leading one's place of a nonzero value, by halving, in two clocks (one level of
     // halving a bit of the place; as one loop over the bits it was a chain of 36 multiplexers):
@@ -175,6 +178,8 @@ module coarse_edge #(
             s5_d[i] <= narrow(s4_d[i], s4_ld);
         end
     end
+
+    assign out_u18 = {s5_u[2], s5_u[1], s5_u[0]};
 
     // 6: the six products u~_j delta~_k, and the words' magnitudes
     reg signed [35:0] s6_p [0:5];

@@ -26,10 +26,14 @@
 // 6. below the horizon if every corner is; every sector if the axis may be inside (every edge
 //    allows it, or κ bounds nothing), a corner is near the axis, or the wedge with its margins
 //    spans π; the ends' sectors and bands, each widened by the margin 2^-7 rad (`cull_bin.v`).
+//
+// SCALED = 1: the corner comes already scaled, ã in in_a's low 18 bits (a set-up unit's edge unit
+// forms it, `coarse_edge.v`'s out_u18), and step 1's scaling is left out; the clocks are the same.
 module cull_reach #(
     parameter integer ITER = 14,
     parameter integer W = 20,
-    parameter integer SECTORS = 32
+    parameter integer SECTORS = 32,
+    parameter integer SCALED = 0
 ) (
     input  wire               clk,
     input  wire               in_valid,
@@ -135,7 +139,7 @@ module cull_reach #(
         v2 <= v1;
         l2 <= l1;
         for (i = 0; i < 3; i = i + 1) begin
-            w2[i] <= block(a1[i], h1);
+            w2[i] <= (SCALED != 0) ? a1[i][17:0] : block(a1[i], h1);
             e2[i] <= e1[i];
             xs2[i] <= {3'd0, xa1[3 * i]} + {3'd0, xa1[3 * i + 1]} + {3'd0, xa1[3 * i + 2]}
                 + 21'd3;

@@ -4,7 +4,8 @@
 // edges' coarse words with their κ (`coarse_edge.v`) — and where culled rays can meet it
 // (`cull_reach.v`). Its three parts, and how they are sequenced:
 // - a = v − O, a corner a clock; h from one multiplier over the patch's first three clocks
-//   (n_x a_x, n_y a_y, n_z a_z), so the side's sign is known 7 clocks after the first corner;
+//   (n_x a_x, n_y a_y, n_z a_z), so the side's sign is known 9 clocks after the first corner,
+//   as the first edge reaches the edge unit's stage 8;
 // - the edge from corner k to k + 1 enters the edge unit with corner k + 1, the closing edge
 //   (last to first) on the clock after the last corner, when the next patch's first corner
 //   forms no edge: an edge a clock. The side's sign reaches the edge unit 7 clocks after its
@@ -120,36 +121,51 @@ module setup_unit #(
     end
     wire signed [32:0] mul_a = h_step[1] ? held_a[1] : h_step[2] ? held_a[2] : r_a[0];
     wire signed [31:0] mul_n = h_step[1] ? held_n[1] : h_step[2] ? held_n[2] : r_n[0];
-    // along the multiplier (operands, product, product again): the x product, the z product
+    // along the multiplier: the operands, four partial products of at most 18 × 18 bits (a DSP
+    // tile each), the outer two side by side and the inner two summed, the product; beside it,
+    // which is the x product and which the z product (as one product and an adder tree in a
+    // clock the multiplier placed at 82 MHz)
     reg signed [32:0] m_a;
     reg signed [31:0] m_n;
-    reg signed [64:0] m_p1, m_p2;
-    reg [2:0]         m_x, m_z, m_par;
+    reg signed [30:0] m_hh;
+    reg signed [34:0] m_hl, m_lh;
+    reg        [33:0] m_ll;
+    reg        [64:0] m_outer;
+    reg signed [35:0] m_inner;
+    reg signed [64:0] m_p;
+    reg [3:0]         m_x, m_z, m_par;
     always @(posedge clk) begin
         m_a <= mul_a;
         m_n <= mul_n;
-        m_p1 <= m_a * m_n;
-        m_p2 <= m_p1;
-        m_x <= {m_x[1:0], r_valid & r_first};
-        m_z <= {m_z[1:0], h_step[2]};
-        m_par <= {m_par[1:0], h_par};
+        // a = ah 2^17 + al, n = nh 2^17 + nl (al, nl unsigned 17 bits)
+        m_hh <= $signed(m_a[32:17]) * $signed(m_n[31:17]);
+        m_hl <= $signed(m_a[32:17]) * $signed({1'b0, m_n[16:0]});
+        m_lh <= $signed({1'b0, m_a[16:0]}) * $signed(m_n[31:17]);
+        m_ll <= m_a[16:0] * m_n[16:0];
+        m_outer <= {m_hh, m_ll};
+        m_inner <= {m_hl[34], m_hl} + {m_lh[34], m_lh};
+        m_p <= m_outer + {{12{m_inner[35]}}, m_inner, 17'd0};
+        m_x <= {m_x[2:0], r_valid & r_first};
+        m_z <= {m_z[2:0], h_step[2]};
+        m_par <= {m_par[2:0], h_par};
     end
     // the sum, restarted by each patch's x product (the three come in a row)
     reg signed [66:0] h_acc;
     reg               h_done = 1'b0;
     reg               h_done_par;
     always @(posedge clk) begin
-        h_acc <= (m_x[2] ? 67'sd0 : h_acc) + {{2{m_p2[64]}}, m_p2};
-        h_done <= m_z[2];
-        h_done_par <= m_par[2];
+        h_acc <= (m_x[3] ? 67'sd0 : h_acc) + {{2{m_p[64]}}, m_p};
+        h_done <= m_z[3];
+        h_done_par <= m_par[3];
     end
-    wire [66:0] h_mag = h_acc[66] ? -h_acc : h_acc;
+    // off the plane: |h| > PLANE_EPS, as two compares side by side
+    wire off_plane = (h_acc > $signed(PLANE_EPS)) | (h_acc < -$signed(PLANE_EPS));
     reg side [0:1];
     reg active [0:1];
     always @(posedge clk) begin
         if (h_done) begin
             side[h_done_par] <= h_acc[66];
-            active[h_done_par] <= h_mag > PLANE_EPS;
+            active[h_done_par] <= off_plane;
         end
     end
 
@@ -192,10 +208,11 @@ module setup_unit #(
         e_last <= {e_last[13:0], closing};
         e_parity <= {e_parity[13:0], e_par};
     end
+    wire [53:0] u18;
     coarse_edge #(.LATE_NEGATE(1)) edges (
         .clk(clk), .in_valid(e_in), .in_u(e_u), .in_v(e_v), .in_shift(pass_shift[e_tag]),
         .in_negate(side[neg_par[6]]), .out_valid(out_e_valid), .out_words(out_e_words),
-        .out_kappa(out_e_kappa));
+        .out_kappa(out_e_kappa), .out_u18(u18));
 
     // the patch's κ: the largest of its edges', kept by parity once its last edge is out
     reg [3:0] k_run;
@@ -217,9 +234,11 @@ module setup_unit #(
     end
 
     // ---- the corners wait DELAY − 1 clocks for their edges' words and the patch's κ; at the
-    // 8th the patch's sign and plane test are in, and its active bit is taken
+    // 8th the patch's sign and plane test are in, and its active bit is taken. The corner itself
+    // waits as the edge unit scaled it to 18 bits (ã, 5 clocks after its edge, which enters 2
+    // after the corner): the reach does not scale it again (SCALED)
     reg [DELAY-2:0] d_valid, d_last, d_tag, d_par, d_active;
-    reg [98:0]      d_a [0:DELAY-2];
+    reg [53:0]      u_wait [0:DELAY-8];
     always @(posedge clk) begin
         d_valid <= {d_valid[DELAY-3:0], r_valid};
         d_last <= {d_last[DELAY-3:0], r_last};
@@ -227,16 +246,18 @@ module setup_unit #(
         d_par <= {d_par[DELAY-3:0], r_par};
         d_active <= {d_active[DELAY-3:0], 1'b0};
         d_active[8] <= active[d_par[7]];
-        d_a[0] <= {r_a[2], r_a[1], r_a[0]};
-        for (j = 1; j <= DELAY - 2; j = j + 1) d_a[j] <= d_a[j-1];
+        u_wait[0] <= u18;
+        for (j = 1; j <= DELAY - 8; j = j + 1) u_wait[j] <= u_wait[j-1];
     end
     wire        c_valid = d_valid[DELAY-2];
     wire        c_last = d_last[DELAY-2];
-    wire [98:0] c_a = d_a[DELAY-2];
+    wire [53:0] c_u = u_wait[DELAY-8];
+    wire [98:0] c_a = {{15{c_u[53]}}, c_u[53:36], {15{c_u[35]}}, c_u[35:18], {15{c_u[17]}},
+                       c_u[17:0]};
     wire [53:0] c_e = e_wait[DELAY-18];
     wire [3:0]  c_kappa = kappa[d_par[DELAY-2]];
     wire [287:0] c_axes = pass_axes[d_tag[DELAY-2]];
-    cull_reach #(.ITER(ITER), .W(W), .SECTORS(SECTORS)) reach (
+    cull_reach #(.ITER(ITER), .W(W), .SECTORS(SECTORS), .SCALED(1)) reach (
         .clk(clk), .in_valid(c_valid), .in_last(c_last),
         .in_ax(c_a[32:0]), .in_ay(c_a[65:33]), .in_az(c_a[98:66]),
         .in_ex(c_e[17:0]), .in_ey(c_e[35:18]), .in_ez(c_e[53:36]), .in_kappa(c_kappa),
