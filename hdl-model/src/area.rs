@@ -23,7 +23,11 @@
 //! - a register bit is a flip-flop;
 //! - a memory of depth d and width w is ⌈w/36⌉·⌈d/512⌉ block RAMs (512 × 36 per EBR), or
 //!   ⌈d·w/16⌉ LUT4s of distributed RAM when it holds under 2 kbit;
-//! - 10 % of the LUTs again for control and multiplexers.
+//! - 10 % of the LUTs again for control and multiplexers;
+//! - a unit whose RTL has been placed (the compact set-up unit and the culling unit's ray side,
+//!   since session 28) is counted by its place and route instead: its LUT4s and flip-flops as
+//!   nextpnr-ecp5 packed them (its own control included, so no 10 % on them), its multipliers
+//!   still listed, mapped to tiles or arrays as the part allows.
 //!
 //! Two parts are counted: the **ray datapath** this crate's [`Params`] change (front end,
 //! culling, set-up units, lanes, min tree and their memories) and the **fixed units** every
@@ -85,7 +89,35 @@ pub struct Proxy {
     pub register_bits: u64,
     /// Memories (depth, width).
     pub memories: Vec<(u64, u64)>,
+    /// LUT4s and flip-flops of placed units ([`Placed`]), besides their multipliers.
+    pub placed: Fpga,
 }
+
+/// A unit counted by its place and route (`cargo xtask rtl`, seed 1, nextpnr-ecp5 at 100
+/// MHz): its packed LUT4s, and its flip-flops less its harness's input chain. Its DSP tiles are
+/// the multipliers the proxy lists beside it.
+#[derive(Clone, Copy, Debug)]
+pub struct Placed {
+    /// LUT4s (logic, carry chains and distributed RAM).
+    pub luts: u64,
+    /// Flip-flops.
+    pub ffs: u64,
+}
+
+/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 28: 21,372 LUT4s and
+/// 14,772 flip-flops placed, 583 of them its harness's, 22 DSP tiles for its 6 edge products,
+/// h's 32 × 34 and the reach's 12; 102.1 MHz).
+pub const SETUP_UNIT: Placed = Placed {
+    luts: 21_372,
+    ffs: 14_772 - 583,
+};
+
+/// The culling unit's ray side for one ray a clock, `rtl/cull_ray.v` (session 27: 5,250 LUT4s
+/// and 3,415 flip-flops placed, 98 of them its harness's, no DSP tile; 112.4 MHz).
+pub const RAY_SIDE: Placed = Placed {
+    luts: 5_250,
+    ffs: 3_415 - 98,
+};
 
 impl Proxy {
     fn add(&mut self, count: u64, bits: u64) {
@@ -114,6 +146,12 @@ impl Proxy {
 
     fn mem(&mut self, depth: u64, width: u64) {
         self.memories.push((depth, width));
+    }
+
+    /// `count` placed units.
+    fn placed(&mut self, count: u64, unit: Placed) {
+        self.placed.luts += count * unit.luts;
+        self.placed.ffs += count * unit.ffs;
     }
 
     /// A pipelined CORDIC of `cfg` (quadrant stage, micro-rotations, gain stage).
@@ -159,6 +197,8 @@ impl Proxy {
         self.multipliers.extend(other.multipliers);
         self.register_bits += other.register_bits;
         self.memories.extend(other.memories);
+        self.placed.luts += other.placed.luts;
+        self.placed.ffs += other.placed.ffs;
     }
 
     /// Multiplier bits: Σ a·b.
@@ -195,8 +235,8 @@ impl Proxy {
                 out.brams += w.div_ceil(36) * d.div_ceil(512);
             }
         }
-        out.luts = luts + luts / 10;
-        out.ffs = self.register_bits + array_ffs;
+        out.luts = luts + luts / 10 + self.placed.luts;
+        out.ffs = self.register_bits + array_ffs + self.placed.ffs;
         out
     }
 }
@@ -355,11 +395,6 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     exact.reg(4 * 3 * 34 + 3 * 68 + 2 * 68 + 98);
     let mut setup = Proxy::default();
     setup_units(&mut setup, params, b);
-    if params.sectors > 0 {
-        // a corner a clock needs its polar vectoring too, chained after the azimuth's (its
-        // angle alone is used)
-        setup.vectoring(CULL_CORDIC, b, false);
-    }
     walks(&mut coarse, params, l);
     let mut front = Proxy::default();
     front_end(&mut front, params, cfg);
@@ -441,6 +476,10 @@ fn bitmaps(p: &mut Proxy, params: &Params, copies: u64) {
 /// sectors and bands; the rays' sector and band vectorings and constant multiplies,
 /// `rays_per_clock` of each.
 fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
+    if params.compact && params.sectors > 0 {
+        placed_setup_units(p, params, banks);
+        return;
+    }
     // the compact datapath's unit forms one edge normal a clock (a corner a clock); the wide
     // one a whole patch a clock, its four edge normals at once (until session 21 the proxy
     // counted it one edge's six products, where `plane_setup.v` has twenty-four)
@@ -462,14 +501,6 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
         // the culling only, so a compact build without culling went without it.
         p.add(banks, 34);
         p.add(banks * 3 * 6, 34);
-    }
-    if params.sectors > 0 && params.compact {
-        // each corner waits for its edge's words and the patch's κ before the reach takes it
-        // (`rtl/setup_unit.v`, since session 28): the corner and its flags, the words, and the
-        // patch's plane test and κ beside the reach
-        let wait = crate::intersect::REACH_DELAY as u64;
-        let reach = crate::intersect::cull::REACH_LATENCY as u64;
-        p.reg(banks * ((wait - 1) * (3 * 33 + 4) + (wait - 17) * 54 + reach * 5));
     }
     if params.sectors > 0 {
         for _ in 0..banks {
@@ -510,6 +541,25 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
         p.vectoring(CULL_CORDIC, rays, false);
         p.add(rays * 2 * 6, 32);
     }
+}
+
+/// The compact datapath's set-up units with culling and the culling unit's ray sides, counted
+/// by their place and route since session 28 ([`SETUP_UNIT`] a bank, [`RAY_SIDE`] a ray a
+/// clock) where the rules below had counted them: for one set-up unit and one ray side the
+/// rules gave 18,334 LUT4s and 8,710 flip-flops, the placed units 26,622 and 17,506. Their
+/// multipliers, in the rules' order: each bank's six edge products and h's, then each bank's
+/// twelve of the reach.
+fn placed_setup_units(p: &mut Proxy, params: &Params, banks: u64) {
+    for _ in 0..banks {
+        p.mul(6, 18, 18);
+        p.mul(1, 32, 34);
+    }
+    for _ in 0..banks {
+        p.mul(9, 18, 18);
+        p.mul(3, 18, 18);
+    }
+    p.placed(banks, SETUP_UNIT);
+    p.placed(params.rays_per_clock as u64, RAY_SIDE);
 }
 
 /// The compact set-up unit's coarse edge words, an edge a clock
