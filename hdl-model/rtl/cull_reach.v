@@ -27,8 +27,10 @@
 //    allows it, or κ bounds nothing), a corner is near the axis, or the wedge with its margins
 //    spans π; the ends' sectors and bands, each widened by the margin 2^-7 rad (`cull_bin.v`).
 //
-// SCALED = 1: the corner comes already scaled, ã in in_a's low 18 bits (a set-up unit's edge unit
-// forms it, `coarse_edge.v`'s out_u18), and step 1's scaling is left out; the clocks are the same.
+// SCALED = 1: the corner comes already scaled, ã in in_a's low 18 bits (the compact set-up unit's
+// edge unit forms it, `coarse_edge.v`'s out_u18), and step 1's scaling is left out; the clocks
+// are the same. SCALED = 0 scales it here, for a set-up without that edge unit (the wide
+// datapath's, whose edges are exact) and for the culling bench, which feeds the reach alone.
 module cull_reach #(
     parameter integer ITER = 14,
     parameter integer W = 20,
