@@ -4,9 +4,9 @@
 // set-up writes the patch's bits in the sector and band rows by it. As the model's set-up unit
 // does, it takes a corner a clock (with the edge that leaves it), so a patch of n corners takes n
 // clocks; the answers come out in order, one a patch, 2 · (ITER + 4) + 26 clocks after its last
-// corner (62 at ITER 14), which the model charges as the set-up pipe's latency
-// (`cull::REACH_LATENCY`). It gives the unit no other clocks, so the co-simulation compares
-// answers.
+// corner (62 at ITER 14, `cull::REACH_LATENCY`; in the compact set-up unit, `setup_unit.v`, the
+// corners wait for their edges' words first, and the model charges both). The culling bench
+// compares its answers; the set-up unit's bench, their clocks too.
 //
 // Inputs a beat: the corner a = v − O (Q8.24, 33-bit), the edge's coarse word e (18-bit words of
 // the lanes, bounded by 2^κ), κ, the frame's axes u, v, w (Q2.30), and `last` on the patch's

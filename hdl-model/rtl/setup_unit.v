@@ -16,13 +16,16 @@
 //   LATENCY = DELAY + the reach's 2 · (ITER + 4) + 26 clocks (83 at ITER 14) after its last
 //   corner, which the model charges as the set-up pipe's latency (`intersect::setup_latency`).
 //
-// Two passes may be in the unit at once (the next origin's pass follows the last corner of the
-// previous one, as the model's double-buffered set-up does): each corner carries its pass's
-// tag, and the pass's origin-wide shift and frame axes are kept in the tag's registers, written
-// by the pass's corners. A pass may start once the pass two before it is out of the unit (the
-// model starts a pass only once the buffer of two origins back is released, after its set-up).
-// Per patch, the side's sign, whether it is off its plane and κ are kept by the patch's parity
-// (two patches at most between the write and the last read).
+// A patch's corners come on consecutive clocks (the fixed delays count on it); patches may have
+// idle clocks between them. Two passes may be in the unit at once (the next origin's pass
+// follows the last corner of the previous one, as the model's double-buffered set-up does):
+// each corner carries its pass's tag, and the pass's origin-wide shift and frame axes are kept
+// in the tag's registers, written by the pass's corners and read up to DELAY clocks after a
+// pass's last corner. So a pass may start DELAY clocks after the last corner of the pass two
+// before it; the model starts one only once the pass two before it is out (its buffer
+// released, after its set-up). Per patch, the side's sign, whether it is off its plane and κ are
+// kept by the patch's parity: the next patch of the same parity writes κ 3 clocks after the
+// last read, so DELAY may grow by 2 at most.
 module setup_unit #(
     parameter integer ITER = 14,
     parameter integer W = 20,

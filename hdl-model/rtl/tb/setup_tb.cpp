@@ -1,9 +1,11 @@
 // The compact set-up unit's testbench: reads the model's vectors (hemi-bench's `rtl-vectors
 // --setup`, host/bench/src/rtl/setup.rs) and feeds `setup_unit.v` a corner a clock, pass after
-// pass (a pass waits until the pass two before it is out, as the unit's two sets of pass
-// registers need). It compares, in order, each edge's coarse words and κ and each patch's
-// answer — whether the origin is off its plane, its κ, its kind, bands and (for a wedge) its
-// sectors — and that the answer comes the model's latency after the patch's last corner.
+// pass (a pass waits until the pass two before it is out, as the model's double-buffered set-up
+// does; the unit's two sets of pass registers need less, 21 clocks after that pass's last
+// corner). It compares, in order, each edge's coarse words and κ and each patch's answer —
+// whether the origin is off its plane, its κ, its kind, bands and (for a wedge) its sectors —
+// and their clocks: the answer the model's latency after the patch's last corner, the last
+// edge's words one clock before the model's edge latency (the patch's κ is registered then).
 // Words and answers of a patch on whose plane the origin lies are not compared (the model sets
 // nothing up). Prints `setup: rays=0 vectors=P clocks=C mismatches=K seconds=S` (vectors: the
 // patches), exits 1 on any mismatch.
@@ -34,9 +36,9 @@ static bool read_patch(std::istringstream &in, Patch &p) {
     return bool(in);
 }
 
-static bool read_vectors(const char *path, uint64_t &latency, std::vector<Patch> &patches) {
+static bool read_vectors(const char *path, uint64_t (&latency)[2], std::vector<Patch> &patches) {
     return tb::read_lines("setup", path, [&](const std::string &tag, std::istringstream &in) {
-        if (tag == "L") return bool(in >> latency);
+        if (tag == "L") return bool(in >> latency[0] >> latency[1]);
         if (tag != "S") return true;
         Patch p;
         if (!read_patch(in, p)) return false;
@@ -74,7 +76,7 @@ static void feed(Vsetup_unit &u, const Patch *p, uint32_t k) {
 
 struct Checker {
     const std::vector<Patch> &patches;
-    uint64_t latency, bad = 0;
+    uint64_t latency, edge_latency, bad = 0;
     size_t edge_patch = 0, edge_k = 0, out = 0;
     std::vector<uint64_t> last_beat;
 
@@ -82,9 +84,11 @@ struct Checker {
         if (bad++ < 10) printf("setup: patch %zu: %s differs\n", i, what);
     }
 
-    void edge(const Vsetup_unit &u) {
+    void edge(const Vsetup_unit &u, uint64_t clock) {
         if (edge_patch >= patches.size()) return fail("an extra edge", edge_patch);
         const Patch &p = patches[edge_patch];
+        if (edge_k + 1 == p.n && clock - last_beat[edge_patch] + 2 != edge_latency)
+            fail("the last edge's clock", edge_patch);
         if (p.active) {
             bool same = u.out_e_kappa == p.kappas[edge_k];
             for (int c = 0; c < 3; c++)
@@ -123,7 +127,7 @@ int main(int argc, char **argv) {
         fprintf(stderr, "usage: setup VECTORS\n");
         return 2;
     }
-    uint64_t latency = 0;
+    uint64_t latency[2] = {0, 0};
     std::vector<Patch> patches;
     if (!read_vectors(argv[1], latency, patches)) return 2;
     // each pass's first patch
@@ -134,7 +138,7 @@ int main(int argc, char **argv) {
     Vsetup_unit u;
     u.clk = 0;
     u.eval();
-    Checker check{patches, latency};
+    Checker check{patches, latency[0], latency[1]};
     check.last_beat.resize(patches.size());
     uint64_t clocks = 0, idle = 0;
     size_t pin = 0, pk = 0, pass = 0;
@@ -149,16 +153,17 @@ int main(int argc, char **argv) {
             if (++pk == p->n) check.last_beat[pin++] = clocks, pk = 0;
         }
         tb::tick(u);
-        if (u.out_e_valid) check.edge(u);
+        if (u.out_e_valid) check.edge(u, clocks);
         if (u.out_p_valid) check.patch(u, clocks);
         clocks++;
         idle = (u.out_e_valid || u.out_p_valid || p) ? 0 : idle + 1;
-        if (idle > 4 * latency) {
+        if (idle > 4 * latency[0]) {
             printf("setup: answers missing after %" PRIu64 " clocks\n", clocks);
             check.bad += patches.size() - check.out;
             break;
         }
     }
+    if (check.edge_patch != patches.size()) check.fail("the count of edges", check.edge_patch);
     tb::report("setup", 0, patches.size(), clocks, check.bad, watch.seconds());
     u.final();
     return check.bad ? 1 : 0;

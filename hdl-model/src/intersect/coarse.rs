@@ -109,6 +109,22 @@ pub fn narrow_edge(u: &[i64; 3], v: &[i64; 3], shift: u32, negate: bool) -> ([i3
     (words, kappa.min(KAPPA_DECLINE as u32) as u8)
 }
 
+/// A patch's coarse words from its corners `a` (a = v − O, three or four), edge k from corner
+/// k to the next (the last to the first), each by [`narrow_edge`], as the set-up unit forms
+/// them an edge a clock; with each edge's κ, of which the lanes keep the largest
+/// ([`Coarse::kappa`]).
+pub fn narrow_patch(a: &[[i64; 3]], shift: u32, negate: bool) -> (Coarse, [u8; 4]) {
+    let mut c = Coarse::default();
+    let mut kappas = [0u8; 4];
+    for (k, (u, kappa_k)) in a.iter().zip(kappas.iter_mut()).enumerate() {
+        let (words, kappa) = narrow_edge(u, &a[(k + 1) % a.len()], shift, negate);
+        c.words[k] = words;
+        *kappa_k = kappa;
+        c.kappa = c.kappa.max(kappa);
+    }
+    (c, kappas)
+}
+
 /// Fraction bits of the set-up unit's κ arithmetic ([`narrow_edge`]).
 const FRACTION: u32 = 4;
 

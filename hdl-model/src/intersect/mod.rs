@@ -70,7 +70,7 @@ use crate::table::Table;
 use bezier::{BezierEngine, BezierStats, Box3, Job, RaySetup, SubdivConfig, BEZIER_ROWS};
 use bitmap_walk::WordWalk;
 use coarse::{
-    coarse_edge, coarse_inside, narrow_edge, Coarse, CoarseRay, Verdict, COARSE_DIR_SHIFT,
+    coarse_edge, coarse_inside, narrow_patch, Coarse, CoarseRay, Verdict, COARSE_DIR_SHIFT,
 };
 use cull::{CullUnit, Reach, Wedge};
 use fixed::types::extra::U24;
@@ -106,6 +106,15 @@ pub fn shift_toward_zero(x: i128, k: u32) -> i128 {
     } else {
         x >> k
     }
+}
+
+/// h = n · a₀ (n a patch's Q2.30 normal words, a₀ = v₀ − O), or `None` when |h| ≤
+/// [`PLANE_EPS`]: the origin is on the patch's plane and the set-up sets nothing up for it. Its
+/// sign is the side the edge words are negated for. (The set-up pass's rule, which the RTL's
+/// vectors take from here too.)
+pub fn plane_distance(n: [i32; 3], a0: [i64; 3]) -> Option<PlaneDist> {
+    let h = PlaneDist::from_bits((0..3).map(|c| n[c] as i128 * a0[c] as i128).sum());
+    (h.abs() > PLANE_EPS).then_some(h)
 }
 
 /// The per-patch set-up for one origin.
@@ -309,8 +318,10 @@ fn merge_latency(lanes: u32) -> u64 {
 /// clock after that), takes its 15, and the patch's κ is registered.
 pub const EDGE_SETUP_LATENCY: u32 = 18;
 /// Clocks a corner waits in the compact set-up unit before the culling unit's reach takes it
-/// with its edge's words and the patch's κ (`rtl/setup_unit.v`): a quad's κ is in 19 clocks
-/// after its first corner's edge words could be, so every corner waits 21.
+/// with its edge's words and the patch's κ (`rtl/setup_unit.v`): a quad's closing edge enters
+/// the edge unit 5 clocks after its first corner and takes 15, and the patch's κ (the largest of
+/// its edges') is registered a clock later, 21 clocks after the first corner; so every corner
+/// waits 21.
 pub const REACH_DELAY: u32 = 21;
 /// Clocks from a planar patch's last corner to its reach in the compact set-up unit:
 /// [`REACH_DELAY`] + [`cull::REACH_LATENCY`] = 83, as `rtl/setup_unit.v` takes them (until
@@ -755,12 +766,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             }
             return c;
         }
-        for (k, u) in a.iter().enumerate() {
-            let (w, kappa) = narrow_edge(u, &a[(k + 1) % a.len()], shift, negate);
-            c.words[k] = w;
-            c.kappa = c.kappa.max(kappa);
-        }
-        c
+        narrow_patch(a, shift, negate).0
     }
 
     fn setup(
@@ -802,15 +808,10 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let a: [[i64; 3]; 4] =
             core::array::from_fn(|k| core::array::from_fn(|c| p.v[k][c].to_bits() as i64 - o[c]));
         let n = p.n;
-        let h = PlaneDist::from_bits(
-            (0..3)
-                .map(|c| n[c].to_bits() as i128 * a[0][c] as i128)
-                .sum(),
-        );
-        if h.abs() <= PLANE_EPS {
+        let Some(h) = plane_distance(n.map(|c| c.to_bits()), a[0]) else {
             self.local[i] = lp;
             return;
-        }
+        };
         let shift = origin_shift(o);
         let s: i128 = if h.is_positive() { 1 } else { -1 };
         for k in 0..sides {

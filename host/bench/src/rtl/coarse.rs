@@ -22,7 +22,7 @@ use hemi_hdl_model::intersect::coarse::{
     coarse_inside, narrow_edge, Coarse, CoarseRay, Verdict, COARSE_DIR_SHIFT,
 };
 use hemi_hdl_model::intersect::patch_mem::{KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
-use hemi_hdl_model::intersect::{origin_shift, PLANE_EPS};
+use hemi_hdl_model::intersect::{origin_shift, plane_distance};
 use std::fmt::Write as _;
 
 /// What a file holds.
@@ -165,16 +165,13 @@ pub(super) fn set_up_view(w: &[u32; PATCH_WORDS], o: [i32; 3]) -> Option<SetUpVi
     let corners: Vec<[i64; 3]> = (0..sides)
         .map(|k| core::array::from_fn(|c| w[1 + 3 * k + c] as i32 as i64 - o[c] as i64))
         .collect();
-    let n: [i128; 3] = core::array::from_fn(|c| w[13 + c] as i32 as i128);
-    let h: i128 = (0..3).map(|c| n[c] * corners[0][c] as i128).sum();
+    let n: [i32; 3] = core::array::from_fn(|c| w[13 + c] as i32);
     // the set-up pass's rule: an origin on the patch's plane sets nothing up
-    if h.unsigned_abs() <= PLANE_EPS.to_bits().unsigned_abs() {
-        return None;
-    }
+    let h = plane_distance(n, corners[0])?;
     Some(SetUpView {
         corners,
         shift: origin_shift(o.map(i64::from)),
-        negate: h < 0,
+        negate: h.is_negative(),
     })
 }
 

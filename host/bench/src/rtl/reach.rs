@@ -22,7 +22,7 @@ use crate::rng::XorShift;
 use crate::rtl::cordic::frame_angles;
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::format::Unit;
-use hemi_hdl_model::intersect::coarse::{narrow_edge, Coarse, KAPPA_DECLINE};
+use hemi_hdl_model::intersect::coarse::{narrow_patch, Coarse, KAPPA_DECLINE};
 use hemi_hdl_model::intersect::cull::{CullUnit, Wedge};
 use hemi_hdl_model::intersect::patch_mem::{KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
 use hemi_kernel::geometry::Vec3;
@@ -104,13 +104,7 @@ impl Vectors {
 
     /// A patch with the coarse words the set-up unit forms for it.
     fn patch(&mut self, a: &[[i64; 3]], shift: u32, negate: bool, axes: &Axes) {
-        let mut coarse = Coarse::default();
-        for k in 0..a.len() {
-            let (words, kappa) = narrow_edge(&a[k], &a[(k + 1) % a.len()], shift, negate);
-            coarse.words[k] = words;
-            coarse.kappa = coarse.kappa.max(kappa);
-        }
-        self.line(a, &coarse, axes);
+        self.line(a, &narrow_patch(a, shift, negate).0, axes);
     }
 
     /// Words of any size: corners of 1 to 33 bits, coarse words of 1 to 18, any κ, axes of

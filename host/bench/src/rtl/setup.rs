@@ -1,16 +1,18 @@
 //! Vectors for the compact set-up unit (`hdl-model/rtl/setup_unit.v`): per origin, each planar
-//! slot as the set-up pass sets it up — whether the origin is off its plane, its edges' coarse
-//! words and κ ([`narrow_edge`]), its reach ([`CullUnit::reach`]) — for the testbench to feed
-//! the RTL a corner a clock, pass after pass, and compare in order, and each patch's answer at
-//! the clock the model charges for it ([`CULL_SETUP_LATENCY`] after its last corner).
+//! slot as the model's set-up pass sets it up — whether the origin is off its plane
+//! ([`plane_distance`]), its edges' coarse words and κ ([`narrow_patch`]), its reach
+//! ([`CullUnit::reach`]) — for the testbench to feed the RTL a corner a clock, pass after pass,
+//! and compare in order, with the clocks the model charges: each patch's answer
+//! [`CULL_SETUP_LATENCY`] after its last corner, its last edge's words and κ
+//! [`EDGE_SETUP_LATENCY`] after it.
 //!
-//! File lines (decimal): `L latency` first, then per patch `S pass n o0 o1 o2 shift axes… n0 n1
-//! n2 v… active κ words… kappas… kind lo len band_lo band_hi`: the pass's index (a new origin
-//! and frame), the corner count, the origin (Q8.24 words), its origin-wide truncation, the
-//! frame's axes (nine Q2.30 words), the slot's normal and n corners (its words), then the
-//! model's set-up: whether the origin is off the plane, the patch's κ, each edge's words and κ,
-//! and the reach (kind 0 below the horizon, 1 every sector, 2 sectors lo .. lo + len − 1). A
-//! patch on whose plane the origin lies sets nothing up: its words and reach are 0.
+//! File lines (decimal): `L latency edge_latency` first, then per patch `S pass n o0 o1 o2 shift
+//! axes… n0 n1 n2 v… active κ words… kappas… kind lo len band_lo band_hi`: the pass's index (a
+//! new origin and frame), the corner count, the origin (Q8.24 words), its origin-wide
+//! truncation, the frame's axes (nine Q2.30 words), the slot's normal and n corners (its words),
+//! then the model's set-up: whether the origin is off the plane, the patch's κ, each edge's words
+//! and κ, and the reach (kind 0 below the horizon, 1 every sector, 2 sectors lo .. lo + len − 1).
+//! A patch on whose plane the origin lies sets nothing up: its words and reach are 0.
 //!
 //! Workloads: the set-up passes of pass 1 on a scene (every slot from K × K lattice points of
 //! every slot, in the sample point's frame as the model's rotator turns its axes), then random
@@ -24,10 +26,12 @@ use crate::rng::XorShift;
 use crate::rtl::cordic::frame_angles;
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::format::Unit;
-use hemi_hdl_model::intersect::coarse::{narrow_edge, Coarse};
-use hemi_hdl_model::intersect::cull::{CullUnit, Wedge};
+use hemi_hdl_model::intersect::coarse::{narrow_patch, Coarse};
+use hemi_hdl_model::intersect::cull::{CullUnit, Reach, Wedge};
 use hemi_hdl_model::intersect::patch_mem::{KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
-use hemi_hdl_model::intersect::{origin_shift, CULL_SETUP_LATENCY};
+#[cfg(doc)]
+use hemi_hdl_model::intersect::plane_distance;
+use hemi_hdl_model::intersect::{origin_shift, CULL_SETUP_LATENCY, EDGE_SETUP_LATENCY};
 use hemi_kernel::rotation::{spin_for_sample, Rotation};
 use std::fmt::Write as _;
 
@@ -57,7 +61,7 @@ pub fn vectors(
 ) -> (String, Counts) {
     let mut out = Vectors {
         unit: CullUnit::new(sectors),
-        text: format!("L {CULL_SETUP_LATENCY}\n"),
+        text: format!("L {CULL_SETUP_LATENCY} {EDGE_SETUP_LATENCY}\n"),
         counts: Counts::default(),
     };
     let planar: Vec<&[u32; PATCH_WORDS]> = slots.iter().filter(|s| is_planar(s)).collect();
@@ -123,26 +127,29 @@ impl Vectors {
         for x in inputs {
             let _ = write!(t, " {x}");
         }
-        let set_up = set_up_view(w, o).map(|v| {
-            let mut coarse = Coarse::default();
-            let mut kappas = [0u8; 4];
-            for (k, kappa_k) in kappas[..sides].iter_mut().enumerate() {
-                let (u, next) = (v.corners[k], v.corners[(k + 1) % sides]);
-                let (words, kappa) = narrow_edge(&u, &next, v.shift, v.negate);
-                coarse.words[k] = words;
-                *kappa_k = kappa;
-                coarse.kappa = coarse.kappa.max(kappa);
-            }
-            let ax = axes.map(|a| a.map(Unit::from_bits));
-            (coarse, kappas, self.unit.reach(&v.corners, &coarse, &ax))
-        });
         self.counts.patches += 1;
-        let Some((coarse, kappas, reach)) = set_up else {
-            self.counts.inactive += 1;
-            let zeros = 1 + 4 * sides + 5;
-            let _ = writeln!(self.text, " 0{}", " 0".repeat(zeros));
-            return;
-        };
+        match self.set_up(w, o, axes) {
+            Some((coarse, kappas, reach)) => self.answer(&coarse, &kappas[..sides], &reach),
+            None => {
+                // off the plane 0, then zeros for κ, the words, the edges' κ and the reach
+                self.counts.inactive += 1;
+                let _ = writeln!(self.text, " 0{}", " 0".repeat(1 + 4 * sides + 5));
+            }
+        }
+    }
+
+    /// The model's set-up of slot `w` from origin `o` in the frame `axes`: its coarse words,
+    /// each edge's κ and its reach, or `None` when the origin is on its plane.
+    fn set_up(&self, w: &[u32; PATCH_WORDS], o: [i32; 3], axes: &Axes) -> Option<SetUp> {
+        let v = set_up_view(w, o)?;
+        let (coarse, kappas) = narrow_patch(&v.corners, v.shift, v.negate);
+        let ax = axes.map(|a| a.map(Unit::from_bits));
+        Some((coarse, kappas, self.unit.reach(&v.corners, &coarse, &ax)))
+    }
+
+    /// The rest of an active patch's line: 1 (off the plane), its κ, its edges' words and κ,
+    /// and its reach.
+    fn answer(&mut self, coarse: &Coarse, kappas: &[u8], reach: &Reach) {
         let (kind, lo, len) = match reach.wedge {
             Wedge::Below => (0, 0, 0),
             Wedge::Full => (1, 0, 0),
@@ -152,15 +159,18 @@ impl Vectors {
         self.counts.wedges += (kind == 2) as usize;
         let t = &mut self.text;
         let _ = write!(t, " 1 {}", coarse.kappa);
-        for c in coarse.words[..sides].iter().flatten() {
+        for c in coarse.words[..kappas.len()].iter().flatten() {
             let _ = write!(t, " {c}");
         }
-        for k in &kappas[..sides] {
+        for k in kappas {
             let _ = write!(t, " {k}");
         }
         let _ = writeln!(t, " {kind} {lo} {len} {} {}", reach.band_lo, reach.band_hi);
     }
 }
+
+/// A patch's set-up: its coarse words, each edge's κ, its reach.
+type SetUp = (Coarse, [u8; 4], Reach);
 
 /// An origin anywhere in the Q8.24 cube, at any distance from the centre.
 fn random_origin(rng: &mut XorShift) -> [i32; 3] {
