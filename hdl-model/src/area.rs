@@ -105,8 +105,8 @@ pub struct Placed {
 }
 
 /// The compact set-up unit with culling, `rtl/setup_unit.v` (session 28: 21,372 LUT4s and
-/// 14,772 flip-flops placed, 583 of them its harness's, 22 DSP tiles for its 6 edge products,
-/// h's 32 × 34 and the reach's 12; 102.1 MHz).
+/// 14,772 flip-flops placed, 583 of them its harness's input chain and output register, 22 DSP
+/// tiles for its 6 edge products, h's four and the reach's 12; 102.1 MHz).
 pub const SETUP_UNIT: Placed = Placed {
     luts: 21_372,
     ffs: 14_772 - 583,
@@ -474,7 +474,8 @@ fn bitmaps(p: &mut Proxy, params: &Params, copies: u64) {
 /// of each vectoring's input, the azimuth's vectoring CORDIC (the magnitude feeds the polar
 /// vectoring), the arc and band bounds and the constant multiplies that turn angles into
 /// sectors and bands; the rays' sector and band vectorings and constant multiplies,
-/// `rays_per_clock` of each.
+/// `rays_per_clock` of each. The compact datapath's units with culling are counted as placed
+/// instead ([`placed_setup_units`]); these rules count the others.
 fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
     if params.compact && params.sectors > 0 {
         placed_setup_units(p, params, banks);
@@ -545,10 +546,11 @@ fn setup_units(p: &mut Proxy, params: &Params, banks: u64) {
 
 /// The compact datapath's set-up units with culling and the culling unit's ray sides, counted
 /// by their place and route since session 28 ([`SETUP_UNIT`] a bank, [`RAY_SIDE`] a ray a
-/// clock) where the rules below had counted them: for one set-up unit and one ray side the
-/// rules gave 18,334 LUT4s and 8,710 flip-flops, the placed units 26,622 and 17,506. Their
-/// multipliers, in the rules' order: each bank's six edge products and h's, then each bank's
-/// twelve of the reach.
+/// clock) where the rules of [`setup_units`] had counted them: for one set-up unit and one ray
+/// side the rules gave 18,334 LUT4s and 6,124 flip-flops (16,354 and 5,104 without the polar
+/// vectoring they counted twice), the placed units 26,622 and 17,506. Their multipliers, in the
+/// rules' order: each bank's six edge products and h's (listed 32 × 34 as the rules had it; the
+/// RTL's 33 × 32 takes the same four tiles), then each bank's twelve of the reach.
 fn placed_setup_units(p: &mut Proxy, params: &Params, banks: u64) {
     for _ in 0..banks {
         p.mul(6, 18, 18);
