@@ -19,7 +19,7 @@
 use super::plane::lattice_point;
 use crate::rng::XorShift;
 use hemi_hdl_model::intersect::coarse::{
-    coarse_inside, narrow_edge, Coarse, CoarseRay, Verdict, COARSE_DIR_SHIFT,
+    coarse_inside, narrow_patch, Coarse, CoarseRay, Verdict, COARSE_DIR_SHIFT,
 };
 use hemi_hdl_model::intersect::patch_mem::{KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
 use hemi_hdl_model::intersect::{origin_shift, plane_distance};
@@ -80,13 +80,10 @@ impl Vectors {
     /// A patch's edges, then pairs of it: rays through points next to each edge (inside and
     /// out by a few parts in 10⁶) and random rays.
     fn patch(&mut self, a: &[[i64; 3]], shift: u32, negate: bool, rng: &mut XorShift) {
-        let mut coarse = Coarse::default();
+        let (coarse, kappas) = narrow_patch(a, shift, negate);
         for k in 0..a.len() {
             let (u, v) = (a[k], a[(k + 1) % a.len()]);
-            let (words, kappa) = narrow_edge(&u, &v, shift, negate);
-            coarse.words[k] = words;
-            coarse.kappa = coarse.kappa.max(kappa);
-            self.edge(&u, &v, shift, negate, &words, kappa);
+            self.edge(&u, &v, shift, negate, &coarse.words[k], kappas[k]);
         }
         for k in 0..a.len() {
             let (u, v) = (a[k], a[(k + 1) % a.len()]);
@@ -142,6 +139,11 @@ impl Vectors {
 fn direction(g: [f64; 3]) -> [i32; 3] {
     let l = g.iter().map(|c| c * c).sum::<f64>().sqrt().max(1e-300);
     g.map(|c| (((c / l) * (1u64 << 30) as f64).round() as i32) >> COARSE_DIR_SHIFT)
+}
+
+/// Whether slot `w` is planar (a triangle or a quad), the slots the set-up unit sets up.
+pub(super) fn is_planar(w: &[u32; PATCH_WORDS]) -> bool {
+    matches!(w[0] & 0xF, KIND_TRIANGLE | KIND_QUAD)
 }
 
 /// A planar slot as the set-up pass sees it from an origin.

@@ -16,7 +16,7 @@
 //! patch or a frame), and the edges of what the unit decides: corners on the axis and at the
 //! origin, patches straddling the horizon, the wrap of φ at ±π, and κ that bounds nothing.
 
-use super::coarse::{random_patch, set_up_view};
+use super::coarse::{is_planar, random_patch, set_up_view};
 use super::plane::{lattice_point, slot_normal, turned, unit_vec};
 use crate::rng::XorShift;
 use crate::rtl::cordic::frame_angles;
@@ -24,7 +24,7 @@ use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::format::Unit;
 use hemi_hdl_model::intersect::coarse::{narrow_patch, Coarse, KAPPA_DECLINE};
 use hemi_hdl_model::intersect::cull::{CullUnit, Wedge};
-use hemi_hdl_model::intersect::patch_mem::{KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
+use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::rotation::{spin_for_sample, Rotation};
 use std::fmt::Write as _;
@@ -57,21 +57,9 @@ pub fn vectors(
         text: String::new(),
         counts: Counts::default(),
     };
-    let mut q = 0;
-    for slot in slots
-        .iter()
-        .filter(|s| matches!(s[0] & 0xF, KIND_TRIANGLE | KIND_QUAD))
-    {
-        for a in 0..samples {
-            for b in 0..samples {
-                let rot = Rotation::onto_spun(slot_normal(slot), spin_for_sample(q));
-                q += 1;
-                let axes = rotated_axes(frame_angles(&rot, CordicConfig::DEFAULT));
-                let o = lattice_point(slot, a, b, samples);
-                for s in slots {
-                    out.scene_patch(s, o, &axes);
-                }
-            }
+    for (o, axes) in scene_frames(slots, samples) {
+        for s in slots {
+            out.scene_patch(s, o, &axes);
         }
     }
     let mut rng = XorShift::new(seed ^ 0x9e37_79b9_7f4a_7c15);
@@ -196,6 +184,24 @@ impl Vectors {
         }
         let _ = writeln!(t, " {kind} {lo} {len} {} {}", reach.band_lo, reach.band_hi);
     }
+}
+
+/// Pass 1's set-up passes on a scene: K × K (`samples`) lattice points of each planar slot,
+/// each with its frame's axes (the slot's normal, the sample's golden-ratio spin) as the model's
+/// rotator turns them.
+pub(super) fn scene_frames(slots: &[[u32; PATCH_WORDS]], samples: u32) -> Vec<([i32; 3], Axes)> {
+    let points = slots
+        .iter()
+        .filter(|s| is_planar(s))
+        .flat_map(|slot| (0..samples * samples).map(move |k| (slot, k / samples, k % samples)));
+    points
+        .enumerate()
+        .map(|(q, (slot, a, b))| {
+            let rot = Rotation::onto_spun(slot_normal(slot), spin_for_sample(q as u32));
+            let axes = rotated_axes(frame_angles(&rot, CordicConfig::DEFAULT));
+            (lattice_point(slot, a, b, samples), axes)
+        })
+        .collect()
 }
 
 /// The frame's axes as the culling unit gets them: x̂, ŷ, ẑ turned by the model's rotator.

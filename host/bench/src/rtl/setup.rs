@@ -19,12 +19,9 @@
 //! passes of one to eight random patches each (corners near and far, normals of any direction,
 //! origins on a patch's corner), each in a random frame.
 
-use super::coarse::{random_patch, set_up_view};
-use super::plane::{lattice_point, slot_normal};
-use super::reach::{random_axes, rotated_axes, Axes};
+use super::coarse::{is_planar, random_patch, set_up_view};
+use super::reach::{random_axes, scene_frames, Axes};
 use crate::rng::XorShift;
-use crate::rtl::cordic::frame_angles;
-use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::format::Unit;
 use hemi_hdl_model::intersect::coarse::{narrow_patch, Coarse};
 use hemi_hdl_model::intersect::cull::{CullUnit, Reach, Wedge};
@@ -32,7 +29,6 @@ use hemi_hdl_model::intersect::patch_mem::{KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS
 #[cfg(doc)]
 use hemi_hdl_model::intersect::plane_distance;
 use hemi_hdl_model::intersect::{origin_shift, CULL_SETUP_LATENCY, EDGE_SETUP_LATENCY};
-use hemi_kernel::rotation::{spin_for_sample, Rotation};
 use std::fmt::Write as _;
 
 /// What a file's `S` lines hold.
@@ -65,14 +61,8 @@ pub fn vectors(
         counts: Counts::default(),
     };
     let planar: Vec<&[u32; PATCH_WORDS]> = slots.iter().filter(|s| is_planar(s)).collect();
-    let mut q = 0;
-    for slot in &planar {
-        for (a, b) in (0..samples).flat_map(|a| (0..samples).map(move |b| (a, b))) {
-            let rot = Rotation::onto_spun(slot_normal(slot), spin_for_sample(q));
-            q += 1;
-            let axes = rotated_axes(frame_angles(&rot, CordicConfig::DEFAULT));
-            out.pass(&planar, lattice_point(slot, a, b, samples), &axes);
-        }
+    for (o, axes) in scene_frames(slots, samples) {
+        out.pass(&planar, o, &axes);
     }
     let mut rng = XorShift::new(seed ^ 0xd1b5_4a32_d192_ed03);
     let mut n = 0;
@@ -87,10 +77,6 @@ pub fn vectors(
         n += count;
     }
     (out.text, out.counts)
-}
-
-fn is_planar(w: &[u32; PATCH_WORDS]) -> bool {
-    matches!(w[0] & 0xF, KIND_TRIANGLE | KIND_QUAD)
 }
 
 struct Vectors {
