@@ -208,7 +208,7 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     lint_top(MUL_BENCH.top, MUL_BENCH.sources, &[])?;
     for d in designs(cfg, depth) {
         let generics: Vec<String> = d.params.iter().map(|(k, v)| format!("-G{k}={v}")).collect();
-        lint_top(d.top, d.files, &generics)?;
+        lint_top(d.top, &d.files, &generics)?;
     }
     Ok(())
 }
@@ -638,7 +638,7 @@ fn fmax(log: &str) -> Option<f64> {
 pub struct Design {
     pub name: String,
     pub top: &'static str,
-    pub files: &'static [&'static str],
+    pub files: Vec<&'static str>,
     pub params: Vec<(&'static str, u32)>,
 }
 
@@ -647,7 +647,7 @@ pub fn rotator_design(cfg: Cordic) -> Design {
     Design {
         name: format!("rotator-{}", cfg.name()),
         top: "syn_rotator",
-        files: &[
+        files: vec![
             "const_mul.v",
             "cordic_pipe.v",
             "rotator.v",
@@ -662,7 +662,7 @@ pub fn plane_design(depth: u32) -> Design {
     Design {
         name: format!("plane-d{depth}"),
         top: "syn_plane",
-        files: &[
+        files: vec![
             "plane_unit.v",
             "plane_setup.v",
             "plane_divider.v",
@@ -678,7 +678,7 @@ pub fn frame_design(cfg: Cordic) -> Design {
     Design {
         name: format!("frame-{}", cfg.name()),
         top: "syn_frame",
-        files: &[
+        files: vec![
             "const_mul.v",
             "cordic_pipe.v",
             "frame_unit.v",
@@ -693,7 +693,7 @@ pub fn regs_design() -> Design {
     Design {
         name: "regs".to_string(),
         top: "syn_regs",
-        files: &["ahb_regs.v", "patch_group.v", "syn/syn_regs.v"],
+        files: vec!["ahb_regs.v", "patch_group.v", "syn/syn_regs.v"],
         params: vec![("SLOT_BITS", 11)],
     }
 }
@@ -703,7 +703,7 @@ pub fn coarse_design() -> Design {
     Design {
         name: "coarse".to_string(),
         top: "syn_coarse",
-        files: &["coarse_edge.v", "coarse_test.v", "syn/syn_coarse.v"],
+        files: vec!["coarse_edge.v", "coarse_test.v", "syn/syn_coarse.v"],
         params: vec![],
     }
 }
@@ -714,7 +714,7 @@ pub fn cull_design() -> Design {
     Design {
         name: "cull".to_string(),
         top: "syn_cull",
-        files: &[
+        files: vec![
             "cull_ray.v",
             "cull_angles.v",
             "cull_bin.v",
@@ -731,7 +731,7 @@ pub fn reach_design() -> Design {
     Design {
         name: "reach".to_string(),
         top: "syn_reach",
-        files: &[
+        files: vec![
             "cull_reach.v",
             "cull_angles.v",
             "cull_bin.v",
@@ -748,16 +748,8 @@ pub fn setup_design() -> Design {
     Design {
         name: "setup".to_string(),
         top: "syn_setup",
-        files: &[
-            "setup_unit.v",
-            "coarse_edge.v",
-            "cull_reach.v",
-            "cull_angles.v",
-            "cull_bin.v",
-            "cordic_pipe.v",
-            "const_mul.v",
-            "syn/syn_setup.v",
-        ],
+        // the bench's sources, which are the unit's own, and the harness
+        files: [SETUP_BENCH.sources, &["syn/syn_setup.v"]].concat(),
         params: vec![],
     }
 }

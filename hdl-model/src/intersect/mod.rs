@@ -759,14 +759,14 @@ impl<T: Copy + Default> IntersectUnit<T> {
     /// products of its corners `a` ([`narrow_edge`]), the patch's κ the largest of its edges';
     /// on the wide one truncated from the exact edges `e` (κ = 0).
     fn coarse_words(&self, a: &[[i64; 3]], e: &[[i64; 3]], shift: u32, negate: bool) -> Coarse {
-        let mut c = Coarse::default();
-        if !self.params.compact {
-            for (w, e) in c.words.iter_mut().zip(e) {
-                *w = coarse_edge(e);
-            }
-            return c;
+        if self.params.compact {
+            return narrow_patch(a, shift, negate).0;
         }
-        narrow_patch(a, shift, negate).0
+        let mut c = Coarse::default();
+        for (w, e) in c.words.iter_mut().zip(e) {
+            *w = coarse_edge(e);
+        }
+        c
     }
 
     fn setup(
