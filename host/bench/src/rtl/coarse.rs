@@ -1,9 +1,9 @@
 //! Vectors for the compact datapath's coarse edge units (`hdl-model/rtl/coarse_edge.v`, the
 //! set-up unit's edge words, and `coarse_test.v`, a lane's test on them): the model's functions
-//! ([`narrow_edge`], [`coarse_inside`]) on every edge and many pairs, for the testbench to feed
-//! the RTL one a clock and compare in order. These units have no clock of their own in the
-//! model (the set-up pass is charged a corner a clock, the lane a candidate a clock), so the
-//! values are compared, not clocks.
+//! ([`narrow_patch`], edge by edge, and [`coarse_inside`]) on every edge and many pairs, for the
+//! testbench to feed the RTL one a clock and compare in order. These units have no clock of
+//! their own in the model (the set-up pass is charged a corner a clock, the lane a candidate a
+//! clock), so the values are compared, not clocks.
 //!
 //! File lines (decimal): `E u0 u1 u2 v0 v1 v2 shift negate w0 w1 w2 kappa` (an edge from corner
 //! u to corner v, a = v_k − O, and the words and κ the model forms), `C d0 d1 d2 quad kappa

@@ -67,11 +67,8 @@ pub fn vectors(sectors: u32, circles: &[u32], random: usize, seed: u64) -> (Stri
     (out.text, out.counts)
 }
 
-struct Vectors {
-    unit: CullUnit,
-    text: String,
-    counts: Counts,
-}
+/// The file being written ([`super::UnitVectors`]).
+type Vectors = super::UnitVectors<Counts>;
 
 impl Vectors {
     fn ray(&mut self, d: [i32; 3]) {

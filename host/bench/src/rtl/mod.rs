@@ -20,3 +20,11 @@ pub mod plane;
 pub mod reach;
 pub mod regs;
 pub mod setup;
+
+/// A vector file being written for a bench of the culling unit or the set-up unit: the model's
+/// unit that answers, the text, and what the file holds so far (each file's own `Counts`).
+struct UnitVectors<C> {
+    unit: hemi_hdl_model::intersect::cull::CullUnit,
+    text: String,
+    counts: C,
+}

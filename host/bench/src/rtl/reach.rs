@@ -76,11 +76,8 @@ pub fn vectors(
     (out.text, out.counts)
 }
 
-struct Vectors {
-    unit: CullUnit,
-    text: String,
-    counts: Counts,
-}
+/// The file being written ([`super::UnitVectors`]).
+type Vectors = super::UnitVectors<Counts>;
 
 impl Vectors {
     /// Slot `w` as the set-up pass sees it from origin `o` (Q8.24 words) in the frame `axes`.

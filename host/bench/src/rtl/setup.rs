@@ -79,11 +79,8 @@ pub fn vectors(
     (out.text, out.counts)
 }
 
-struct Vectors {
-    unit: CullUnit,
-    text: String,
-    counts: Counts,
-}
+/// The file being written ([`super::UnitVectors`]).
+type Vectors = super::UnitVectors<Counts>;
 
 impl Vectors {
     /// One pass: every slot of `slots` from origin `o` (Q8.24 words) in the frame `axes`.
