@@ -71,6 +71,8 @@ module cull_reach #(
     // nothing (`coarse::KAPPA_DECLINE`)
     localparam signed [34:0] PI = 35'sd1686629713;
     localparam signed [34:0] MARGIN = 35'sd4194304;
+    // the wedge spans π once hi − lo reaches this
+    localparam signed [34:0] SPAN = PI - 2 * MARGIN;
     localparam [3:0] KAPPA_DECLINE = 4'd15;
 
     // ---- 1: the corner's block scaling, the axes' narrow words
@@ -361,6 +363,7 @@ module cull_reach #(
     reg signed [34:0]  g3phi0, g3hit;
     reg signed [34:0]  g3lo [0:1];
     reg signed [34:0]  g3hi [0:1];
+    reg signed [34:0]  g3loc [0:1];
     reg signed [34:0]  g3bulge [0:3];
     reg signed [34:0]  g3tmin [0:3];
     always @(posedge clk) begin
@@ -372,6 +375,10 @@ module cull_reach #(
         g3lo[1] <= min35(g2d[2], g2d[3]);
         g3hi[0] <= max35(35'sd0, g2d[1]);
         g3hi[1] <= max35(g2d[2], g2d[3]);
+        // the same two ends plus SPAN, each sum beside its compare: the span test below is then
+        // one compare of registers (hi − lo as a register compared with SPAN placed at 88 MHz)
+        g3loc[0] <= g2d[1][34] ? g2d[1] + SPAN : SPAN;
+        g3loc[1] <= g2d[2] < g2d[3] ? g2d[2] + SPAN : g2d[3] + SPAN;
         for (k = 0; k < 4; k = k + 1) begin
             g3bulge[k] <= half_abs(g2e[k]);
             g3tmin[k] <= g2tmin[k];
@@ -379,7 +386,7 @@ module cull_reach #(
     end
     reg                g4v;
     reg        [3:0]   g4f;
-    reg signed [34:0]  g4phi0, g4hit, g4lo, g4hi;
+    reg signed [34:0]  g4phi0, g4hit, g4lo, g4hi, g4loc;
     reg signed [34:0]  g4lt [0:3];
     always @(posedge clk) begin
         g4v <= g3v;
@@ -387,26 +394,32 @@ module cull_reach #(
         g4phi0 <= g3phi0;
         g4hit <= g3hit;
         g4lo <= min35(g3lo[0], g3lo[1]);
+        g4loc <= g3lo[0] < g3lo[1] ? g3loc[0] : g3loc[1];
         g4hi <= max35(g3hi[0], g3hi[1]);
         for (k = 0; k < 4; k = k + 1)
             g4lt[k] <= g3tmin[k] - g3bulge[k];
     end
     reg                g5v;
     reg        [3:0]   g5f;
-    reg signed [34:0]  g5hit, g5span, g5alo, g5ahi;
+    reg signed [34:0]  g5hit, g5alo, g5ahi;
+    // hi − lo >= SPAN as hi >= lo + SPAN, in two halves of the carry chain: the top 18 bits
+    // (signed) greater or equal, and the low 17 (unsigned) at least
+    reg                g5top_gt, g5top_eq, g5low_ge;
     reg signed [34:0]  g5lt [0:1];
     always @(posedge clk) begin
         g5v <= g4v;
         g5f <= g4f;
         g5hit <= g4hit;
-        g5span <= g4hi - g4lo;
+        g5top_gt <= $signed(g4hi[34:17]) > $signed(g4loc[34:17]);
+        g5top_eq <= g4hi[34:17] == g4loc[34:17];
+        g5low_ge <= g4hi[16:0] >= g4loc[16:0];
         g5alo <= g4phi0 + g4lo;
         g5ahi <= g4phi0 + g4hi;
         g5lt[0] <= min35(g4lt[0], g4lt[1]);
         g5lt[1] <= min35(g4lt[2], g4lt[3]);
     end
     // hi − lo + 2·MARGIN >= π
-    wire spans = g5span >= PI - 2 * MARGIN;
+    wire spans = g5top_gt || g5top_eq && g5low_ge;
     reg                g6v, g6pos_near;
     reg        [1:0]   g6kind;
     reg signed [34:0]  g6hit, g6lot, g6alo, g6ahi;
