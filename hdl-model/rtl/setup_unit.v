@@ -71,7 +71,7 @@ module setup_unit #(
     localparam integer DELAY = 21;
     localparam integer REACH = 2 * (ITER + 4) + 26;
     // PLANE_EPS: an origin within 2^34 of h's scale of the plane sets nothing up
-    localparam [66:0] PLANE_EPS = 67'd1 << 34;
+    localparam integer EPS_SHIFT = 34;
 
     // ---- the pass's registers, by tag
     reg [2:0]   pass_shift [0:1];
@@ -161,8 +161,12 @@ module setup_unit #(
         h_done <= m_z[3];
         h_done_par <= m_par[3];
     end
-    // off the plane: |h| > PLANE_EPS, as two compares side by side
-    wire off_plane = (h_acc > $signed(PLANE_EPS)) | (h_acc < -$signed(PLANE_EPS));
+    // off the plane: |h| > PLANE_EPS = 2^EPS_SHIFT, from h's bits rather than as two compares
+    // (two carry chains of 67 bits placed at 101 MHz): a negative h is at least −2^S when its
+    // bits from S up are all ones; a positive h above 2^S has a one above bit S, or bit S and
+    // one below it
+    wire off_plane = h_acc[66] ? !(&h_acc[65:EPS_SHIFT])
+        : (|h_acc[65:EPS_SHIFT+1]) || (h_acc[EPS_SHIFT] && (|h_acc[EPS_SHIFT-1:0]));
     reg side [0:1];
     reg active [0:1];
     always @(posedge clk) begin

@@ -500,8 +500,8 @@ const SETUP_MUTANT: Mutant = Mutant {
     bench: SETUP_BENCH,
     extra: &["cordic_rom.vh"],
     file: "setup_unit.v",
-    from: "67'd1 << 34",
-    to: "67'd1 << 35",
+    from: "EPS_SHIFT = 34;",
+    to: "EPS_SHIFT = 35;",
     what: "bit 0 of the set-up unit's PLANE_EPS shift",
 };
 
