@@ -41,10 +41,9 @@ module setup_unit #(
     input  wire signed [31:0] in_nx,     // the patch's normal (Q2.30), read with its first corner
     input  wire signed [31:0] in_ny,
     input  wire signed [31:0] in_nz,
-    input  wire signed [31:0] in_ox,     // the pass's origin (Q8.24)
+    input  wire signed [31:0] in_ox,     // the pass's origin (Q8.24), and so its truncation
     input  wire signed [31:0] in_oy,
     input  wire signed [31:0] in_oz,
-    input  wire        [2:0]  in_shift,  // the pass's origin-wide truncation
     input  wire signed [31:0] in_ux,     // the pass's frame axes (Q2.30)
     input  wire signed [31:0] in_uy,
     input  wire signed [31:0] in_uz,
@@ -74,11 +73,17 @@ module setup_unit #(
     localparam integer EPS_SHIFT = 34;
 
     // ---- the pass's registers, by tag
+    // The origin-wide truncation of the edge normals (`intersect::origin_shift`): 2·b − 60, at
+    // least 0, for b the bit length of max |o| + 2^25; with |o| ≤ 2^31 that is 4 once a
+    // component's |o| reaches 2^31 − 2^25, else 2 once one reaches 2^30 − 2^25, else 0 (from the
+    // components' bits: `far`)
+    wire [2:0] shift = far(in_ox, 1'b1) || far(in_oy, 1'b1) || far(in_oz, 1'b1) ? 3'd4
+        : far(in_ox, 1'b0) || far(in_oy, 1'b0) || far(in_oz, 1'b0) ? 3'd2 : 3'd0;
     reg [2:0]   pass_shift [0:1];
     reg [287:0] pass_axes [0:1];
     always @(posedge clk) begin
         if (in_valid) begin
-            pass_shift[in_pass] <= in_shift;
+            pass_shift[in_pass] <= shift;
             pass_axes[in_pass] <= {in_wz, in_wy, in_wx, in_vz, in_vy, in_vx, in_uz, in_uy, in_ux};
         end
     end
@@ -281,4 +286,15 @@ module setup_unit #(
     end
     assign out_p_active = beside[REACH-1][4];
     assign out_p_kappa = beside[REACH-1][3:0];
+    // |x| ≥ 2^31 − 2^25 (`top`) or ≥ 2^30 − 2^25, from x's bits: a positive x needs bits 30:25
+    // all ones (or bit 30, or bits 29:25 all ones); a negative x at most −2^31 + 2^25 (−2^30 +
+    // 2^25) has bits 30:25 clear (bit 30 or bits 29:25 clear), or is that bound itself
+    function far(input signed [31:0] x, input top);
+        if (!x[31])
+            far = top ? &x[30:25] : x[30] || &x[29:25];
+        else if (top)
+            far = x[30:25] == 6'd0 || x[30:25] == 6'd1 && x[24:0] == 25'd0;
+        else
+            far = !x[30] || x[29:25] == 5'd0 || x[29:25] == 5'd1 && x[24:0] == 25'd0;
+    endfunction
 endmodule

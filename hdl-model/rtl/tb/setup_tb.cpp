@@ -24,6 +24,8 @@ struct Patch {
 };
 
 static bool read_patch(std::istringstream &in, Patch &p) {
+    // the file's shift is the model's origin_shift: not fed, the unit forms it from the origin
+    // and every edge word depends on it
     in >> p.pass >> p.n >> p.o[0] >> p.o[1] >> p.o[2] >> p.shift;
     if (!in || p.n < 3 || p.n > 4) return false;
     for (auto &x : p.axes) in >> x;
@@ -68,7 +70,6 @@ static void feed(Vsetup_unit &u, const Patch *p, uint32_t k) {
     u.in_ox = (uint32_t)p->o[0];
     u.in_oy = (uint32_t)p->o[1];
     u.in_oz = (uint32_t)p->o[2];
-    u.in_shift = p->shift;
     uint32_t *axes[9] = {&u.in_ux, &u.in_uy, &u.in_uz, &u.in_vx, &u.in_vy,
                          &u.in_vz, &u.in_wx, &u.in_wy, &u.in_wz};
     for (int i = 0; i < 9; i++) *axes[i] = (uint32_t)p->axes[i];

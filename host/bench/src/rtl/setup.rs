@@ -155,10 +155,25 @@ impl Vectors {
 /// A patch's set-up: its coarse words, each edge's κ, its reach.
 type SetUp = (Coarse, [u8; 4], Reach);
 
-/// An origin anywhere in the Q8.24 cube, at any distance from the centre.
+/// An origin anywhere in the Q8.24 cube, at any distance from the centre, and one pass in eight
+/// with a component next to a step of the origin-wide truncation ([`origin_shift`]: |o| of
+/// 2^30 − 2^25 and 2^31 − 2^25, give or take 4), where the unit's own test of the origin's bits
+/// must agree with the model. (Until session 29 the origins stayed within 2^30: no pass had
+/// the truncation's largest step.)
 fn random_origin(rng: &mut XorShift) -> [i32; 3] {
-    let bits = 8 + (rng.bits() % 24) as u32;
-    [0; 3].map(|_| ((rng.bits() as i64) >> (64 - bits)) as i32)
+    let bits = 8 + (rng.bits() % 25) as u32;
+    let mut o = [0; 3].map(|_| ((rng.bits() as i64) >> (64 - bits)) as i32);
+    if rng.bits().is_multiple_of(8) {
+        let step: i64 = if rng.bits().is_multiple_of(2) {
+            1 << 30
+        } else {
+            1 << 31
+        };
+        let v = step - (1 << 25) + (rng.bits() % 9) as i64 - 4;
+        let v = if rng.bits().is_multiple_of(2) { v } else { -v };
+        o[(rng.bits() % 3) as usize] = v.clamp(i32::MIN as i64, i32::MAX as i64) as i32;
+    }
+    o
 }
 
 /// A random planar slot near origin `o`: corners as [`random_patch`] places them (clamped into
@@ -199,5 +214,11 @@ mod tests {
         assert_eq!(text.lines().count(), c.patches + 1);
         assert!(c.inactive > 10 && c.below > 20 && c.wedges > 20, "{c:?}");
         assert!(c.passes > 50, "{c:?}");
+        // every step of the origin-wide truncation: 0, 2 and 4 bits
+        let shifts: std::collections::BTreeSet<&str> = text
+            .lines()
+            .filter_map(|l| l.strip_prefix("S ")?.split(' ').nth(5))
+            .collect();
+        assert_eq!(shifts.into_iter().collect::<Vec<_>>(), ["0", "2", "4"]);
     }
 }
