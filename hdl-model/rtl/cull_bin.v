@@ -6,9 +6,9 @@
 // the ends of a patch's reach (`cull_reach.v`).
 //
 // Angles are Q3.29 words, a in [-3π, 3π) and t of either sign. Three clocks: (a + π) mod 2π
-// and t as words, the thresholds compared (each a thermometer: the thresholds increase), the
-// thermometers counted. (As one clock of 64-bit compares counted by a chain of incrementers,
-// the ray side placed at 10 MHz.) PW bits of payload ride along.
+// and t as words, the coarse thresholds compared and counted, the fine ones (below). (As one
+// clock of 64-bit compares counted by a chain of incrementers, the ray side placed at 10 MHz.)
+// PW bits of payload ride along.
 module cull_bin #(
     parameter integer SECTORS = 32,
     parameter integer PW = 1
@@ -67,31 +67,65 @@ module cull_bin #(
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */
-    // thermometers: bit k - 1 set when the angle is at or past threshold k
-    wire [63:0] ts;
-    wire [15:0] tb;
-    genvar gk;
+    // The count of thresholds at or below the angle in two steps of one clock each, rather than
+    // every threshold compared at once (63 compares of 32 or 35 bits, 812 carry cells a unit):
+    // first the coarse thresholds k = 4m (m >= 1), whose count c puts the angle between
+    // thresholds 4c and 4c + 4; then the three thresholds 4c + 1 .. 4c + 3, chosen by c from
+    // constant tables, whose count f gives the bin 4c + f. The thresholds increase, so this is
+    // the same count.
+    localparam integer SC = SECTORS / 4, BC = BANDS / 4;
+    wire [15:0] ts;
+    wire [3:0]  tb;
+    genvar gk, gj;
     generate
-        for (gk = 1; gk <= 64; gk = gk + 1) begin : sector_threshold
-            if (gk < SECTORS) assign ts[gk-1] = a0 >= sector_at(gk);
+        for (gk = 1; gk <= 16; gk = gk + 1) begin : sector_coarse
+            if (gk < SC) assign ts[gk-1] = a0 >= sector_at(4 * gk);
             else assign ts[gk-1] = 1'b0;
         end
-        for (gk = 1; gk <= BANDS; gk = gk + 1) begin : band_threshold
-            if (gk < BANDS) assign tb[gk-1] = t0 >= $signed(band_at(gk));
+        for (gk = 1; gk <= 4; gk = gk + 1) begin : band_coarse
+            if (gk < BC) assign tb[gk-1] = t0 >= $signed(band_at(4 * gk));
             else assign tb[gk-1] = 1'b0;
         end
     endgenerate
-    reg          v1;
-    reg   [63:0] ts1;
-    reg   [15:0] tb1;
-    reg [PW-1:0] p1;
+    reg               v1;
+    reg        [3:0]  cs1;
+    reg        [1:0]  cb1;
+    reg        [31:0] a1;
+    reg signed [34:0] t1;
+    reg      [PW-1:0] p1;
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [5:0] cs = ones({48'd0, ts}), cb = ones({60'd0, tb});
+    /* verilator lint_on UNUSEDSIGNAL */
     always @(posedge clk) begin
         v1 <= v0;
-        ts1 <= ts;
-        tb1 <= tb;
+        cs1 <= cs[3:0];
+        cb1 <= cb[1:0];
+        a1 <= a0;
+        t1 <= t0;
         p1 <= p0;
     end
 
+    // the fine thresholds 4c + j (j = 1..3) of every c, as constant tables indexed by {c, j}
+    // (so that each bit of a chosen threshold is one LUT4 of c's bits)
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire [31:0] s_tab [0:63];
+    wire [34:0] b_tab [0:15];
+    /* verilator lint_on UNUSEDSIGNAL */
+    generate
+        for (gk = 0; gk < 64; gk = gk + 1) begin : sector_table
+            assign s_tab[gk] = gk % 4 == 0 ? 32'd0 : sector_at(gk);
+        end
+        for (gk = 0; gk < 16; gk = gk + 1) begin : band_table
+            assign b_tab[gk] = gk % 4 == 0 ? 35'd0 : band_at(gk);
+        end
+    endgenerate
+    wire [2:0] fs, fb;
+    generate
+        for (gj = 1; gj < 4; gj = gj + 1) begin : fine_compare
+            assign fs[gj-1] = a1 >= s_tab[{cs1, gj[1:0]}];
+            assign fb[gj-1] = t1 >= $signed(b_tab[{cb1, gj[1:0]}]);
+        end
+    endgenerate
     // a thermometer's count c (bit i set for i < c): bit j of c is the XOR of bits m·2^j - 1,
     // m >= 1 (the count of multiples of 2^j up to c, mod 2), each bit a tree of its own
     function [5:0] ones(input [63:0] t);
@@ -104,12 +138,12 @@ module cull_bin #(
         end
     endfunction
     /* verilator lint_off UNUSEDSIGNAL */
-    wire [5:0] sector_n = ones(ts1), band_n = ones({48'd0, tb1});
+    wire [5:0] sector_f = ones({61'd0, fs}), band_f = ones({61'd0, fb});
     /* verilator lint_on UNUSEDSIGNAL */
     always @(posedge clk) begin
         out_valid <= v1;
-        out_sector <= sector_n;
-        out_band <= band_n[3:0];
+        out_sector <= {cs1, sector_f[1:0]};
+        out_band <= {cb1, band_f[1:0]};
         out_payload <= p1;
     end
 endmodule
