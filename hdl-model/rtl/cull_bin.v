@@ -88,20 +88,24 @@ module cull_bin #(
         end
     endgenerate
     reg               v1;
-    reg        [3:0]  cs1;
-    reg        [1:0]  cb1;
+    (* keep *) reg [3:0] cs1 [0:2];
+    (* keep *) reg [1:0] cb1 [0:2];
     reg        [31:0] a1;
-    reg signed [34:0] t1;
+    reg        [29:0] t1;
     reg      [PW-1:0] p1;
+    integer f;
     /* verilator lint_off UNUSEDSIGNAL */
     wire [5:0] cs = ones({48'd0, ts}), cb = ones({60'd0, tb});
     /* verilator lint_on UNUSEDSIGNAL */
     always @(posedge clk) begin
         v1 <= v0;
-        cs1 <= cs[3:0];
-        cb1 <= cb[1:0];
+        for (f = 0; f < 3; f = f + 1) begin
+            cs1[f] <= cs[3:0];
+            cb1[f] <= cb[1:0];
+        end
         a1 <= a0;
-        t1 <= t0;
+        // every band threshold is in (0, 2^30): t clamped into [0, 2^30) compares the same
+        t1 <= t0[34] ? 30'd0 : |t0[33:30] ? {30{1'b1}} : t0[29:0];
         p1 <= p0;
     end
 
@@ -122,8 +126,8 @@ module cull_bin #(
     wire [2:0] fs, fb;
     generate
         for (gj = 1; gj < 4; gj = gj + 1) begin : fine_compare
-            assign fs[gj-1] = a1 >= s_tab[{cs1, gj[1:0]}];
-            assign fb[gj-1] = t1 >= $signed(b_tab[{cb1, gj[1:0]}]);
+            assign fs[gj-1] = a1 >= s_tab[{cs1[gj-1], gj[1:0]}];
+            assign fb[gj-1] = t1 >= b_tab[{cb1[gj-1], gj[1:0]}][29:0];
         end
     endgenerate
     // a thermometer's count c (bit i set for i < c): bit j of c is the XOR of bits m·2^j - 1,
@@ -142,8 +146,8 @@ module cull_bin #(
     /* verilator lint_on UNUSEDSIGNAL */
     always @(posedge clk) begin
         out_valid <= v1;
-        out_sector <= {cs1, sector_f[1:0]};
-        out_band <= {cb1, band_f[1:0]};
+        out_sector <= {cs1[0], sector_f[1:0]};
+        out_band <= {cb1[0], band_f[1:0]};
         out_payload <= p1;
     end
 endmodule
