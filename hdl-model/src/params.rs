@@ -60,8 +60,8 @@ impl Params {
     /// subdivision at under 4 (docs/PERFORMANCE.md: 0.80 and 2.63 by `form-factors` since
     /// session 26's culling vectorings, 2.61–2.62 since session 24's deeper credits; 0.85 and
     /// 3.84–3.93 before; 6 lanes needed 4.84). Its area proxy does not fit an ECP5-85k
-    /// (`area`, session 28, its set-up units and culling ray sides as placed: 270,471 LUT4s,
-    /// 154,588 flip-flops, 394 block RAMs); of the builds docs/PERFORMANCE.md lists, two lanes
+    /// (`area`, session 29, its set-up units and culling ray sides as placed: 262,235 LUT4s,
+    /// 155,012 flip-flops, 394 block RAMs); of the builds docs/PERFORMANCE.md lists, two lanes
     /// in two groups at one ray a clock is the fastest that does (1.56 and 8.84 cycles a ray).
     pub const DEFAULT: Params = Params {
         lanes: 8,
