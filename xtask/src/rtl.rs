@@ -641,9 +641,9 @@ pub struct Design {
     pub top: &'static str,
     pub files: Vec<&'static str>,
     pub params: Vec<(&'static str, u32)>,
-    /// The design whose harness holds this one's RTL again (the coarse edge unit's and the
-    /// reach's are inside the set-up unit's): left out of the final line's sums.
-    pub within: Option<&'static str>,
+    /// Whether the final line's area sums count it: not when another harness holds its RTL
+    /// again (the set-up unit's holds the coarse edge unit's and the reach's).
+    pub summed: bool,
 }
 
 /// The rotator's harness at `cfg`.
@@ -658,7 +658,7 @@ pub fn rotator_design(cfg: Cordic) -> Design {
             "syn/syn_rotator.v",
         ],
         params: vec![("ITER", cfg.iterations), ("W", cfg.width)],
-        within: None,
+        summed: true,
     }
 }
 
@@ -675,7 +675,7 @@ pub fn plane_design(depth: u32) -> Design {
             "syn/syn_plane.v",
         ],
         params: vec![("IW", 8), ("DEPTH", depth)],
-        within: None,
+        summed: true,
     }
 }
 
@@ -691,7 +691,7 @@ pub fn frame_design(cfg: Cordic) -> Design {
             "syn/syn_frame.v",
         ],
         params: vec![("ITER", cfg.iterations), ("W", cfg.width)],
-        within: None,
+        summed: true,
     }
 }
 
@@ -702,7 +702,7 @@ pub fn regs_design() -> Design {
         top: "syn_regs",
         files: vec!["ahb_regs.v", "patch_group.v", "syn/syn_regs.v"],
         params: vec![("SLOT_BITS", 11)],
-        within: None,
+        summed: true,
     }
 }
 
@@ -713,7 +713,7 @@ pub fn coarse_design() -> Design {
         top: "syn_coarse",
         files: vec!["coarse_edge.v", "coarse_test.v", "syn/syn_coarse.v"],
         params: vec![],
-        within: Some("setup"),
+        summed: false,
     }
 }
 
@@ -732,7 +732,7 @@ pub fn cull_design() -> Design {
             "syn/syn_cull.v",
         ],
         params: vec![],
-        within: None,
+        summed: true,
     }
 }
 
@@ -750,7 +750,7 @@ pub fn reach_design() -> Design {
             "syn/syn_reach.v",
         ],
         params: vec![],
-        within: Some("setup"),
+        summed: false,
     }
 }
 
@@ -762,7 +762,7 @@ pub fn setup_design() -> Design {
         // the bench's sources, which are the unit's own, and the harness
         files: [SETUP_BENCH.sources, &["syn/syn_setup.v"]].concat(),
         params: vec![],
-        within: None,
+        summed: true,
     }
 }
 
@@ -893,7 +893,7 @@ fn datapath(units: &[(&Design, Fpga)]) -> Fpga {
             d.name, f.fmax_mhz
         ));
     }
-    let counted = units.iter().filter(|(d, _)| d.within.is_none());
+    let counted = units.iter().filter(|(d, _)| d.summed);
     Fpga {
         luts: counted.clone().map(|(_, f)| f.luts).sum(),
         dsps: counted.clone().map(|(_, f)| f.dsps).sum(),
