@@ -463,6 +463,37 @@ fn batch_against_one_by_one(cfg: ModelConfig) {
     );
 }
 
+/// The model backend gives each of rayon's jobs an engine of its own, and each engine loads the
+/// scene, which a board does once: the counters count that load once, and a batch costs the
+/// same clocks on a fresh engine as after other batches (the device is idle between them), so a
+/// pass's count does not depend on how the host splits it among engines. Until session 30 it
+/// did: `form-factors` on the 1,216-patch box gave 7.9 to 8.5 M clocks from run to run.
+#[test]
+fn a_pass_costs_the_same_clocks_however_the_host_splits_it() {
+    use hemi::backend::{Engines, Model};
+    let scene = load("scenes/cornell.toml");
+    let patches = scene.kernel_patches();
+    let hemi = OwnedHemisphere::new(8, DeltaRule::Band).unwrap();
+    let view = hemi.view();
+    let shots = batch_shots(&scene);
+    let batches: Vec<&[HemiShot]> = shots.chunks(4).collect();
+    let count = |engines: usize| {
+        let model = Model::new(ModelConfig::default());
+        for part in batches.chunks(batches.len().div_ceil(engines)) {
+            let mut engine = model.engine(&patches);
+            for batch in part {
+                let rings = 0..view.rings().len();
+                engine.cast_hemispheres(batch, &view, rings, true, |_, _, _, _| {});
+            }
+        }
+        model.counters.get()
+    };
+    let one = count(1);
+    println!("one engine: {one:?}");
+    assert_eq!(count(2), one);
+    assert_eq!(count(batches.len()), one);
+}
+
 /// A batch of hemispheres on a scene streamed in blocks answers as the same batch on one
 /// memory, in each shot's order of rays, each shot skipping its own patch in the block that holds it.
 #[test]

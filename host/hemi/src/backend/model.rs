@@ -1,5 +1,6 @@
 //! The cycle-level model of the accelerator as an in-process engine, driven through its
-//! register driver, with the cycles and rays of all its per-thread engines summed.
+//! register driver, with the cycles and rays of all its per-thread engines summed and the
+//! scene's load counted once.
 
 use super::in_process::SHOT_BATCH;
 use super::Engines;
@@ -57,11 +58,19 @@ impl Engines for Model {
     }
 }
 
-/// Cycles and rays summed over the model engines of a run (one engine per worker thread).
+/// Cycles and rays summed over the model engines of a run (an engine for each job rayon splits
+/// the shots into, so their number depends on the host's threads and its scheduling).
+///
+/// Every engine configures the accelerator and loads the scene before its first ray, which a
+/// board does once: those clocks are counted once ([`Counters::load_cycles`]), so that the
+/// count is that of one accelerator whatever the number of engines. (Every batch of shots
+/// starts and ends with the device idle, so no other clock depends on which engine casts it.)
 #[derive(Debug, Default)]
 pub struct Counters {
-    /// Accelerator clock cycles.
+    /// Accelerator clock cycles after each engine's load.
     pub cycles: AtomicU64,
+    /// Clocks of one engine's configuration and first block's load.
+    pub load_cycles: AtomicU64,
     /// Rays the accelerator cast.
     pub rays: AtomicU64,
     /// Of the cycles, those spent streaming blocks of a scene larger than patch memory.
@@ -71,9 +80,10 @@ pub struct Counters {
 }
 
 impl Counters {
-    /// (cycles, rays) so far.
+    /// (cycles, rays) so far, the scene's load counted once.
     pub fn get(&self) -> (u64, u64) {
-        (self.cycles.load(Relaxed), self.rays.load(Relaxed))
+        let cycles = self.cycles.load(Relaxed) + self.load_cycles.load(Relaxed);
+        (cycles, self.rays.load(Relaxed))
     }
 
     /// (blocks, cycles spent streaming them) so far.
@@ -101,7 +111,9 @@ impl<'c> CountedModel<'c> {
 
 impl Drop for CountedModel<'_> {
     fn drop(&mut self) {
-        self.counters.cycles.fetch_add(self.inner.cycles(), Relaxed);
+        let load = self.inner.load_cycles();
+        self.counters.cycles.fetch_add(self.inner.cycles() - load, Relaxed);
+        self.counters.load_cycles.fetch_max(load, Relaxed);
         self.counters.rays.fetch_add(self.inner.rays(), Relaxed);
         let streamed = self.inner.stream_cycles();
         self.counters.stream_cycles.fetch_add(streamed, Relaxed);
