@@ -104,13 +104,23 @@ pub struct Placed {
     pub ffs: u64,
 }
 
-/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 29: 19,683 LUT4s and
-/// 14,870 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
-/// tiles for its 6 edge products, h's four and the reach's 12; 104.6 MHz. Session 28: 21,372
-/// LUT4s, before the culling bins' two-step count).
+/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 30: 19,602 LUT4s and
+/// 14,865 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
+/// tiles for its 6 edge products, h's four and the reach's 12; 105.2 MHz. Session 29: 19,683
+/// LUT4s, before the reach's ends were compared with 0 by their sign; session 28: 21,372, before
+/// the culling bins' two-step count).
 pub const SETUP_UNIT: Placed = Placed {
-    luts: 19_683,
-    ffs: 14_870 - 580,
+    luts: 19_602,
+    ffs: 14_865 - 580,
+};
+
+/// A compact lane's coarse edge test, `rtl/coarse_test.v` (session 30: 1,939 LUT4s and 1,702
+/// flip-flops placed, 277 of them its harness's, 12 DSP tiles for its twelve 18 × 18 products;
+/// 120.0 MHz). The rules it replaces gave 1,566 LUT4s and 426 flip-flops: the RTL's five
+/// stages register every sum and bound.
+pub const COARSE_TEST: Placed = Placed {
+    luts: 1_939,
+    ffs: 1_702 - 277,
 };
 
 /// The culling unit's ray side for one ray a clock, `rtl/cull_ray.v` (session 29: 4,510 LUT4s
@@ -344,24 +354,12 @@ fn compact_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 /// The compact datapath of `params` unit by unit, in mapping order (its multipliers take the
 /// DSP tiles in this order): what [`ray_datapath`] sums, so that what does not fit is named.
 pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, Proxy)> {
-    let (g, l, b) = (
-        params.rays_per_clock as u64,
-        params.lanes as u64,
-        params.banks() as u64,
-    );
-    // coarse test: A (two adds of 38 bits), A against ±B (two compares of 38), B (Σ(|d'| + 1)
-    // once a ray, shifted by the patch's κ once a candidate: four levels of 2:1 multiplexers on
-    // 36 bits, counted as adders; plus Σ|e'|: one add of 36) per edge; Σ|e'| from the word's e'
-    // (three negations of 18 bits and two adds of 20 an edge)
+    let (l, b) = (params.lanes as u64, params.banks() as u64);
+    // the lanes' coarse tests as placed ([`COARSE_TEST`], twelve products each); the placed
+    // unit forms the ray's Σ(|d'| + 1) itself, where a lane would take it from the front end
     let mut coarse = Proxy::default();
     coarse.mul(12 * l as u32, 18, 18);
-    coarse.add(l * 4 * 5, 38);
-    coarse.add(g * 5, 18);
-    coarse.add(l * 4, 36);
-    coarse.add(l * 4 * 3, 18);
-    coarse.add(l * 4 * 2, 20);
-    coarse.add(l * 4, 36);
-    coarse.reg(l * (4 * 3 * 18 + 4 + 4 * 38 + 3 * 18));
+    coarse.placed(l, COARSE_TEST);
     // the plane units, PLANE_UNITS a ray group: n · d, divider, running minimum (as the wide
     // datapath's lane has them) and the min tree; each lane's hand-off register (its pair's
     // slot and h from its word) and the oldest-first arbiter's compares of ray tags

@@ -56,13 +56,15 @@ pub struct Params {
 impl Params {
     /// The default build: 8 lanes in 2 ray groups of 4 banks of 512 slots (2,048 patches), 32
     /// sectors (and the culling unit's 16 polar bands), 2 rays per clock, the compact datapath:
-    /// the fewest lanes that cast the Cornell box at under 1 cycle a ray and its 1,216-patch
-    /// subdivision at under 4 (docs/PERFORMANCE.md: 0.80 and 2.63 by `form-factors` since
-    /// session 26's culling vectorings, 2.61–2.62 since session 24's deeper credits; 0.85 and
-    /// 3.84–3.93 before; 6 lanes needed 4.84). Its area proxy does not fit an ECP5-85k
-    /// (`area`, session 29, its set-up units and culling ray sides as placed: 262,235 LUT4s,
-    /// 155,012 flip-flops, 394 block RAMs); of the builds docs/PERFORMANCE.md lists, two lanes
-    /// in two groups at one ray a clock is the fastest that does (1.56 and 8.84 cycles a ray).
+    /// the fewest lanes in a power-of-two number of banks that cast the Cornell box at under 1
+    /// cycle a ray and its 1,216-patch subdivision at under 4 (docs/PERFORMANCE.md, "Builds that
+    /// fit": 0.74 and 2.45 by `form-factors` since session 30 counts the scene's load once; 4
+    /// lanes in 2 banks give 0.96 and 4.53; 6 lanes would give 0.82 and 3.12, in 3 banks, so a
+    /// slot's bank would be its index modulo 3). Its area proxy does not fit an ECP5-85k
+    /// (`area`, session 30, its set-up units, culling ray sides and lanes' coarse tests as
+    /// placed: 264,694 LUT4s, 162,984 flip-flops, 394 block RAMs); of the builds
+    /// docs/PERFORMANCE.md lists, two lanes in two groups at one ray a clock is the fastest that
+    /// does (1.50 and 8.79 cycles a ray).
     pub const DEFAULT: Params = Params {
         lanes: 8,
         sectors: 32,
