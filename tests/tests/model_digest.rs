@@ -466,8 +466,9 @@ fn batch_against_one_by_one(cfg: ModelConfig) {
 /// The model backend gives each of rayon's jobs an engine of its own, and each engine loads the
 /// scene, which a board does once: the counters count that load once, and a batch costs the
 /// same clocks on a fresh engine as after other batches (the device is idle between them), so a
-/// pass's count does not depend on how the host splits it among engines. Until session 30 it
-/// did: `form-factors` on the 1,216-patch box gave 7.9 to 8.5 M clocks from run to run.
+/// pass's count on a scene that fits patch memory does not depend on how the host splits it
+/// among engines. Until session 30 it did: `form-factors` on the 1,216-patch box gave 7.9 to
+/// 8.5 M clocks from run to run.
 #[test]
 fn a_pass_costs_the_same_clocks_however_the_host_splits_it() {
     use hemi::backend::{Engines, Model};

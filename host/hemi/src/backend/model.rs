@@ -63,8 +63,11 @@ impl Engines for Model {
 ///
 /// Every engine configures the accelerator and loads the scene before its first ray, which a
 /// board does once: those clocks are counted once ([`Counters::load_cycles`]), so that the
-/// count is that of one accelerator whatever the number of engines. (Every batch of shots
-/// starts and ends with the device idle, so no other clock depends on which engine casts it.)
+/// count is that of one accelerator whatever the number of engines. Every batch of shots
+/// starts and ends with the device idle, so for a scene that fits patch memory no other clock
+/// depends on which engine casts it. A scene streamed in blocks still depends on it slightly
+/// (about 1 %): a batch reloads the blocks other than the one its engine holds, and the last
+/// block is smaller.
 #[derive(Debug, Default)]
 pub struct Counters {
     /// Accelerator clock cycles after each engine's load.
