@@ -115,7 +115,9 @@ impl<'c> CountedModel<'c> {
 impl Drop for CountedModel<'_> {
     fn drop(&mut self) {
         let load = self.inner.load_cycles();
-        self.counters.cycles.fetch_add(self.inner.cycles() - load, Relaxed);
+        self.counters
+            .cycles
+            .fetch_add(self.inner.cycles() - load, Relaxed);
         self.counters.load_cycles.fetch_max(load, Relaxed);
         self.counters.rays.fetch_add(self.inner.rays(), Relaxed);
         let streamed = self.inner.stream_cycles();
