@@ -495,6 +495,47 @@ fn a_pass_costs_the_same_clocks_however_the_host_splits_it() {
     assert_eq!(count(batches.len()), one);
 }
 
+/// The same for a scene streamed through patch memory in blocks (the Cornell box's 19 patches
+/// in blocks of 8): each engine, readied for a batch by its number, first loads (uncounted) the
+/// block one engine casting every batch in order would hold then, so the blocks every batch
+/// reloads, and their clocks, are that one engine's.
+#[test]
+fn a_streamed_pass_costs_the_same_clocks_however_the_host_splits_it() {
+    use hemi::backend::{Engines, Model};
+    let scene = load("scenes/cornell.toml");
+    let patches = scene.kernel_patches();
+    let hemi = OwnedHemisphere::new(8, DeltaRule::Band).unwrap();
+    let view = hemi.view();
+    let shots = batch_shots(&scene);
+    let batches: Vec<&[HemiShot]> = shots.chunks(4).collect();
+    let config = ModelConfig {
+        params: Params {
+            bank_slots: 8,
+            ..Params::SINGLE
+        },
+        ..ModelConfig::default()
+    };
+    let count = |engines: usize| {
+        let model = Model::new(config);
+        let first = model.number_batches(batches.len());
+        let per_engine = batches.len().div_ceil(engines);
+        for (e, part) in batches.chunks(per_engine).enumerate() {
+            let mut engine = model.engine(&patches);
+            for (k, batch) in part.iter().enumerate() {
+                Model::begin_batch(&mut engine, first + (e * per_engine + k) as u64);
+                let rings = 0..view.rings().len();
+                engine.cast_hemispheres(batch, &view, rings, true, |_, _, _, _| {});
+            }
+        }
+        (model.counters.get(), model.counters.stream())
+    };
+    let one = count(1);
+    println!("one engine: {one:?}");
+    assert_eq!(one.1 .0, 3, "three blocks");
+    assert_eq!(count(2), one);
+    assert_eq!(count(batches.len()), one);
+}
+
 /// A batch of hemispheres on a scene streamed in blocks answers as the same batch on one
 /// memory, in each shot's order of rays, each shot skipping its own patch in the block that holds it.
 #[test]

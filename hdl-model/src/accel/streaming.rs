@@ -51,6 +51,8 @@ pub struct StreamingModel<'p> {
     stream_clocks: u64,
     /// clocks spent configuring the accelerator and writing the first block
     load_clocks: u64,
+    /// clocks spent loading blocks to align with a batch's place ([`Self::align_to_batch`])
+    align_clocks: u64,
 }
 
 impl<'p> StreamingModel<'p> {
@@ -74,6 +76,7 @@ impl<'p> StreamingModel<'p> {
             nearest: Vec::new(),
             stream_clocks: 0,
             load_clocks,
+            align_clocks: 0,
         })
     }
 
@@ -92,6 +95,30 @@ impl<'p> StreamingModel<'p> {
     /// host runs in parallel.
     pub fn load_cycles(&self) -> u64 {
         self.load_clocks
+    }
+
+    /// Clocks [`Self::align_to_batch`] spent (part of [`Self::cycles`], not of
+    /// [`Self::stream_cycles`]): what one engine casting every batch would not have spent.
+    pub fn aligning_cycles(&self) -> u64 {
+        self.align_clocks
+    }
+
+    /// Loads the block that one model casting a pass's batches in order would hold at the start
+    /// of batch `number` (batch 0 finding the first block in memory, as `new` leaves it), if
+    /// another is in memory, and keeps its clocks apart ([`Self::aligning_cycles`]). A batch
+    /// casts every block starting from the one in memory, so it ends on the block before it:
+    /// batch k starts on block −k modulo the blocks. A host that shares a pass's batches among
+    /// several models then counts, over all of them, the stream one model would have cast.
+    pub fn align_to_batch(&mut self, number: u64) {
+        let n = self.blocks.len();
+        let want = (n - (number % n as u64) as usize) % n;
+        if want == self.loaded {
+            return;
+        }
+        let (before, streamed) = (self.hw.cycles(), self.stream_clocks);
+        self.load(want);
+        self.align_clocks += self.hw.cycles() - before;
+        self.stream_clocks = streamed;
     }
 
     /// Clocks spent writing blocks into patch memory after the first block.

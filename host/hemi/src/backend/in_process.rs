@@ -51,6 +51,18 @@ pub trait Engines: Sync {
     fn shot_batch(&self, _patches: &[Patch]) -> usize {
         SHOT_BATCH
     }
+
+    /// Numbers `count` batches about to be cast, in the order one engine would cast them: the
+    /// first one's number (the numbers go on from call to call).
+    fn number_batches(&self, _count: usize) -> u64 {
+        0
+    }
+
+    /// Readies `engine` for batch `number` ([`Engines::number_batches`]), which it may cast
+    /// after other batches or none: a modelled accelerator puts its memory where one engine
+    /// casting every batch in order would have it, so that its clocks do not depend on how the
+    /// host shares the batches among engines.
+    fn begin_batch(_engine: &mut Self::Engine<'_>, _number: u64) {}
 }
 
 /// Eye rays one pixel-tracer call casts at a time.
@@ -273,8 +285,13 @@ impl<E: Engines> Backend for InProcess<'_, E> {
         } else {
             1
         };
+        let first = match batch {
+            true => self.engines.number_batches(shots.len().div_ceil(per_state)),
+            false => 0,
+        };
         let results: Vec<Vec<(ElementRow, ShotStats)>> = shots
             .par_chunks(per_state)
+            .enumerate()
             .map_init(
                 || {
                     let scratch = Scratch::new(pending, &self.settings.specular);
@@ -283,8 +300,9 @@ impl<E: Engines> Backend for InProcess<'_, E> {
                         (0..per_state).map(|_| TouchedRow::new(cols)).collect();
                     (self.engine(), rows, scratch, shooter)
                 },
-                |state, chunk| {
+                |state, (k, chunk)| {
                     let out = if batch {
+                        E::begin_batch(&mut state.0, first + k as u64);
                         self.shoot_batch(&mut state.0, &mut state.1, &optics, chunk)
                     } else {
                         let one = |s| self.shoot_one(state, &optics, s);

@@ -21,6 +21,8 @@ pub struct Model {
     pub config: ModelConfig,
     /// What its engines did, summed.
     pub counters: Counters,
+    /// Batches numbered so far ([`Engines::number_batches`]).
+    batches: AtomicU64,
 }
 
 impl Model {
@@ -29,6 +31,7 @@ impl Model {
         Model {
             config,
             counters: Counters::default(),
+            batches: AtomicU64::new(0),
         }
     }
 }
@@ -56,6 +59,14 @@ impl Engines for Model {
             _ => 8 * SHOT_BATCH,
         }
     }
+
+    fn number_batches(&self, count: usize) -> u64 {
+        self.batches.fetch_add(count as u64, Relaxed)
+    }
+
+    fn begin_batch(engine: &mut CountedModel<'_>, number: u64) {
+        engine.inner.align_to_batch(number);
+    }
 }
 
 /// Cycles and rays summed over the model engines of a run (an engine for each job rayon splits
@@ -65,9 +76,10 @@ impl Engines for Model {
 /// board does once: those clocks are counted once ([`Counters::load_cycles`]), so that the
 /// count is that of one accelerator whatever the number of engines. Every batch of shots
 /// starts and ends with the device idle, so for a scene that fits patch memory no other clock
-/// depends on which engine casts it. A scene streamed in blocks still depends on it slightly
-/// (about 1 %): a batch reloads the blocks other than the one its engine holds, and the last
-/// block is smaller.
+/// depends on which engine casts it. A scene streamed in blocks reloads, in each batch, the
+/// blocks other than the one in memory: an engine readied for a batch
+/// ([`Engines::begin_batch`]) first loads the block one engine casting every batch in order
+/// would hold, uncounted ([`StreamingModel::align_to_batch`]).
 #[derive(Debug, Default)]
 pub struct Counters {
     /// Accelerator clock cycles after each engine's load.
@@ -115,9 +127,10 @@ impl<'c> CountedModel<'c> {
 impl Drop for CountedModel<'_> {
     fn drop(&mut self) {
         let load = self.inner.load_cycles();
+        let uncounted = load + self.inner.aligning_cycles();
         self.counters
             .cycles
-            .fetch_add(self.inner.cycles() - load, Relaxed);
+            .fetch_add(self.inner.cycles() - uncounted, Relaxed);
         self.counters.load_cycles.fetch_max(load, Relaxed);
         self.counters.rays.fetch_add(self.inner.rays(), Relaxed);
         let streamed = self.inner.stream_cycles();
