@@ -466,33 +466,15 @@ fn batch_against_one_by_one(cfg: ModelConfig) {
 /// The model backend gives each of rayon's jobs an engine of its own, and each engine loads the
 /// scene, which a board does once: the counters count that load once, and a batch costs the
 /// same clocks on a fresh engine as after other batches (the device is idle between them), so a
-/// pass's count on a scene that fits patch memory does not depend on how the host splits it
-/// among engines. Until session 30 it did: `form-factors` on the 1,216-patch box gave 7.9 to
-/// 8.5 M clocks from run to run.
+/// pass's count does not depend on how the host splits it among engines. Until session 30 it
+/// did: `form-factors` on the 1,216-patch box gave 7.9 to 8.5 M clocks from run to run.
 #[test]
 fn a_pass_costs_the_same_clocks_however_the_host_splits_it() {
-    use hemi::backend::{Engines, Model};
-    let scene = load("scenes/cornell.toml");
-    let patches = scene.kernel_patches();
-    let hemi = OwnedHemisphere::new(8, DeltaRule::Band).unwrap();
-    let view = hemi.view();
-    let shots = batch_shots(&scene);
-    let batches: Vec<&[HemiShot]> = shots.chunks(4).collect();
-    let count = |engines: usize| {
-        let model = Model::new(ModelConfig::default());
-        for part in batches.chunks(batches.len().div_ceil(engines)) {
-            let mut engine = model.engine(&patches);
-            for batch in part {
-                let rings = 0..view.rings().len();
-                engine.cast_hemispheres(batch, &view, rings, true, |_, _, _, _| {});
-            }
-        }
-        model.counters.get()
-    };
-    let one = count(1);
+    let one = split_pass(ModelConfig::default(), 1);
     println!("one engine: {one:?}");
-    assert_eq!(count(2), one);
-    assert_eq!(count(batches.len()), one);
+    assert_eq!(one.1 .0, 1, "one block");
+    assert_eq!(split_pass(ModelConfig::default(), 2), one);
+    assert_eq!(split_pass(ModelConfig::default(), usize::MAX), one);
 }
 
 /// The same for a scene streamed through patch memory in blocks (the Cornell box's 19 patches
@@ -501,13 +483,6 @@ fn a_pass_costs_the_same_clocks_however_the_host_splits_it() {
 /// reloads, and their clocks, are that one engine's.
 #[test]
 fn a_streamed_pass_costs_the_same_clocks_however_the_host_splits_it() {
-    use hemi::backend::{Engines, Model};
-    let scene = load("scenes/cornell.toml");
-    let patches = scene.kernel_patches();
-    let hemi = OwnedHemisphere::new(8, DeltaRule::Band).unwrap();
-    let view = hemi.view();
-    let shots = batch_shots(&scene);
-    let batches: Vec<&[HemiShot]> = shots.chunks(4).collect();
     let config = ModelConfig {
         params: Params {
             bank_slots: 8,
@@ -515,25 +490,36 @@ fn a_streamed_pass_costs_the_same_clocks_however_the_host_splits_it() {
         },
         ..ModelConfig::default()
     };
-    let count = |engines: usize| {
-        let model = Model::new(config);
-        let first = model.number_batches(batches.len());
-        let per_engine = batches.len().div_ceil(engines);
-        for (e, part) in batches.chunks(per_engine).enumerate() {
-            let mut engine = model.engine(&patches);
-            for (k, batch) in part.iter().enumerate() {
-                Model::begin_batch(&mut engine, first + (e * per_engine + k) as u64);
-                let rings = 0..view.rings().len();
-                engine.cast_hemispheres(batch, &view, rings, true, |_, _, _, _| {});
-            }
-        }
-        (model.counters.get(), model.counters.stream())
-    };
-    let one = count(1);
+    let one = split_pass(config, 1);
     println!("one engine: {one:?}");
     assert_eq!(one.1 .0, 3, "three blocks");
-    assert_eq!(count(2), one);
-    assert_eq!(count(batches.len()), one);
+    assert_eq!(split_pass(config, 2), one);
+    assert_eq!(split_pass(config, usize::MAX), one);
+}
+
+/// The batch workload's batches of four shots on the Cornell box, shared among `engines` model
+/// engines (at most one a batch) as the backend shares them, each batch numbered and its
+/// engine readied for it: the counters' ((cycles, rays), (blocks, streaming cycles)).
+fn split_pass(config: ModelConfig, engines: usize) -> ((u64, u64), (u64, u64)) {
+    use hemi::backend::{Engines, Model};
+    let scene = load("scenes/cornell.toml");
+    let patches = scene.kernel_patches();
+    let hemi = OwnedHemisphere::new(8, DeltaRule::Band).unwrap();
+    let view = hemi.view();
+    let shots = batch_shots(&scene);
+    let batches: Vec<&[HemiShot]> = shots.chunks(4).collect();
+    let model = Model::new(config);
+    let first = model.number_batches(batches.len());
+    let per_engine = batches.len().div_ceil(engines.min(batches.len()));
+    for (e, part) in batches.chunks(per_engine).enumerate() {
+        let mut engine = model.engine(&patches);
+        for (k, batch) in part.iter().enumerate() {
+            Model::begin_batch(&mut engine, first + (e * per_engine + k) as u64);
+            let rings = 0..view.rings().len();
+            engine.cast_hemispheres(batch, &view, rings, true, |_, _, _, _| {});
+        }
+    }
+    (model.counters.get(), model.counters.stream())
 }
 
 /// A batch of hemispheres on a scene streamed in blocks answers as the same batch on one
