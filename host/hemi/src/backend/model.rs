@@ -1,6 +1,6 @@
 //! The cycle-level model of the accelerator as an in-process engine, driven through its
-//! register driver, with the cycles and rays of all its per-thread engines summed and the
-//! scene's load counted once.
+//! register driver, with the cycles and rays of all its engines summed and the scene's load
+//! counted once.
 
 use super::in_process::SHOT_BATCH;
 use super::Engines;
@@ -14,7 +14,7 @@ use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
 /// The in-process engines of the model backend ([`super::InProcess`]`<Model>`): one modelled
-/// accelerator per worker thread, all adding to one set of [`Counters`].
+/// accelerator for each job rayon splits a pass into, all adding to one set of [`Counters`].
 #[derive(Debug, Default)]
 pub struct Model {
     /// The modelled accelerator's configuration.
