@@ -6,7 +6,7 @@
 //! no DSP tiles, so every product is logic); those that fit on their own are placed and routed
 //! with Debian's nextpnr-ice40 for their clock. The build fits only if the units' sum does.
 
-use super::{fmax, plane_design, regs_design_slots, rotator_design, say, used, work_dir};
+use super::{fmax, plane_design, regs_design_slots, rotator_design, say, stat, used, work_dir};
 use super::{frame_design, yosys_synth, Cordic, Design};
 use crate::util::{run, which};
 use std::path::Path;
@@ -50,23 +50,23 @@ pub fn smallest() -> [Design; 4] {
     ]
 }
 
-/// The cells of the last `stat` in a Yosys log of `synth_ice40`.
+/// The cells of the last `stat` in a Yosys log of `synth_ice40` (the flip-flops of every kind
+/// added up; the LUT4s and RAMs as [`stat`] reads any cell).
 pub fn ice40_cells(log: &str) -> Ice40Cells {
     let last = log.rfind("Number of cells:").map_or(log, |k| &log[k..]);
-    let mut c = Ice40Cells::default();
-    for line in last.lines() {
-        let mut w = line.split_whitespace();
-        let (Some(cell), Some(n)) = (w.next(), w.next().and_then(|n| n.parse::<u64>().ok())) else {
-            continue;
-        };
-        match cell {
-            "SB_LUT4" => c.lut4 += n,
-            "SB_RAM40_4K" => c.rams += n,
-            _ if cell.starts_with("SB_DFF") => c.ff += n,
-            _ => {}
-        }
+    let ff = last
+        .lines()
+        .filter_map(|l| {
+            let mut w = l.split_whitespace();
+            w.next()?.starts_with("SB_DFF").then_some(())?;
+            w.next()?.parse::<u64>().ok()
+        })
+        .sum();
+    Ice40Cells {
+        lut4: stat(log, "SB_LUT4"),
+        ff,
+        rams: stat(log, "SB_RAM40_4K"),
     }
-    c
 }
 
 /// Synthesises the smallest build's units for an iCE40, places those that fit an HX8K alone and
