@@ -395,6 +395,8 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     exact.reg(4 * 3 * 34 + 3 * 68 + 2 * 68 + 98);
     let mut setup = Proxy::default();
     setup_units(&mut setup, params, b);
+    let mut horizon = Proxy::default();
+    horizon_filters(&mut horizon, params, b);
     walks(&mut coarse, params, l);
     let mut front = Proxy::default();
     front_end(&mut front, params, cfg);
@@ -404,9 +406,35 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
         ("plane units (n · d, dividers, minima)", plane),
         ("exact edge unit", exact),
         ("set-up units", setup),
+        ("horizon filters and slot boxes", horizon),
         ("front end and queues", front),
         ("memories", compact_memories(params)),
     ]
+}
+
+/// The horizon filters (`intersect/horizon.rs`), one a bank ahead of its set-up unit, and the
+/// slot boxes they read: per bank, the box's ends less the origin (six 34-bit subtractions),
+/// their magnitudes and the largest (six negations, five compares and their multiplexers), the
+/// corner the axis picks (three 34-bit multiplexers), the largest's leading zeros, three shifts
+/// to 18 bits (five levels of 2:1 multiplexers, a LUT4 a bit a level), three 18 × 18 products,
+/// the sums of the height and its error bound, the margin's compare, six stages of registers
+/// and a FIFO of 16 slot numbers; a box memory of the bank's slots (six 24-bit ends, twelve
+/// written bits and the unbounded bit), and one write path that widens a slot's box as its
+/// corner words are written (two 24-bit compares and a read-modify-write register).
+fn horizon_filters(p: &mut Proxy, params: &Params, banks: u64) {
+    p.add(banks * (6 + 6 + 10 + 3 + 1), 34);
+    p.add(banks * 3 * 5, 18);
+    p.mul(3 * banks as u32, 18, 18);
+    p.add(banks * 2, 36);
+    p.add(banks * 5, 19);
+    p.add(banks * 2, 37);
+    p.reg(banks * (144 + 6 * 34 + 4 * 34 + 2 * 3 * 18 + 3 * 36 + 37 + 20));
+    for _ in 0..banks {
+        p.mem(16, 12);
+        p.mem(params.bank_slots as u64, 6 * 24 + 13);
+    }
+    p.add(2, 24);
+    p.reg(6 * 24 + 13 + 32);
 }
 
 /// The compact datapath's memories, double-buffered where the set-up pass writes them (the

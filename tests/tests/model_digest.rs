@@ -313,6 +313,11 @@ fn a_scene_streamed_in_blocks_answers_as_one_memory() {
     }
 }
 
+// Cornell clocks re-pinned (75,055 → 75,165; the narrow CORDIC's workload does not cull, so it
+// has no filter) when a horizon filter in each bank passed over, a patch a clock, the patches
+// certainly below an origin's horizon, ahead of the set-up unit (`intersect/horizon.rs`): on
+// this box few are, so the filter's six clocks of latency a pass are most of the change; the
+// answers are unchanged.
 // Cornell clocks re-pinned (74,249 → 75,055, narrow 13,139 → 13,395; the teapot's Bezier
 // patches are not set up this way) when the compact set-up unit's edge words were charged as its
 // RTL (`rtl/setup_unit.v`) has them: the closing edge's words and the patch's κ 18 clocks after
@@ -368,7 +373,7 @@ fn a_scene_streamed_in_blocks_answers_as_one_memory() {
 // (it had lost the side below ~2^-12 of a cell); the second digest, everything but (u,v) and
 // the clocks, and the clocks are those pinned before it.
 // Re-pinned when the warped red wall became two triangles (20 patches; scene/load.rs WARP).
-const PINNED_CORNELL: (u64, u64, u64) = (0x82b6_a04a_36cc_1ff2, 0xfbb3_33cd_03a3_a913, 0x1_252f);
+const PINNED_CORNELL: (u64, u64, u64) = (0x82b6_a04a_36cc_1ff2, 0xfbb3_33cd_03a3_a913, 0x1_259d);
 const PINNED_CORNELL_NARROW: (u64, u64, u64) =
     (0x119f_86bb_5b47_1a62, 0x3557_eac0_6b61_85bd, 0x3453);
 const PINNED_TEAPOT: (u64, u64, u64) = (0xb7d6_02ab_1be1_4a34, 0x9214_991b_d1f4_7754, 0x7_0145);

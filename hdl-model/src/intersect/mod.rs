@@ -60,6 +60,7 @@ pub mod bezier;
 pub mod bitmap_walk;
 pub mod coarse;
 pub mod cull;
+pub mod horizon;
 pub mod patch_mem;
 pub mod uv;
 
@@ -74,6 +75,7 @@ use coarse::{
 };
 use cull::{CullUnit, Reach, Wedge};
 use fixed::types::extra::U24;
+use horizon::{PassTiming, HORIZON_LATENCY};
 use patch_mem::{
     BezierSlot, PatchMem, PatchWords, KIND_BEZIER, KIND_EMPTY, KIND_QUAD, KIND_TRIANGLE,
     PATCH_CAPACITY,
@@ -384,20 +386,16 @@ struct InsidePair {
     exact: bool,
 }
 
-/// Clocks of a compact build's set-up pass over the first `count` slots: each bank's set-up
-/// unit takes a corner a clock (one cross product, the corner's dot products with the axes and
-/// its two vectorings: the multipliers and CORDIC pipes `area` counts), so a quad costs four
-/// clocks and any other slot (a Bezier root box, an empty slot) one; the banks run in parallel.
-fn corner_clocks(mem: &PatchMem, count: u32, banks: usize) -> u64 {
-    let mut per_bank = [0u64; MAX_LANES as usize];
-    for i in 0..count as usize {
-        per_bank[i % banks] += match mem.kind(i) {
-            KIND_TRIANGLE => 3,
-            KIND_QUAD => 4,
-            _ => 1,
-        };
+/// Clocks a compact build's set-up unit spends on a slot: a corner a clock (one cross product,
+/// the corner's dot products with the axes and its two vectorings: the multipliers and CORDIC
+/// pipes `area` counts), so a quad costs four and any other slot (a Bezier root box, an empty
+/// slot) one; the banks run in parallel ([`PassTiming`]).
+fn corner_clocks(kind: u32) -> u64 {
+    match kind {
+        KIND_TRIANGLE => 3,
+        KIND_QUAD => 4,
+        _ => 1,
     }
-    per_bank.iter().copied().max().unwrap_or(0)
 }
 
 /// One pair offered to a ray group's plane units (the clocks each is free) on clock `at`: the
@@ -572,6 +570,8 @@ pub struct LaneStats {
     /// Clocks the culled rays' lanes spent on bitmap words beyond their candidates (a word
     /// whose only slot in band was the ray's own patch: [`bitmap_walk`]).
     pub walk_clocks: u64,
+    /// Planar patches the horizon filter passed over, over the set-up passes ([`horizon`]).
+    pub passed_over: u64,
 }
 
 /// Exclusive bound of a Bezier hit's t: the largest t of the result's Q8.24 plus one LSB.
@@ -698,17 +698,36 @@ impl<T: Copy + Default> IntersectUnit<T> {
         now: u64,
     ) {
         self.candidates.clear();
+        // the horizon filter, ahead of a compact build's set-up units when the pass culls
+        let horizon = axes.filter(|_| self.params.compact);
+        let banks = self.params.banks() as usize;
+        let mut timing = PassTiming::default();
         for i in 0..count as usize {
-            self.setup(mem, i, key.0, axes.as_ref());
+            let passed_over = horizon.is_some_and(|ax| self.passes_over(mem, i, key.0, &ax));
+            if passed_over {
+                self.local[i] = LocalPatch::default();
+                self.stats.passed_over += 1;
+            } else {
+                self.setup(mem, i, key.0, axes.as_ref());
+            }
+            timing.patch(
+                i % banks,
+                (!passed_over).then(|| corner_clocks(mem.kind(i))),
+            );
         }
         let lanes = self.params.lanes as usize;
         // one set-up unit a bank, writing every group's copy at once
         let pass = if self.params.compact {
-            corner_clocks(mem, count, self.params.banks() as usize)
+            timing.clocks()
         } else {
             (count as u64).div_ceil(self.params.banks() as u64)
         };
-        let latency = setup_latency(self.params.compact, axes.is_some());
+        let filter = if horizon.is_some() {
+            HORIZON_LATENCY
+        } else {
+            0
+        };
+        let latency = setup_latency(self.params.compact, axes.is_some()) + filter;
         if self.params.compact {
             let begun = match self.clocks.lookahead.take() {
                 Some((k, at)) if k == key => at,
@@ -767,6 +786,51 @@ impl<T: Copy + Default> IntersectUnit<T> {
             *w = coarse_edge(e);
         }
         c
+    }
+
+    /// Whether the horizon filter passes planar slot `i` over for a pass from `origin` in the
+    /// frame of `axes`: its box is certainly below the horizon ([`horizon`]).
+    fn passes_over(
+        &self,
+        mem: &PatchMem,
+        i: usize,
+        origin: [Coord; 3],
+        axes: &[[Unit; 3]; 3],
+    ) -> bool {
+        let kind = mem.kind(i);
+        if kind != KIND_QUAD && kind != KIND_TRIANGLE {
+            return false;
+        }
+        let Some((lo, hi)) = mem.bounds(i) else {
+            return false;
+        };
+        let o = origin.map(|c| c.to_bits() as i64);
+        let below = horizon::below(lo, hi, o, axes[2].map(|c| c.to_bits()));
+        debug_assert!(
+            !below || self.sets_up_nothing(mem, i, o, axes),
+            "the horizon filter passed over slot {i}, which the set-up would find"
+        );
+        below
+    }
+
+    /// Whether the set-up unit would find planar slot `i` in the origin's plane or below its
+    /// horizon (what a slot the horizon filter passes over must be).
+    fn sets_up_nothing(
+        &self,
+        mem: &PatchMem,
+        i: usize,
+        o: [i64; 3],
+        axes: &[[Unit; 3]; 3],
+    ) -> bool {
+        let p = mem.patch(i);
+        let sides = p.sides();
+        let a: [[i64; 3]; 4] =
+            core::array::from_fn(|k| core::array::from_fn(|c| p.v[k][c].to_bits() as i64 - o[c]));
+        let Some(h) = plane_distance(p.n.map(|c| c.to_bits()), a[0]) else {
+            return true;
+        };
+        let coarse = narrow_patch(&a[..sides], origin_shift(o), h.is_negative()).0;
+        self.cull.reach(&a[..sides], &coarse, axes).wedge == Wedge::Below
     }
 
     fn setup(

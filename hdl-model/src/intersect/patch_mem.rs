@@ -25,6 +25,7 @@
 //! x, y, z each, Q8.24.
 
 use super::bezier::{BEZIER_ROWS, CP_WORDS};
+use super::horizon::SlotBox;
 use crate::format::{Coord, Unit};
 use crate::table::Table;
 
@@ -127,6 +128,8 @@ impl PatchWords {
 #[derive(Clone, Debug)]
 pub struct PatchMem {
     words: Table<u32, { PATCH_CAPACITY * PATCH_WORDS }>,
+    /// each slot's bounding box, kept on the write path for the horizon filter
+    boxes: Table<SlotBox, PATCH_CAPACITY>,
     cp: [u32; BEZIER_ROWS * CP_WORDS],
 }
 
@@ -135,6 +138,7 @@ impl PatchMem {
     pub fn new(slots: usize) -> Self {
         PatchMem {
             words: Table::new(0, slots.saturating_mul(PATCH_WORDS)),
+            boxes: Table::new(SlotBox::default(), slots),
             cp: [0; BEZIER_ROWS * CP_WORDS],
         }
     }
@@ -161,13 +165,21 @@ impl PatchMem {
 
     /// Writes word `addr`; false if outside the memory.
     pub fn write(&mut self, addr: u32, value: u32) -> bool {
-        match self.word_mut(addr) {
-            Some(w) => {
-                *w = value;
-                true
-            }
-            None => false,
+        let Some(w) = self.word_mut(addr) else {
+            return false;
+        };
+        *w = value;
+        let (slot, word) = (addr as usize / PATCH_WORDS, addr as usize % PATCH_WORDS);
+        if let Some(b) = self.boxes.get_mut(slot).filter(|_| addr < CP_BASE) {
+            b.write(word, value);
         }
+        true
+    }
+
+    /// Slot `i`'s bounding box (Q8.24 ends), if every corner word was written since its header
+    /// ([`SlotBox`]).
+    pub fn bounds(&self, i: usize) -> Option<([i64; 3], [i64; 3])> {
+        self.boxes.get(i).and_then(SlotBox::bounds)
     }
 
     /// Slot `i` decoded.

@@ -90,6 +90,8 @@ struct Run {
     /// of the patches set up for culling: the share in every sector, and bins covered each
     full: f64,
     bins: f64,
+    /// of the planar patches out of the origin's plane, the share the horizon filter passed over
+    passed_over: f64,
     seconds: f64,
     /// blocks the scene streamed through patch memory in (1: it fit)
     blocks: usize,
@@ -136,6 +138,7 @@ fn run(scene: &Scene, params: Params, circles: u32, samples: u32) -> Result<Run>
         walk_clocks: st.walk_clocks,
         full: st.full_patches as f64 / st.culled_patches.max(1) as f64,
         bins: st.bins as f64 / st.culled_patches.max(1) as f64,
+        passed_over: st.passed_over as f64 / (st.passed_over + st.culled_patches).max(1) as f64,
         seconds: t0.elapsed().as_secs_f64(),
         blocks: model.blocks(),
     })
@@ -181,8 +184,8 @@ pub fn bench(
     out: &mut impl Write,
 ) -> Result<()> {
     writeln!(out, "R = {circles}, K = {samples}; 2 rays per clock\n")?;
-    writeln!(out, "| patches | lanes | culling | rays | cycles/ray | candidates/ray | exact edges/ray | walk clocks/ray | patches in every sector | bins/patch | model Mcycles/s | host M rays/s |")?;
-    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+    writeln!(out, "| patches | lanes | culling | rays | cycles/ray | candidates/ray | exact edges/ray | walk clocks/ray | passed over by the horizon filter | patches in every sector | bins/patch | model Mcycles/s | host M rays/s |")?;
+    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|")?;
     let mut series = Vec::new();
     for &n in subdivisions {
         let text = subdivided(scene, n)?;
@@ -197,7 +200,7 @@ pub fn bench(
                 let cpr = r.cycles as f64 / r.rays as f64;
                 writeln!(
                     out,
-                    "| {count}{} | {l} | {} | {} | {cpr:.2} | {:.2} | {:.3} | {} | {:.1} % | {:.1} | {:.1} | {:.2} |",
+                    "| {count}{} | {l} | {} | {} | {cpr:.2} | {:.2} | {:.3} | {} | {:.1} % | {:.1} % | {:.1} | {:.1} | {:.2} |",
                     match r.blocks {
                         1 => String::new(),
                         n => format!(" ({n} blocks)"),
@@ -207,6 +210,7 @@ pub fn bench(
                     r.candidates as f64 / r.rays as f64,
                     r.exact_edges as f64 / r.rays as f64,
                     walk_column(sectors, r.walk_clocks, r.rays),
+                    r.passed_over * 100.0,
                     r.full * 100.0,
                     r.bins,
                     r.cycles as f64 / r.seconds / 1e6,
