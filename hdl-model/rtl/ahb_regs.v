@@ -25,10 +25,10 @@
 // SKIP_PATCH (bit 31 set when it skips) and its direction; a frame's inputs in register order.
 // Verilog-2005, accepted by Verilator and Yosys.
 module ahb_regs #(
-    // log2 of the patch slots (CAPS 31:16): 2,048 in the default build
-    parameter SLOT_BITS = 11,
+    // log2 of the patch slots (CAPS 31:16): 1,024 in the default build
+    parameter SLOT_BITS = 10,
     // CAPS_LANES of the build (the default build's)
-    parameter [31:0] CAPS_LANES_VALUE = 32'h1320_0208
+    parameter [31:0] CAPS_LANES_VALUE = 32'h1320_0204
 ) (
     input  wire         hclk,
     input  wire         hresetn,

@@ -54,19 +54,18 @@ pub struct Params {
 }
 
 impl Params {
-    /// The default build: 8 lanes in 2 ray groups of 4 banks of 512 slots (2,048 patches), 32
-    /// sectors (and the culling unit's 16 polar bands), 2 rays per clock, the compact datapath:
-    /// the fewest lanes in a power-of-two number of banks that cast the Cornell box at under 1
-    /// cycle a ray and its 1,216-patch subdivision at under 4 (docs/PERFORMANCE.md, "Builds that
-    /// fit": 0.74 and 2.45 by `form-factors` since session 30 counts the scene's load once; 4
-    /// lanes in 2 banks give 0.96 and 4.53; 6 lanes would give 0.82 and 3.12, in 3 banks, so a
-    /// slot's bank would be its index modulo 3). Its area proxy does not fit an ECP5-85k
-    /// (`area`, session 30, its set-up units, culling ray sides and lanes' coarse tests as
-    /// placed: 264,694 LUT4s, 162,984 flip-flops, 394 block RAMs); of the builds
-    /// docs/PERFORMANCE.md lists, two lanes in two groups at one ray a clock is the fastest that
-    /// does (1.50 and 8.79 cycles a ray).
+    /// The default build: 4 lanes in 2 ray groups of 2 banks of 512 slots (1,024 patches; a
+    /// larger scene streams through them in blocks), 32 sectors (and the culling unit's 16
+    /// polar bands), 2 rays per clock, the compact datapath: the fewest lanes in a power-of-two
+    /// number of banks that cast the Cornell box at under 1 cycle a ray and its 1,216-patch
+    /// subdivision at under 4 (docs/PERFORMANCE.md, "Builds that fit": 0.96 and 3.77 since
+    /// session 31's horizon filter, which took the 1,216 patches from 4.53; 8 lanes, the default
+    /// before it, give 0.74 and 2.07). Its area proxy does not fit an ECP5-85k (`area`, session
+    /// 31: 161,555 LUT4s, 107,625 flip-flops, 256 block RAMs, where 8 lanes take 280,204,
+    /// 169,501 and 414); of the builds docs/PERFORMANCE.md lists, two lanes in two groups at one
+    /// ray a clock is the fastest that does (1.49 and 7.23 cycles a ray).
     pub const DEFAULT: Params = Params {
-        lanes: 8,
+        lanes: 4,
         sectors: 32,
         rays_per_clock: 2,
         bank_slots: 512,

@@ -699,11 +699,11 @@ pub fn frame_design(cfg: Cordic) -> Design {
     }
 }
 
-/// The register file's harness at the default build's 2,048 patch slots.
+/// The register file's harness at the default build's 1,024 patch slots.
 pub fn regs_design() -> Design {
     Design {
         name: "regs".to_string(),
-        ..regs_design_slots(11)
+        ..regs_design_slots(10)
     }
 }
 

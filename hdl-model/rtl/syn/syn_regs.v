@@ -6,7 +6,7 @@
 // critical path ran on through five levels of XOR the unit does not have. Figures:
 // `cargo xtask rtl`.
 module syn_regs #(
-    parameter integer SLOT_BITS = 11
+    parameter integer SLOT_BITS = 10
 ) (
     input  wire clk,
     input  wire rstn,

@@ -751,7 +751,7 @@ fn model_options_on_the_soft_backend_are_said_to_do_nothing() {
     let p = files("soft-lanes", &[("two.toml", TWO_SQUARES)]);
     let solve = ["solve", &p, "--circles", "4", "--samples", "1"];
     let mut lanes = solve.to_vec();
-    lanes.extend(["--lanes", "4"]);
+    lanes.extend(["--lanes", "8"]);
     let (_, err) = accepted(&lanes, b"");
     assert!(err.contains("have no effect with --backend soft"), "{err}");
     let (ok, _, err) = run(&solve, b"");
