@@ -127,6 +127,16 @@ pub const SETUP_BENCH: Bench = Bench {
     report: "setup",
 };
 
+/// A bank's horizon filter (`horizon_filter.v`) and the slot boxes' write path (`slot_box.v`):
+/// boxes written word by word and filtered a clock each, the boxes and verdicts compared with
+/// the verdicts' clocks.
+pub const HORIZON_BENCH: Bench = Bench {
+    top: "horizon_top",
+    sources: &["slot_box.v", "horizon_filter.v", "tb/horizon_top.v"],
+    cpp: "tb/horizon_tb.cpp",
+    report: "horizon",
+};
+
 /// The multipliers: `array_mul.v` (a multiplier without DSP tiles) and `const_mul.v` (a product
 /// by a constant), against the exact integer products, not against model vectors.
 pub const MUL_BENCH: Bench = Bench {
@@ -210,6 +220,7 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     lint_top(COARSE_BENCH.top, COARSE_BENCH.sources, &[])?;
     lint_top(CULL_BENCH.top, CULL_BENCH.sources, &[])?;
     lint_top(SETUP_BENCH.top, SETUP_BENCH.sources, &[])?;
+    lint_top(HORIZON_BENCH.top, HORIZON_BENCH.sources, &[])?;
     lint_top(MUL_BENCH.top, MUL_BENCH.sources, &[])?;
     for d in designs(cfg, depth) {
         let generics: Vec<String> = d.params.iter().map(|(k, v)| format!("-G{k}={v}")).collect();
@@ -242,11 +253,14 @@ pub struct Workload {
     /// Random patches, in passes of one to eight, for the set-up unit (after the scene's
     /// set-up passes from `coarse_samples` points a slot).
     pub setup_random: u32,
+    /// Random slot-box writes and as many random boxes for the horizon filter (after the
+    /// scene's slots written and its set-up passes from `coarse_samples` points a slot).
+    pub horizon_random: u32,
 }
 
 /// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's, the
-/// coarse edge units', the culling unit's and the set-up unit's (`once`: none depends on
-/// CONFIG's CORDIC words)
+/// coarse edge units', the culling unit's, the set-up unit's and the horizon filter's (`once`:
+/// none depends on CONFIG's CORDIC words)
 /// and the planar unit's at a depth (each into its own file) on the Cornell box, with the
 /// release build of the generator (`release`) or the test suite's debug build.
 pub fn vectors(
@@ -254,7 +268,7 @@ pub fn vectors(
     plane: Option<(u32, &Path)>,
     w: Workload,
     release: bool,
-    (cordic_out, once): (&Path, Option<[&Path; 4]>),
+    (cordic_out, once): (&Path, Option<[&Path; 5]>),
 ) -> Result<(), String> {
     let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
     if release {
@@ -267,7 +281,7 @@ pub fn vectors(
         .args(["--scene", "scenes/cornell.toml"])
         .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
         .args(["--random", &n(w.random)]);
-    if let Some([regs_out, coarse_out, cull_out, setup_out]) = once {
+    if let Some([regs_out, coarse_out, cull_out, setup_out, horizon_out]) = once {
         c.arg("--regs")
             .arg(regs_out)
             .args(["--regs-steps", &n(w.regs_steps)]);
@@ -281,6 +295,9 @@ pub fn vectors(
         c.arg("--setup")
             .arg(setup_out)
             .args(["--setup-random", &n(w.setup_random)]);
+        c.arg("--horizon")
+            .arg(horizon_out)
+            .args(["--horizon-random", &n(w.horizon_random)]);
     }
     if let Some((depth, out)) = plane {
         c.arg("--plane")
@@ -451,6 +468,7 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     CULL_MUTANT.caught("mutant-cull", &[], &[file("cull.txt")], opt)?;
     REACH_MUTANT.caught("mutant-reach", &[], &[file("cull.txt")], opt)?;
     SETUP_MUTANT.caught("mutant-setup", &[], &[file("setup.txt")], opt)?;
+    HORIZON_MUTANT.caught("mutant-horizon", &[], &[file("horizon.txt")], opt)?;
     MUL_MUTANT.caught("mutant-mul", &[], &[MUL_CLOCKS.to_string()], opt)?;
     Ok(())
 }
@@ -510,6 +528,17 @@ const SETUP_MUTANT: Mutant = Mutant {
     what: "bit 0 of the set-up unit's PLANE_EPS shift",
 };
 
+/// The horizon filter's shift by bits(U) − 17 as bits(U) − 18 (the offset 16 of the leading
+/// one's place as 17, one bit), so that its words keep a bit more than the model's.
+const HORIZON_MUTANT: Mutant = Mutant {
+    bench: HORIZON_BENCH,
+    extra: &[],
+    file: "horizon_filter.v",
+    from: "b[4:0] - 5'd16",
+    to: "b[4:0] - 5'd17",
+    what: "bit 0 of the horizon filter's shift offset",
+};
+
 /// Co-simulates the CORDIC units at `cfg` and, if asked, the register file, the coarse edge
 /// units, the culling unit, the set-up unit and the multipliers (`once`) and the planar unit at
 /// a `depth` (none of them depends on the CORDIC words), on `w`; the reports.
@@ -529,8 +558,8 @@ fn cosim_run(
         dir.join("coarse.txt"),
         dir.join("cull.txt"),
     );
-    let sv = dir.join("setup.txt");
-    let once_out = once.then_some([rv.as_path(), ev.as_path(), uv.as_path(), sv.as_path()]);
+    let (sv, hv) = (dir.join("setup.txt"), dir.join("horizon.txt"));
+    let once_out = once.then_some([&rv, &ev, &uv, &sv, &hv].map(PathBuf::as_path));
     vectors(
         cfg,
         depth.map(|d| (d, pv.as_path())),
@@ -561,6 +590,9 @@ fn cosim_run(
         let exe = build(SETUP_BENCH, &[], &src, &dir.join("setup"), opt)?;
         let r = cosim(SETUP_BENCH, &exe, &[sv.display().to_string()])?;
         out.push(("set-up unit".to_string(), r));
+        let exe = build(HORIZON_BENCH, &[], &src, &dir.join("horizon"), opt)?;
+        let r = cosim(HORIZON_BENCH, &exe, &[hv.display().to_string()])?;
+        out.push(("horizon filter".to_string(), r));
         let exe = build(MUL_BENCH, &[], &src, &dir.join("mul"), opt)?;
         let r = cosim(MUL_BENCH, &exe, &[MUL_CLOCKS.to_string()])?;
         out.push(("multipliers".to_string(), r));
@@ -597,6 +629,7 @@ pub fn ci() -> Result<(), String> {
         coarse_random: 5_000,
         cull_random: 5_000,
         setup_random: 5_000,
+        horizon_random: 5_000,
     };
     let reports = cosim_run(cfg, Some(depth), true, w, false, "-O1", &dir)?;
     let bad: u64 = reports.iter().map(|(_, r)| r.mismatches).sum();
@@ -779,9 +812,20 @@ pub fn setup_design() -> Design {
     }
 }
 
+/// A bank's horizon filter and the slot boxes' write path's harness.
+pub fn horizon_design() -> Design {
+    Design {
+        name: "horizon".to_string(),
+        top: "syn_horizon",
+        files: vec!["slot_box.v", "horizon_filter.v", "syn/syn_horizon.v"],
+        params: vec![],
+        summed: true,
+    }
+}
+
 /// Every synthesis harness at CORDIC `cfg` and (u,v) depth `depth` (the final line's figures
 /// are theirs: [`datapath`]).
-fn designs(cfg: Cordic, depth: u32) -> [Design; 8] {
+fn designs(cfg: Cordic, depth: u32) -> [Design; 9] {
     [
         rotator_design(cfg),
         plane_design(depth),
@@ -791,6 +835,7 @@ fn designs(cfg: Cordic, depth: u32) -> [Design; 8] {
         cull_design(),
         reach_design(),
         setup_design(),
+        horizon_design(),
     ]
 }
 
@@ -1042,6 +1087,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
         coarse_random: 20_000,
         cull_random: 100_000,
         setup_random: 100_000,
+        horizon_random: 100_000,
     };
     let mut total = Cosim::default();
     for (k, cfg) in CONFIGS.iter().enumerate() {

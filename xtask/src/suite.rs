@@ -125,7 +125,8 @@ fn steps() -> Vec<Step> {
                    hemisphere and random directions and its reach of the Cornell box's \
                    patches and random ones, the set-up unit's plane tests, edge words and \
                    reaches of the Cornell box's set-up passes and random passes with their \
-                   clocks, and the multipliers against exact products, then seven one-bit \
+                   clocks, the slot boxes' writes and the horizon filter's verdicts with their \
+                   clocks, and the multipliers against exact products, then eight one-bit \
                    mutants of the RTL shown to be caught (cargo xtask rtl is the full form, \
                    with synthesis)",
             kind: Kind::Check(crate::rtl::ci),

@@ -55,7 +55,11 @@ const BOX_DROP: u32 = 32 - BOX_BITS;
 const CORNERS: u16 = 0x0FFF;
 
 /// Set when a high end rounded up past the box word's range: the box bounds nothing.
-const UNBOUNDED: u16 = 0x8000;
+const UNBOUNDED: u16 = 0x1000;
+
+/// An empty box's ends: the largest low end, the smallest high end of a box word.
+const LO_EMPTY: i32 = (1 << (BOX_BITS - 1)) - 1;
+const HI_EMPTY: i32 = -(1 << (BOX_BITS - 1));
 
 /// The axis words' shift to Q2.16 (the culling unit's).
 const W_SHIFT: u32 = 14;
@@ -66,9 +70,10 @@ const Q_BITS: u32 = 17;
 /// The filter's margin below the horizon, 2^-MARGIN_SHIFT of the box's reach.
 const MARGIN_SHIFT: u32 = 7;
 
-/// Clocks from a patch's box read to its verdict: the box read, the subtractions, the largest
-/// reach and its leading zeros, the shift, the products, the sum and compare.
-pub const HORIZON_LATENCY: u64 = 6;
+/// Clocks from a patch's box read to its verdict: the box read, then the filter's six stages
+/// (`rtl/horizon_filter.v`: the subtractions; the picks and each axis's larger reach; the
+/// largest; its leading zeros and the shifts; the products and the error bound; the sum).
+pub const HORIZON_LATENCY: u64 = 7;
 
 /// Slot numbers a bank's filter can hold for its set-up unit.
 pub const FIFO_SLOTS: usize = 16;
@@ -85,8 +90,8 @@ pub struct SlotBox {
 impl Default for SlotBox {
     fn default() -> Self {
         SlotBox {
-            lo: [i32::MAX; 3],
-            hi: [i32::MIN; 3],
+            lo: [LO_EMPTY; 3],
+            hi: [HI_EMPTY; 3],
             written: 0,
         }
     }
@@ -106,14 +111,21 @@ impl SlotBox {
         }
         let (c, v) = ((word - 1) % 3, value as i32 as i64);
         let lo = (v >> BOX_DROP) as i32;
-        // ⌈v / 2^8⌉, which can be 2^23: one past a 24-bit word
-        let hi = (v + (1 << BOX_DROP) - 1) >> BOX_DROP;
-        if hi >= 1 << (BOX_BITS - 1) {
+        // ⌈v / 2^8⌉, which can be 2^23: one past a 24-bit word (then held at the largest)
+        let mut hi = (v + (1 << BOX_DROP) - 1) >> BOX_DROP;
+        if hi > LO_EMPTY as i64 {
             self.written |= UNBOUNDED;
+            hi = LO_EMPTY as i64;
         }
         self.lo[c] = self.lo[c].min(lo);
         self.hi[c] = self.hi[c].max(hi as i32);
         self.written |= 1 << (word - 1);
+    }
+
+    /// The box as its memory holds it: the low and high ends (24-bit words, Q8.16) and the
+    /// written bits (corner words 11:0, unbounded 12).
+    pub fn words(&self) -> ([i32; 3], [i32; 3], u16) {
+        (self.lo, self.hi, self.written)
     }
 
     /// The box's ends (Q8.24), once every corner word has been written since the header.

@@ -19,11 +19,14 @@
 //!   (`--coarse-samples K` lattice points a slot) and as many random patches, words and edge
 //!   cases;
 //! - with `--setup OUT6`: the compact set-up unit on the scene's set-up passes (`--coarse-samples
-//!   K` lattice points a slot) and random passes of `--setup-random N` patches in all.
+//!   K` lattice points a slot) and random passes of `--setup-random N` patches in all;
+//! - with `--horizon OUT7`: the slot boxes' write path on the scene's slots written and
+//!   `--horizon-random N` random writes, and the horizon filter on the scene's set-up passes
+//!   (`--coarse-samples K` lattice points a slot) and as many random boxes.
 
 use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
-use hemi_bench::rtl::{coarse, cordic, cull, plane, reach, regs, setup};
+use hemi_bench::rtl::{coarse, cordic, cull, horizon, plane, reach, regs, setup};
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use std::time::Instant;
@@ -49,6 +52,8 @@ struct Args {
     cull_random: usize,
     setup: Option<String>,
     setup_random: usize,
+    horizon: Option<String>,
+    horizon_random: usize,
     seed: u64,
 }
 
@@ -74,6 +79,8 @@ fn parse() -> Result<Args> {
         cull_random: 20_000,
         setup: None,
         setup_random: 20_000,
+        horizon: None,
+        horizon_random: 20_000,
         seed: 0x2545_f491_4f6c_dd1d,
     };
     let mut it = std::env::args().skip(1);
@@ -100,13 +107,15 @@ fn parse() -> Result<Args> {
             "--cull-random" => a.cull_random = value()?.parse()?,
             "--setup" => a.setup = Some(value()?),
             "--setup-random" => a.setup_random = value()?.parse()?,
+            "--horizon" => a.horizon = Some(value()?),
+            "--horizon-random" => a.horizon_random = value()?.parse()?,
             "--seed" => a.seed = value()?.parse()?,
             s if !s.starts_with('-') && a.out.is_empty() => a.out = s.to_string(),
             s => bail!("unknown argument `{s}`"),
         }
     }
     if a.out.is_empty() || !a.cfg.is_valid() || !(1..=24).contains(&a.depth) {
-        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--seed S]");
+        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--seed S]");
     }
     Ok(a)
 }
@@ -137,13 +146,10 @@ fn main() -> Result<()> {
         counts.vectors,
         counts.clocks
     );
-    // the scene's slots as the model's patch memory holds them, read once for both units
+    // the scene's slots as the model's patch memory holds them, read once for every unit
+    let wanted = [&a.plane, &a.coarse, &a.cull, &a.setup, &a.horizon];
     let slots = match &scene {
-        Some(s)
-            if a.plane.is_some() || a.coarse.is_some() || a.cull.is_some() || a.setup.is_some() =>
-        {
-            plane::loaded_slots(&s.kernel_patches())?
-        }
+        Some(s) if wanted.iter().any(|o| o.is_some()) => plane::loaded_slots(&s.kernel_patches())?,
         _ => Vec::new(),
     };
     if let Some(out) = &a.plane {
@@ -175,6 +181,14 @@ fn main() -> Result<()> {
         println!(
             "rtl-vectors: setup passes={} patches={} inactive={} below={} wedges={}",
             c.passes, c.patches, c.inactive, c.below, c.wedges
+        );
+    }
+    if let Some(out) = &a.horizon {
+        let (text, c) = horizon::vectors(&slots, a.coarse_samples, a.horizon_random, a.seed);
+        std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
+        println!(
+            "rtl-vectors: horizon writes={} boxes={} below={}",
+            c.writes, c.boxes, c.below
         );
     }
     Ok(())

@@ -10,12 +10,14 @@
 //! - [`cull`]: the culling unit's ray side (a ray's sector and band);
 //! - [`reach`]: the culling unit's patch side (a patch's sectors and bands);
 //! - [`setup`]: the compact set-up unit (a patch's plane test, edge words and reach, per origin);
+//! - [`horizon`]: the horizon filter and the slot boxes it reads;
 //! - [`plane`]: the planar intersection unit with (u,v) (one lane, no culling);
 //! - [`regs`]: the register file and its AHB-Lite bus interface.
 
 pub mod coarse;
 pub mod cordic;
 pub mod cull;
+pub mod horizon;
 pub mod plane;
 pub mod reach;
 pub mod regs;

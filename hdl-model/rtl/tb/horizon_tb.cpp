@@ -1,0 +1,129 @@
+// The horizon filter's testbench: reads the model's vectors (hemi-bench's `rtl-vectors
+// --horizon`, host/bench/src/rtl/horizon.rs), feeds one write a clock to the slot box's write
+// path (`W` lines: the word, the value and the box the model holds after it) and one box a
+// clock to the filter (`H` lines: the box, whether it counts, the origin, the axis and the
+// model's verdict), and compares every box after its write and every verdict, in order, with
+// the model's; a verdict must leave FILTER_CLOCKS clocks after its box went in. Prints
+// `horizon: rays=N vectors=M clocks=C mismatches=K seconds=S` (rays: the boxes filtered),
+// exits 1 on any mismatch.
+#include "Vhorizon_top.h"
+#include "tb.h"
+#include "verilated.h"
+#include <vector>
+
+// the model's HORIZON_LATENCY less the box read
+static const uint64_t FILTER_CLOCKS = 6;
+
+struct Write {
+    uint32_t word, value;
+    int64_t lo[3], hi[3];
+    uint32_t written;
+};
+struct Box {
+    uint32_t boxed;
+    int64_t lo[3], hi[3], o[3], w[3];
+    uint32_t below;
+};
+
+static bool read_vectors(const char *path, std::vector<Write> &writes, std::vector<Box> &boxes) {
+    return tb::read_lines("horizon", path, [&](const std::string &tag, std::istringstream &in) {
+        if (tag == "W") {
+            Write w;
+            in >> w.word >> w.value >> w.lo[0] >> w.lo[1] >> w.lo[2] >> w.hi[0] >> w.hi[1] >>
+                w.hi[2] >> w.written;
+            writes.push_back(w);
+        } else if (tag == "H") {
+            Box b;
+            in >> b.boxed >> b.lo[0] >> b.lo[1] >> b.lo[2] >> b.hi[0] >> b.hi[1] >> b.hi[2] >>
+                b.o[0] >> b.o[1] >> b.o[2] >> b.w[0] >> b.w[1] >> b.w[2] >> b.below;
+            boxes.push_back(b);
+        }
+        return bool(in);
+    });
+}
+
+// `width` bits of `value` (two's complement) at bit `lo` of a Verilator wide signal
+template <typename W> static void put(W &w, int lo, int width, int64_t value) {
+    for (int b = 0; b < width; b++) {
+        int at = lo + b;
+        uint32_t bit = (uint32_t)(((uint64_t)value >> b) & 1);
+        w[at / 32] = (w[at / 32] & ~(1u << (at % 32))) | (bit << (at % 32));
+    }
+}
+// `width` bits at bit `lo` of a Verilator wide signal, sign-extended
+template <typename W> static int64_t get(const W &w, int lo, int width) {
+    uint64_t v = 0;
+    for (int b = 0; b < width; b++) {
+        int at = lo + b;
+        v |= (uint64_t)((w[at / 32] >> (at % 32)) & 1) << b;
+    }
+    return v >= (1ull << (width - 1)) ? (int64_t)v - (int64_t)(1ull << width) : (int64_t)v;
+}
+
+int main(int argc, char **argv) {
+    Verilated::commandArgs(argc, argv);
+    if (argc < 2) {
+        fprintf(stderr, "usage: horizon VECTORS\n");
+        return 2;
+    }
+    std::vector<Write> writes;
+    std::vector<Box> boxes;
+    if (!read_vectors(argv[1], writes, boxes)) return 2;
+    tb::Stopwatch watch;
+    Vhorizon_top u;
+    u.clk = 0;
+    u.eval();
+    uint64_t bad = 0, clocks = 0;
+    size_t wi = 0, bi = 0, bo = 0;
+    std::vector<uint64_t> entered;
+    while (wi < writes.size() || bo < boxes.size()) {
+        size_t wrote = wi;
+        u.b_we = wi < writes.size();
+        if (u.b_we) {
+            u.b_word = writes[wi].word;
+            u.b_value = writes[wi].value;
+            wi++;
+        }
+        u.f_valid = bi < boxes.size();
+        if (u.f_valid) {
+            const Box &b = boxes[bi++];
+            u.f_boxed = b.boxed;
+            for (int c = 0; c < 3; c++) {
+                put(u.f_lo, 24 * c, 24, b.lo[c]);
+                put(u.f_hi, 24 * c, 24, b.hi[c]);
+                put(u.f_o, 32 * c, 32, b.o[c]);
+                put(u.f_w, 32 * c, 32, b.w[c]);
+            }
+            entered.push_back(clocks);
+        }
+        tb::tick(u);
+        clocks++;
+        if (wrote < wi) {
+            const Write &w = writes[wrote];
+            bool same = u.b_written == w.written;
+            for (int c = 0; c < 3; c++)
+                same = same && get(u.b_lo, 24 * c, 24) == w.lo[c] && get(u.b_hi, 24 * c, 24) == w.hi[c];
+            if (!same && bad++ < 10)
+                printf("horizon: write %zu (word %u value %u): model lo %" PRId64 " %" PRId64 " %" PRId64
+                       " hi %" PRId64 " %" PRId64 " %" PRId64 " written %u, RTL written %u\n",
+                       wrote, w.word, w.value, w.lo[0], w.lo[1], w.lo[2], w.hi[0], w.hi[1], w.hi[2],
+                       w.written, (unsigned)u.b_written);
+        }
+        if (u.f_out_valid && bo < boxes.size()) {
+            const Box &b = boxes[bo];
+            bool late = clocks - entered[bo] != FILTER_CLOCKS;
+            if ((u.f_below != b.below || late) && bad++ < 10)
+                printf("horizon: box %zu: model below %u, RTL %u after %" PRIu64 " clocks\n", bo,
+                       b.below, (unsigned)u.f_below, clocks - entered[bo]);
+            bo++;
+        }
+        if (clocks > writes.size() + boxes.size() + 16) {
+            printf("horizon: outputs missing after %" PRIu64 " clocks\n", clocks);
+            bad += boxes.size() - bo;
+            break;
+        }
+    }
+    tb::report("horizon", boxes.size(), writes.size() + boxes.size(), clocks, bad, watch.seconds());
+    u.final();
+    return bad ? 1 : 0;
+}
