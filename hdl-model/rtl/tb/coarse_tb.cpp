@@ -40,14 +40,6 @@ static bool read_vectors(const char *path, std::vector<Edge> &edges, std::vector
     });
 }
 
-// `width` bits of `value` (two's complement) at bit `lo` of a Verilator wide signal
-template <typename W> static void put(W &w, int lo, int width, int64_t value) {
-    for (int b = 0; b < width; b++) {
-        int at = lo + b;
-        uint32_t bit = (uint32_t)(((uint64_t)value >> b) & 1);
-        w[at / 32] = (w[at / 32] & ~(1u << (at % 32))) | (bit << (at % 32));
-    }
-}
 static int64_t field(uint64_t bits, int lo, int width) {
     int64_t v = (int64_t)((bits >> lo) & ((1ull << width) - 1));
     return v >= (1ll << (width - 1)) ? v - (1ll << width) : v;
@@ -73,8 +65,8 @@ int main(int argc, char **argv) {
         if (u.e_valid) {
             const Edge &e = edges[ei++];
             for (int c = 0; c < 3; c++) {
-                put(u.e_u, 33 * c, 33, e.u[c]);
-                put(u.e_v, 33 * c, 33, e.v[c]);
+                tb::put(u.e_u, 33 * c, 33, e.u[c]);
+                tb::put(u.e_v, 33 * c, 33, e.v[c]);
             }
             u.e_shift = e.shift;
             u.e_negate = e.negate;
@@ -85,7 +77,7 @@ int main(int argc, char **argv) {
             uint64_t d = 0;
             for (int c = 0; c < 3; c++) d |= ((uint64_t)p.d[c] & 0x3ffff) << (18 * c);
             u.t_d = d;
-            for (int k = 0; k < 12; k++) put(u.t_words, 18 * k, 18, p.e[k]);
+            for (int k = 0; k < 12; k++) tb::put(u.t_words, 18 * k, 18, p.e[k]);
             u.t_kappa = p.kappa;
             u.t_quad = p.quad;
         }

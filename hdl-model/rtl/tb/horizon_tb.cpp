@@ -42,24 +42,6 @@ static bool read_vectors(const char *path, std::vector<Write> &writes, std::vect
     });
 }
 
-// `width` bits of `value` (two's complement) at bit `lo` of a Verilator wide signal
-template <typename W> static void put(W &w, int lo, int width, int64_t value) {
-    for (int b = 0; b < width; b++) {
-        int at = lo + b;
-        uint32_t bit = (uint32_t)(((uint64_t)value >> b) & 1);
-        w[at / 32] = (w[at / 32] & ~(1u << (at % 32))) | (bit << (at % 32));
-    }
-}
-// `width` bits at bit `lo` of a Verilator wide signal, sign-extended
-template <typename W> static int64_t get(const W &w, int lo, int width) {
-    uint64_t v = 0;
-    for (int b = 0; b < width; b++) {
-        int at = lo + b;
-        v |= (uint64_t)((w[at / 32] >> (at % 32)) & 1) << b;
-    }
-    return v >= (1ull << (width - 1)) ? (int64_t)v - (int64_t)(1ull << width) : (int64_t)v;
-}
-
 int main(int argc, char **argv) {
     Verilated::commandArgs(argc, argv);
     if (argc < 2) {
@@ -89,10 +71,10 @@ int main(int argc, char **argv) {
             const Box &b = boxes[bi++];
             u.f_boxed = b.boxed;
             for (int c = 0; c < 3; c++) {
-                put(u.f_lo, 24 * c, 24, b.lo[c]);
-                put(u.f_hi, 24 * c, 24, b.hi[c]);
-                put(u.f_o, 32 * c, 32, b.o[c]);
-                put(u.f_w, 32 * c, 32, b.w[c]);
+                tb::put(u.f_lo, 24 * c, 24, b.lo[c]);
+                tb::put(u.f_hi, 24 * c, 24, b.hi[c]);
+                tb::put(u.f_o, 32 * c, 32, b.o[c]);
+                tb::put(u.f_w, 32 * c, 32, b.w[c]);
             }
             entered.push_back(clocks);
         }
@@ -102,7 +84,8 @@ int main(int argc, char **argv) {
             const Write &w = writes[wrote];
             bool same = u.b_written == w.written;
             for (int c = 0; c < 3; c++)
-                same = same && get(u.b_lo, 24 * c, 24) == w.lo[c] && get(u.b_hi, 24 * c, 24) == w.hi[c];
+                same = same && tb::get(u.b_lo, 24 * c, 24) == w.lo[c] &&
+                       tb::get(u.b_hi, 24 * c, 24) == w.hi[c];
             if (!same && bad++ < 10)
                 printf("horizon: write %zu (word %u value %u): model lo %" PRId64 " %" PRId64 " %" PRId64
                        " hi %" PRId64 " %" PRId64 " %" PRId64 " written %u, RTL written %u\n",

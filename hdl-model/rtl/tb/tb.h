@@ -1,6 +1,7 @@
 // What the co-simulation testbenches (hdl-model/rtl/tb/*.cpp) share: a vector file read line by
-// line, a clock's two edges, a wall-clock timer and the closing line `cargo xtask rtl` parses
-// (`rtl::parse_report`). Until session 27 each testbench wrote these out again.
+// line, a clock's two edges, fields of wide signals put and got, a wall-clock timer and the
+// closing line `cargo xtask rtl` parses (`rtl::parse_report`). Until session 27 each testbench
+// wrote these out again.
 #pragma once
 #include <chrono>
 #include <cinttypes>
@@ -41,6 +42,25 @@ template <typename M> void tick(M &m) {
     m.eval();
     m.clk = 0;
     m.eval();
+}
+
+// `width` bits of `value` (two's complement) at bit `lo` of a Verilator wide signal.
+template <typename W> void put(W &w, int lo, int width, int64_t value) {
+    for (int b = 0; b < width; b++) {
+        int at = lo + b;
+        uint32_t bit = (uint32_t)(((uint64_t)value >> b) & 1);
+        w[at / 32] = (w[at / 32] & ~(1u << (at % 32))) | (bit << (at % 32));
+    }
+}
+
+// `width` bits at bit `lo` of a Verilator wide signal, sign-extended.
+template <typename W> int64_t get(const W &w, int lo, int width) {
+    uint64_t v = 0;
+    for (int b = 0; b < width; b++) {
+        int at = lo + b;
+        v |= (uint64_t)((w[at / 32] >> (at % 32)) & 1) << b;
+    }
+    return v >= (1ull << (width - 1)) ? (int64_t)v - (int64_t)(1ull << width) : (int64_t)v;
 }
 
 // Wall-clock seconds since it was made.
