@@ -389,7 +389,7 @@ fn wrap(d: i64) -> i64 {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     extern crate std;
     use super::*;
     use crate::intersect::coarse::{coarse_edge, narrow_edge};
@@ -479,25 +479,7 @@ mod tests {
         rng: &mut Rng,
     ) -> Option<(Vec<[i64; 3]>, Vec<[i64; 3]>, [[Unit; 3]; 3], [V; 3], Vec<V>)> {
         // a random rotation (unit quaternion) for the frame
-        let q = unit4([rng.sym(), rng.sym(), rng.sym(), rng.sym()]);
-        let [w0, x, y, z] = q;
-        let rot = [
-            [
-                1.0 - 2.0 * (y * y + z * z),
-                2.0 * (x * y + w0 * z),
-                2.0 * (x * z - w0 * y),
-            ],
-            [
-                2.0 * (x * y - w0 * z),
-                1.0 - 2.0 * (x * x + z * z),
-                2.0 * (y * z + w0 * x),
-            ],
-            [
-                2.0 * (x * z + w0 * y),
-                2.0 * (y * z - w0 * x),
-                1.0 - 2.0 * (x * x + y * y),
-            ],
-        ];
+        let rot = rotation([rng.sym(), rng.sym(), rng.sym(), rng.sym()]);
         let axes = rot.map(|r| r.map(Unit::from_num));
         // an origin and a patch of any size from 2^-9 to 2 units, near or far
         let o: V = [rng.sym(), rng.sym(), rng.sym()];
@@ -556,6 +538,28 @@ mod tests {
     fn sub(u: V, v: V) -> V {
         [u[0] - v[0], u[1] - v[1], u[2] - v[2]]
     }
+    /// The rows of the rotation of quaternion `q` (normalised first): a frame's axes.
+    pub(crate) fn rotation(q: [f64; 4]) -> [[f64; 3]; 3] {
+        let [w0, x, y, z] = unit4(q);
+        [
+            [
+                1.0 - 2.0 * (y * y + z * z),
+                2.0 * (x * y + w0 * z),
+                2.0 * (x * z - w0 * y),
+            ],
+            [
+                2.0 * (x * y - w0 * z),
+                1.0 - 2.0 * (x * x + z * z),
+                2.0 * (y * z + w0 * x),
+            ],
+            [
+                2.0 * (x * z + w0 * y),
+                2.0 * (y * z - w0 * x),
+                1.0 - 2.0 * (x * x + y * y),
+            ],
+        ]
+    }
+
     fn unit4(q: [f64; 4]) -> [f64; 4] {
         let l = q.iter().map(|c| c * c).sum::<f64>().sqrt();
         q.map(|c| c / l)

@@ -237,6 +237,7 @@ mod tests {
     use super::*;
     use crate::format::Unit;
     use crate::intersect::coarse::Coarse;
+    use crate::intersect::cull::tests::rotation;
     use crate::intersect::cull::{CullUnit, Wedge};
 
     /// xorshift64*: uniform in [−1, 1)
@@ -252,28 +253,9 @@ mod tests {
         }
     }
 
-    /// A random frame's axes (the rows of a rotation, from a unit quaternion).
+    /// A random frame's axes.
     fn frame(rng: &mut Rng) -> [[f64; 3]; 3] {
-        let q = [rng.sym(), rng.sym(), rng.sym(), rng.sym()];
-        let len = q.iter().map(|c| c * c).sum::<f64>().sqrt().max(1e-9);
-        let [w, x, y, z] = q.map(|c| c / len);
-        [
-            [
-                1.0 - 2.0 * (y * y + z * z),
-                2.0 * (x * y + w * z),
-                2.0 * (x * z - w * y),
-            ],
-            [
-                2.0 * (x * y - w * z),
-                1.0 - 2.0 * (x * x + z * z),
-                2.0 * (y * z + w * x),
-            ],
-            [
-                2.0 * (x * z + w * y),
-                2.0 * (y * z - w * x),
-                1.0 - 2.0 * (x * x + y * y),
-            ],
-        ]
+        rotation([rng.sym(), rng.sym(), rng.sym(), rng.sym()])
     }
 
     /// On random frames, origins and patches (triangles and quads from 2^-9 to 2 units, most of
