@@ -4,9 +4,10 @@
 // h = H - o (the box's ends, Q8.24), q_c = h_c where w_c >= 0 and l_c otherwise,
 // U = max_c max(|l_c|, |h_c|) and k = max(bits(U) - 17, 0): z = sum (q_c >> k)(w_c >> 14),
 // E = sum(|q_c >> k| + |w_c >> 14| + 1), and the box is below iff z + E + ((U >> k) + 1) 2^9
-// <= 0. A box a clock, six stages: the subtractions; the magnitudes, the picks and each axis's
-// larger end; U; k and the shifts; the three 18 x 18 products and E; the sum and its sign.
-// (The box read before it is the seventh clock of the model's HORIZON_LATENCY.)
+// <= 0. A box a clock, seven stages: the subtractions (both ways, so that a magnitude is a
+// choice, not a negation); the picks, each axis's larger end and |w'|; U, k and E's w part;
+// the shifts; the three 18 x 18 products and E's q part; their sums; the sign. (The box read
+// before it is the eighth clock of the model's HORIZON_LATENCY.)
 // Verilog-2005, accepted by Verilator and Yosys.
 module horizon_filter (
     input  wire        clk,
@@ -19,18 +20,35 @@ module horizon_filter (
     output reg         out_valid,
     output reg         out_below
 );
-    function [32:0] mag34(input signed [33:0] x);
-        mag34 = x[33] ? -x[32:0] : x[32:0];
+    // |x| from x and -x, both registered (a multiplexer, not a negation's carry chain)
+    function [32:0] mag34(input signed [33:0] x, input [32:0] neg);
+        mag34 = x[33] ? neg : x[32:0];
     endfunction
     function [17:0] mag18(input signed [17:0] x);
         mag18 = x[17] ? -x : x;
     endfunction
-    // bits(x) - 17, at least 0, of a 33-bit magnitude
+    // bits(x) - 17, at least 0, of a 33-bit magnitude: the place of the leading one among bits
+    // 32:17 found by halves (a tree, not a chain of priorities), plus one
     function [4:0] drop(input [32:0] x);
-        integer b;
+        /* verilator lint_off UNUSEDSIGNAL */ // bits 16:0 stay within 17 bits
+        reg [32:0] all;
+        /* verilator lint_on UNUSEDSIGNAL */
+        reg [15:0] y;
+        reg [7:0] y8;
+        /* verilator lint_off UNUSEDSIGNAL */ // bit 0: the leading one when no other is
+        reg [3:0] y4;
+        /* verilator lint_on UNUSEDSIGNAL */
+        reg h8, h4, h2, h1;
         begin
-            drop = 0;
-            for (b = 17; b <= 32; b = b + 1) if (x[b]) drop = b[4:0] - 5'd16;
+            all = x;
+            y = all[32:17];
+            h8 = |y[15:8];
+            y8 = h8 ? y[15:8] : y[7:0];
+            h4 = |y8[7:4];
+            y4 = h4 ? y8[7:4] : y8[3:0];
+            h2 = |y4[3:2];
+            h1 = h2 ? y4[3] : y4[1];
+            drop = (|y) ? {1'b0, h8, h4, h2, h1} + 5'd1 : 5'd0;
         end
     endfunction
     // x >> k in 18 bits (|x| <= U, so |x >> k| <= 2^17)
@@ -54,10 +72,12 @@ module horizon_filter (
         end
     endfunction
 
-    // 1: the box's ends relative to the origin
+    // 1: the box's ends relative to the origin, and their negations
     reg               s1_valid, s1_boxed;
     reg signed [33:0] s1_l [0:2];
     reg signed [33:0] s1_h [0:2];
+    reg signed [33:0] s1_nl [0:2];
+    reg signed [33:0] s1_nh [0:2];
     reg        [53:0] s1_w;        // w >> 14 (Q2.16), 18 bits at 18c
     /* verilator lint_off UNUSEDSIGNAL */ // the axis's bits below Q2.16
     wire       [95:0] w_all = in_w;
@@ -72,6 +92,10 @@ module horizon_filter (
                 - {{2{in_o[32 * c + 31]}}, in_o[32 * c +: 32]};
             s1_h[c] <= {{2{in_hi[24 * c + 23]}}, in_hi[24 * c +: 24], 8'd0}
                 - {{2{in_o[32 * c + 31]}}, in_o[32 * c +: 32]};
+            s1_nl[c] <= {{2{in_o[32 * c + 31]}}, in_o[32 * c +: 32]}
+                - {{2{in_lo[24 * c + 23]}}, in_lo[24 * c +: 24], 8'd0};
+            s1_nh[c] <= {{2{in_o[32 * c + 31]}}, in_o[32 * c +: 32]}
+                - {{2{in_hi[24 * c + 23]}}, in_hi[24 * c +: 24], 8'd0};
         end
     end
 
@@ -80,30 +104,39 @@ module horizon_filter (
     reg signed [33:0] s2_q [0:2];
     reg        [32:0] s2_m [0:2];
     reg        [53:0] s2_w;
+    reg        [17:0] s2_wm [0:2];
     always @(posedge clk) begin
         s2_valid <= s1_valid;
         s2_boxed <= s1_boxed;
         s2_w <= s1_w;
         for (c = 0; c < 3; c = c + 1) begin
+            s2_wm[c] <= mag18(s1_w[18 * c +: 18]);
             s2_q[c] <= s1_w[18 * c + 17] ? s1_l[c] : s1_h[c];
-            s2_m[c] <= (mag34(s1_l[c]) > mag34(s1_h[c])) ? mag34(s1_l[c]) : mag34(s1_h[c]);
+            s2_m[c] <= (mag34(s1_l[c], s1_nl[c][32:0]) > mag34(s1_h[c], s1_nh[c][32:0]))
+                ? mag34(s1_l[c], s1_nl[c][32:0]) : mag34(s1_h[c], s1_nh[c][32:0]);
         end
     end
 
-    // 3: U, the largest reach (its three compares side by side)
+    // 3: U, the largest reach (its three compares side by side), k, and W = sum |w'_c| + 3
     reg               s3_valid, s3_boxed;
     reg signed [33:0] s3_q [0:2];
     reg        [32:0] s3_u;
+    reg        [4:0]  s3_k;
     reg        [53:0] s3_w;
+    reg        [19:0] s3_wsum;
     wire ge01 = s2_m[0] >= s2_m[1];
     wire ge02 = s2_m[0] >= s2_m[2];
     wire ge12 = s2_m[1] >= s2_m[2];
+    // the largest's leading one is the leading one of the three ORed
+    wire [4:0] k_all = drop(s2_m[0] | s2_m[1] | s2_m[2]);
     always @(posedge clk) begin
         s3_valid <= s2_valid;
         s3_boxed <= s2_boxed;
         s3_w <= s2_w;
+        s3_wsum <= {2'd0, s2_wm[0]} + {2'd0, s2_wm[1]} + {2'd0, s2_wm[2]} + 20'd3;
         for (c = 0; c < 3; c = c + 1) s3_q[c] <= s2_q[c];
         s3_u <= (ge01 && ge02) ? s2_m[0] : (ge12 ? s2_m[1] : s2_m[2]);
+        s3_k <= k_all;
     end
 
     // 4: k, and q, U and w narrowed to 18 bits
@@ -111,10 +144,12 @@ module horizon_filter (
     reg signed [17:0] s4_q [0:2];
     reg signed [17:0] s4_w [0:2];
     reg        [16:0] s4_u;
-    wire [4:0] k = drop(s3_u);
+    reg        [19:0] s4_wsum;
+    wire [4:0] k = s3_k;
     always @(posedge clk) begin
         s4_valid <= s3_valid;
         s4_boxed <= s3_boxed;
+        s4_wsum <= s3_wsum;
         s4_u <= narrow_u(s3_u, k);
         for (c = 0; c < 3; c = c + 1) begin
             s4_q[c] <= narrow(s3_q[c], k);
@@ -122,26 +157,42 @@ module horizon_filter (
         end
     end
 
-    // 5: the products, E and the margin (U' + 1) 2^9
+    // 5: the products; sum |q'_c| as the q'_c with their bits flipped where negative (added
+    // up, no negation's carry chain) and the count of the negative ones; W and the margin
+    // (U' + 1) 2^9 added
     reg               s5_valid, s5_boxed;
     reg signed [35:0] s5_p [0:2];
-    reg        [20:0] s5_e;
-    reg        [26:0] s5_margin;
+    reg        [19:0] s5_qx;
+    reg        [1:0]  s5_neg;
+    reg        [26:0] s5_k;
     always @(posedge clk) begin
         s5_valid <= s4_valid;
         s5_boxed <= s4_boxed;
         for (c = 0; c < 3; c = c + 1) s5_p[c] <= s4_q[c] * s4_w[c];
-        s5_e <= {3'd0, mag18(s4_q[0])} + {3'd0, mag18(s4_w[0])}
-            + {3'd0, mag18(s4_q[1])} + {3'd0, mag18(s4_w[1])}
-            + {3'd0, mag18(s4_q[2])} + {3'd0, mag18(s4_w[2])} + 21'd3;
-        s5_margin <= {{1'b0, s4_u} + 18'd1, 9'd0};
+        s5_qx <= {2'd0, s4_q[0] ^ {18{s4_q[0][17]}}} + {2'd0, s4_q[1] ^ {18{s4_q[1][17]}}}
+            + {2'd0, s4_q[2] ^ {18{s4_q[2][17]}}};
+        s5_neg <= {1'b0, s4_q[0][17]} + {1'b0, s4_q[1][17]} + {1'b0, s4_q[2][17]};
+        s5_k <= {7'd0, s4_wsum} + {1'b0, s4_u, 9'd0} + 27'd512;
     end
 
-    // 6: z + E + margin, below iff it is not positive
-    wire signed [38:0] sum = {{3{s5_p[0][35]}}, s5_p[0]} + {{3{s5_p[1][35]}}, s5_p[1]}
-        + {{3{s5_p[2][35]}}, s5_p[2]} + {18'd0, s5_e} + {12'd0, s5_margin};
+    // 6: z = sum of the products, and E + margin - 1
+    reg               s6_valid, s6_boxed;
+    reg signed [37:0] s6_z;
+    reg        [27:0] s6_e;
     always @(posedge clk) begin
-        out_valid <= s5_valid;
-        out_below <= s5_boxed && (sum[38] || sum == 39'sd0);
+        s6_valid <= s5_valid;
+        s6_boxed <= s5_boxed;
+        s6_z <= {{2{s5_p[0][35]}}, s5_p[0]} + {{2{s5_p[1][35]}}, s5_p[1]}
+            + {{2{s5_p[2][35]}}, s5_p[2]};
+        s6_e <= {8'd0, s5_qx} + {26'd0, s5_neg} + {1'b0, s5_k} - 28'd1;
+    end
+
+    // 7: below iff z + E + margin <= 0, that is z + E + margin - 1 < 0
+    /* verilator lint_off UNUSEDSIGNAL */ // only its sign
+    wire signed [38:0] sum = {s6_z[37], s6_z} + {11'd0, s6_e};
+    /* verilator lint_on UNUSEDSIGNAL */
+    always @(posedge clk) begin
+        out_valid <= s6_valid;
+        out_below <= s6_boxed && sum[38];
     end
 endmodule

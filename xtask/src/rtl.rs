@@ -528,15 +528,15 @@ const SETUP_MUTANT: Mutant = Mutant {
     what: "bit 0 of the set-up unit's PLANE_EPS shift",
 };
 
-/// The horizon filter's shift by bits(U) − 17 as bits(U) − 18 (the offset 16 of the leading
-/// one's place as 17, one bit), so that its words keep a bit more than the model's.
+/// The horizon filter's shift k = bits(U) − 17 as bits(U) − 18 (the leading one's place plus 1
+/// as plus 0, one bit), so that its words keep a bit more than the model's.
 const HORIZON_MUTANT: Mutant = Mutant {
     bench: HORIZON_BENCH,
     extra: &[],
     file: "horizon_filter.v",
-    from: "b[4:0] - 5'd16",
-    to: "b[4:0] - 5'd17",
-    what: "bit 0 of the horizon filter's shift offset",
+    from: "{1'b0, h8, h4, h2, h1} + 5'd1",
+    to: "{1'b0, h8, h4, h2, h1} + 5'd0",
+    what: "bit 0 of the horizon filter's shift",
 };
 
 /// Co-simulates the CORDIC units at `cfg` and, if asked, the register file, the coarse edge

@@ -18,13 +18,15 @@ module syn_horizon (
 
     reg  [71:0] lo, hi;
     reg  [12:0] written;
+    wire        we_next;
     wire [71:0] lo_next, hi_next;
     wire [12:0] written_next;
     slot_box box (
-        .word(c[342:339]), .value(c[374:343]), .lo_in(lo), .hi_in(hi), .written_in(written),
-        .lo_out(lo_next), .hi_out(hi_next), .written_out(written_next));
+        .clk(clk), .in_we(c[338]), .in_word(c[342:339]), .in_value(c[374:343]), .lo_in(lo),
+        .hi_in(hi), .written_in(written), .out_we(we_next), .lo_out(lo_next), .hi_out(hi_next),
+        .written_out(written_next));
     always @(posedge clk)
-        if (c[338]) begin
+        if (we_next) begin
             lo <= lo_next;
             hi <= hi_next;
             written <= written_next;

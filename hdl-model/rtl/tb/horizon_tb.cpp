@@ -1,7 +1,7 @@
 // The horizon filter's testbench: reads the model's vectors (hemi-bench's `rtl-vectors
 // --horizon`, host/bench/src/rtl/horizon.rs), feeds one write a clock to the slot box's write
-// path (`W` lines: the word, the value and the box the model holds after it) and one box a
-// clock to the filter (`H` lines: the box, whether it counts, the origin, the axis and the
+// path (`W` lines: the word, the value and the box the model holds after it, which the RTL
+// writes a clock later) and one box a clock to the filter (`H` lines: the box, whether it counts, the origin, the axis and the
 // model's verdict), and compares every box after its write and every verdict, in order, with
 // the model's; a verdict must leave FILTER_CLOCKS clocks after its box went in. Prints
 // `horizon: rays=N vectors=M clocks=C mismatches=K seconds=S` (rays: the boxes filtered),
@@ -9,10 +9,11 @@
 #include "Vhorizon_top.h"
 #include "tb.h"
 #include "verilated.h"
+#include <cstdint>
 #include <vector>
 
 // the model's HORIZON_LATENCY less the box read
-static const uint64_t FILTER_CLOCKS = 6;
+static const uint64_t FILTER_CLOCKS = 7;
 
 struct Write {
     uint32_t word, value;
@@ -56,10 +57,12 @@ int main(int argc, char **argv) {
     u.clk = 0;
     u.eval();
     uint64_t bad = 0, clocks = 0;
-    size_t wi = 0, bi = 0, bo = 0;
+    // the write fed on the clock before, whose box is written at the end of this one
+    size_t wi = 0, bi = 0, bo = 0, due = SIZE_MAX;
     std::vector<uint64_t> entered;
-    while (wi < writes.size() || bo < boxes.size()) {
-        size_t wrote = wi;
+    while (wi < writes.size() || due != SIZE_MAX || bo < boxes.size()) {
+        size_t wrote = due;
+        due = wi < writes.size() ? wi : SIZE_MAX;
         u.b_we = wi < writes.size();
         if (u.b_we) {
             u.b_word = writes[wi].word;
@@ -80,7 +83,7 @@ int main(int argc, char **argv) {
         }
         tb::tick(u);
         clocks++;
-        if (wrote < wi) {
+        if (wrote != SIZE_MAX) {
             const Write &w = writes[wrote];
             bool same = u.b_written == w.written;
             for (int c = 0; c < 3; c++)

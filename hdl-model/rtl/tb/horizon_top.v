@@ -1,5 +1,5 @@
 // The co-simulation top of the horizon filter and the slot boxes it reads: one slot's box
-// register, written through `slot_box.v` on each write, beside the filter
+// register, written through `slot_box.v` a clock after each write, beside the filter
 // (`horizon_filter.v`), each fed a vector a clock by `horizon_tb.cpp`.
 module horizon_top (
     input  wire        clk,
@@ -23,13 +23,15 @@ module horizon_top (
         b_hi = {3{24'h80_0000}};
         b_written = 13'd0;
     end
+    wire        we_next;
     wire [71:0] lo_next, hi_next;
     wire [12:0] written_next;
     slot_box box (
-        .word(b_word), .value(b_value), .lo_in(b_lo), .hi_in(b_hi), .written_in(b_written),
-        .lo_out(lo_next), .hi_out(hi_next), .written_out(written_next));
+        .clk(clk), .in_we(b_we), .in_word(b_word), .in_value(b_value), .lo_in(b_lo),
+        .hi_in(b_hi), .written_in(b_written), .out_we(we_next), .lo_out(lo_next),
+        .hi_out(hi_next), .written_out(written_next));
     always @(posedge clk)
-        if (b_we) begin
+        if (we_next) begin
             b_lo <= lo_next;
             b_hi <= hi_next;
             b_written <= written_next;

@@ -70,10 +70,11 @@ const Q_BITS: u32 = 17;
 /// The filter's margin below the horizon, 2^-MARGIN_SHIFT of the box's reach.
 const MARGIN_SHIFT: u32 = 7;
 
-/// Clocks from a patch's box read to its verdict: the box read, then the filter's six stages
+/// Clocks from a patch's box read to its verdict: the box read, then the filter's seven stages
 /// (`rtl/horizon_filter.v`: the subtractions; the picks and each axis's larger reach; the
-/// largest; its leading zeros and the shifts; the products and the error bound; the sum).
-pub const HORIZON_LATENCY: u64 = 7;
+/// largest; its leading zeros and the shifts; the products and the error bound's parts; their
+/// sums; the sign).
+pub const HORIZON_LATENCY: u64 = 8;
 
 /// Slot numbers a bank's filter can hold for its set-up unit.
 pub const FIFO_SLOTS: usize = 16;

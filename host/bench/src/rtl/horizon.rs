@@ -2,8 +2,9 @@
 //! reads (`slot_box.v`): the model's [`SlotBox::write`] on a sequence of patch-memory writes,
 //! the box after each, and its [`below`] on the boxes, origins and frames of the set-up passes,
 //! for the testbench to feed the RTL a write and a box a clock and compare in order; the
-//! filter's verdict must leave six clocks after its box goes in (the model's
-//! [`HORIZON_LATENCY`], the box read before it being the seventh).
+//! filter's verdict must leave seven clocks after its box goes in (the model's
+//! [`HORIZON_LATENCY`], the box read before it being the eighth). The RTL writes a box a
+//! clock after its write (the model's write path has no clock).
 //!
 //! File lines (decimal): `W word value lo0 lo1 lo2 hi0 hi1 hi2 written` (a write of `value` to
 //! word `word` of the slot, then the box as the model holds it: the 24-bit ends and the
