@@ -3,7 +3,8 @@
 // path (`W` lines: the word, the value and the box the model holds after it, which the RTL
 // writes a clock later) and one box a clock to the filter (`H` lines: the box, whether it counts, the origin, the axis and the
 // model's verdict), and compares every box after its write and every verdict, in order, with
-// the model's; a verdict must leave FILTER_CLOCKS clocks after its box went in. Prints
+// the model's; a verdict must leave as many clocks after its box went in as the file's `L`
+// line says (the model's HORIZON_LATENCY less the box read). Prints
 // `horizon: rays=N vectors=M clocks=C mismatches=K seconds=S` (rays: the boxes filtered),
 // exits 1 on any mismatch.
 #include "Vhorizon_top.h"
@@ -11,9 +12,6 @@
 #include "verilated.h"
 #include <cstdint>
 #include <vector>
-
-// the model's HORIZON_LATENCY less the box read
-static const uint64_t FILTER_CLOCKS = 7;
 
 struct Write {
     uint32_t word, value;
@@ -26,9 +24,12 @@ struct Box {
     uint32_t below;
 };
 
-static bool read_vectors(const char *path, std::vector<Write> &writes, std::vector<Box> &boxes) {
+static bool read_vectors(const char *path, uint64_t &latency, std::vector<Write> &writes,
+                         std::vector<Box> &boxes) {
     return tb::read_lines("horizon", path, [&](const std::string &tag, std::istringstream &in) {
-        if (tag == "W") {
+        if (tag == "L") {
+            in >> latency;
+        } else if (tag == "W") {
             Write w;
             in >> w.word >> w.value >> w.lo[0] >> w.lo[1] >> w.lo[2] >> w.hi[0] >> w.hi[1] >>
                 w.hi[2] >> w.written;
@@ -51,7 +52,12 @@ int main(int argc, char **argv) {
     }
     std::vector<Write> writes;
     std::vector<Box> boxes;
-    if (!read_vectors(argv[1], writes, boxes)) return 2;
+    uint64_t latency = 0;
+    if (!read_vectors(argv[1], latency, writes, boxes)) return 2;
+    if (latency == 0) {
+        fprintf(stderr, "horizon: no L line in %s\n", argv[1]);
+        return 2;
+    }
     tb::Stopwatch watch;
     Vhorizon_top u;
     u.clk = 0;
@@ -97,7 +103,7 @@ int main(int argc, char **argv) {
         }
         if (u.f_out_valid && bo < boxes.size()) {
             const Box &b = boxes[bo];
-            bool late = clocks - entered[bo] != FILTER_CLOCKS;
+            bool late = clocks - entered[bo] != latency;
             if ((u.f_below != b.below || late) && bad++ < 10)
                 printf("horizon: box %zu: model below %u, RTL %u after %" PRIu64 " clocks\n", bo,
                        b.below, (unsigned)u.f_below, clocks - entered[bo]);

@@ -240,19 +240,7 @@ mod tests {
     use crate::intersect::coarse::Coarse;
     use crate::intersect::cull::tests::rotation;
     use crate::intersect::cull::{CullUnit, Wedge};
-
-    /// xorshift64*: uniform in [−1, 1)
-    struct Rng(u64);
-
-    impl Rng {
-        fn sym(&mut self) -> f64 {
-            self.0 ^= self.0 >> 12;
-            self.0 ^= self.0 << 25;
-            self.0 ^= self.0 >> 27;
-            let r = self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11;
-            r as f64 / (1u64 << 52) as f64 - 1.0
-        }
-    }
+    use crate::intersect::tests::Rng;
 
     /// A random frame's axes.
     fn frame(rng: &mut Rng) -> [[f64; 3]; 3] {
@@ -375,8 +363,8 @@ mod tests {
 
     #[test]
     fn filtered_patches_cost_the_filter_a_clock_while_the_set_up_works() {
-        // four kept quads then sixteen passed over: the filter runs ahead while the set-up
-        // works, so the pass is the set-up's 16 clocks, then 4 clocks of the filter's own
+        // four kept quads then sixteen passed over: the filter takes the twenty patches in 20
+        // clocks while the set-up works on the four quads for 16, so the pass is 20
         let mut t = PassTiming::default();
         (0..4).for_each(|_| t.patch(0, Some(4)));
         (0..16).for_each(|_| t.patch(0, None));

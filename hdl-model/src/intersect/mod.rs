@@ -398,6 +398,11 @@ fn corner_clocks(kind: u32) -> u64 {
     }
 }
 
+/// A patch's corners relative to origin `o` (Q8.24 words): a_k = v_k − O, exact in 33 bits.
+fn corner_vectors(p: &PatchWords, o: [i64; 3]) -> [[i64; 3]; 4] {
+    core::array::from_fn(|k| core::array::from_fn(|c| p.v[k][c].to_bits() as i64 - o[c]))
+}
+
 /// One pair offered to a ray group's plane units (the clocks each is free) on clock `at`: the
 /// clock the first free one takes it.
 fn plane_take(units: &mut [u64; PLANE_UNITS], at: u64) -> u64 {
@@ -824,8 +829,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
     ) -> bool {
         let p = mem.patch(i);
         let sides = p.sides();
-        let a: [[i64; 3]; 4] =
-            core::array::from_fn(|k| core::array::from_fn(|c| p.v[k][c].to_bits() as i64 - o[c]));
+        let a = corner_vectors(&p, o);
         let Some(h) = plane_distance(p.n.map(|c| c.to_bits()), a[0]) else {
             return true;
         };
@@ -869,8 +873,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         }
         let o = origin.map(|c| c.to_bits() as i64);
         let sides = p.sides();
-        let a: [[i64; 3]; 4] =
-            core::array::from_fn(|k| core::array::from_fn(|c| p.v[k][c].to_bits() as i64 - o[c]));
+        let a = corner_vectors(&p, o);
         let n = p.n;
         let Some(h) = plane_distance(n.map(|c| c.to_bits()), a[0]) else {
             self.local[i] = lp;

@@ -6,7 +6,8 @@
 //! [`HORIZON_LATENCY`], the box read before it being the eighth). The RTL writes a box a
 //! clock after its write (the model's write path has no clock).
 //!
-//! File lines (decimal): `W word value lo0 lo1 lo2 hi0 hi1 hi2 written` (a write of `value` to
+//! File lines (decimal): first `L n`, the clocks from a box into the filter to its verdict
+//! ([`FILTER_CLOCKS`]); then `W word value lo0 lo1 lo2 hi0 hi1 hi2 written` (a write of `value` to
 //! word `word` of the slot, then the box as the model holds it: the 24-bit ends and the
 //! written bits), `H boxed lo0 lo1 lo2 hi0 hi1 hi2 o0 o1 o2 w0 w1 w2 below` (a box as its
 //! memory holds it, whether it counts, the origin (Q8.24), the frame's axis w (Q2.30) and the
@@ -48,6 +49,7 @@ pub fn vectors(
     seed: u64,
 ) -> (String, Counts) {
     let mut out = Vectors::default();
+    let _ = writeln!(out.text, "L {FILTER_CLOCKS}");
     let mut rng = XorShift::new(seed ^ 0xd1b5_4a32_d192_ed03);
     let mut b = SlotBox::default();
     for slot in slots {
@@ -189,7 +191,8 @@ mod tests {
     #[test]
     fn the_workload_holds_both_verdicts_and_every_kind_of_write() {
         let (text, c) = vectors(&[], 1, 3_000, 1);
-        assert_eq!(text.lines().count(), c.writes + c.boxes);
+        assert_eq!(text.lines().count(), 1 + c.writes + c.boxes);
+        assert_eq!(text.lines().next(), Some("L 7"));
         assert!(c.below > 200 && c.below < c.boxes - 200, "{c:?}");
         // boxes complete, and a high end past the word's range, among the writes
         assert!(text
