@@ -70,11 +70,18 @@ const Q_BITS: u32 = 17;
 /// The filter's margin below the horizon, 2^-MARGIN_SHIFT of the box's reach.
 const MARGIN_SHIFT: u32 = 7;
 
-/// Clocks from a patch's box read to its verdict: the box read, then the filter's seven stages
-/// (`rtl/horizon_filter.v`: the subtractions; the picks and each axis's larger reach; the
-/// largest; its leading zeros and the shifts; the products and the error bound's parts; their
-/// sums; the sign).
-pub const HORIZON_LATENCY: u64 = 8;
+/// Clocks of a slot's box read (`rtl/bank_front.v`): the block RAM's, then a register after it
+/// (a block RAM's output comes about 6 ns after its clock on the ECP5, too late for the
+/// filter's first adders at 100 MHz; one clock until session 32).
+pub const BOX_READ: u64 = 2;
+
+/// The filter's stages (`rtl/horizon_filter.v`: the subtractions; the picks and each axis's
+/// larger reach; the largest; its leading zeros and the shifts; the products and the error
+/// bound's parts; their sums; the sign).
+pub const FILTER_STAGES: u64 = 7;
+
+/// Clocks from a patch's box read to its verdict.
+pub const HORIZON_LATENCY: u64 = BOX_READ + FILTER_STAGES;
 
 /// Slot numbers a bank's filter can hold for its set-up unit.
 pub const FIFO_SLOTS: usize = 16;
@@ -179,10 +186,10 @@ struct BankTiming {
 }
 
 impl BankTiming {
-    fn patch(&mut self, clocks: Option<u64>) {
+    fn patch(&mut self, clocks: Option<u64>) -> Option<u64> {
         let Some(clocks) = clocks else {
             self.filter += 1;
-            return;
+            return None;
         };
         let slot = self.kept % FIFO_SLOTS;
         // a kept patch enters the FIFO once the one FIFO_SLOTS before it has left
@@ -196,6 +203,7 @@ impl BankTiming {
         self.setup = start + clocks;
         self.filter = at + 1;
         self.kept += 1;
+        Some(start)
     }
 
     fn clocks(&self) -> u64 {
@@ -220,11 +228,22 @@ impl Default for PassTiming {
 
 impl PassTiming {
     /// The next patch of bank `bank`: `Some(clocks)` of set-up, or `None` if the filter passes
-    /// it over.
-    pub fn patch(&mut self, bank: usize, clocks: Option<u64>) {
-        if let Some(b) = self.banks.get_mut(bank) {
-            b.patch(clocks);
-        }
+    /// it over. Returns the clock its set-up begins (its first corner's), counted from the
+    /// pass's first box read without the filter's latency (`rtl/bank_front.v` shows it
+    /// [`HORIZON_LATENCY`] later).
+    pub fn patch(&mut self, bank: usize, clocks: Option<u64>) -> Option<u64> {
+        self.banks.get_mut(bank)?.patch(clocks)
+    }
+
+    /// The clock bank `bank`'s filter takes its next patch on: its patches so far and the
+    /// clocks it stood still, a kept patch waiting for room in the FIFO.
+    pub fn filter_clock(&self, bank: usize) -> u64 {
+        self.banks.get(bank).map_or(0, |b| b.filter)
+    }
+
+    /// Clocks until bank `bank` is done.
+    pub fn bank_clocks(&self, bank: usize) -> u64 {
+        self.banks.get(bank).map_or(0, BankTiming::clocks)
     }
 
     /// Clocks until the slowest bank is done.
@@ -366,15 +385,22 @@ mod tests {
         // four kept quads then sixteen passed over: the filter takes the twenty patches in 20
         // clocks while the set-up works on the four quads for 16, so the pass is 20
         let mut t = PassTiming::default();
-        (0..4).for_each(|_| t.patch(0, Some(4)));
-        (0..16).for_each(|_| t.patch(0, None));
+        let starts: [Option<u64>; 4] = core::array::from_fn(|_| t.patch(0, Some(4)));
+        assert_eq!(starts, [Some(0), Some(4), Some(8), Some(12)]);
+        assert!((0..16).all(|_| t.patch(0, None).is_none()));
         assert_eq!(t.clocks(), 20);
         // a full FIFO stops the filter: 40 kept quads then 40 passed over
         let mut t = PassTiming::default();
-        (0..40).for_each(|_| t.patch(0, Some(4)));
-        (0..40).for_each(|_| t.patch(0, None));
+        (0..40).for_each(|_| {
+            t.patch(0, Some(4));
+        });
+        (0..40).for_each(|_| {
+            t.patch(0, None);
+        });
         // the 40th kept patch enters the FIFO when the 24th starts (clock 92), so the filter
-        // passes the rest over from clock 93 on, done at 133, after the set-up's 160
+        // passes the rest over from clock 93 on, done at 133, after the set-up's 160; it stood
+        // still 53 clocks
         assert_eq!(t.clocks(), 160);
+        assert_eq!(t.filter_clock(0), 133);
     }
 }

@@ -330,14 +330,20 @@ pub const REACH_DELAY: u32 = 21;
 /// session 28 the model charged the reach's 62 alone, as if the edge words were there at once).
 pub const CULL_SETUP_LATENCY: u32 = REACH_DELAY + cull::REACH_LATENCY;
 
+/// Clocks from a compact set-up unit taking a patch to the patch's first corner at its input:
+/// the corner's read from patch memory, the block RAM's clock and a register after it, as
+/// `rtl/bank_front.v` reads the box ([`horizon::BOX_READ`]; uncharged until session 32, when
+/// the bank front's RTL showed it).
+pub const CORNER_READ: u64 = horizon::BOX_READ;
+
 /// Latency of the set-up pipe after its last patch: the wide datapath's edge normals' products
 /// (`rtl/plane_setup.v`), or with culling the reach ([`cull::REACH_LATENCY`]); the compact
-/// one's edge words ([`EDGE_SETUP_LATENCY`]; 2 until session 28), or with culling the reach of
-/// the last patch ([`CULL_SETUP_LATENCY`]).
+/// one's corner read ([`CORNER_READ`]), then its edge words ([`EDGE_SETUP_LATENCY`]; 2 until
+/// session 28), or with culling the reach of the last patch ([`CULL_SETUP_LATENCY`]).
 fn setup_latency(compact: bool, culling: bool) -> u64 {
     match (compact, culling) {
-        (true, true) => CULL_SETUP_LATENCY as u64,
-        (true, false) => EDGE_SETUP_LATENCY as u64,
+        (true, true) => CORNER_READ + CULL_SETUP_LATENCY as u64,
+        (true, false) => CORNER_READ + EDGE_SETUP_LATENCY as u64,
         // the wide datapath's words are truncated from its exact edges, early enough to hide
         (false, true) => cull::REACH_LATENCY as u64,
         (false, false) => 2,
@@ -390,7 +396,7 @@ struct InsidePair {
 /// the corner's dot products with the axes and its two vectorings: the multipliers and CORDIC
 /// pipes `area` counts), so a quad costs four and any other slot (a Bezier root box, an empty
 /// slot) one; the banks run in parallel ([`PassTiming`]).
-fn corner_clocks(kind: u32) -> u64 {
+pub fn corner_clocks(kind: u32) -> u64 {
     match kind {
         KIND_TRIANGLE => 3,
         KIND_QUAD => 4,

@@ -3,7 +3,7 @@
 //! the box after each, and its [`below`] on the boxes, origins and frames of the set-up passes,
 //! for the testbench to feed the RTL a write and a box a clock and compare in order; the
 //! filter's verdict must leave seven clocks after its box goes in (the model's
-//! [`HORIZON_LATENCY`], the box read before it being the eighth). The RTL writes a box a
+//! [`FILTER_STAGES`]; its box read comes before them, `bank.rs`). The RTL writes a box a
 //! clock after its write (the model's write path has no clock).
 //!
 //! File lines (decimal): first `L n`, the clocks from a box into the filter to its verdict
@@ -22,7 +22,7 @@
 use super::coarse::is_planar;
 use super::reach::{random_axes, scene_frames};
 use crate::rng::XorShift;
-use hemi_hdl_model::intersect::horizon::{below, SlotBox, HORIZON_LATENCY};
+use hemi_hdl_model::intersect::horizon::{below, SlotBox, FILTER_STAGES};
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use std::fmt::Write as _;
 
@@ -38,7 +38,7 @@ pub struct Counts {
 }
 
 /// Clocks from a box into the filter to its verdict: the model's latency less the box read.
-pub const FILTER_CLOCKS: u64 = HORIZON_LATENCY - 1;
+pub const FILTER_CLOCKS: u64 = FILTER_STAGES;
 
 /// The vectors: `slots` written, then `random` random writes (now and then a whole slot); the set-up passes
 /// over `slots` from K × K (`samples`) points of each planar slot, then `random` random boxes.
