@@ -7,10 +7,13 @@
 // <= 0. A box a clock, seven stages: the subtractions (both ways, so that a magnitude is a
 // choice, not a negation); the picks, each axis's larger end and |w'|; U, k and E's w part;
 // the shifts; the three 18 x 18 products and E's q part; their sums; the sign. (The box read
-// before it is the eighth clock of the model's HORIZON_LATENCY.)
+// before it, two clocks in `bank_front.v`, completes the model's HORIZON_LATENCY.) With en low
+// every stage holds: the bank's front stops the filter while its oldest verdict, a patch kept,
+// waits for room in the set-up unit's FIFO.
 // Verilog-2005, accepted by Verilator and Yosys.
 module horizon_filter (
     input  wire        clk,
+    input  wire        en,         // the stages advance
     input  wire        in_valid,
     input  wire        in_boxed,   // a planar slot whose box is complete and bounded
     input  wire [71:0] in_lo,      // the box's low ends, 24-bit signed (Q8.16) at bits 24c
@@ -83,7 +86,7 @@ module horizon_filter (
     wire       [95:0] w_all = in_w;
     /* verilator lint_on UNUSEDSIGNAL */
     integer c;
-    always @(posedge clk) begin
+    always @(posedge clk) if (en) begin
         s1_valid <= in_valid;
         s1_boxed <= in_boxed;
         for (c = 0; c < 3; c = c + 1) begin
@@ -105,7 +108,7 @@ module horizon_filter (
     reg        [32:0] s2_m [0:2];
     reg        [53:0] s2_w;
     reg        [17:0] s2_wm [0:2];
-    always @(posedge clk) begin
+    always @(posedge clk) if (en) begin
         s2_valid <= s1_valid;
         s2_boxed <= s1_boxed;
         s2_w <= s1_w;
@@ -129,7 +132,7 @@ module horizon_filter (
     wire ge12 = s2_m[1] >= s2_m[2];
     // the largest's leading one is the leading one of the three ORed
     wire [4:0] k_all = drop(s2_m[0] | s2_m[1] | s2_m[2]);
-    always @(posedge clk) begin
+    always @(posedge clk) if (en) begin
         s3_valid <= s2_valid;
         s3_boxed <= s2_boxed;
         s3_w <= s2_w;
@@ -146,7 +149,7 @@ module horizon_filter (
     reg        [16:0] s4_u;
     reg        [19:0] s4_wsum;
     wire [4:0] k = s3_k;
-    always @(posedge clk) begin
+    always @(posedge clk) if (en) begin
         s4_valid <= s3_valid;
         s4_boxed <= s3_boxed;
         s4_wsum <= s3_wsum;
@@ -165,7 +168,7 @@ module horizon_filter (
     reg        [19:0] s5_qx;
     reg        [1:0]  s5_neg;
     reg        [26:0] s5_k;
-    always @(posedge clk) begin
+    always @(posedge clk) if (en) begin
         s5_valid <= s4_valid;
         s5_boxed <= s4_boxed;
         for (c = 0; c < 3; c = c + 1) s5_p[c] <= s4_q[c] * s4_w[c];
@@ -179,7 +182,7 @@ module horizon_filter (
     reg               s6_valid, s6_boxed;
     reg signed [37:0] s6_z;
     reg        [27:0] s6_e;
-    always @(posedge clk) begin
+    always @(posedge clk) if (en) begin
         s6_valid <= s5_valid;
         s6_boxed <= s5_boxed;
         s6_z <= {{2{s5_p[0][35]}}, s5_p[0]} + {{2{s5_p[1][35]}}, s5_p[1]}
@@ -191,7 +194,7 @@ module horizon_filter (
     /* verilator lint_off UNUSEDSIGNAL */ // only its sign
     wire signed [38:0] sum = {s6_z[37], s6_z} + {11'd0, s6_e};
     /* verilator lint_on UNUSEDSIGNAL */
-    always @(posedge clk) begin
+    always @(posedge clk) if (en) begin
         out_valid <= s6_valid;
         out_below <= s6_boxed && sum[38];
     end

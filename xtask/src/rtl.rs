@@ -137,6 +137,16 @@ pub const HORIZON_BENCH: Bench = Bench {
     report: "horizon",
 };
 
+/// A bank's set-up pass ahead of its set-up unit (`bank_front.v`): the slots' boxes through
+/// the horizon filter, the FIFO and the corner reads, pass after pass, every corner compared
+/// with its clock.
+pub const BANK_BENCH: Bench = Bench {
+    top: "bank_front",
+    sources: &["horizon_filter.v", "bank_front.v"],
+    cpp: "tb/bank_tb.cpp",
+    report: "bank",
+};
+
 /// The multipliers: `array_mul.v` (a multiplier without DSP tiles) and `const_mul.v` (a product
 /// by a constant), against the exact integer products, not against model vectors.
 pub const MUL_BENCH: Bench = Bench {
@@ -221,6 +231,7 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     lint_top(CULL_BENCH.top, CULL_BENCH.sources, &[])?;
     lint_top(SETUP_BENCH.top, SETUP_BENCH.sources, &[])?;
     lint_top(HORIZON_BENCH.top, HORIZON_BENCH.sources, &[])?;
+    lint_top(BANK_BENCH.top, BANK_BENCH.sources, &[])?;
     lint_top(MUL_BENCH.top, MUL_BENCH.sources, &[])?;
     for d in designs(cfg, depth) {
         let generics: Vec<String> = d.params.iter().map(|(k, v)| format!("-G{k}={v}")).collect();
@@ -256,10 +267,14 @@ pub struct Workload {
     /// Random slot-box writes and as many random boxes for the horizon filter (after the
     /// scene's slots written and its set-up passes from `coarse_samples` points a slot).
     pub horizon_random: u32,
+    /// Random banks for the bank front (after the scene's bank 0 and its set-up passes from
+    /// `coarse_samples` points a slot).
+    pub bank_random: u32,
 }
 
 /// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's, the
-/// coarse edge units', the culling unit's, the set-up unit's and the horizon filter's (`once`:
+/// coarse edge units', the culling unit's, the set-up unit's, the horizon filter's and the bank
+/// front's (`once`:
 /// none depends on CONFIG's CORDIC words)
 /// and the planar unit's at a depth (each into its own file) on the Cornell box, with the
 /// release build of the generator (`release`) or the test suite's debug build.
@@ -268,7 +283,7 @@ pub fn vectors(
     plane: Option<(u32, &Path)>,
     w: Workload,
     release: bool,
-    (cordic_out, once): (&Path, Option<[&Path; 5]>),
+    (cordic_out, once): (&Path, Option<[&Path; 6]>),
 ) -> Result<(), String> {
     let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
     if release {
@@ -281,7 +296,7 @@ pub fn vectors(
         .args(["--scene", "scenes/cornell.toml"])
         .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
         .args(["--random", &n(w.random)]);
-    if let Some([regs_out, coarse_out, cull_out, setup_out, horizon_out]) = once {
+    if let Some([regs_out, coarse_out, cull_out, setup_out, horizon_out, bank_out]) = once {
         c.arg("--regs")
             .arg(regs_out)
             .args(["--regs-steps", &n(w.regs_steps)]);
@@ -298,6 +313,9 @@ pub fn vectors(
         c.arg("--horizon")
             .arg(horizon_out)
             .args(["--horizon-random", &n(w.horizon_random)]);
+        c.arg("--bank")
+            .arg(bank_out)
+            .args(["--bank-random", &n(w.bank_random)]);
     }
     if let Some((depth, out)) = plane {
         c.arg("--plane")
@@ -469,6 +487,7 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     REACH_MUTANT.caught("mutant-reach", &[], &[file("cull.txt")], opt)?;
     SETUP_MUTANT.caught("mutant-setup", &[], &[file("setup.txt")], opt)?;
     HORIZON_MUTANT.caught("mutant-horizon", &[], &[file("horizon.txt")], opt)?;
+    BANK_MUTANT.caught("mutant-bank", &[], &[file("bank.txt")], opt)?;
     MUL_MUTANT.caught("mutant-mul", &[], &[MUL_CLOCKS.to_string()], opt)?;
     Ok(())
 }
@@ -528,6 +547,17 @@ const SETUP_MUTANT: Mutant = Mutant {
     what: "bit 0 of the set-up unit's PLANE_EPS shift",
 };
 
+/// The bank front's FIFO of 8 slot numbers instead of 16 (FIFO_BITS 3 for 4, one bit), so that
+/// the filter stops sooner than the model's.
+const BANK_MUTANT: Mutant = Mutant {
+    bench: BANK_BENCH,
+    extra: &[],
+    file: "bank_front.v",
+    from: "parameter integer FIFO_BITS = 4",
+    to: "parameter integer FIFO_BITS = 3",
+    what: "bit 0 of the bank front's FIFO size",
+};
+
 /// The horizon filter's shift k = bits(U) − 17 as bits(U) − 18 (the leading one's place plus 1
 /// as plus 0, one bit), so that its words keep a bit more than the model's.
 const HORIZON_MUTANT: Mutant = Mutant {
@@ -558,8 +588,12 @@ fn cosim_run(
         dir.join("coarse.txt"),
         dir.join("cull.txt"),
     );
-    let (sv, hv) = (dir.join("setup.txt"), dir.join("horizon.txt"));
-    let once_out = once.then_some([&rv, &ev, &uv, &sv, &hv].map(PathBuf::as_path));
+    let (sv, hv, bv) = (
+        dir.join("setup.txt"),
+        dir.join("horizon.txt"),
+        dir.join("bank.txt"),
+    );
+    let once_out = once.then_some([&rv, &ev, &uv, &sv, &hv, &bv].map(PathBuf::as_path));
     vectors(
         cfg,
         depth.map(|d| (d, pv.as_path())),
@@ -593,6 +627,9 @@ fn cosim_run(
         let exe = build(HORIZON_BENCH, &[], &src, &dir.join("horizon"), opt)?;
         let r = cosim(HORIZON_BENCH, &exe, &[hv.display().to_string()])?;
         out.push(("horizon filter".to_string(), r));
+        let exe = build(BANK_BENCH, &[], &src, &dir.join("bank"), opt)?;
+        let r = cosim(BANK_BENCH, &exe, &[bv.display().to_string()])?;
+        out.push(("bank front".to_string(), r));
         let exe = build(MUL_BENCH, &[], &src, &dir.join("mul"), opt)?;
         let r = cosim(MUL_BENCH, &exe, &[MUL_CLOCKS.to_string()])?;
         out.push(("multipliers".to_string(), r));
@@ -630,6 +667,7 @@ pub fn ci() -> Result<(), String> {
         cull_random: 5_000,
         setup_random: 5_000,
         horizon_random: 5_000,
+        bank_random: 40,
     };
     let reports = cosim_run(cfg, Some(depth), true, w, false, "-O1", &dir)?;
     let bad: u64 = reports.iter().map(|(_, r)| r.mismatches).sum();
@@ -823,9 +861,21 @@ pub fn horizon_design() -> Design {
     }
 }
 
+/// A bank's set-up pass front's harness: its box and corner memories, the horizon filter, the
+/// FIFO and the corner reads. Not summed: the horizon filter's harness holds the filter again.
+pub fn bank_design() -> Design {
+    Design {
+        name: "bank".to_string(),
+        top: "syn_bank",
+        files: vec!["horizon_filter.v", "bank_front.v", "syn/syn_bank.v"],
+        params: vec![],
+        summed: false,
+    }
+}
+
 /// Every synthesis harness at CORDIC `cfg` and (u,v) depth `depth` (the final line's figures
 /// are theirs: [`datapath`]).
-fn designs(cfg: Cordic, depth: u32) -> [Design; 9] {
+fn designs(cfg: Cordic, depth: u32) -> [Design; 10] {
     [
         rotator_design(cfg),
         plane_design(depth),
@@ -836,6 +886,7 @@ fn designs(cfg: Cordic, depth: u32) -> [Design; 9] {
         reach_design(),
         setup_design(),
         horizon_design(),
+        bank_design(),
     ]
 }
 
@@ -1088,6 +1139,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
         cull_random: 100_000,
         setup_random: 100_000,
         horizon_random: 100_000,
+        bank_random: 1_000,
     };
     let mut total = Cosim::default();
     for (k, cfg) in CONFIGS.iter().enumerate() {

@@ -13,7 +13,7 @@ module syn_horizon (
 
     wire f_valid, f_below;
     horizon_filter filter (
-        .clk(clk), .in_valid(c[0]), .in_boxed(c[1]), .in_lo(c[73:2]), .in_hi(c[145:74]),
+        .clk(clk), .en(1'b1), .in_valid(c[0]), .in_boxed(c[1]), .in_lo(c[73:2]), .in_hi(c[145:74]),
         .in_o(c[241:146]), .in_w(c[337:242]), .out_valid(f_valid), .out_below(f_below));
 
     reg  [71:0] lo, hi;

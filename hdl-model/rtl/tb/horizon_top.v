@@ -37,6 +37,6 @@ module horizon_top (
             b_written <= written_next;
         end
     horizon_filter filter (
-        .clk(clk), .in_valid(f_valid), .in_boxed(f_boxed), .in_lo(f_lo), .in_hi(f_hi),
+        .clk(clk), .en(1'b1), .in_valid(f_valid), .in_boxed(f_boxed), .in_lo(f_lo), .in_hi(f_hi),
         .in_o(f_o), .in_w(f_w), .out_valid(f_out_valid), .out_below(f_below));
 endmodule

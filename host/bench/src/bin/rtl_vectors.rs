@@ -22,11 +22,14 @@
 //!   K` lattice points a slot) and random passes of `--setup-random N` patches in all;
 //! - with `--horizon OUT7`: the slot boxes' write path on the scene's slots written and
 //!   `--horizon-random N` random writes, and the horizon filter on the scene's set-up passes
-//!   (`--coarse-samples K` lattice points a slot) and as many random boxes.
+//!   (`--coarse-samples K` lattice points a slot) and as many random boxes;
+//! - with `--bank OUT8`: a bank's set-up pass ahead of its set-up unit on the scene's bank 0
+//!   (passes from `--coarse-samples K` lattice points a slot) and `--bank-random N` random
+//!   banks.
 
 use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
-use hemi_bench::rtl::{coarse, cordic, cull, horizon, plane, reach, regs, setup};
+use hemi_bench::rtl::{bank, coarse, cordic, cull, horizon, plane, reach, regs, setup};
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use std::time::Instant;
@@ -54,6 +57,8 @@ struct Args {
     setup_random: usize,
     horizon: Option<String>,
     horizon_random: usize,
+    bank: Option<String>,
+    bank_random: usize,
     seed: u64,
 }
 
@@ -81,6 +86,8 @@ fn parse() -> Result<Args> {
         setup_random: 20_000,
         horizon: None,
         horizon_random: 20_000,
+        bank: None,
+        bank_random: 100,
         seed: 0x2545_f491_4f6c_dd1d,
     };
     let mut it = std::env::args().skip(1);
@@ -109,13 +116,15 @@ fn parse() -> Result<Args> {
             "--setup-random" => a.setup_random = value()?.parse()?,
             "--horizon" => a.horizon = Some(value()?),
             "--horizon-random" => a.horizon_random = value()?.parse()?,
+            "--bank" => a.bank = Some(value()?),
+            "--bank-random" => a.bank_random = value()?.parse()?,
             "--seed" => a.seed = value()?.parse()?,
             s if !s.starts_with('-') && a.out.is_empty() => a.out = s.to_string(),
             s => bail!("unknown argument `{s}`"),
         }
     }
     if a.out.is_empty() || !a.cfg.is_valid() || !(1..=24).contains(&a.depth) {
-        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--seed S]");
+        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--bank OUT8 --bank-random N] [--seed S]");
     }
     Ok(a)
 }
@@ -147,7 +156,7 @@ fn main() -> Result<()> {
         counts.clocks
     );
     // the scene's slots as the model's patch memory holds them, read once for every unit
-    let wanted = [&a.plane, &a.coarse, &a.cull, &a.setup, &a.horizon];
+    let wanted = [&a.plane, &a.coarse, &a.cull, &a.setup, &a.horizon, &a.bank];
     let slots = match &scene {
         Some(s) if wanted.iter().any(|o| o.is_some()) => plane::loaded_slots(&s.kernel_patches())?,
         _ => Vec::new(),
@@ -189,6 +198,14 @@ fn main() -> Result<()> {
         println!(
             "rtl-vectors: horizon writes={} boxes={} below={}",
             c.writes, c.boxes, c.below
+        );
+    }
+    if let Some(out) = &a.bank {
+        let (text, c) = bank::vectors(&slots, a.coarse_samples, a.bank_random, a.seed);
+        std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
+        println!(
+            "rtl-vectors: bank passes={} slots={} corners={} stalls={}",
+            c.passes, c.slots, c.corners, c.stalls
         );
     }
     Ok(())

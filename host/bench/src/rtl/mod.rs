@@ -11,9 +11,11 @@
 //! - [`reach`]: the culling unit's patch side (a patch's sectors and bands);
 //! - [`setup`]: the compact set-up unit (a patch's plane test, edge words and reach, per origin);
 //! - [`horizon`]: the horizon filter and the slot boxes it reads;
+//! - [`bank`]: a bank's set-up pass ahead of its set-up unit (boxes, filter, FIFO, corner reads);
 //! - [`plane`]: the planar intersection unit with (u,v) (one lane, no culling);
 //! - [`regs`]: the register file and its AHB-Lite bus interface.
 
+pub mod bank;
 pub mod coarse;
 pub mod cordic;
 pub mod cull;
