@@ -131,15 +131,24 @@ pub const RAY_SIDE: Placed = Placed {
     ffs: 3_425 - 98,
 };
 
-/// A bank's horizon filter, `rtl/horizon_filter.v`, with the slot boxes' write path,
-/// `rtl/slot_box.v` (session 31: 3,009 LUT4s and 1,659 flip-flops placed, 533 of them its
-/// harness's input chain, output register and the one box it holds in registers where a build
-/// holds boxes in block RAM; 3 DSP tiles for the three 18 × 18 products; 105.9 MHz). A build
-/// has one write path, counted here with every bank's filter (about 100 LUT4s a bank too many).
-/// The rules it replaces gave 1,600 LUT4s and 946 flip-flops with tiles.
-pub const HORIZON_FILTER: Placed = Placed {
-    luts: 3_009,
-    ffs: 1_659 - 533,
+/// A bank's set-up pass front, `rtl/bank_front.v` (session 32: 3,439 LUT4s and 2,816
+/// flip-flops placed, 469 of them its harness's input chain and output register; 3 DSP tiles
+/// for the horizon filter's three 18 × 18 products; 107.7 MHz): the box read, the horizon
+/// filter (`rtl/horizon_filter.v`), the FIFO of slot numbers (in LUT RAM) and the corner reads.
+/// Its block RAMs are counted as memories. Session 31 counted the filter alone as placed with
+/// the write path below (3,009 LUT4s, 1,126 flip-flops), and the FIFO as a memory.
+pub const BANK_FRONT: Placed = Placed {
+    luts: 3_439,
+    ffs: 2_816 - 469,
+};
+
+/// The slot boxes' write path, `rtl/slot_box.v`, one a build (session 32, placed in a harness
+/// of its own not kept: 516 LUT4s and 238 flip-flops, 195 of them the harness's input chain,
+/// output register and the one box it holds in registers where a build holds boxes in block
+/// RAM; 117.8 MHz).
+pub const SLOT_BOX_WRITE: Placed = Placed {
+    luts: 516,
+    ffs: 238 - 195,
 };
 
 impl Proxy {
@@ -417,21 +426,25 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
         ("plane units (n · d, dividers, minima)", plane),
         ("exact edge unit", exact),
         ("set-up units", setup),
-        ("horizon filters and slot boxes", horizon),
+        (
+            "bank fronts (horizon filters, FIFOs, corner reads), slot boxes",
+            horizon
+        ),
         ("front end and queues", front),
         ("memories", compact_memories(params)),
     ]
 }
 
-/// The horizon filters (`intersect/horizon.rs`), one a bank ahead of its set-up unit, as
-/// placed ([`HORIZON_FILTER`]: three 18 × 18 products each), a FIFO of 16 slot numbers each,
-/// and the slot boxes they read: a memory a bank of its slots' boxes (six 24-bit ends, twelve
-/// written bits and the unbounded bit).
+/// The horizon filters (`intersect/horizon.rs`), one a bank ahead of its set-up unit, each in
+/// its bank's set-up pass front as placed ([`BANK_FRONT`]: three 18 × 18 products each, the
+/// FIFO of slot numbers and the corner reads), the slot boxes' write path ([`SLOT_BOX_WRITE`])
+/// and the slot boxes the filters read: a memory a bank of its slots' boxes (six 24-bit ends,
+/// twelve written bits and the unbounded bit).
 fn horizon_filters(p: &mut Proxy, params: &Params, banks: u64) {
-    p.placed(banks, HORIZON_FILTER);
+    p.placed(banks, BANK_FRONT);
+    p.placed(1, SLOT_BOX_WRITE);
     p.mul(3 * banks as u32, 18, 18);
     for _ in 0..banks {
-        p.mem(16, 12);
         p.mem(params.bank_slots as u64, 6 * 24 + 13);
     }
 }
