@@ -26,7 +26,9 @@
 //
 // The memories are written from outside: a slot's box (24-bit ends, whether it counts for the
 // filter: planar, complete and bounded, as the slot box write path (`slot_box.v`) keeps it) and
-// its set-up clocks less one; and its four corners (Q8.24 words).
+// its set-up clocks less one; its four corners (Q8.24 words); its normal (Q2.30), read with
+// each corner. A pass's tag (its parity, for the set-up unit's two sets of pass registers)
+// rides with each of its slots to the corners.
 // Verilog-2005, accepted by Verilator and Yosys.
 module bank_front #(
     parameter integer SLOT_BITS = 9,
@@ -44,26 +46,36 @@ module bank_front #(
     input  wire                   corner_we,
     input  wire [SLOT_BITS+1:0]   corner_addr,  // slot and corner
     input  wire [95:0]            corner_data,
+    // a slot's normal
+    input  wire                   normal_we,
+    input  wire [SLOT_BITS-1:0]   normal_slot,
+    input  wire [95:0]            normal_data,
     // a pass over the bank's first `count` slots from origin `o` in a frame with axis `w`
     input  wire                   start,
     input  wire [SLOT_BITS:0]     count,
     input  wire [95:0]            o,
     input  wire [95:0]            w,
-    // the set-up unit's corners, a clock each
+    input  wire                   tag,
+    // the set-up unit's corners, a clock each, with the slot's normal and the pass's tag
     output reg                    c_valid,
+    output reg                    c_planar,     // a triangle's or a quad's
+    output reg                    c_pass,
     output reg                    c_last,
     output reg  [SLOT_BITS-1:0]   c_slot,
     output reg  [1:0]             c_corner,
     output reg  [95:0]            c_data,
+    output reg  [95:0]            c_normal,
     output wire                   busy
 );
-    localparam integer PAY = SLOT_BITS + 2;     // a slot and its set-up clocks less one
+    localparam integer PAY = SLOT_BITS + 3;     // a slot, its set-up clocks less one, its tag
     localparam integer DEPTH = 1 << FIFO_BITS;   // held[FIFO_BITS]: the FIFO is full
 
     reg [146:0] boxes [0:(1 << SLOT_BITS) - 1];
     reg [95:0]  corners [0:(4 << SLOT_BITS) - 1];
+    reg [95:0]  normals [0:(1 << SLOT_BITS) - 1];
     always @(posedge clk) if (box_we) boxes[box_slot] <= {box_clocks, box_boxed, box_hi, box_lo};
     always @(posedge clk) if (corner_we) corners[corner_addr] <= corner_data;
+    always @(posedge clk) if (normal_we) normals[normal_slot] <= normal_data;
 
     // ---- the filter's side: the next slot's box read, then seven stages
     wire              f_valid, f_below;
@@ -73,6 +85,7 @@ module bank_front #(
     reg               issuing;
     reg [SLOT_BITS:0] next, last;
     reg [95:0]        pass_o, pass_w;
+    reg               pass_tag;
     wire              read = issuing && adv;
     always @(posedge clk) begin
         if (start) begin
@@ -81,6 +94,7 @@ module bank_front #(
             last <= count - 1;
             pass_o <= o;
             pass_w <= w;
+            pass_tag <= tag;
         end else if (read) begin
             next <= next + 1;
             issuing <= next != last;
@@ -89,7 +103,7 @@ module bank_front #(
     initial issuing = 1'b0;
 
     // the box read: the RAM's clock, then its register (what rides along waits beside it)
-    reg               ram_valid, rd_valid;
+    reg               ram_valid, rd_valid, ram_tag, rd_tag;
     reg [146:0]       ram_box, rd_box;
     reg [SLOT_BITS-1:0] ram_slot, rd_slot;
     reg [95:0]        ram_o, ram_w, rd_o, rd_w;
@@ -99,11 +113,13 @@ module bank_front #(
         ram_slot <= next[SLOT_BITS-1:0];
         ram_o <= pass_o;
         ram_w <= pass_w;
+        ram_tag <= pass_tag;
         rd_box <= ram_box;
         rd_valid <= ram_valid;
         rd_slot <= ram_slot;
         rd_o <= ram_o;
         rd_w <= ram_w;
+        rd_tag <= ram_tag;
     end
     initial begin
         ram_valid = 1'b0;
@@ -120,7 +136,7 @@ module bank_front #(
     reg [6:0]     pay_valid;
     integer i;
     always @(posedge clk) if (adv) begin
-        pay[0] <= {rd_box[146:145], rd_slot};
+        pay[0] <= {rd_tag, rd_box[146:145], rd_slot};
         pay_valid[0] <= rd_valid;
         for (i = 1; i < 7; i = i + 1) begin
             pay[i] <= pay[i - 1];
@@ -137,6 +153,7 @@ module bank_front #(
     reg [1:0]         left;         // corners still to read of the current patch
     reg [1:0]         corner;
     reg [SLOT_BITS-1:0] slot;
+    reg               planar, slot_tag;
     initial begin
         head = 0;
         tail = 0;
@@ -166,24 +183,33 @@ module bank_front #(
     // rides along beside it
     wire [SLOT_BITS-1:0] a_slot = pop ? oldest[SLOT_BITS-1:0] : slot;
     wire [1:0]           a_corner = pop ? 2'd0 : corner;
-    reg                  ram_c_valid, ram_c_last;
+    wire [1:0]           oldest_left = oldest[SLOT_BITS+1:SLOT_BITS];
+    reg                  ram_c_valid, ram_c_last, ram_c_planar, ram_c_pass;
     reg [SLOT_BITS-1:0]  ram_c_slot;
     reg [1:0]            ram_c_corner;
-    reg [95:0]           ram_c_data;
+    reg [95:0]           ram_c_data, ram_c_normal;
     always @(posedge clk) begin
         ram_c_valid <= pop || !free;
         ram_c_slot <= a_slot;
         ram_c_corner <= a_corner;
-        ram_c_last <= pop ? oldest[PAY-1:SLOT_BITS] == 2'd0 : left == 2'd1;
+        ram_c_last <= pop ? oldest_left == 2'd0 : left == 2'd1;
+        ram_c_planar <= pop ? oldest_left != 2'd0 : planar;
+        ram_c_pass <= pop ? oldest[PAY-1] : slot_tag;
         ram_c_data <= corners[{a_slot, a_corner}];
+        ram_c_normal <= normals[a_slot];
         c_valid <= ram_c_valid;
         c_slot <= ram_c_slot;
         c_corner <= ram_c_corner;
         c_last <= ram_c_last;
         c_data <= ram_c_data;
+        c_normal <= ram_c_normal;
+        c_planar <= ram_c_planar;
+        c_pass <= ram_c_pass;
         if (pop) begin
             slot <= oldest[SLOT_BITS-1:0];
-            left <= oldest[PAY-1:SLOT_BITS];
+            left <= oldest_left;
+            planar <= oldest_left != 2'd0;
+            slot_tag <= oldest[PAY-1];
             corner <= 2'd1;
         end else if (!free) begin
             left <= left - 2'd1;

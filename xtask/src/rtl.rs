@@ -147,6 +147,26 @@ pub const BANK_BENCH: Bench = Bench {
     report: "bank",
 };
 
+/// A bank's whole set-up pass (`bank_setup.v`): the bank front feeding its set-up unit, on the
+/// bank front's vectors, every patch's answer compared with its clock.
+pub const BANK_SETUP_BENCH: Bench = Bench {
+    top: "bank_setup",
+    sources: &[
+        "horizon_filter.v",
+        "bank_front.v",
+        "bank_setup.v",
+        "setup_unit.v",
+        "coarse_edge.v",
+        "cull_reach.v",
+        "cull_angles.v",
+        "cull_bin.v",
+        "cordic_pipe.v",
+        "const_mul.v",
+    ],
+    cpp: "tb/bank_setup_tb.cpp",
+    report: "bank_setup",
+};
+
 /// The multipliers: `array_mul.v` (a multiplier without DSP tiles) and `const_mul.v` (a product
 /// by a constant), against the exact integer products, not against model vectors.
 pub const MUL_BENCH: Bench = Bench {
@@ -232,6 +252,7 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     lint_top(SETUP_BENCH.top, SETUP_BENCH.sources, &[])?;
     lint_top(HORIZON_BENCH.top, HORIZON_BENCH.sources, &[])?;
     lint_top(BANK_BENCH.top, BANK_BENCH.sources, &[])?;
+    lint_top(BANK_SETUP_BENCH.top, BANK_SETUP_BENCH.sources, &[])?;
     lint_top(MUL_BENCH.top, MUL_BENCH.sources, &[])?;
     for d in designs(cfg, depth) {
         let generics: Vec<String> = d.params.iter().map(|(k, v)| format!("-G{k}={v}")).collect();
@@ -488,6 +509,7 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     SETUP_MUTANT.caught("mutant-setup", &[], &[file("setup.txt")], opt)?;
     HORIZON_MUTANT.caught("mutant-horizon", &[], &[file("horizon.txt")], opt)?;
     BANK_MUTANT.caught("mutant-bank", &[], &[file("bank.txt")], opt)?;
+    BANK_SETUP_MUTANT.caught("mutant-bank-setup", &[], &[file("bank.txt")], opt)?;
     MUL_MUTANT.caught("mutant-mul", &[], &[MUL_CLOCKS.to_string()], opt)?;
     Ok(())
 }
@@ -551,11 +573,22 @@ const SETUP_MUTANT: Mutant = Mutant {
 /// the filter stops sooner than the model's.
 const BANK_MUTANT: Mutant = Mutant {
     bench: BANK_BENCH,
-    extra: &[],
+    extra: &["tb/bank.h"],
     file: "bank_front.v",
     from: "parameter integer FIFO_BITS = 4",
     to: "parameter integer FIFO_BITS = 3",
     what: "bit 0 of the bank front's FIFO size",
+};
+
+/// The bank's set-up pass giving each pass the tag it already has (one bit), so that its
+/// origin and frame go to the registers of the pass before it.
+const BANK_SETUP_MUTANT: Mutant = Mutant {
+    bench: BANK_SETUP_BENCH,
+    extra: &["cordic_rom.vh", "tb/bank.h"],
+    file: "bank_setup.v",
+    from: ".tag(!tag)",
+    to: ".tag(tag)",
+    what: "the bank's pass tag",
 };
 
 /// The horizon filter's shift k = bits(U) − 17 as bits(U) − 18 (the leading one's place plus 1
@@ -630,6 +663,9 @@ fn cosim_run(
         let exe = build(BANK_BENCH, &[], &src, &dir.join("bank"), opt)?;
         let r = cosim(BANK_BENCH, &exe, &[bv.display().to_string()])?;
         out.push(("bank front".to_string(), r));
+        let exe = build(BANK_SETUP_BENCH, &[], &src, &dir.join("bank-setup"), opt)?;
+        let r = cosim(BANK_SETUP_BENCH, &exe, &[bv.display().to_string()])?;
+        out.push(("bank set-up".to_string(), r));
         let exe = build(MUL_BENCH, &[], &src, &dir.join("mul"), opt)?;
         let r = cosim(MUL_BENCH, &exe, &[MUL_CLOCKS.to_string()])?;
         out.push(("multipliers".to_string(), r));
@@ -873,9 +909,21 @@ pub fn bank_design() -> Design {
     }
 }
 
+/// A bank's whole set-up pass's harness: the bank front and its set-up unit. Not summed: the
+/// set-up unit's and the front's harnesses hold them again.
+pub fn bank_setup_design() -> Design {
+    Design {
+        name: "bank-setup".to_string(),
+        top: "syn_bank_setup",
+        files: [BANK_SETUP_BENCH.sources, &["syn/syn_bank_setup.v"]].concat(),
+        params: vec![],
+        summed: false,
+    }
+}
+
 /// Every synthesis harness at CORDIC `cfg` and (u,v) depth `depth` (the final line's figures
 /// are theirs: [`datapath`]).
-fn designs(cfg: Cordic, depth: u32) -> [Design; 10] {
+fn designs(cfg: Cordic, depth: u32) -> [Design; 11] {
     [
         rotator_design(cfg),
         plane_design(depth),
@@ -887,6 +935,7 @@ fn designs(cfg: Cordic, depth: u32) -> [Design; 10] {
         setup_design(),
         horizon_design(),
         bank_design(),
+        bank_setup_design(),
     ]
 }
 

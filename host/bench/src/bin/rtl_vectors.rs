@@ -204,8 +204,8 @@ fn main() -> Result<()> {
         let (text, c) = bank::vectors(&slots, a.coarse_samples, a.bank_random, a.seed);
         std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
         println!(
-            "rtl-vectors: bank passes={} slots={} corners={} stalls={}",
-            c.passes, c.slots, c.corners, c.stalls
+            "rtl-vectors: bank passes={} slots={} corners={} set_up={} stalls={}",
+            c.passes, c.slots, c.corners, c.set_up, c.stalls
         );
     }
     Ok(())

@@ -19,11 +19,14 @@
 //! back to back, so that the filter keeps long runs of quads and the FIFO fills.
 
 use super::coarse::is_planar;
-use super::reach::{random_axes, scene_frames};
+use super::reach::{random_axes, scene_frames, Axes};
+use super::setup::{random_slot, set_up, write_answer};
 use crate::rng::XorShift;
+use hemi_hdl_model::intersect::cull::CullUnit;
 use hemi_hdl_model::intersect::horizon::{below, PassTiming, SlotBox, HORIZON_LATENCY};
-use hemi_hdl_model::intersect::patch_mem::{KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
-use hemi_hdl_model::intersect::{corner_clocks, CORNER_READ};
+use hemi_hdl_model::intersect::patch_mem::{KIND_QUAD, PATCH_WORDS};
+use hemi_hdl_model::intersect::{corner_clocks, CORNER_READ, CULL_SETUP_LATENCY};
+use hemi_hdl_model::params::Params;
 use std::fmt::Write as _;
 
 /// Clocks from the model's clock for a patch's set-up to its corner out of patch memory: the
@@ -42,19 +45,21 @@ pub struct Counts {
     pub slots: usize,
     /// Corners read.
     pub corners: usize,
+    /// Planar patches set up (`S` lines).
+    pub set_up: usize,
     /// Clocks the filter stood still, a kept patch waiting for room in the FIFO.
     pub stalls: u64,
 }
 
-/// A slot as the bank front holds it: its box words, whether the box counts, its set-up
-/// clocks and its four corners (Q8.24).
+/// A slot as the bank holds it: its words, its box words, whether the box counts and its
+/// set-up clocks.
 #[derive(Clone, Copy, Debug)]
 struct Slot {
+    words: [u32; PATCH_WORDS],
     lo: [i32; 3],
     hi: [i32; 3],
     boxed: bool,
     clocks: u64,
-    corners: [[i32; 3]; 4],
 }
 
 impl Slot {
@@ -63,14 +68,17 @@ impl Slot {
         words.iter().enumerate().for_each(|(k, &v)| b.write(k, v));
         let (lo, hi, _) = b.words();
         Slot {
+            words: *words,
             lo,
             hi,
             boxed: is_planar(words) && b.bounds().is_some(),
             clocks: corner_clocks(words[0] & 0xF),
-            corners: core::array::from_fn(|c| {
-                core::array::from_fn(|k| words[1 + 3 * c + k] as i32)
-            }),
         }
+    }
+
+    /// Corner `c`'s words (Q8.24; corners past a triangle's third are whatever memory holds).
+    fn corner(&self, c: usize) -> [i32; 3] {
+        core::array::from_fn(|k| self.words[1 + 3 * c + k] as i32)
     }
 
     /// Whether the filter passes it over for a pass from `o` with axis `w`.
@@ -80,6 +88,9 @@ impl Slot {
     }
 }
 
+/// A pass: its origin, its frame's axes and the slots it sets up.
+type Pass = ([i32; 3], Axes, usize);
+
 /// The vectors: the scene's bank 0 (`slots`, passes from `samples` × `samples` points of each
 /// planar slot), then `random` random banks of four to eight passes each.
 pub fn vectors(
@@ -88,8 +99,11 @@ pub fn vectors(
     random: usize,
     seed: u64,
 ) -> (String, Counts) {
-    let mut out = Vectors::default();
-    let _ = writeln!(out.text, "L {CORNER_CLOCKS} {HORIZON_LATENCY}");
+    let mut out = Vectors {
+        unit: CullUnit::new(Params::DEFAULT.sectors),
+        text: format!("L {CORNER_CLOCKS} {HORIZON_LATENCY} {CULL_SETUP_LATENCY}\n"),
+        counts: Counts::default(),
+    };
     let bank: Vec<Slot> = slots
         .iter()
         .step_by(2)
@@ -97,19 +111,19 @@ pub fn vectors(
         .map(Slot::of)
         .collect();
     if !bank.is_empty() {
-        let passes: Vec<_> = scene_frames(slots, samples)
+        let passes: Vec<Pass> = scene_frames(slots, samples)
             .into_iter()
-            .map(|(o, axes)| (o, axes[2], bank.len()))
+            .map(|(o, axes)| (o, axes, bank.len()))
             .collect();
         out.group(&bank, &passes, &mut XorShift::new(seed));
     }
     let mut rng = XorShift::new(seed ^ 0x6a09_e667_f3bc_c909);
     for _ in 0..random {
         let bank = random_bank(&mut rng);
-        let passes: Vec<_> = (0..4 + rng.bits() % 5)
+        let passes: Vec<Pass> = (0..4 + rng.bits() % 5)
             .map(|_| {
                 let count = 1 + (rng.bits() as usize) % bank.len();
-                (random_point(&mut rng), random_axes(&mut rng)[2], count)
+                (random_point(&mut rng), random_axes(&mut rng), count)
             })
             .collect();
         out.group(&bank, &passes, &mut rng);
@@ -122,104 +136,142 @@ fn random_point(rng: &mut XorShift) -> [i32; 3] {
     [0; 3].map(|_| ((rng.f64() - 0.5) * 4.0 * (1u64 << 24) as f64) as i32)
 }
 
-/// A bank of random slots: mostly quads, boxes of up to a quarter about random points of the
-/// cube, now and then a box that does not count.
+/// A bank of random slots in clusters of 8 to 64 about random points of the cube (so that a
+/// pass finds runs of patches below its horizon and runs above, as a scene's walls give it):
+/// quads and triangles of the set-up unit's random patches at 2^-8 to 2^-2 of the cube's unit,
+/// and one slot in ten of another kind.
 fn random_bank(rng: &mut XorShift) -> Vec<Slot> {
     let n = 1 + (rng.bits() as usize) % BANK_SLOTS;
-    (0..n)
-        .map(|_| {
-            let kind = match rng.bits() % 10 {
-                0..=5 => KIND_QUAD,
-                6..=8 => KIND_TRIANGLE,
-                _ => 0,
-            };
-            let c = random_point(rng);
-            let half = [0; 3].map(|_| (rng.f64() * 0.25 * (1u64 << 16) as f64) as i32);
-            Slot {
-                lo: core::array::from_fn(|k| (c[k] >> 8) - half[k]),
-                hi: core::array::from_fn(|k| (c[k] >> 8) + half[k]),
-                boxed: kind != 0 && !rng.bits().is_multiple_of(10),
-                clocks: corner_clocks(kind),
-                corners: [0; 4].map(|_| [0; 3].map(|_| rng.bits() as i32)),
+    let mut bank = Vec::with_capacity(n);
+    while bank.len() < n {
+        let centre = random_point(rng);
+        for _ in 0..(8 + rng.bits() % 57).min((n - bank.len()) as u64) {
+            let k = small_patch(rng);
+            let mut words = random_slot(rng, centre, k);
+            if rng.bits().is_multiple_of(10) {
+                words[0] = 0;
             }
-        })
-        .collect()
+            bank.push(Slot::of(&words));
+        }
+    }
+    bank
 }
 
-#[derive(Default)]
-struct Vectors {
-    text: String,
-    counts: Counts,
+/// A random patch's number for [`random_slot`] whose corners lie 2^16 to 2^22 from its
+/// centre, its edges 2^12 to 2^20 long (`coarse::random_patch`'s rules), a quad two times in
+/// three.
+fn small_patch(rng: &mut XorShift) -> usize {
+    loop {
+        let k = (rng.bits() % 100_000) as usize;
+        let (far, size) = (8 + k % 25, 4 + (k / 5) % 28);
+        let quad = !k.is_multiple_of(2);
+        if (16..=22).contains(&far)
+            && (12..=20).contains(&size)
+            && quad != rng.bits().is_multiple_of(3)
+        {
+            return k;
+        }
+    }
 }
+
+/// The file being written ([`super::UnitVectors`]).
+type Vectors = super::UnitVectors<Counts>;
 
 impl Vectors {
-    /// A group: `bank` written, then `passes` (origin, axis w, count), each begun on the
-    /// model's clock its bank is done, or some clocks later now and then.
-    fn group(&mut self, bank: &[Slot], passes: &[([i32; 3], [i32; 3], usize)], rng: &mut XorShift) {
+    /// A group: `bank` written, then `passes`, each begun on the model's clock its bank is
+    /// done, or after the bank has fallen idle now and then (and never before the pass two
+    /// before it has its answers: the set-up unit's two sets of pass registers).
+    fn group(&mut self, bank: &[Slot], passes: &[Pass], rng: &mut XorShift) {
         self.text.push_str("G\n");
         for (i, s) in bank.iter().enumerate() {
-            let (lo, hi) = (s.lo, s.hi);
-            let _ = writeln!(
-                self.text,
-                "B {i} {} {} {} {} {} {} {} {}",
-                s.boxed as u8,
-                s.clocks - 1,
-                lo[0],
-                lo[1],
-                lo[2],
-                hi[0],
-                hi[1],
-                hi[2]
-            );
-            for (c, v) in s.corners.iter().enumerate() {
-                let _ = writeln!(self.text, "C {} {} {} {}", 4 * i + c, v[0], v[1], v[2]);
-            }
+            self.slot(i, s);
         }
-        let mut start = 0;
-        for (p, &(o, w, count)) in passes.iter().enumerate() {
-            let end = start + self.pass(&bank[..count], start, o, w);
-            // the next pass on the clock this one ends, or after the bank has fallen idle
+        let (mut start, mut answered) = (0, [0u64; 2]);
+        for (p, (o, axes, count)) in passes.iter().enumerate() {
+            let (clocks, last) = self.pass(&bank[..*count], start, *o, axes);
+            let end = start + clocks;
+            answered[p % 2] = last.map_or(0, |l| l + CORNER_CLOCKS + CULL_SETUP_LATENCY as u64);
             let gap = if rng.bits().is_multiple_of(3) {
                 HORIZON_LATENCY + 1 + rng.bits() % 8
             } else {
                 0
             };
-            if gap > 0 || p + 1 == passes.len() {
+            // the pass two after this one's predecessor waits for its answers
+            let next = (end + gap).max(answered[(p + 1) % 2]);
+            if next > end + HORIZON_LATENCY || p + 1 == passes.len() {
                 let _ = writeln!(self.text, "I {end}");
             }
-            start = end + gap;
+            start = next;
         }
     }
 
-    /// One pass from `start`: its line and the model's corner reads; its clocks.
-    fn pass(&mut self, slots: &[Slot], start: u64, o: [i32; 3], w: [i32; 3]) -> u64 {
-        let _ = writeln!(
+    /// A slot's memory lines: its box, its corners and its normal.
+    fn slot(&mut self, i: usize, s: &Slot) {
+        let (lo, hi) = (s.lo, s.hi);
+        let t = &mut self.text;
+        let _ = write!(t, "B {i} {} {}", s.boxed as u8, s.clocks - 1);
+        lo.iter().chain(&hi).for_each(|v| {
+            let _ = write!(t, " {v}");
+        });
+        t.push('\n');
+        for c in 0..4 {
+            let v = s.corner(c);
+            let _ = writeln!(t, "C {} {} {} {}", 4 * i + c, v[0], v[1], v[2]);
+        }
+        let n = &s.words[13..16];
+        let _ = writeln!(t, "N {i} {} {} {}", n[0] as i32, n[1] as i32, n[2] as i32);
+    }
+
+    /// One pass from `start`: its line, the model's corner reads and set-ups; its clocks and
+    /// the model's clock for its last planar patch's last corner, if any.
+    fn pass(&mut self, slots: &[Slot], start: u64, o: [i32; 3], axes: &Axes) -> (u64, Option<u64>) {
+        let _ = write!(
             self.text,
-            "P {start} {} {} {} {} {} {} {}",
+            "P {start} {} {} {} {}",
             slots.len(),
             o[0],
             o[1],
-            o[2],
-            w[0],
-            w[1],
-            w[2]
+            o[2]
         );
-        let mut t = PassTiming::default();
+        axes.iter().flatten().for_each(|v| {
+            let _ = write!(self.text, " {v}");
+        });
+        self.text.push('\n');
+        let (mut t, mut last) = (PassTiming::default(), None);
         for (i, s) in slots.iter().enumerate() {
-            let clocks = (!s.below(o, w)).then_some(s.clocks);
+            let clocks = (!s.below(o, axes[2])).then_some(s.clocks);
             let Some(begin) = t.patch(0, clocks) else {
                 continue;
             };
             for c in 0..s.clocks {
-                let last = (c + 1 == s.clocks) as u8;
-                let _ = writeln!(self.text, "K {} {i} {c} {last}", start + begin + c);
+                let end = (c + 1 == s.clocks) as u8;
+                let _ = writeln!(self.text, "K {} {i} {c} {end}", start + begin + c);
                 self.counts.corners += 1;
+            }
+            if is_planar(&s.words) {
+                let at = start + begin + s.clocks - 1;
+                self.set_up_line(s, at, o, axes);
+                last = Some(at);
             }
         }
         self.counts.passes += 1;
         self.counts.slots += slots.len();
         self.counts.stalls += t.filter_clock(0) - slots.len() as u64;
-        t.bank_clocks(0).max(1)
+        (t.bank_clocks(0).max(1), last)
+    }
+
+    /// A planar patch's set-up as the model gives it: `S clock n` (the model's clock for its
+    /// last corner, its corners) and the answer as the set-up unit's vectors have it.
+    fn set_up_line(&mut self, s: &Slot, at: u64, o: [i32; 3], axes: &Axes) {
+        let sides = if s.words[0] & 0xF == KIND_QUAD { 4 } else { 3 };
+        let _ = write!(self.text, "S {at} {sides}");
+        write_answer(
+            &mut self.text,
+            sides,
+            set_up(&self.unit, &s.words, o, axes).as_ref(),
+        );
+        self.text.push('\n');
+        self.counts.set_up += 1;
     }
 }
 
@@ -230,7 +282,7 @@ mod tests {
     #[test]
     fn the_random_banks_fill_the_fifo_and_fall_idle() {
         let (text, c) = vectors(&[], 1, 20, 3);
-        assert_eq!(text.lines().next(), Some("L 9 8"));
+        assert_eq!(text.lines().next(), Some("L 11 9 83"));
         assert!(c.passes >= 80 && c.corners > 1000, "{c:?}");
         // the filter stood still: runs of kept quads filled the FIFO
         assert!(c.stalls > 100, "{c:?}");

@@ -111,49 +111,58 @@ impl Vectors {
             let _ = write!(t, " {x}");
         }
         self.counts.patches += 1;
-        match self.set_up(w, o, axes) {
-            Some((coarse, kappas, reach)) => self.answer(&coarse, &kappas[..sides], &reach),
-            None => {
-                // off the plane 0, then zeros for κ, the words, the edges' κ and the reach
-                self.counts.inactive += 1;
-                let _ = writeln!(self.text, " 0{}", " 0".repeat(1 + 4 * sides + 5));
-            }
+        let answer = set_up(&self.unit, w, o, axes);
+        match answer.as_ref().map(|(_, _, reach)| reach.wedge) {
+            None => self.counts.inactive += 1,
+            Some(Wedge::Below) => self.counts.below += 1,
+            Some(Wedge::Sectors { .. }) => self.counts.wedges += 1,
+            Some(Wedge::Full) => {}
         }
-    }
-
-    /// The model's set-up of slot `w` from origin `o` in the frame `axes`: its coarse words,
-    /// each edge's κ and its reach, or `None` when the origin is on its plane.
-    fn set_up(&self, w: &[u32; PATCH_WORDS], o: [i32; 3], axes: &Axes) -> Option<SetUp> {
-        let v = set_up_view(w, o)?;
-        let (coarse, kappas) = narrow_patch(&v.corners, v.shift, v.negate);
-        let ax = axes.map(|a| a.map(Unit::from_bits));
-        Some((coarse, kappas, self.unit.reach(&v.corners, &coarse, &ax)))
-    }
-
-    /// The rest of an active patch's line: 1 (off the plane), its κ, its edges' words and κ,
-    /// and its reach.
-    fn answer(&mut self, coarse: &Coarse, kappas: &[u8], reach: &Reach) {
-        let (kind, lo, len) = match reach.wedge {
-            Wedge::Below => (0, 0, 0),
-            Wedge::Full => (1, 0, 0),
-            Wedge::Sectors { lo, len } => (2, lo, len),
-        };
-        self.counts.below += (kind == 0) as usize;
-        self.counts.wedges += (kind == 2) as usize;
-        let t = &mut self.text;
-        let _ = write!(t, " 1 {}", coarse.kappa);
-        for c in coarse.words[..kappas.len()].iter().flatten() {
-            let _ = write!(t, " {c}");
-        }
-        for k in kappas {
-            let _ = write!(t, " {k}");
-        }
-        let _ = writeln!(t, " {kind} {lo} {len} {} {}", reach.band_lo, reach.band_hi);
+        write_answer(&mut self.text, sides, answer.as_ref());
+        self.text.push('\n');
     }
 }
 
 /// A patch's set-up: its coarse words, each edge's κ, its reach.
-type SetUp = (Coarse, [u8; 4], Reach);
+pub(super) type SetUp = (Coarse, [u8; 4], Reach);
+
+/// The model's set-up of planar slot `w` from origin `o` in the frame `axes` by `unit`'s
+/// culling: its coarse words, each edge's κ and its reach, or `None` when the origin is on its
+/// plane.
+pub(super) fn set_up(
+    unit: &CullUnit,
+    w: &[u32; PATCH_WORDS],
+    o: [i32; 3],
+    axes: &Axes,
+) -> Option<SetUp> {
+    let v = set_up_view(w, o)?;
+    let (coarse, kappas) = narrow_patch(&v.corners, v.shift, v.negate);
+    let ax = axes.map(|a| a.map(Unit::from_bits));
+    Some((coarse, kappas, unit.reach(&v.corners, &coarse, &ax)))
+}
+
+/// A `sides`-cornered patch's set-up as its line ends: 1 (off the plane), its κ, its edges'
+/// words and κ, and its reach (kind 0 below the horizon, 1 every sector, 2 a wedge: lo, len; the
+/// bands); for a patch on whose plane the origin lies, 0 and zeros in their place.
+pub(super) fn write_answer(t: &mut String, sides: usize, answer: Option<&SetUp>) {
+    let Some((coarse, kappas, reach)) = answer else {
+        let _ = write!(t, " 0{}", " 0".repeat(1 + 4 * sides + 5));
+        return;
+    };
+    let (kind, lo, len) = match reach.wedge {
+        Wedge::Below => (0, 0, 0),
+        Wedge::Full => (1, 0, 0),
+        Wedge::Sectors { lo, len } => (2, lo, len),
+    };
+    let _ = write!(t, " 1 {}", coarse.kappa);
+    for c in coarse.words[..sides].iter().flatten() {
+        let _ = write!(t, " {c}");
+    }
+    for k in &kappas[..sides] {
+        let _ = write!(t, " {k}");
+    }
+    let _ = write!(t, " {kind} {lo} {len} {} {}", reach.band_lo, reach.band_hi);
+}
 
 /// An origin anywhere in the Q8.24 cube, at any distance from the centre, and one pass in eight
 /// with a component next to a step of the origin-wide truncation ([`origin_shift`]: |o| of
@@ -180,7 +189,7 @@ fn random_origin(rng: &mut XorShift) -> [i32; 3] {
 /// A random planar slot near origin `o`: corners as [`random_patch`] places them (clamped into
 /// the Q8.24 words), a normal of any direction (the unit takes the slot's words as they are),
 /// and now and then the origin on its first corner (then on its plane).
-fn random_slot(rng: &mut XorShift, o: [i32; 3], n: usize) -> [u32; PATCH_WORDS] {
+pub(super) fn random_slot(rng: &mut XorShift, o: [i32; 3], n: usize) -> [u32; PATCH_WORDS] {
     let (a, _) = random_patch(rng, n);
     let mut w = [0u32; PATCH_WORDS];
     w[0] = if a.len() == 4 {
