@@ -4,6 +4,7 @@
 // a pass begun on its ports, which both tops have alike.
 #pragma once
 #include "tb.h"
+#include "verilated.h"
 #include <cstdint>
 #include <vector>
 
@@ -156,6 +157,35 @@ static uint64_t last_due(const Group &g, const Latency &lat) {
     for (const SetUp &s : g.set_ups) last = std::max(last, s.clock + lat.corner + lat.answer);
     for (uint64_t t : g.idles) last = std::max(last, t + lat.idle);
     return last;
+}
+
+// A testbench's whole run on the vectors of `argv[1]`: every group's memories written, then
+// `run(u, group, latency, clocks, bad)`; `vectors(group)` is what a group's checks count.
+// Prints the closing line as `what`; the exit status.
+template <typename M, typename Run, typename Count>
+int main_run(const char *what, int argc, char **argv, Run run, Count vectors) {
+    Verilated::commandArgs(argc, argv);
+    if (argc < 2) {
+        fprintf(stderr, "usage: %s VECTORS\n", what);
+        return 2;
+    }
+    std::vector<Group> groups;
+    Latency lat;
+    if (!read_vectors(what, argv[1], lat, groups)) return 2;
+    tb::Stopwatch watch;
+    M u;
+    u.clk = 0;
+    u.eval();
+    uint64_t bad = 0, clocks = 0, slots = 0, checked = 0;
+    for (const Group &g : groups) {
+        load(u, g, clocks);
+        run(u, g, lat, clocks, bad);
+        for (const Pass &p : g.passes) slots += p.count;
+        checked += vectors(g);
+    }
+    tb::report(what, slots, checked, clocks, bad, watch.seconds());
+    u.final();
+    return bad ? 1 : 0;
 }
 
 } // namespace bank

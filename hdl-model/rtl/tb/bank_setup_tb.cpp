@@ -98,26 +98,6 @@ static void run(Vbank_setup &u, const Group &g, const bank::Latency &lat, uint64
 }
 
 int main(int argc, char **argv) {
-    Verilated::commandArgs(argc, argv);
-    if (argc < 2) {
-        fprintf(stderr, "usage: bank_setup VECTORS\n");
-        return 2;
-    }
-    std::vector<Group> groups;
-    bank::Latency lat;
-    if (!bank::read_vectors("bank_setup", argv[1], lat, groups)) return 2;
-    tb::Stopwatch watch;
-    Vbank_setup u;
-    u.clk = 0;
-    u.eval();
-    uint64_t bad = 0, clocks = 0, slots = 0, vectors = 0;
-    for (const Group &g : groups) {
-        bank::load(u, g, clocks);
-        run(u, g, lat, clocks, bad);
-        for (const bank::Pass &p : g.passes) slots += p.count;
-        vectors += g.set_ups.size();
-    }
-    tb::report("bank_setup", slots, vectors, clocks, bad, watch.seconds());
-    u.final();
-    return bad ? 1 : 0;
+    return bank::main_run<Vbank_setup>("bank_setup", argc, argv, run,
+                                  [](const Group &g) { return g.set_ups.size(); });
 }

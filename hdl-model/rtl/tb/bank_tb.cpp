@@ -66,26 +66,6 @@ static void run(Vbank_front &u, const Group &g, const bank::Latency &lat, uint64
 }
 
 int main(int argc, char **argv) {
-    Verilated::commandArgs(argc, argv);
-    if (argc < 2) {
-        fprintf(stderr, "usage: bank VECTORS\n");
-        return 2;
-    }
-    std::vector<Group> groups;
-    bank::Latency lat;
-    if (!bank::read_vectors("bank", argv[1], lat, groups)) return 2;
-    tb::Stopwatch watch;
-    Vbank_front u;
-    u.clk = 0;
-    u.eval();
-    uint64_t bad = 0, clocks = 0, slots = 0, vectors = 0;
-    for (const Group &g : groups) {
-        bank::load(u, g, clocks);
-        run(u, g, lat, clocks, bad);
-        for (const bank::Pass &p : g.passes) slots += p.count;
-        vectors += g.reads.size() + g.idles.size();
-    }
-    tb::report("bank", slots, vectors, clocks, bad, watch.seconds());
-    u.final();
-    return bad ? 1 : 0;
+    return bank::main_run<Vbank_front>("bank", argc, argv, run,
+                                  [](const Group &g) { return g.reads.size() + g.idles.size(); });
 }
