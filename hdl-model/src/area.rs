@@ -131,15 +131,16 @@ pub const RAY_SIDE: Placed = Placed {
     ffs: 3_425 - 98,
 };
 
-/// A bank's set-up pass front, `rtl/bank_front.v` (session 32: 3,439 LUT4s and 2,816
-/// flip-flops placed, 469 of them its harness's input chain and output register; 3 DSP tiles
-/// for the horizon filter's three 18 × 18 products; 107.7 MHz): the box read, the horizon
-/// filter (`rtl/horizon_filter.v`), the FIFO of slot numbers (in LUT RAM) and the corner reads.
-/// Its block RAMs are counted as memories. Session 31 counted the filter alone as placed with
-/// the write path below (3,009 LUT4s, 1,126 flip-flops), and the FIFO as a memory.
+/// A bank's set-up pass front, `rtl/bank_front.v` (session 32: 3,911 LUT4s and 3,035
+/// flip-flops placed, 576 of them its harness's input chain and output register; 3 DSP tiles
+/// for the horizon filter's three 18 × 18 products; 105.0 MHz): the box read, the horizon
+/// filter (`rtl/horizon_filter.v`), the FIFO of slot numbers (in LUT RAM), the corner and
+/// normal reads and the pass's tag. Its block RAMs are counted as memories. Session 31 counted
+/// the filter alone as placed with the write path below (3,009 LUT4s, 1,126 flip-flops), and
+/// the FIFO as a memory.
 pub const BANK_FRONT: Placed = Placed {
-    luts: 3_439,
-    ffs: 2_816 - 469,
+    luts: 3_911,
+    ffs: 3_035 - 576,
 };
 
 /// The slot boxes' write path, `rtl/slot_box.v`, one a build (session 32, placed in a harness
