@@ -1,19 +1,21 @@
 // Synthesis harness of a bank's horizon filter (`horizon_filter.v`) and the slot boxes' write
 // path (`slot_box.v`), as `syn_rotator.v` is the rotator's: their inputs from a register chain
 // shifted in from one pin, the box's read-modify-write through a register as its memory would
-// hold it, their outputs folded into one registered pin. Figures: `cargo xtask rtl`.
+// hold it, their outputs folded into one registered pin. The filter's enable is a chain bit as
+// well: tied to 1, Yosys 0.23 mapped the filter to 292 LUT4s more. Figures: `cargo xtask rtl`.
 module syn_horizon (
     input  wire clk,
     input  wire sin,
     output reg  sout
 );
-    localparam integer N = 2 + 72 + 72 + 96 + 96 + 1 + 4 + 32;
+    localparam integer N = 2 + 72 + 72 + 96 + 96 + 1 + 4 + 32 + 1;
     reg [N-1:0] c;
     always @(posedge clk) c <= {c[N-2:0], sin};
 
     wire f_valid, f_below;
     horizon_filter filter (
-        .clk(clk), .en(1'b1), .in_valid(c[0]), .in_boxed(c[1]), .in_lo(c[73:2]), .in_hi(c[145:74]),
+        .clk(clk), .en(c[375]), .in_valid(c[0]), .in_boxed(c[1]), .in_lo(c[73:2]),
+        .in_hi(c[145:74]),
         .in_o(c[241:146]), .in_w(c[337:242]), .out_valid(f_valid), .out_below(f_below));
 
     reg  [71:0] lo, hi;
