@@ -149,17 +149,17 @@ impl ModelArgs {
     }
 }
 
-/// The slowest placed unit's clock (`cargo xtask rtl`'s final line, session 31: the register
-/// file at the default build's 1,024 slots; 104.7, the angle unit's, in session 30), where the
-/// model's reports had assumed 100 MHz.
-pub const MEASURED_CLOCK_MHZ: f64 = 103.0;
+/// The slowest placed unit's clock (`cargo xtask rtl`'s final line, session 32: a bank's whole
+/// set-up pass, its front and set-up unit placed together; 103.0, the register file's, in
+/// session 31, when each unit was placed alone), where the model's reports had assumed 100 MHz.
+pub const MEASURED_CLOCK_MHZ: f64 = 92.8;
 
 /// The modelled accelerator (`--backend model`, and the CORDIC of boards' models).
 #[derive(Args, Clone, Debug, PartialEq)]
 pub struct ModelArgs {
     /// Accelerator clock at which `--backend model` reports time: by default the slowest unit's
     /// clock as `cargo xtask rtl` places each unit on an ECP5-85k (docs/PERFORMANCE.md, session
-    /// 31: the register file, 103.0 MHz). The whole datapath has not been placed.
+    /// 32: a bank's set-up pass, 92.8 MHz). The whole datapath has not been placed.
     #[arg(long, default_value_t = MEASURED_CLOCK_MHZ)]
     pub clock_mhz: f64,
     /// CORDIC iterations of the modelled accelerator (`--backend model`, and boards' models).
