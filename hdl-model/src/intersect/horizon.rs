@@ -173,7 +173,9 @@ pub fn below(lo: [i64; 3], hi: [i64; 3], o: [i64; 3], w: [i32; 3]) -> bool {
 
 /// One bank's set-up pass in clocks, patch by patch in slot order: the filter takes a patch a
 /// clock unless its FIFO is full; a patch it keeps waits in the FIFO for the set-up unit,
-/// which takes its corners a clock each.
+/// which takes its corners a clock each. Counted as if the filter had no latency: hardware
+/// keeps these clocks, each [`HORIZON_LATENCY`] later, by stopping the whole filter while its
+/// oldest verdict is a kept patch that finds no room (`rtl/bank_front.v`).
 #[derive(Clone, Copy, Debug, Default)]
 struct BankTiming {
     /// the clock the filter takes its next patch on
