@@ -61,9 +61,9 @@ impl Params {
     /// subdivision at under 4 (docs/PERFORMANCE.md, "Builds that fit": 0.96 and 3.77 since
     /// session 31's horizon filter, which took the 1,216 patches from 4.53; 8 lanes, the default
     /// before it, give 0.74 and 2.07). Its area proxy does not fit an ECP5-85k (`area`, session
-    /// 31: 164,451 LUT4s, 108,174 flip-flops, 256 block RAMs, where 8 lanes take 286,049,
-    /// 170,788 and 414); of the builds docs/PERFORMANCE.md lists, two lanes in two groups at one
-    /// ray a clock is the fastest that does (1.49 and 7.23 cycles a ray).
+    /// 32: 166,744 LUT4s, 110,883 flip-flops, 256 block RAMs, where 8 lanes take 290,120,
+    /// 176,163 and 414); of the builds docs/PERFORMANCE.md lists, only the smallest (one lane,
+    /// one ray a clock) does (2.88 and 11.03 cycles a ray).
     pub const DEFAULT: Params = Params {
         lanes: 4,
         sectors: 32,

@@ -393,12 +393,12 @@ mod tests {
         assert_eq!(t.clocks(), 20);
         // a full FIFO stops the filter: 40 kept quads then 40 passed over
         let mut t = PassTiming::default();
-        (0..40).for_each(|_| {
+        for _ in 0..40 {
             t.patch(0, Some(4));
-        });
-        (0..40).for_each(|_| {
+        }
+        for _ in 0..40 {
             t.patch(0, None);
-        });
+        }
         // the 40th kept patch enters the FIFO when the 24th starts (clock 92), so the filter
         // passes the rest over from clock 93 on, done at 133, after the set-up's 160; it stood
         // still 53 clocks

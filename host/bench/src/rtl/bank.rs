@@ -5,26 +5,34 @@
 //! that patch's corners, one a clock, from [`CORNER_CLOCKS`] later, and fall idle
 //! [`HORIZON_LATENCY`] clocks after the model's pass ends when no pass follows at once.
 //!
-//! File lines (decimal): first `L corner idle`, the two latencies; then groups, each `G`,
-//! the bank's memories, then its passes. Memories: `B slot boxed clocks lo0 lo1 lo2 hi0 hi1
-//! hi2` (a slot's box, whether it counts and its set-up clocks less one) and `C address x y z`
-//! (a corner; the address is the slot times four plus the corner). Passes: `P start count o0
-//! o1 o2 w0 w1 w2` (the clock a pass begins, from the group's first, over the first `count`
-//! slots), each followed by the model's answers: `K clock slot corner last` (a corner read on
-//! the model's clock) and `I clock` (the pass's end, when the bank is idle after it).
+//! The same file drives the front joined to its set-up unit (`bank_setup.v`): each planar
+//! patch's set-up answer is due [`CULL_SETUP_LATENCY`] after its last corner reaches the unit.
+//!
+//! File lines (decimal): first `L corner idle answer`, the three latencies; then groups, each
+//! `G`, the bank's memories, then its passes. Memories: `B slot boxed clocks lo0 lo1 lo2 hi0
+//! hi1 hi2` (a slot's box, whether it counts and its set-up clocks less one), `C address x y z`
+//! (a corner; the address is the slot times four plus the corner) and `N slot x y z` (its
+//! normal). Passes: `P start count o0 o1 o2` and the frame's nine axis words (u, v, w; the
+//! clock a pass begins, from the group's first, over the first `count` slots), each followed
+//! by the model's answers: `K clock slot corner last` (a corner read on the model's clock),
+//! `S clock n` and the answer as the set-up unit's vectors write it (a planar patch's set-up,
+//! on the model's clock for its last corner), and `I clock` (the pass's end, when the bank is
+//! idle after it).
 //!
 //! Workloads: bank 0 of two of a scene's slots, one pass from each of K × K lattice points of
-//! every planar slot in its frame; random banks of up to 512 slots (quads, triangles and other
-//! slots, boxes strewn about the origins) with passes from random origins and frames, most
-//! back to back, so that the filter keeps long runs of quads and the FIFO fills.
+//! every planar slot in its frame; random banks of up to 512 slots in clusters of small quads
+//! and triangles (and one slot in ten of another kind) with passes from random origins and
+//! frames, most back to back, so that the FIFO fills and runs of patches below the horizon
+//! follow.
 
 use super::coarse::is_planar;
+use super::horizon::slot_box;
 use super::reach::{random_axes, scene_frames, Axes};
 use super::setup::{random_slot, set_up, write_answer};
 use crate::rng::XorShift;
 use hemi_hdl_model::intersect::cull::CullUnit;
-use hemi_hdl_model::intersect::horizon::{below, PassTiming, SlotBox, HORIZON_LATENCY};
-use hemi_hdl_model::intersect::patch_mem::{KIND_QUAD, PATCH_WORDS};
+use hemi_hdl_model::intersect::horizon::{below, PassTiming, HORIZON_LATENCY};
+use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use hemi_hdl_model::intersect::{corner_clocks, CORNER_READ, CULL_SETUP_LATENCY};
 use hemi_hdl_model::params::Params;
 use std::fmt::Write as _;
@@ -51,27 +59,27 @@ pub struct Counts {
     pub stalls: u64,
 }
 
-/// A slot as the bank holds it: its words, its box words, whether the box counts and its
-/// set-up clocks.
+/// A slot as the bank holds it: its words, its box words, the box's ends when it counts for
+/// the filter (a planar slot's, complete and bounded) and its set-up clocks (a planar slot's
+/// corners).
 #[derive(Clone, Copy, Debug)]
 struct Slot {
     words: [u32; PATCH_WORDS],
     lo: [i32; 3],
     hi: [i32; 3],
-    boxed: bool,
+    bounds: Option<([i64; 3], [i64; 3])>,
     clocks: u64,
 }
 
 impl Slot {
     fn of(words: &[u32; PATCH_WORDS]) -> Slot {
-        let mut b = SlotBox::default();
-        words.iter().enumerate().for_each(|(k, &v)| b.write(k, v));
+        let b = slot_box(words);
         let (lo, hi, _) = b.words();
         Slot {
             words: *words,
             lo,
             hi,
-            boxed: is_planar(words) && b.bounds().is_some(),
+            bounds: b.bounds().filter(|_| is_planar(words)),
             clocks: corner_clocks(words[0] & 0xF),
         }
     }
@@ -83,8 +91,8 @@ impl Slot {
 
     /// Whether the filter passes it over for a pass from `o` with axis `w`.
     fn below(&self, o: [i32; 3], w: [i32; 3]) -> bool {
-        let q824 = |v: [i32; 3]| v.map(|c| (c as i64) << 8);
-        self.boxed && below(q824(self.lo), q824(self.hi), o.map(i64::from), w)
+        self.bounds
+            .is_some_and(|(lo, hi)| below(lo, hi, o.map(i64::from), w))
     }
 }
 
@@ -196,7 +204,8 @@ impl Vectors {
             } else {
                 0
             };
-            // the pass two after this one's predecessor waits for its answers
+            // the next pass takes the tag registers of the pass before this one: it waits for
+            // that pass's answers
             let next = (end + gap).max(answered[(p + 1) % 2]);
             if next > end + HORIZON_LATENCY || p + 1 == passes.len() {
                 let _ = writeln!(self.text, "I {end}");
@@ -209,7 +218,7 @@ impl Vectors {
     fn slot(&mut self, i: usize, s: &Slot) {
         let (lo, hi) = (s.lo, s.hi);
         let t = &mut self.text;
-        let _ = write!(t, "B {i} {} {}", s.boxed as u8, s.clocks - 1);
+        let _ = write!(t, "B {i} {} {}", s.bounds.is_some() as u8, s.clocks - 1);
         lo.iter().chain(&hi).for_each(|v| {
             let _ = write!(t, " {v}");
         });
@@ -263,7 +272,7 @@ impl Vectors {
     /// A planar patch's set-up as the model gives it: `S clock n` (the model's clock for its
     /// last corner, its corners) and the answer as the set-up unit's vectors have it.
     fn set_up_line(&mut self, s: &Slot, at: u64, o: [i32; 3], axes: &Axes) {
-        let sides = if s.words[0] & 0xF == KIND_QUAD { 4 } else { 3 };
+        let sides = s.clocks as usize;
         let _ = write!(self.text, "S {at} {sides}");
         write_answer(
             &mut self.text,

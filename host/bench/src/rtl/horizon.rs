@@ -7,7 +7,7 @@
 //! clock after its write (the model's write path has no clock).
 //!
 //! File lines (decimal): first `L n`, the clocks from a box into the filter to its verdict
-//! ([`FILTER_CLOCKS`]); then `W word value lo0 lo1 lo2 hi0 hi1 hi2 written` (a write of `value` to
+//! ([`FILTER_STAGES`]); then `W word value lo0 lo1 lo2 hi0 hi1 hi2 written` (a write of `value` to
 //! word `word` of the slot, then the box as the model holds it: the 24-bit ends and the
 //! written bits), `H boxed lo0 lo1 lo2 hi0 hi1 hi2 o0 o1 o2 w0 w1 w2 below` (a box as its
 //! memory holds it, whether it counts, the origin (Q8.24), the frame's axis w (Q2.30) and the
@@ -37,9 +37,6 @@ pub struct Counts {
     pub below: usize,
 }
 
-/// Clocks from a box into the filter to its verdict: the model's latency less the box read.
-pub const FILTER_CLOCKS: u64 = FILTER_STAGES;
-
 /// The vectors: `slots` written, then `random` random writes (now and then a whole slot); the set-up passes
 /// over `slots` from K × K (`samples`) points of each planar slot, then `random` random boxes.
 pub fn vectors(
@@ -49,7 +46,7 @@ pub fn vectors(
     seed: u64,
 ) -> (String, Counts) {
     let mut out = Vectors::default();
-    let _ = writeln!(out.text, "L {FILTER_CLOCKS}");
+    let _ = writeln!(out.text, "L {FILTER_STAGES}");
     let mut rng = XorShift::new(seed ^ 0xd1b5_4a32_d192_ed03);
     let mut b = SlotBox::default();
     for slot in slots {
@@ -78,9 +75,7 @@ pub fn vectors(
     }
     for (o, axes) in scene_frames(slots, samples) {
         for s in slots {
-            let mut b = SlotBox::default();
-            s.iter().enumerate().for_each(|(k, &v)| b.write(k, v));
-            out.filter(&b, is_planar(s), o, axes[2]);
+            out.filter(&slot_box(s), is_planar(s), o, axes[2]);
         }
     }
     for n in 0..random {
@@ -90,6 +85,13 @@ pub fn vectors(
         }
     }
     (out.text, out.counts)
+}
+
+/// The box the write path keeps for a slot written whole, word by word in order.
+pub(super) fn slot_box(words: &[u32; PATCH_WORDS]) -> SlotBox {
+    let mut b = SlotBox::default();
+    words.iter().enumerate().for_each(|(k, &v)| b.write(k, v));
+    b
 }
 
 #[derive(Default)]
