@@ -7,8 +7,8 @@
 // Clock by clock (latency 2 · ITER + 14):
 // 1. (x, y) scaled by the power of two 2^s that brings max(|x|, |y|) into [2^28, 2^29)
 //    (`cull::NORM_TOP`), z by the same, in three clocks: |x| OR |y| (whose leading one is the
-//    max's, without a compare), the leading one as a one-hot word, then an AND-OR of constant
-//    shifts;
+//    max's, without a compare), the leading one (`leading_one.v`) as its step of eight places
+//    and its place in the step, then the shift as two AND-ORs of constant shifts (`pick`);
 // 2. the azimuth φ and the magnitude r by a vectoring CORDIC pipe (ITER + 4 clocks), on the
 //    top W bits of the 32-bit words as the model's pipe keeps them;
 // 3. (z·2^s, r) scaled by a power of two of their own, the larger into [2^28, 2^29), the same
@@ -45,6 +45,9 @@ module cull_angles #(
 );
     localparam integer NORM_TOP = 29;
     localparam integer LEAD = NORM_TOP - 1;
+    // the fine shift's word (v shifted left by up to LEAD, nothing lost) and the coarse steps
+    localparam integer UW = ZW + LEAD + 1;
+    localparam integer CW = (ZW + 7) / 8;
 
     // ---- 1: the first normalisation
     wire [IW:0] ax = in_x[IW-1] ? -{in_x[IW-1], in_x} : {1'b0, in_x};
@@ -61,22 +64,27 @@ module cull_angles #(
         z0 <= in_z;
         p0 <= in_payload;
     end
+    wire [ZW-1:0] lead1;
+    leading_one #(.W(ZW), .LO(LO1), .HI(HI1)) first_lead (
+        .m({{(ZW - IW - 1){1'b0}}, m0}), .lead(lead1));
     reg                 va;
-    reg        [ZW-1:0] h1;
+    reg        [7:0]    f1;
+    reg        [CW-1:0] c1;
     reg signed [IW-1:0] xa, ya, za;
     reg        [PW-1:0] pa;
     always @(posedge clk) begin
         va <= v0;
-        h1 <= lead({{(ZW - IW - 1){1'b0}}, m0}, LO1, HI1);
+        f1 <= fine(lead1, LO1, HI1);
+        c1 <= coarse(lead1, LO1, HI1);
         xa <= x0;
         ya <= y0;
         za <= z0;
         pa <= p0;
     end
     /* verilator lint_off UNUSEDSIGNAL */
-    wire signed [ZW-1:0] nx = pick({{(ZW - IW){xa[IW-1]}}, xa}, h1, LO1, HI1),
-        ny = pick({{(ZW - IW){ya[IW-1]}}, ya}, h1, LO1, HI1),
-        nz = pick({{(ZW - IW){za[IW-1]}}, za}, h1, LO1, HI1);
+    wire signed [ZW-1:0] nx = pick({{(ZW - IW){xa[IW-1]}}, xa}, f1, c1, LO1),
+        ny = pick({{(ZW - IW){ya[IW-1]}}, ya}, f1, c1, LO1),
+        nz = pick({{(ZW - IW){za[IW-1]}}, za}, f1, c1, LO1);
     /* verilator lint_on UNUSEDSIGNAL */
     reg                 v1;
     reg signed [W-1:0]  x1, y1;
@@ -122,21 +130,25 @@ module cull_angles #(
         phim <= phi2;
         pm <= pay2[ZW+PW-1:ZW];
     end
+    wire [ZW-1:0] lead2;
+    leading_one #(.W(ZW), .LO(LO2), .HI(HI2)) second_lead (.m(m2), .lead(lead2));
     reg                 vb;
-    reg        [ZW-1:0] h2;
+    reg        [7:0]    f2;
+    reg        [CW-1:0] c2;
     reg signed [ZW-1:0] zb, rb;
     reg signed [W-1:0]  phib;
     reg        [PW-1:0] pb;
     always @(posedge clk) begin
         vb <= vm;
-        h2 <= lead(m2, LO2, HI2);
+        f2 <= fine(lead2, LO2, HI2);
+        c2 <= coarse(lead2, LO2, HI2);
         zb <= zm;
         rb <= rm;
         phib <= phim;
         pb <= pm;
     end
     /* verilator lint_off UNUSEDSIGNAL */
-    wire signed [ZW-1:0] zn = pick(zb, h2, LO2, HI2), rn = pick(rb, h2, LO2, HI2);
+    wire signed [ZW-1:0] zn = pick(zb, f2, c2, LO2), rn = pick(rb, f2, c2, LO2);
     /* verilator lint_on UNUSEDSIGNAL */
     reg                 v3;
     reg signed [W-1:0]  z3, r3, phi3;
@@ -163,42 +175,44 @@ module cull_angles #(
     assign out_phi = pay4[W-1:0];
     assign out_payload = pay4[W+PW-1:W];
 
-    // The leading one of m among bits lo..hi as a one-hot word (bit lo if none above it; the
-    // other bits zero). "A one above bit b" is written as OR trees, by groups of four bits
-    // (a group's own bits above b, any group above b's): as one running OR from the top, Yosys
-    // built a chain through every bit, the unit's critical path at 66 bits (76 MHz).
-    localparam integer GROUPS = (ZW + 3) / 4;
-    /* verilator lint_off UNUSEDSIGNAL */
-    function [ZW-1:0] lead(input [ZW-1:0] m, input integer lo, input integer hi);
-        integer b, j;
-        reg [4*GROUPS-1:0] mm;
-        reg [GROUPS-1:0] g;
-        reg [3:0] own;
-        begin
-            mm = {(4 * GROUPS){1'b0}};
-            for (b = lo + 1; b <= hi; b = b + 1) mm[b] = m[b];
-            for (j = 0; j < GROUPS; j = j + 1) g[j] = |mm[4*j +: 4];
-            lead = {ZW{1'b0}};
-            for (b = lo + 1; b <= hi; b = b + 1) begin
-                j = b / 4;
-                own = mm[4*j +: 4] >> (b % 4 + 1);
-                lead[b] = mm[b] && !(|own) && !(|(g >> (j + 1)));
-            end
-            lead[lo] = !(|mm);
-        end
-    endfunction
-    /* verilator lint_on UNUSEDSIGNAL */
-    // v · 2^(LEAD − place): the shift that brings a leading one at `place` to bit LEAD
-    function signed [ZW-1:0] shifted(input signed [ZW-1:0] v, input integer place);
-        shifted = place >= LEAD ? v >>> (place - LEAD) : v <<< (LEAD - place);
-    endfunction
-    // the shift the one-hot word h chooses among places lo..hi, as an AND-OR of constant shifts
-    function signed [ZW-1:0] pick(input signed [ZW-1:0] v, input [ZW-1:0] h, input integer lo,
-        input integer hi);
+    // A one-hot place among lo..hi as its step of eight places (coarse) and its place in the step
+    // (fine), registered in place of the one-hot word: the shift is then two small AND-ORs in
+    // turn, 8 then ⌈(hi − lo + 1)/8⌉ ways, where one AND-OR of every place took four in ten of
+    // the patch side's LUT4s (session 33).
+    function [7:0] fine(input [ZW-1:0] h, input integer lo, input integer hi);
         integer b;
         begin
+            fine = 8'd0;
+            for (b = lo; b <= hi; b = b + 1) fine[(b - lo) % 8] = fine[(b - lo) % 8] | h[b];
+        end
+    endfunction
+    function [CW-1:0] coarse(input [ZW-1:0] h, input integer lo, input integer hi);
+        integer b;
+        begin
+            coarse = {CW{1'b0}};
+            for (b = lo; b <= hi; b = b + 1) coarse[(b - lo) / 8] = coarse[(b - lo) / 8] | h[b];
+        end
+    endfunction
+    // v · 2^(LEAD − place) for the place lo + 8·c + f that the two words choose: the fine shift
+    // in a word wide enough that a left shift loses nothing, then the coarse one right by 8·c,
+    // the same bits as the one shift (each step in signed registers of its own: inside a wider
+    // expression with unsigned masks, >>> would shift in zeros).
+    function signed [ZW-1:0] pick(input signed [ZW-1:0] v, input [7:0] f, input [CW-1:0] c,
+        input integer lo);
+        integer k, a;
+        reg signed [UW-1:0] vw, u, s;
+        begin
+            vw = {{(UW - ZW){v[ZW-1]}}, v};
+            u = {UW{1'b0}};
+            for (k = 0; k < 8; k = k + 1) begin
+                s = lo + k >= LEAD ? vw >>> (lo + k - LEAD) : vw <<< (LEAD - lo - k);
+                u = u | (s & {UW{f[k]}});
+            end
             pick = {ZW{1'b0}};
-            for (b = lo; b <= hi; b = b + 1) pick = pick | (shifted(v, b) & {ZW{h[b]}});
+            for (a = 0; a < CW; a = a + 1) begin
+                s = u >>> (8 * a);
+                pick = pick | (s[ZW-1:0] & {ZW{c[a]}});
+            end
         end
     endfunction
 endmodule
