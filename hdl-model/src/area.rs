@@ -181,6 +181,13 @@ impl Proxy {
         self.memories.push((depth, width));
     }
 
+    /// Distributed RAM of `bits` that a unit reads and writes in the same clock (so never a
+    /// block RAM, whatever its size), counted as [`Proxy::ecp5`] counts a small memory: a LUT4
+    /// for 16 bits.
+    fn lut_ram(&mut self, bits: u64) {
+        self.adder_bits += bits.div_ceil(16);
+    }
+
     /// `count` placed units.
     fn placed(&mut self, count: u64, unit: Placed) {
         self.placed.luts += count * unit.luts;
@@ -419,6 +426,8 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     let mut horizon = Proxy::default();
     horizon_filters(&mut horizon, params, b);
     walks(&mut coarse, params, l);
+    let mut writers = Proxy::default();
+    bitmap_writers(&mut writers, params, b);
     let mut front = Proxy::default();
     front_end(&mut front, params, cfg);
     queues(&mut front, params);
@@ -431,6 +440,7 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
             "bank fronts (horizon filters, FIFOs, corner reads), slot boxes",
             horizon
         ),
+        ("bitmap writers", writers),
         ("front end and queues", front),
         ("memories", compact_memories(params)),
     ]
@@ -490,6 +500,35 @@ fn walks(p: &mut Proxy, params: &Params, lanes: u64) {
     p.add(lanes * 2, words);
     p.add(lanes * 3, w);
     p.reg(lanes * (words + 2 * w + 16));
+}
+
+/// The set-up's bitmap writers, one a bank ([`crate::intersect::bitmap_write`]): two copies of
+/// the open column in distributed RAM (its sector words, band words and mask words), each
+/// read-modify-written a row a clock (the slot's bit decoded and ORed into the word read, a
+/// LUT4 a bit, and the sector and band row counters); the copy into the block RAMs (the choice
+/// between the two copies, a LUT4 a bit, the word registered, and its row counter); the
+/// answers' FIFO, two a slot (the slot's place, the wedge's first sector, its length and kind,
+/// the bands: 32 bits); each column's valid bit, double-buffered; and a LUT4 a word a lane, the
+/// walk's mask read of a column not written this pass (zero). Rules, not a placed unit: the
+/// writer has no RTL yet.
+fn bitmap_writers(p: &mut Proxy, params: &Params, banks: u64) {
+    if params.sectors == 0 {
+        return;
+    }
+    let (s, b, w) = (params.sectors as u64, BANDS as u64, BITMAP_WORD as u64);
+    let words = row_words(params.bank_slots) as u64;
+    let row = w + w + b;
+    for _ in 0..banks {
+        p.lut_ram(2 * (s * w + b * w + s * b));
+        p.add(1, row);
+        p.add(2, 8);
+        p.add(1, row);
+        p.reg(row);
+        p.add(1, 8);
+        p.mem(2 * params.bank_slots as u64, 32);
+        p.reg(2 * words);
+    }
+    p.add(params.lanes as u64, words);
 }
 
 /// One bank's candidate bitmaps, `copies` of them (double-buffered or not), as the lane walks

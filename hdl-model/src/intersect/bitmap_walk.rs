@@ -15,11 +15,10 @@
 //! the longer. [`WordWalk`] counts the words read, bank by bank, from the slots of the sector
 //! list the ray walks that are in its band (in slot order).
 //!
-//! Not charged, in clocks or in the area proxy: the set-up's writes (a patch sets its bit in a
-//! word of each of its sector and band rows and ORs its bands into its sectors' mask words,
-//! read-modify-writes as the rows' bits were before words), and the two reads (mask row, then
-//! the first word pair) before a ray's first candidate, which overlap the previous ray's
-//! candidates in a lane that has any.
+//! The set-up's writes into the rows are [`super::bitmap_write`]'s, charged since session 33
+//! (a column of a pass not written reads as zero there, by its valid bit). Not charged: the two
+//! reads (mask row, then the first word pair) before a ray's first candidate, which overlap the
+//! previous ray's candidates in a lane that has any.
 
 use crate::intersect::cull::BANDS;
 use crate::params::MAX_LANES;

@@ -58,6 +58,7 @@
 
 pub mod bezier;
 pub mod bitmap_walk;
+pub mod bitmap_write;
 pub mod coarse;
 pub mod cull;
 pub mod horizon;
@@ -70,6 +71,7 @@ use crate::params::{Params, MAX_LANES, MAX_SECTORS};
 use crate::table::Table;
 use bezier::{BezierEngine, BezierStats, Box3, Job, RaySetup, SubdivConfig, BEZIER_ROWS};
 use bitmap_walk::WordWalk;
+use bitmap_write::{column, copy_clocks, row_writes, ColumnWriter};
 use coarse::{
     coarse_edge, coarse_inside, narrow_patch, Coarse, CoarseRay, Verdict, COARSE_DIR_SHIFT,
 };
@@ -550,6 +552,8 @@ struct CompactClocks {
     /// the next set-up key seen at the ray FIFO's head ([`IntersectUnit::announce`]) and the
     /// clock it was first seen
     lookahead: Option<(SetupKey, u64)>,
+    /// each bank's bitmap writer ([`bitmap_write`])
+    writers: [ColumnWriter; MAX_LANES as usize],
 }
 
 /// What the lanes did (for measurements): candidates tested, rays, set-up passes.
@@ -583,6 +587,9 @@ pub struct LaneStats {
     pub walk_clocks: u64,
     /// Planar patches the horizon filter passed over, over the set-up passes ([`horizon`]).
     pub passed_over: u64,
+    /// Clocks the set-up passes' buffers were ready after their last answer, waiting for the
+    /// bitmap writers ([`bitmap_write`]), summed.
+    pub write_wait: u64,
 }
 
 /// Exclusive bound of a Bezier hit's t: the largest t of the result's Q8.24 plus one LSB.
@@ -712,19 +719,32 @@ impl<T: Copy + Default> IntersectUnit<T> {
         // the horizon filter, ahead of a compact build's set-up units when the pass culls
         let horizon = axes.filter(|_| self.params.compact);
         let banks = self.params.banks() as usize;
+        let filter = if horizon.is_some() {
+            HORIZON_LATENCY
+        } else {
+            0
+        };
+        let latency = setup_latency(self.params.compact, axes.is_some()) + filter;
+        // a compact build's pass starts once the set-up units and its buffer are free; its
+        // answers leave the set-up pipe `latency` after their set-up, for the bitmap writers
+        let start = self.pass_start(key, now);
+        let copy = copy_clocks(self.cull.sectors());
         let mut timing = PassTiming::default();
         for i in 0..count as usize {
             let passed_over = horizon.is_some_and(|ax| self.passes_over(mem, i, key.0, &ax));
-            if passed_over {
+            let rows = if passed_over {
                 self.local[i] = LocalPatch::default();
                 self.stats.passed_over += 1;
+                0
             } else {
-                self.setup(mem, i, key.0, axes.as_ref());
+                self.setup(mem, i, key.0, axes.as_ref())
+            };
+            let clocks = (!passed_over).then(|| corner_clocks(mem.kind(i)));
+            let begins = timing.patch(i % banks, clocks);
+            if let (Some(t), Some(c), true) = (begins, clocks, self.params.compact) {
+                let at = start + t + c + latency;
+                self.clocks.writers[i % banks].answer(column(i / banks), at, rows, copy);
             }
-            timing.patch(
-                i % banks,
-                (!passed_over).then(|| corner_clocks(mem.kind(i))),
-            );
         }
         let lanes = self.params.lanes as usize;
         // one set-up unit a bank, writing every group's copy at once
@@ -733,18 +753,13 @@ impl<T: Copy + Default> IntersectUnit<T> {
         } else {
             (count as u64).div_ceil(self.params.banks() as u64)
         };
-        let filter = if horizon.is_some() {
-            HORIZON_LATENCY
-        } else {
-            0
-        };
-        let latency = setup_latency(self.params.compact, axes.is_some()) + filter;
         if self.params.compact {
-            let begun = match self.clocks.lookahead.take() {
-                Some((k, at)) if k == key => at,
-                _ => now,
-            };
-            self.double_buffered(pass, latency, begun);
+            let written = self.clocks.writers[..banks]
+                .iter_mut()
+                .map(|w| w.close(copy))
+                .max()
+                .unwrap_or(0);
+            self.double_buffered(start, pass, latency, written);
         } else {
             let busy = self.bank_free[..lanes]
                 .iter()
@@ -759,18 +774,35 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.stats.setups += 1;
     }
 
-    /// A compact build's set-up pass timing: it fills the buffer the current set-up is not
-    /// in, from clock `now` (its key was seen) once the set-up units are free and that buffer's
-    /// last rays (two origins back) are done reading it, while the lanes go on scanning the
-    /// current buffer's rays.
-    fn double_buffered(&mut self, pass: u64, latency: u64, now: u64) {
+    /// The clock a set-up pass for `key` seen on `now` starts: on a compact build, from the
+    /// clock its key was first seen, once the set-up units are free and the buffer it fills (the
+    /// one the current set-up is not in) has its last rays (two origins back) done reading it,
+    /// while the lanes go on scanning the current buffer's rays.
+    fn pass_start(&mut self, key: SetupKey, now: u64) -> u64 {
+        if !self.params.compact {
+            return now;
+        }
+        let begun = match self.clocks.lookahead.take() {
+            Some((k, at)) if k == key => at,
+            _ => now,
+        };
         let next = 1 - self.clocks.buffer;
-        let start = now
+        begun
             .max(self.clocks.setup_free)
-            .max(self.clocks.release[next]);
+            .max(self.clocks.release[next])
+    }
+
+    /// A compact build's set-up pass of `pass` clocks that started on `start`
+    /// ([`IntersectUnit::pass_start`]): the set-up units are free for the next pass at its end,
+    /// and its buffer is ready once its last answer is out of the set-up pipe (`latency` later)
+    /// and the bitmap writers have every answer in the block RAMs, on `written`
+    /// ([`bitmap_write`]).
+    fn double_buffered(&mut self, start: u64, pass: u64, latency: u64, written: u64) {
+        let answered = start + pass + latency;
         self.clocks.setup_free = start + pass;
-        self.clocks.ready_at = start + pass + latency;
-        self.clocks.buffer = next;
+        self.stats.write_wait += written.saturating_sub(answered);
+        self.clocks.ready_at = answered.max(written);
+        self.clocks.buffer = 1 - self.clocks.buffer;
     }
 
     /// The clock from which a ray started on `now` can take its first candidate, and the
@@ -849,7 +881,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         i: usize,
         origin: [Coord; 3],
         axes: Option<&[[Unit; 3]; 3]>,
-    ) {
+    ) -> u64 {
         let mut lp = LocalPatch::default();
         if mem.kind(i) == KIND_BEZIER {
             // the root box of its control points (a wide row read and three min/max trees)
@@ -865,17 +897,17 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 None => self.unsupported = true,
             }
             self.local[i] = lp;
-            return;
+            return 0;
         }
         let p: PatchWords = mem.patch(i);
         if p.kind == KIND_EMPTY {
             self.local[i] = lp;
-            return;
+            return 0;
         }
         if p.kind != KIND_TRIANGLE && p.kind != KIND_QUAD {
             self.unsupported = true;
             self.local[i] = lp;
-            return;
+            return 0;
         }
         let o = origin.map(|c| c.to_bits() as i64);
         let sides = p.sides();
@@ -883,7 +915,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let n = p.n;
         let Some(h) = plane_distance(n.map(|c| c.to_bits()), a[0]) else {
             self.local[i] = lp;
-            return;
+            return 0;
         };
         let shift = origin_shift(o);
         let s: i128 = if h.is_positive() { 1 } else { -1 };
@@ -922,6 +954,8 @@ impl<T: Copy + Default> IntersectUnit<T> {
             None => Reach::ALL,
         };
         self.candidates.add(i as u16, reach, self.cull.sectors());
+        // the bitmap writer's clocks for it, on a pass that culls
+        axes.map_or(0, |_| row_writes(&reach, self.cull.sectors()))
     }
 
     /// Starts a ray (when [`IntersectUnit::ready`]) at clock `now`, over the first `count`

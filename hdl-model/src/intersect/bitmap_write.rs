@@ -1,0 +1,167 @@
+//! The set-up's bitmap writer: how a bank's set-up answers get into the candidate bitmaps the
+//! lanes walk ([`super::bitmap_walk`]), and what that costs in clocks.
+//!
+//! A set-up answer sets its patch's bit in a word of each sector row of its wedge (every sector
+//! row for a wedge of every sector) and of each band row of its bands, and ORs its bands into
+//! its sectors' mask words. The rows are block RAM, double-buffered in one block RAM deep: one
+//! port is the lanes', reading the current buffer, so the writer has one port, and a
+//! read-modify-write a word needs two. The writer therefore works a column at a time:
+//!
+//! - Slots come in order, and the bits of a column of [`BITMAP_WORD`] slots all fall in one word
+//!   of each row. The open column's words are gathered in distributed RAM, three small memories
+//!   (sector rows, band rows, mask words) read-modify-written a row a clock, side by side, so
+//!   an answer takes [`row_writes`] clocks: the more of its sectors and its bands.
+//! - When an answer opens the next column, the closed one is copied into the block RAMs a row a
+//!   clock, the three at once ([`copy_clocks`]: the more of the sector and band rows), while the
+//!   next column gathers in a second copy of the distributed RAM. A column no answer wrote to
+//!   is not copied: a valid bit a column, cleared when the pass starts, tells the walk which
+//!   columns' words are this pass's (the others read as zero).
+//! - Answers wait for the writer in a FIFO of two a slot (at most two passes' answers are in
+//!   flight: a pass's buffer is set up again only once its rays are done, after it was ready),
+//!   so the set-up unit never waits for the writer.
+//!
+//! The bitmaps are complete when the pass's last column is copied, and a ray of the pass waits
+//! for that as it waits for the set-up pipe's last answer. Charged since session 33; before, the
+//! model took the writes to be free (docs/PERFORMANCE.md, "Session 33").
+
+use super::bitmap_walk::BITMAP_WORD;
+use super::cull::{Reach, Wedge, BANDS};
+
+/// Clocks an answer of `reach` holds the writer (its three memories side by side): the more of
+/// its sector rows (all `sectors` for a wedge of every sector) and its band rows; 0 for a patch
+/// below the horizon, which no culled ray meets and which sets no bit.
+pub fn row_writes(reach: &Reach, sectors: u32) -> u64 {
+    let sector_rows = match reach.wedge {
+        Wedge::Below => return 0,
+        Wedge::Full => sectors,
+        Wedge::Sectors { len, .. } => len as u32,
+    };
+    let band_rows = (reach.band_hi as u32 + 1).saturating_sub(reach.band_lo as u32);
+    sector_rows.max(band_rows) as u64
+}
+
+/// Clocks a column's copy into the block RAMs takes at `sectors` sectors: its sector rows and
+/// mask words (one a sector) and its band rows, the three memories side by side.
+pub fn copy_clocks(sectors: u32) -> u64 {
+    sectors.max(BANDS) as u64
+}
+
+/// The column of slot place `place` in its bank.
+pub fn column(place: usize) -> u32 {
+    place as u32 / BITMAP_WORD
+}
+
+/// One bank's writer in clocks, answer by answer in slot order (module doc).
+///
+/// ```
+/// use hemi_hdl_model::intersect::bitmap_write::ColumnWriter;
+/// let mut w = ColumnWriter::default();
+/// // two answers in column 0, arriving on clocks 10 and 11, of 3 and 2 row writes
+/// w.answer(0, 10, 3, 32);
+/// w.answer(0, 11, 2, 32);
+/// // the writer is done on 15; the column's copy takes 32 clocks more
+/// assert_eq!(w.close(32), 47);
+/// ```
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ColumnWriter {
+    /// the clock the writer takes its next answer on
+    free: u64,
+    /// the clock the block RAMs' write port is free (the last copy's end)
+    port: u64,
+    /// the clock each distributed-RAM copy of a column is free again (its copy done)
+    copy_free: [u64; 2],
+    /// the open column and the copy it gathers in
+    open: Option<(u32, usize)>,
+    /// the copy the next column gathers in
+    next: usize,
+}
+
+impl ColumnWriter {
+    /// An answer for a slot of column `column`, out of the set-up pipe on clock `at`, of `rows`
+    /// row writes ([`row_writes`]); `copy` is [`copy_clocks`]. An answer of no row writes
+    /// opens no column.
+    pub fn answer(&mut self, column: u32, at: u64, rows: u64, copy: u64) {
+        if rows == 0 {
+            return;
+        }
+        if self.open.map(|(c, _)| c) != Some(column) {
+            self.close(copy);
+            let buf = self.next;
+            self.next = 1 - buf;
+            self.open = Some((column, buf));
+            // the copy gathers again once its last column is in the block RAMs
+            self.free = self.free.max(self.copy_free[buf]);
+        }
+        self.free = self.free.max(at) + rows;
+    }
+
+    /// Copies the open column, if any, into the block RAMs once its last answer is written and
+    /// the port is free. Returns the clock the bitmaps hold every answer so far.
+    pub fn close(&mut self, copy: u64) -> u64 {
+        if let Some((_, buf)) = self.open.take() {
+            let start = self.free.max(self.port);
+            self.port = start + copy;
+            self.copy_free[buf] = self.port;
+        }
+        self.port
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_answer_takes_the_more_of_its_sectors_and_bands() {
+        let r = |wedge, band_lo, band_hi| Reach {
+            wedge,
+            band_lo,
+            band_hi,
+        };
+        assert_eq!(row_writes(&r(Wedge::Below, 0, 15), 32), 0);
+        assert_eq!(row_writes(&r(Wedge::Full, 3, 4), 32), 32);
+        assert_eq!(
+            row_writes(&r(Wedge::Sectors { lo: 30, len: 3 }, 2, 7), 32),
+            6
+        );
+        assert_eq!(
+            row_writes(&r(Wedge::Sectors { lo: 0, len: 5 }, 9, 9), 32),
+            5
+        );
+        assert_eq!(copy_clocks(8), 16);
+        assert_eq!(copy_clocks(64), 64);
+    }
+
+    #[test]
+    fn answers_queue_behind_the_writer() {
+        let mut w = ColumnWriter::default();
+        // arriving faster than written: each waits for the one before
+        w.answer(0, 0, 5, 32);
+        w.answer(0, 1, 5, 32);
+        w.answer(0, 2, 5, 32);
+        assert_eq!(w.close(32), 15 + 32);
+    }
+
+    #[test]
+    fn a_column_is_copied_when_the_next_opens_and_the_copies_alternate() {
+        let mut w = ColumnWriter::default();
+        w.answer(0, 0, 2, 32);
+        // column 1 opens on clock 100: column 0 (written by 2) is copied 2..34
+        w.answer(1, 100, 2, 32);
+        // column 2 opens on 101 in column 0's copy, free since 34; column 1's copy runs 102..134
+        w.answer(2, 101, 2, 32);
+        // column 3 goes to column 1's copy, which is free again only on 134
+        w.answer(3, 103, 1, 32);
+        assert_eq!(w.free, 135);
+        // column 2 was copied after column 1 (134..166), column 3 after it
+        assert_eq!(w.close(32), 198);
+    }
+
+    #[test]
+    fn a_pass_of_answers_below_the_horizon_writes_nothing() {
+        let mut w = ColumnWriter::default();
+        w.answer(0, 7, 0, 32);
+        w.answer(1, 9, 0, 32);
+        assert_eq!(w.close(32), 0);
+    }
+}
