@@ -13,7 +13,9 @@
 //!   an answer takes [`row_writes`] clocks: the more of its sectors and its bands.
 //! - When an answer opens the next column, the closed one is copied into the block RAMs a row a
 //!   clock, the three at once ([`copy_clocks`]: the more of the sector and band rows), while the
-//!   next column gathers in a second copy of the distributed RAM. A column no answer wrote to
+//!   next column gathers in a second copy of the distributed RAM. The writer learns that a
+//!   column is complete only from that answer, or from the pass's end, which follows the pass's
+//!   last answer down the set-up pipe: no copy begins before either. A column no answer wrote to
 //!   is not copied: a valid bit a column, cleared when the pass starts, tells the walk which
 //!   columns' words are this pass's (the others read as zero).
 //! - Answers wait for the writer in a FIFO of two a slot (at most two passes' answers are in
@@ -59,8 +61,14 @@ pub fn column(place: usize) -> u32 {
 /// // two answers in column 0, arriving on clocks 10 and 11, of 3 and 2 row writes
 /// w.answer(0, 10, 3, 32);
 /// w.answer(0, 11, 2, 32);
-/// // the writer is done on 15; the column's copy takes 32 clocks more
-/// assert_eq!(w.close(32), 47);
+/// // the writer is done on 15; the pass ends on 12 (its last answer), and the column's copy
+/// // takes 32 clocks from 15
+/// assert_eq!(w.close(12, 32), 47);
+/// // had the pass ended on 20 (slots passed over after the last answer), from 20
+/// # let mut w = ColumnWriter::default();
+/// # w.answer(0, 10, 3, 32);
+/// # w.answer(0, 11, 2, 32);
+/// assert_eq!(w.close(20, 32), 52);
 /// ```
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ColumnWriter {
@@ -85,7 +93,8 @@ impl ColumnWriter {
             return;
         }
         if self.open.map(|(c, _)| c) != Some(column) {
-            self.close(copy);
+            // the open column is known to be complete when this answer comes
+            self.close(at, copy);
             let buf = self.next;
             self.next = 1 - buf;
             self.open = Some((column, buf));
@@ -95,11 +104,13 @@ impl ColumnWriter {
         self.free = self.free.max(at) + rows;
     }
 
-    /// Copies the open column, if any, into the block RAMs once its last answer is written and
-    /// the port is free. Returns the clock the bitmaps hold every answer so far.
-    pub fn close(&mut self, copy: u64) -> u64 {
+    /// Copies the open column, if any, into the block RAMs once its last answer is written, the
+    /// port is free and the writer knows the column is complete, on `known` (an answer of a
+    /// later column comes, or the pass's end: the set-up pipe's last answer, or the clock it
+    /// would have left on). Returns the clock the bitmaps hold every answer so far.
+    pub fn close(&mut self, known: u64, copy: u64) -> u64 {
         if let Some((_, buf)) = self.open.take() {
-            let start = self.free.max(self.port);
+            let start = self.free.max(self.port).max(known);
             self.port = start + copy;
             self.copy_free[buf] = self.port;
         }
@@ -139,22 +150,26 @@ mod tests {
         w.answer(0, 0, 5, 32);
         w.answer(0, 1, 5, 32);
         w.answer(0, 2, 5, 32);
-        assert_eq!(w.close(32), 15 + 32);
+        assert_eq!(w.close(2, 32), 15 + 32);
     }
 
     #[test]
     fn a_column_is_copied_when_the_next_opens_and_the_copies_alternate() {
         let mut w = ColumnWriter::default();
         w.answer(0, 0, 2, 32);
-        // column 1 opens on clock 100: column 0 (written by 2) is copied 2..34
+        // column 1 opens on clock 100, which tells the writer column 0 (written by 2) is
+        // complete: it is copied 100..132
         w.answer(1, 100, 2, 32);
-        // column 2 opens on 101 in column 0's copy, free since 34; column 1's copy runs 102..134
-        w.answer(2, 101, 2, 32);
-        // column 3 goes to column 1's copy, which is free again only on 134
-        w.answer(3, 103, 1, 32);
-        assert_eq!(w.free, 135);
-        // column 2 was copied after column 1 (134..166), column 3 after it
-        assert_eq!(w.close(32), 198);
+        assert_eq!(w.port, 132);
+        // column 2 opens on 103 in column 0's copy, free since 132; column 1's copy waits for
+        // the port, 132..164
+        w.answer(2, 103, 2, 32);
+        assert_eq!((w.free, w.port), (134, 164));
+        // column 3 goes to column 1's copy, which is free again only on 164
+        w.answer(3, 140, 1, 32);
+        assert_eq!(w.free, 165);
+        // column 2 was copied after column 1 (164..196), column 3 after it
+        assert_eq!(w.close(141, 32), 228);
     }
 
     #[test]
@@ -162,6 +177,6 @@ mod tests {
         let mut w = ColumnWriter::default();
         w.answer(0, 7, 0, 32);
         w.answer(1, 9, 0, 32);
-        assert_eq!(w.close(32), 0);
+        assert_eq!(w.close(9, 32), 0);
     }
 }

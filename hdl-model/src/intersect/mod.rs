@@ -754,9 +754,11 @@ impl<T: Copy + Default> IntersectUnit<T> {
             (count as u64).div_ceil(self.params.banks() as u64)
         };
         if self.params.compact {
+            // the pass's end reaches the writers as its last answer would
+            let end = start + pass + latency;
             let written = self.clocks.writers[..banks]
                 .iter_mut()
-                .map(|w| w.close(copy))
+                .map(|w| w.close(end, copy))
                 .max()
                 .unwrap_or(0);
             self.double_buffered(start, pass, latency, written);
