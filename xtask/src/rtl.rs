@@ -1,5 +1,6 @@
 //! `cargo xtask rtl [--no-synth | --all-configs]`: the accelerator's RTL (`hdl-model/rtl/`)
-//! linted, co-simulated against the model and synthesised for an ECP5-85k (the reset
+//! linted, co-simulated against the model, its culling's leading one proved equal to its
+//! specification ([`prove`]) and synthesised for an ECP5-85k (the reset
 //! configuration of each unit; `--all-configs` also the rotator's and the angle unit's two
 //! others, the rotator's reset one a place and route of 4 to 57 minutes here), ending with one
 //! line
@@ -17,6 +18,7 @@
 //! thousand rays, and the mutant check, without synthesis.
 
 mod ice40;
+mod prove;
 
 use crate::util::{cargo, run, which};
 use std::path::{Path, PathBuf};
@@ -1221,6 +1223,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
     mutants_caught(CONFIGS[0], &work_dir(&CONFIGS[0].name())?, "-O2")?;
     let mut figures = Fpga::default();
     if !quick {
+        prove::leading_one()?;
         // every synthesis first, the places and routes after (one took over 20 minutes on
         // this shared machine): the reset configurations of every unit, then the others
         let reset = designs(CONFIGS[0], PLANE_DEPTHS[0]);
