@@ -104,14 +104,15 @@ pub struct Placed {
     pub ffs: u64,
 }
 
-/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 30: 19,602 LUT4s and
-/// 14,865 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
-/// tiles for its 6 edge products, h's four and the reach's 12; 105.2 MHz. Session 29: 19,683
-/// LUT4s, before the reach's ends were compared with 0 by their sign; session 28: 21,372, before
-/// the culling bins' two-step count).
+/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 33: 19,029 LUT4s and
+/// 14,791 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
+/// tiles for its 6 edge products, h's four and the reach's 12; 107.2 MHz. Session 30: 19,602
+/// LUT4s and 14,865 flip-flops, before the culling's leading one in windows and its shift in two
+/// steps; session 29: 19,683, before the reach's ends were compared with 0 by their sign;
+/// session 28: 21,372, before the culling bins' two-step count).
 pub const SETUP_UNIT: Placed = Placed {
-    luts: 19_602,
-    ffs: 14_865 - 580,
+    luts: 19_029,
+    ffs: 14_791 - 580,
 };
 
 /// A compact lane's coarse edge test, `rtl/coarse_test.v` (session 30: 1,939 LUT4s and 1,702
@@ -123,12 +124,13 @@ pub const COARSE_TEST: Placed = Placed {
     ffs: 1_702 - 277,
 };
 
-/// The culling unit's ray side for one ray a clock, `rtl/cull_ray.v` (session 29: 4,510 LUT4s
-/// and 3,425 flip-flops placed, 98 of them its harness's, no DSP tile; 121.2 MHz. Session 27:
-/// 5,250 LUT4s).
+/// The culling unit's ray side for one ray a clock, `rtl/cull_ray.v` (session 33: 4,597 LUT4s
+/// and 3,427 flip-flops placed, 98 of them its harness's, no DSP tile; 122.9 MHz. Session 29:
+/// 4,510 LUT4s and 3,425 flip-flops, before the leading one in windows, which on the ray side's
+/// few places costs more than the two-step shift saves; session 27: 5,250 LUT4s).
 pub const RAY_SIDE: Placed = Placed {
-    luts: 4_510,
-    ffs: 3_425 - 98,
+    luts: 4_597,
+    ffs: 3_427 - 98,
 };
 
 /// A bank's set-up pass front, `rtl/bank_front.v` (session 32: 3,911 LUT4s and 3,035

@@ -58,12 +58,12 @@ impl Params {
     /// larger scene streams through them in blocks), 32 sectors (and the culling unit's 16
     /// polar bands), 2 rays per clock, the compact datapath: the fewest lanes in a power-of-two
     /// number of banks that cast the Cornell box at under 1 cycle a ray and its 1,216-patch
-    /// subdivision at under 4 (docs/PERFORMANCE.md, "Builds that fit": 0.96 and 3.77 since
-    /// session 31's horizon filter, which took the 1,216 patches from 4.53; 8 lanes, the default
-    /// before it, give 0.74 and 2.07). Its area proxy does not fit an ECP5-85k (`area`, session
-    /// 32: 166,744 LUT4s, 110,883 flip-flops, 256 block RAMs, where 8 lanes take 290,120,
-    /// 176,163 and 414); of the builds docs/PERFORMANCE.md lists, only the smallest (one lane,
-    /// one ray a clock) does (2.88 and 11.03 cycles a ray).
+    /// subdivision at under 4 (docs/PERFORMANCE.md, "Builds that fit": 0.98 and 3.84 since
+    /// session 33 charged the bitmap writes, 0.96 and 3.77 before; 8 lanes, the default before
+    /// session 31, give 0.76 and 2.10). Its area proxy does not fit an ECP5-85k (`area`, session
+    /// 33: 167,480 LUT4s, 111,059 flip-flops, 260 block RAMs, where 8 lanes take 291,417,
+    /// 176,511 and 422); of the builds docs/PERFORMANCE.md lists, only the smallest (one lane,
+    /// one ray a clock) does (2.91 and 11.08 cycles a ray).
     pub const DEFAULT: Params = Params {
         lanes: 4,
         sectors: 32,

@@ -92,6 +92,8 @@ struct Run {
     bins: f64,
     /// of the planar patches out of the origin's plane, the share the horizon filter passed over
     passed_over: f64,
+    /// clocks a set-up pass's buffer waited for its bitmap writers after its last answer
+    write_wait: f64,
     seconds: f64,
     /// blocks the scene streamed through patch memory in (1: it fit)
     blocks: usize,
@@ -139,6 +141,7 @@ fn run(scene: &Scene, params: Params, circles: u32, samples: u32) -> Result<Run>
         full: st.full_patches as f64 / st.culled_patches.max(1) as f64,
         bins: st.bins as f64 / st.culled_patches.max(1) as f64,
         passed_over: st.passed_over as f64 / (st.passed_over + st.culled_patches).max(1) as f64,
+        write_wait: st.write_wait as f64 / st.setups.max(1) as f64,
         seconds: t0.elapsed().as_secs_f64(),
         blocks: model.blocks(),
     })
@@ -184,8 +187,11 @@ pub fn bench(
     out: &mut impl Write,
 ) -> Result<()> {
     writeln!(out, "R = {circles}, K = {samples}; 2 rays per clock\n")?;
-    writeln!(out, "| patches | lanes | culling | rays | cycles/ray | candidates/ray | exact edges/ray | walk clocks/ray | passed over by the horizon filter | patches in every sector | bins/patch | model Mcycles/s | host M rays/s |")?;
-    writeln!(out, "|---|---|---|---|---|---|---|---|---|---|---|---|---|")?;
+    writeln!(out, "| patches | lanes | culling | rays | cycles/ray | candidates/ray | exact edges/ray | walk clocks/ray | passed over by the horizon filter | patches in every sector | bins/patch | bitmap write wait/pass | model Mcycles/s | host M rays/s |")?;
+    writeln!(
+        out,
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    )?;
     let mut series = Vec::new();
     for &n in subdivisions {
         let text = subdivided(scene, n)?;
@@ -200,7 +206,7 @@ pub fn bench(
                 let cpr = r.cycles as f64 / r.rays as f64;
                 writeln!(
                     out,
-                    "| {count}{} | {l} | {} | {} | {cpr:.2} | {:.2} | {:.3} | {} | {:.1} % | {:.1} % | {:.1} | {:.1} | {:.2} |",
+                    "| {count}{} | {l} | {} | {} | {cpr:.2} | {:.2} | {:.3} | {} | {:.1} % | {:.1} % | {:.1} | {:.1} | {:.1} | {:.2} |",
                     match r.blocks {
                         1 => String::new(),
                         n => format!(" ({n} blocks)"),
@@ -213,6 +219,7 @@ pub fn bench(
                     r.passed_over * 100.0,
                     r.full * 100.0,
                     r.bins,
+                    r.write_wait,
                     r.cycles as f64 / r.seconds / 1e6,
                     r.rays as f64 / r.seconds / 1e6
                 )?;
