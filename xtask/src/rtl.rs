@@ -1,6 +1,7 @@
-//! `cargo xtask rtl [--no-synth | --all-configs]`: the accelerator's RTL (`hdl-model/rtl/`)
-//! linted, co-simulated against the model, its culling's leading one proved equal to its
-//! specification ([`prove`]) and synthesised for an ECP5-85k (the reset
+//! `cargo xtask rtl [--no-synth | --all-configs | --prove]`: the accelerator's RTL
+//! (`hdl-model/rtl/`) linted, co-simulated against the model, its culling's leading one proved
+//! equal to its specification ([`prove`]; `--prove` does only that) and synthesised for an
+//! ECP5-85k (the reset
 //! configuration of each unit; `--all-configs` also the rotator's and the angle unit's two
 //! others, the rotator's reset one a place and route of 4 to 57 minutes here), ending with one
 //! line
@@ -1165,9 +1166,13 @@ pub fn main(args: &[String]) -> Result<(), crate::util::Failure> {
         [] => (false, false),
         [a] if a == "--no-synth" => (true, false),
         [a] if a == "--all-configs" => (false, true),
+        [a] if a == "--prove" => {
+            synthesis_tools().map_err(Failure::Failed)?;
+            return prove::leading_one().map_err(Failure::Failed);
+        }
         _ => {
             return Err(Failure::Usage(
-                "`rtl` takes --no-synth or --all-configs".to_string(),
+                "`rtl` takes --no-synth, --all-configs or --prove".to_string(),
             ))
         }
     };
