@@ -8,7 +8,7 @@
 // the set-up pass's critical path (92.8 MHz placed, session 32). Here every bit has ORs of its
 // own windows, w1[i] of bits i..i+3, w2[i] of i..i+15 and w3[i] of i..i+63, each a LUT4 of four
 // of the level below, and the windows are kept as wires so that ABC maps each as one LUT4:
-// four LUT4s deep for any word up to HI − LO ≤ 128, at about three LUT4s a bit.
+// four LUT4s deep for any word up to HI − LO ≤ 128, at about four LUT4s a bit (279 on 66 bits).
 module leading_one #(
     parameter integer W = 66,
     parameter integer LO = 0,
