@@ -89,6 +89,9 @@ pub struct Proxy {
     pub register_bits: u64,
     /// Memories (depth, width).
     pub memories: Vec<(u64, u64)>,
+    /// Bits of distributed RAM that a unit reads and writes in the same clock, so never block
+    /// RAM whatever its size: a LUT4 for 16 bits, as a small memory of [`Proxy::memories`].
+    pub lut_ram_bits: u64,
     /// LUT4s and flip-flops of placed units ([`Placed`]), besides their multipliers.
     pub placed: Fpga,
 }
@@ -183,11 +186,8 @@ impl Proxy {
         self.memories.push((depth, width));
     }
 
-    /// Distributed RAM of `bits` that a unit reads and writes in the same clock (so never a
-    /// block RAM, whatever its size), counted as [`Proxy::ecp5`] counts a small memory: a LUT4
-    /// for 16 bits.
     fn lut_ram(&mut self, bits: u64) {
-        self.adder_bits += bits.div_ceil(16);
+        self.lut_ram_bits += bits;
     }
 
     /// `count` placed units.
@@ -239,6 +239,7 @@ impl Proxy {
         self.multipliers.extend(other.multipliers);
         self.register_bits += other.register_bits;
         self.memories.extend(other.memories);
+        self.lut_ram_bits += other.lut_ram_bits;
         self.placed.luts += other.placed.luts;
         self.placed.ffs += other.placed.ffs;
     }
@@ -251,15 +252,15 @@ impl Proxy {
             .sum()
     }
 
-    /// RAM bits.
+    /// RAM bits, block and distributed.
     pub fn ram_bits(&self) -> u64 {
-        self.memories.iter().map(|&(d, w)| d * w).sum()
+        self.memories.iter().map(|&(d, w)| d * w).sum::<u64>() + self.lut_ram_bits
     }
 
     /// Its mapping onto a part with `dsps_free` DSP tiles left (see the module doc).
     pub fn ecp5(&self, dsps_free: u64) -> Fpga {
         let mut out = Fpga::default();
-        let mut luts = self.adder_bits;
+        let mut luts = self.adder_bits + self.lut_ram_bits.div_ceil(16);
         let mut array_ffs = 0;
         for &(a, b) in &self.multipliers {
             let tiles = (a as u64).div_ceil(18) * (b as u64).div_ceil(18);

@@ -755,13 +755,13 @@ impl<T: Copy + Default> IntersectUnit<T> {
         };
         if self.params.compact {
             // the pass's end reaches the writers as its last answer would
-            let end = start + pass + latency;
+            let answered = start + pass + latency;
             let written = self.clocks.writers[..banks]
                 .iter_mut()
-                .map(|w| w.close(end, copy))
+                .map(|w| w.close(answered, copy))
                 .max()
                 .unwrap_or(0);
-            self.double_buffered(start, pass, latency, written);
+            self.double_buffered(start + pass, answered, written);
         } else {
             let busy = self.bank_free[..lanes]
                 .iter()
@@ -794,14 +794,12 @@ impl<T: Copy + Default> IntersectUnit<T> {
             .max(self.clocks.release[next])
     }
 
-    /// A compact build's set-up pass of `pass` clocks that started on `start`
-    /// ([`IntersectUnit::pass_start`]): the set-up units are free for the next pass at its end,
-    /// and its buffer is ready once its last answer is out of the set-up pipe (`latency` later)
-    /// and the bitmap writers have every answer in the block RAMs, on `written`
-    /// ([`bitmap_write`]).
-    fn double_buffered(&mut self, start: u64, pass: u64, latency: u64, written: u64) {
-        let answered = start + pass + latency;
-        self.clocks.setup_free = start + pass;
+    /// A compact build's set-up pass ([`IntersectUnit::pass_start`]) that ends on `end`: the
+    /// set-up units are free for the next pass then, and its buffer is ready once its last
+    /// answer is out of the set-up pipe, on `answered`, and the bitmap writers have every answer
+    /// in the block RAMs, on `written` ([`bitmap_write`]).
+    fn double_buffered(&mut self, end: u64, answered: u64, written: u64) {
+        self.clocks.setup_free = end;
         self.stats.write_wait += written.saturating_sub(answered);
         self.clocks.ready_at = answered.max(written);
         self.clocks.buffer = 1 - self.clocks.buffer;
