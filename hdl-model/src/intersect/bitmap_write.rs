@@ -50,6 +50,18 @@ pub fn copy_clocks(sectors: u32) -> u64 {
     sectors.max(BANDS) as u64
 }
 
+/// Clocks from an answer leaving the set-up pipe to the writer taking it at the earliest:
+/// its FIFO's block RAM written, read, the read registered, and its rows worked out into the
+/// queue ahead of the writer (`rtl/bitmap_writer.v`, whose
+/// co-simulation showed them in session 34; the model took them to be none before). A pass's
+/// end reaches the writer as late.
+pub const FIFO_LATENCY: u64 = 4;
+
+/// Clocks from the writer's decision to copy a row to the row in the block RAMs: the decision
+/// is registered, and the distributed RAM's read and the block RAM's write have a clock of
+/// their own (`rtl/bitmap_writer.v`).
+pub const WRITE_LATENCY: u64 = 1;
+
 /// The column of slot place `place` in its bank.
 pub fn column(place: usize) -> u32 {
     place as u32 / BITMAP_WORD
@@ -60,17 +72,18 @@ pub fn column(place: usize) -> u32 {
 /// ```
 /// use hemi_hdl_model::intersect::bitmap_write::ColumnWriter;
 /// let mut w = ColumnWriter::default();
-/// // two answers in column 0, arriving on clocks 10 and 11, of 3 and 2 row writes
+/// // two answers in column 0 out of the set-up pipe on clocks 10 and 11, of 3 and 2 row
+/// // writes: the writer takes the first on 14 (FIFO_LATENCY later) and is done on 19
 /// w.answer(0, 10, 3, 32);
 /// w.answer(0, 11, 2, 32);
-/// // the writer is done on 15; the pass ends on 12 (its last answer), and the column's copy
-/// // takes 32 clocks from 15
-/// assert_eq!(w.close(12, 32), 47);
-/// // had the pass ended on 20 (slots passed over after the last answer), from 20
+/// // the pass ends on 12 (its last answer's clock), which the writer sees on 16: the column's
+/// // copy takes 32 clocks from 19, and its last row is in the block RAMs on 51 + 1
+/// assert_eq!(w.close(12, 32), 52);
+/// // had the pass ended on 20 (slots passed over after the last answer), from 24
 /// # let mut w = ColumnWriter::default();
 /// # w.answer(0, 10, 3, 32);
 /// # w.answer(0, 11, 2, 32);
-/// assert_eq!(w.close(20, 32), 52);
+/// assert_eq!(w.close(20, 32), 57);
 /// ```
 #[derive(Clone, Copy, Debug, Default)]
 pub struct ColumnWriter {
@@ -89,14 +102,15 @@ pub struct ColumnWriter {
 impl ColumnWriter {
     /// An answer for a slot of column `column`, out of the set-up pipe on clock `at`, of `rows`
     /// row writes ([`row_writes`]); `copy` is [`copy_clocks`]. An answer of no row writes
-    /// opens no column.
+    /// opens no column. The writer sees it [`FIFO_LATENCY`] later.
     pub fn answer(&mut self, column: u32, at: u64, rows: u64, copy: u64) {
         if rows == 0 {
             return;
         }
+        let at = at + FIFO_LATENCY;
         if self.open.map(|(c, _)| c) != Some(column) {
             // the open column is known to be complete when this answer comes
-            self.close(at, copy);
+            self.copy_open(at, copy);
             let buf = self.next;
             self.next = 1 - buf;
             self.open = Some((column, buf));
@@ -106,17 +120,33 @@ impl ColumnWriter {
         self.free = self.free.max(at) + rows;
     }
 
+    /// The clock the copy engine is free: the last copy's last row decided, a clock before
+    /// [`WRITE_LATENCY`] puts it in the block RAMs (the co-simulation's vectors read each copy's
+    /// clocks from it).
+    pub fn port(&self) -> u64 {
+        self.port
+    }
+
     /// Copies the open column, if any, into the block RAMs once its last answer is written, the
     /// port is free and the writer knows the column is complete, on `known` (an answer of a
     /// later column comes, or the pass's end: the set-up pipe's last answer, or the clock it
-    /// would have left on). Returns the clock the bitmaps hold every answer so far.
+    /// would have left on). Returns the clock the bitmaps hold every answer so far: the
+    /// clock after the writer learns of the end with nothing left to copy, or after the last
+    /// copy's last row.
     pub fn close(&mut self, known: u64, copy: u64) -> u64 {
+        let known = known + FIFO_LATENCY;
+        self.copy_open(known, copy);
+        known.max(self.free).max(self.port) + WRITE_LATENCY
+    }
+
+    /// The open column's copy, once the writer knows on `known` (its own clock) that the
+    /// column is complete.
+    fn copy_open(&mut self, known: u64, copy: u64) {
         if let Some((_, buf)) = self.open.take() {
             let start = self.free.max(self.port).max(known);
             self.port = start + copy;
             self.copy_free[buf] = self.port;
         }
-        self.port
     }
 }
 
@@ -148,30 +178,31 @@ mod tests {
     #[test]
     fn answers_queue_behind_the_writer() {
         let mut w = ColumnWriter::default();
-        // arriving faster than written: each waits for the one before
+        // arriving faster than written: each waits for the one before (the first taken on 4)
         w.answer(0, 0, 5, 32);
         w.answer(0, 1, 5, 32);
         w.answer(0, 2, 5, 32);
-        assert_eq!(w.close(2, 32), 15 + 32);
+        assert_eq!(w.close(2, 32), 4 + 15 + 32 + 1);
     }
 
     #[test]
     fn a_column_is_copied_when_the_next_opens_and_the_copies_alternate() {
         let mut w = ColumnWriter::default();
         w.answer(0, 0, 2, 32);
-        // column 1 opens on clock 100, which tells the writer column 0 (written by 2) is
-        // complete: it is copied 100..132
+        // column 1 opens on clock 100, which the writer sees on 104 and learns that column 0
+        // (written by 6) is complete: it is copied 104..136
         w.answer(1, 100, 2, 32);
-        assert_eq!(w.port, 132);
-        // column 2 opens on 103 in column 0's copy, free since 132; column 1's copy waits for
-        // the port, 132..164
+        assert_eq!(w.port(), 136);
+        // column 2 opens on 107 in column 0's copy, free since 136; column 1's copy waits for
+        // the port, 136..168
         w.answer(2, 103, 2, 32);
-        assert_eq!((w.free, w.port), (134, 164));
-        // column 3 goes to column 1's copy, which is free again only on 164
+        assert_eq!((w.free, w.port), (138, 168));
+        // column 3 goes to column 1's copy, which is free again only on 168
         w.answer(3, 140, 1, 32);
-        assert_eq!(w.free, 165);
-        // column 2 was copied after column 1 (164..196), column 3 after it
-        assert_eq!(w.close(141, 32), 228);
+        assert_eq!(w.free, 169);
+        // column 2 was copied after column 1 (168..200), column 3 after it, its last row in
+        // the block RAMs on 232 + 1
+        assert_eq!(w.close(141, 32), 233);
     }
 
     #[test]
@@ -179,6 +210,8 @@ mod tests {
         let mut w = ColumnWriter::default();
         w.answer(0, 7, 0, 32);
         w.answer(1, 9, 0, 32);
-        assert_eq!(w.close(9, 32), 0);
+        // complete the clock after the writer sees the pass's end
+        assert_eq!(w.close(9, 32), 9 + 4 + 1);
+        assert_eq!(w.port(), 0);
     }
 }

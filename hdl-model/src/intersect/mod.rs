@@ -754,13 +754,17 @@ impl<T: Copy + Default> IntersectUnit<T> {
             (count as u64).div_ceil(self.params.banks() as u64)
         };
         if self.params.compact {
-            // the pass's end reaches the writers as its last answer would
+            // the pass's end reaches the writers as its last answer would; a pass that does
+            // not cull writes no bitmaps
             let answered = start + pass + latency;
-            let written = self.clocks.writers[..banks]
-                .iter_mut()
-                .map(|w| w.close(answered, copy))
-                .max()
-                .unwrap_or(0);
+            let written = match axes {
+                Some(_) => self.clocks.writers[..banks]
+                    .iter_mut()
+                    .map(|w| w.close(answered, copy))
+                    .max()
+                    .unwrap_or(answered),
+                None => answered,
+            };
             self.double_buffered(start + pass, answered, written);
         } else {
             let busy = self.bank_free[..lanes]
