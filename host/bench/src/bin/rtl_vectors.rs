@@ -25,11 +25,14 @@
 //!   (`--coarse-samples K` lattice points a slot) and as many random boxes;
 //! - with `--bank OUT8`: a bank's set-up pass ahead of its set-up unit on the scene's bank 0
 //!   (passes from `--coarse-samples K` lattice points a slot) and `--bank-random N` random
-//!   banks.
+//!   banks;
+//! - with `--writer OUT9`: a bank's bitmap writer on the set-up answers of the scene's bank 0
+//!   (passes from `--coarse-samples K` lattice points a slot) and `--writer-random N` random
+//!   passes.
 
 use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
-use hemi_bench::rtl::{bank, coarse, cordic, cull, horizon, plane, reach, regs, setup};
+use hemi_bench::rtl::{bank, coarse, cordic, cull, horizon, plane, reach, regs, setup, writer};
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use std::time::Instant;
@@ -59,6 +62,8 @@ struct Args {
     horizon_random: usize,
     bank: Option<String>,
     bank_random: usize,
+    writer: Option<String>,
+    writer_random: usize,
     seed: u64,
 }
 
@@ -88,6 +93,8 @@ fn parse() -> Result<Args> {
         horizon_random: 20_000,
         bank: None,
         bank_random: 100,
+        writer: None,
+        writer_random: 1_000,
         seed: 0x2545_f491_4f6c_dd1d,
     };
     let mut it = std::env::args().skip(1);
@@ -118,13 +125,15 @@ fn parse() -> Result<Args> {
             "--horizon-random" => a.horizon_random = value()?.parse()?,
             "--bank" => a.bank = Some(value()?),
             "--bank-random" => a.bank_random = value()?.parse()?,
+            "--writer" => a.writer = Some(value()?),
+            "--writer-random" => a.writer_random = value()?.parse()?,
             "--seed" => a.seed = value()?.parse()?,
             s if !s.starts_with('-') && a.out.is_empty() => a.out = s.to_string(),
             s => bail!("unknown argument `{s}`"),
         }
     }
     if a.out.is_empty() || !a.cfg.is_valid() || !(1..=24).contains(&a.depth) {
-        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--bank OUT8 --bank-random N] [--seed S]");
+        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--bank OUT8 --bank-random N] [--writer OUT9 --writer-random N] [--seed S]");
     }
     Ok(a)
 }
@@ -156,7 +165,9 @@ fn main() -> Result<()> {
         counts.clocks
     );
     // the scene's slots as the model's patch memory holds them, read once for every unit
-    let wanted = [&a.plane, &a.coarse, &a.cull, &a.setup, &a.horizon, &a.bank];
+    let wanted = [
+        &a.plane, &a.coarse, &a.cull, &a.setup, &a.horizon, &a.bank, &a.writer,
+    ];
     let slots = match &scene {
         Some(s) if wanted.iter().any(|o| o.is_some()) => plane::loaded_slots(&s.kernel_patches())?,
         _ => Vec::new(),
@@ -206,6 +217,14 @@ fn main() -> Result<()> {
         println!(
             "rtl-vectors: bank passes={} slots={} corners={} set_up={} stalls={}",
             c.passes, c.slots, c.corners, c.set_up, c.stalls
+        );
+    }
+    if let Some(out) = &a.writer {
+        let (text, c) = writer::vectors(&slots, a.coarse_samples, a.writer_random, a.seed);
+        std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
+        println!(
+            "rtl-vectors: writer passes={} answers={} copies={} empty={}",
+            c.passes, c.answers, c.copies, c.empty
         );
     }
     Ok(())

@@ -13,7 +13,8 @@
 //! - [`horizon`]: the horizon filter and the slot boxes it reads;
 //! - [`bank`]: a bank's set-up pass ahead of its set-up unit (boxes, filter, FIFO, corner reads);
 //! - [`plane`]: the planar intersection unit with (u,v) (one lane, no culling);
-//! - [`regs`]: the register file and its AHB-Lite bus interface.
+//! - [`regs`]: the register file and its AHB-Lite bus interface;
+//! - [`writer`]: a bank's bitmap writer (the set-up answers into the candidate bitmaps).
 
 pub mod bank;
 pub mod coarse;
@@ -24,6 +25,7 @@ pub mod plane;
 pub mod reach;
 pub mod regs;
 pub mod setup;
+pub mod writer;
 
 /// A vector file being written for a bench of the culling unit or the set-up unit: the model's
 /// unit that answers, the text, and what the file holds so far (each file's own `Counts`).
