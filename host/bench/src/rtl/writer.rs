@@ -124,24 +124,44 @@ fn scene_pass(
     (answers, at + CULL_SETUP_LATENCY as u64)
 }
 
-/// A random pass begun on `start`: its answers and its end's clock, one of three kinds.
-///
-/// - Most: a run of up to 120 places from a random one (some skipped, so that columns are left
-///   out), reaches of every kind, three or four clocks apart or in bursts of one a clock.
-/// - One in eight: a column a place, narrow reaches in a burst, so that columns close faster
-///   than they are copied and a column waits for its copy of the distributed RAM.
-/// - One in eight: up to three answers, all below the horizon, so that a pass ends with nothing
-///   to copy, often on the clock the pass before it ends when the writer is behind.
-///
-/// The end comes with the last answer or up to seven clocks after it (slots passed over).
+/// The kinds of random pass ([`random_pass`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum PassKind {
+    /// Most: a run of up to 120 places from a random one (some skipped, so that columns are
+    /// left out), reaches of every kind, three or four clocks apart or in bursts of one a clock.
+    Run,
+    /// One in eight: a column a place, narrow reaches in a burst, so that columns close faster
+    /// than they are copied and a column waits for its copy of the distributed RAM.
+    ColumnHops,
+    /// One in eight: up to three answers, all below the horizon, so that a pass ends with
+    /// nothing to copy, often on the clock the pass before it ends when the writer is behind.
+    AllBelow,
+    /// One in sixty-four: every slot of the bank, a wedge of every sector each, one a clock, so
+    /// that hundreds of answers wait in the FIFO (32 row writes each) and the next pass's
+    /// answers queue behind them.
+    WholeBank,
+}
+
+/// A random pass begun on `start`, of a random [`PassKind`]: its answers and its end's clock,
+/// which comes with the last answer or up to seven clocks after it (slots passed over).
 fn random_pass(rng: &mut XorShift, sectors: u32, start: u64) -> (Vec<Answer>, u64) {
-    let kind = rng.bits() % 8;
-    let mut place = (rng.bits() % BANK_SLOTS as u64) as usize;
+    let kind = match (rng.bits() % 64, rng.bits() % 8) {
+        (0, _) => PassKind::WholeBank,
+        (_, 0) => PassKind::AllBelow,
+        (_, 1) => PassKind::ColumnHops,
+        _ => PassKind::Run,
+    };
+    let mut place = match kind {
+        PassKind::WholeBank => 0,
+        _ => (rng.bits() % BANK_SLOTS as u64) as usize,
+    };
     let n = match kind {
-        0 => rng.bits() % 4,
+        PassKind::AllBelow => rng.bits() % 4,
+        PassKind::WholeBank => BANK_SLOTS as u64,
         _ => rng.bits() % 120,
     };
-    let burst = kind == 1 || rng.bits().is_multiple_of(4);
+    let burst =
+        matches!(kind, PassKind::ColumnHops | PassKind::WholeBank) || rng.bits().is_multiple_of(4);
     let mut at = start + 1 + CULL_SETUP_LATENCY as u64;
     let mut answers = Vec::new();
     for _ in 0..n {
@@ -149,17 +169,21 @@ fn random_pass(rng: &mut XorShift, sectors: u32, start: u64) -> (Vec<Answer>, u6
             break;
         }
         let reach = match kind {
-            0 => Reach {
+            PassKind::AllBelow => Reach {
                 wedge: Wedge::Below,
                 ..random_reach(rng, sectors)
             },
-            1 => narrow_reach(rng, sectors),
-            _ => random_reach(rng, sectors),
+            PassKind::ColumnHops => narrow_reach(rng, sectors),
+            PassKind::WholeBank => Reach {
+                wedge: Wedge::Full,
+                ..random_reach(rng, sectors)
+            },
+            PassKind::Run => random_reach(rng, sectors),
         };
         answers.push((place, at, reach));
         place += match kind {
-            1 => 64 - (rng.bits() % 4) as usize,
-            _ if rng.bits().is_multiple_of(5) => 1 + (rng.bits() % 100) as usize,
+            PassKind::ColumnHops => 64 - (rng.bits() % 4) as usize,
+            PassKind::Run if rng.bits().is_multiple_of(5) => 1 + (rng.bits() % 100) as usize,
             _ => 1,
         };
         at += if burst { 1 } else { 3 + rng.bits() % 2 };
