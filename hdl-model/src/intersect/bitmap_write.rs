@@ -25,7 +25,9 @@
 //! The bitmaps are complete when the pass's last column is copied, and a ray of the pass waits
 //! for that as it waits for the set-up pipe's last answer. Charged since session 33 on the
 //! compact datapath; before, the model took the writes to be free (docs/PERFORMANCE.md,
-//! "Session 33"). The wide datapath, whose set-up takes a patch a clock a bank while its lanes
+//! "Session 33"). `rtl/bitmap_writer.v` is this writer in RTL, co-simulated clock for clock
+//! against [`ColumnWriter`] since session 34; it showed the two latencies the model now charges
+//! ([`FIFO_LATENCY`], [`WRITE_LATENCY`]). The wide datapath, whose set-up takes a patch a clock a bank while its lanes
 //! wait, is still charged nothing for them: no writer of this design keeps up with it.
 
 use super::bitmap_walk::BITMAP_WORD;
