@@ -133,6 +133,26 @@ pub const RAY_SIDE: Placed = Placed {
     ffs: 3_427 - 98,
 };
 
+/// The rotator at the reset CORDIC configuration (24 iterations, 32-bit words), `rtl/rotator.v`
+/// (session 33's place and route, `cargo xtask rtl`: 15,904 LUT4s and 11,055 flip-flops, 195
+/// of them its harness's input chain and output register; 5 block RAMs, its side table, counted
+/// as a memory; 121.8 MHz). Until session 34 counted by the CORDIC rules, which give 20,750
+/// LUT4s for its three pipes with their 10 % for control (set 5–15 % above the placed units in
+/// session 21: docs/PERFORMANCE.md, "The area proxy against synthesis").
+pub const ROTATOR: Placed = Placed {
+    luts: 15_904,
+    ffs: 11_055 - 195,
+};
+
+/// The angle unit at the reset CORDIC configuration, `rtl/frame_unit.v` (session 33's place and
+/// route: 4,936 LUT4s and 3,159 flip-flops, 195 of them its harness's; 104.7 MHz): the
+/// vectoring pipe with its gain stage, and its sequencing. The rules gave 6,098 LUT4s with their
+/// 10 % for control.
+pub const ANGLE_UNIT: Placed = Placed {
+    luts: 4_936,
+    ffs: 3_159 - 195,
+};
+
 /// A bank's bitmap writer, `rtl/bitmap_writer.v` (session 34: 2,350 LUT4s and 812 flip-flops
 /// placed, 212 of them its harness's input chain and output registers, and 2 block RAMs, its
 /// answers' FIFO, counted as a memory; 104.4 to 113.2 MHz at three seeds, mapped with ABC9):
@@ -668,11 +688,21 @@ fn narrow_edges(p: &mut Proxy, banks: u64) {
     p.add(banks * 4, 24);
 }
 
-/// The front end: rotators (three pipes each), reciprocal units (radix-2 dividers of 33 stages
-/// on 64 bits: three a ray a clock, or the compact datapath's one for the Bezier lane).
+/// The front end: rotators (three pipes each; at the reset CORDIC configuration as placed,
+/// [`ROTATOR`], since session 34), reciprocal units (radix-2 dividers of 33 stages on 64 bits:
+/// three a ray a clock, or the compact datapath's one for the Bezier lane).
 fn front_end(p: &mut Proxy, params: &Params, cfg: CordicConfig) {
     let g = params.rays_per_clock as u64;
-    p.cordic(cfg, 3 * g);
+    if cfg == CordicConfig::DEFAULT {
+        // as placed, with each one's side table of 128 slots (two angles, the direction and
+        // the bypass bit)
+        p.placed(g, ROTATOR);
+        for _ in 0..g {
+            p.mem(128, 32 + 32 + 96 + 1);
+        }
+    } else {
+        p.cordic(cfg, 3 * g);
+    }
     // the compact datapath's one divider, a component a clock, and its results for the rays
     // waiting for the Bezier lane
     let dividers = if params.compact { 1 } else { 3 * g };
@@ -744,9 +774,14 @@ fn wide_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 
 /// The angle unit as `frame.rs` models it: one vectoring pipe of `cfg` (x, y and the angle
 /// each iteration) whose x output, the magnitude ρ that the θ pass takes, is gain-compensated
-/// (a product by the constant 1/K_n in digit tables). Until issue 19's fifth round the
+/// (a product by the constant 1/K_n in digit tables); at the reset CORDIC configuration, the
+/// whole unit as placed ([`ANGLE_UNIT`], since session 34). Until issue 19's fifth round the
 /// proxy counted two rotation pipes here (four gain multipliers), a unit the model never had.
 fn angle_unit(p: &mut Proxy, cfg: CordicConfig) {
+    if cfg == CordicConfig::DEFAULT {
+        p.placed(1, ANGLE_UNIT);
+        return;
+    }
     let (n, w) = (cfg.iterations as u64, cfg.width as u64);
     p.add_sub(3 * (n + 1), w);
     p.const_products(1, w);
