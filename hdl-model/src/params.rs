@@ -58,12 +58,13 @@ impl Params {
     /// larger scene streams through them in blocks), 32 sectors (and the culling unit's 16
     /// polar bands), 2 rays per clock, the compact datapath: the fewest lanes in a power-of-two
     /// number of banks that cast the Cornell box at under 1 cycle a ray and its 1,216-patch
-    /// subdivision at under 4 (docs/PERFORMANCE.md, "Builds that fit": 0.98 and 3.84 since
-    /// session 33 charged the bitmap writes, 0.96 and 3.77 before; 8 lanes, the default before
-    /// session 31, give 0.76 and 2.10). Its area proxy does not fit an ECP5-85k (`area`, session
-    /// 33: 167,480 LUT4s, 111,059 flip-flops, 260 block RAMs, where 8 lanes take 291,417,
-    /// 176,511 and 422); of the builds docs/PERFORMANCE.md lists, only the smallest (one lane,
-    /// one ray a clock) does (2.91 and 11.08 cycles a ray).
+    /// subdivision at under 4 (docs/PERFORMANCE.md, "Builds that fit": 0.98 and 3.85 since
+    /// session 34 charged the bitmap writer's latencies, 0.96 and 3.77 before session 33
+    /// charged its writes; 8 lanes, the default before session 31, give 0.76 and 2.11). Its
+    /// area proxy does not fit an ECP5-85k (`area`, session 34: 159,653 LUT4s, 116,591
+    /// flip-flops, 270 block RAMs, where 8 lanes take 286,618, 182,923 and 432); of the builds
+    /// docs/PERFORMANCE.md lists, two do: one lane at a ray a clock (2.91 and 11.09 cycles a
+    /// ray), and two lanes in two groups at a ray a clock (1.53 and 7.39).
     pub const DEFAULT: Params = Params {
         lanes: 4,
         sectors: 32,
