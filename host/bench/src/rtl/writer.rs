@@ -324,12 +324,22 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_random_passes_copy_columns_and_fall_behind() {
-        let (text, c) = vectors(&[], 1, 200, 5);
+    fn the_random_passes_hold_every_kind() {
+        let (text, c) = vectors(&[], 1, 300, 5);
         assert_eq!(text.lines().next(), Some("L 32 32"));
-        assert_eq!(c.passes, 200);
-        assert!(c.copies > 300, "{c:?}");
+        assert_eq!(c.passes, 300);
+        assert!(c.copies > 300 && c.empty > 10, "{c:?}");
         let rs = text.lines().filter(|l| l.starts_with("R ")).count();
-        assert_eq!(rs, 200);
+        assert_eq!(rs, 300);
+        // each pass's answers: some a whole bank
+        let mut answers = Vec::new();
+        for l in text.lines() {
+            match l.split(' ').next() {
+                Some("P") => answers.push(0),
+                Some("A") => *answers.last_mut().unwrap() += 1,
+                _ => {}
+            }
+        }
+        assert!(answers.contains(&BANK_SLOTS), "{answers:?}");
     }
 }
