@@ -803,7 +803,9 @@ pub struct Design {
     pub summed: bool,
     /// Whether Yosys maps it with ABC9 (`synth_ecp5 -abc9`): the bitmap writer's, whose
     /// distributed RAM and its multiplexers the default mapping spread over wide LUTs (3,399
-    /// LUT4s at 102.5 to 110.1 MHz, against 2,344 at 111.5 to 118.2).
+    /// LUT4s at 104.3 MHz, seed 1, against 2,350 at 113.2). The set-up family keeps the default:
+    /// with ABC9 its units alone place smaller and faster, but the joined set-up pass placed at
+    /// 97.5 MHz (docs/PERFORMANCE.md, "Session 34").
     pub abc9: bool,
 }
 
