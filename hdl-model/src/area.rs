@@ -278,7 +278,7 @@ impl Proxy {
     /// RAM bits of its memories, block and distributed (a placed unit's own distributed RAM,
     /// the bitmap writers', is in its LUT4s).
     pub fn ram_bits(&self) -> u64 {
-        self.memories.iter().map(|&(d, w)| d * w).sum::<u64>()
+        self.memories.iter().map(|&(d, w)| d * w).sum()
     }
 
     /// Its mapping onto a part with `dsps_free` DSP tiles left (see the module doc).

@@ -27,8 +27,9 @@
 //! compact datapath; before, the model took the writes to be free (docs/PERFORMANCE.md,
 //! "Session 33"). `rtl/bitmap_writer.v` is this writer in RTL, co-simulated clock for clock
 //! against [`ColumnWriter`] since session 34; it showed the two latencies the model now charges
-//! ([`FIFO_LATENCY`], [`WRITE_LATENCY`]). The wide datapath, whose set-up takes a patch a clock a bank while its lanes
-//! wait, is still charged nothing for them: no writer of this design keeps up with it.
+//! ([`FIFO_LATENCY`], [`WRITE_LATENCY`]). The wide datapath, whose set-up takes a patch a clock
+//! a bank while its lanes wait, is still charged nothing for them: no writer of this design
+//! keeps up with it.
 
 use super::bitmap_walk::BITMAP_WORD;
 use super::cull::{Reach, Wedge, BANDS};
@@ -52,11 +53,10 @@ pub fn copy_clocks(sectors: u32) -> u64 {
     sectors.max(BANDS) as u64
 }
 
-/// Clocks from an answer leaving the set-up pipe to the writer taking it at the earliest:
-/// its FIFO's block RAM written, read, the read registered, and its rows worked out into the
-/// queue ahead of the writer (`rtl/bitmap_writer.v`, whose
-/// co-simulation showed them in session 34; the model took them to be none before). A pass's
-/// end reaches the writer as late.
+/// Clocks from an answer leaving the set-up pipe to the writer taking it at the earliest: its
+/// FIFO's block RAM written, read, the read registered, and its rows worked out into the queue
+/// ahead of the writer (`rtl/bitmap_writer.v`, whose co-simulation showed them in session 34;
+/// the model took them to be none before). A pass's end reaches the writer as late.
 pub const FIFO_LATENCY: u64 = 4;
 
 /// Clocks from the writer's decision to copy a row to the row in the block RAMs: the decision

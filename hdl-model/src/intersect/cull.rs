@@ -135,6 +135,30 @@ pub enum Wedge {
     },
 }
 
+impl Wedge {
+    /// Its sector rows at `sectors` sectors, in the order the set-up writes them: none below
+    /// the horizon, every one for a wedge of every sector, else `lo, lo + 1, …` modulo
+    /// `sectors`.
+    pub fn sectors(self, sectors: u32) -> impl Iterator<Item = u32> {
+        let (lo, len) = match self {
+            Wedge::Below => (0, 0),
+            Wedge::Full => (0, sectors),
+            Wedge::Sectors { lo, len } => (lo as u32, len as u32),
+        };
+        (0..len).map(move |k| (lo + k) % sectors)
+    }
+
+    /// Its words as the RTL's ports and the co-simulation's vectors carry them: kind (0 below
+    /// the horizon, 1 every sector, 2 a wedge), first sector and length.
+    pub fn words(self) -> (u8, u8, u8) {
+        match self {
+            Wedge::Below => (0, 0, 0),
+            Wedge::Full => (1, 0, 0),
+            Wedge::Sectors { lo, len } => (2, lo, len),
+        }
+    }
+}
+
 /// Where a patch can be met: its wedge and its polar bands `lo..=hi`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Reach {
@@ -591,13 +615,7 @@ pub(crate) mod tests {
     }
 
     fn sector_mask(r: &Reach, sectors: u32) -> u64 {
-        match r.wedge {
-            Wedge::Below => 0,
-            Wedge::Full => u64::MAX >> (64 - sectors),
-            Wedge::Sectors { lo, len } => (0..len as u32)
-                .map(|k| 1u64 << ((lo as u32 + k) % sectors))
-                .fold(0, |m, b| m | b),
-        }
+        r.wedge.sectors(sectors).fold(0, |m, s| m | 1u64 << s)
     }
 
     /// The narrow unit's reach holds the exact products' on random patches (triangles and

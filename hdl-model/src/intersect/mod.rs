@@ -472,13 +472,10 @@ impl Candidates {
         self.active[self.active_len] = i;
         self.active_len += 1;
         self.bands[i as usize] = (reach.band_lo, reach.band_hi);
-        match reach.wedge {
-            Wedge::Below => {}
-            Wedge::Full => (0..sectors).for_each(|s| self.add_to_sector(s, i)),
-            Wedge::Sectors { lo, len } => {
-                (0..len as u32).for_each(|k| self.add_to_sector((lo as u32 + k) % sectors, i))
-            }
-        }
+        reach
+            .wedge
+            .sectors(sectors)
+            .for_each(|s| self.add_to_sector(s, i));
     }
 
     /// Whether slot `i` can be met in band `band`.

@@ -23,7 +23,7 @@ use crate::rtl::cordic::frame_angles;
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::format::Unit;
 use hemi_hdl_model::intersect::coarse::{narrow_patch, Coarse, KAPPA_DECLINE};
-use hemi_hdl_model::intersect::cull::{CullUnit, Wedge};
+use hemi_hdl_model::intersect::cull::CullUnit;
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::rotation::{spin_for_sample, Rotation};
@@ -160,11 +160,7 @@ impl Vectors {
         let reach = self
             .unit
             .reach(a, coarse, &axes.map(|v| v.map(Unit::from_bits)));
-        let (kind, lo, len) = match reach.wedge {
-            Wedge::Below => (0, 0, 0),
-            Wedge::Full => (1, 0, 0),
-            Wedge::Sectors { lo, len } => (2, lo, len),
-        };
+        let (kind, lo, len) = reach.wedge.words();
         self.counts.patches += 1;
         self.counts.below += (kind == 0) as usize;
         self.counts.wedges += (kind == 2) as usize;

@@ -149,11 +149,7 @@ pub(super) fn write_answer(t: &mut String, sides: usize, answer: Option<&SetUp>)
         let _ = write!(t, " 0{}", " 0".repeat(1 + 4 * sides + 5));
         return;
     };
-    let (kind, lo, len) = match reach.wedge {
-        Wedge::Below => (0, 0, 0),
-        Wedge::Full => (1, 0, 0),
-        Wedge::Sectors { lo, len } => (2, lo, len),
-    };
+    let (kind, lo, len) = reach.wedge.words();
     let _ = write!(t, " 1 {}", coarse.kappa);
     for c in coarse.words[..sides].iter().flatten() {
         let _ = write!(t, " {c}");

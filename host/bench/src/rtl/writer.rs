@@ -274,11 +274,7 @@ impl Vectors {
     }
 
     fn answer_line(&mut self, place: usize, at: u64, r: &Reach) {
-        let (kind, lo, len) = match r.wedge {
-            Wedge::Below => (0, 0, 0),
-            Wedge::Full => (1, 0, 0),
-            Wedge::Sectors { lo, len } => (2, lo, len),
-        };
+        let (kind, lo, len) = r.wedge.words();
         let (bl, bh) = (r.band_lo, r.band_hi);
         let _ = writeln!(self.text, "A {at} {place} {kind} {lo} {len} {bl} {bh}");
         self.counts.answers += 1;
@@ -292,7 +288,7 @@ impl Vectors {
         for (place, _, r) in answers.iter().filter(|a| column(a.0) == col) {
             let bit = 1u64 << (place % 64);
             let bands = (r.band_lo..=r.band_hi).fold(0u64, |m, b| m | 1 << b);
-            for s in sectors_of(r, self.sectors) {
+            for s in r.wedge.sectors(self.sectors) {
                 let w = rows.entry(s).or_default();
                 w.0 |= bit;
                 w.1 |= bands;
@@ -307,15 +303,6 @@ impl Vectors {
             let _ = writeln!(self.text, "X {row} {s} {m} {b}");
         }
         self.counts.copies += 1;
-    }
-}
-
-/// The sector rows of `r`'s wedge.
-fn sectors_of(r: &Reach, sectors: u32) -> Vec<u32> {
-    match r.wedge {
-        Wedge::Below => Vec::new(),
-        Wedge::Full => (0..sectors).collect(),
-        Wedge::Sectors { lo, len } => (0..len as u32).map(|k| (lo as u32 + k) % sectors).collect(),
     }
 }
 
