@@ -379,6 +379,11 @@ pub fn vectors(
 
 /// Verilates `bench` with `generics` from the sources in `src` into `dir`; returns the
 /// testbench executable.
+///
+/// Most of a build's time is the C++ compiler, and half of that is Verilator's own runtime
+/// (`verilated.cpp`), the same in every build, and a mutant's testbench is its bench's. So
+/// make compiles on every core, through ccache where it is installed (Verilator's `OBJCACHE`
+/// hook; `cargo xtask setup` installs it), with its cache under `target/rtl/ccache`.
 pub fn build(
     bench: Bench,
     generics: &[String],
@@ -387,7 +392,13 @@ pub fn build(
     opt: &str,
 ) -> Result<PathBuf, String> {
     let mut c = Command::new("verilator");
-    c.args(["--cc", "--exe", "--build", "-Wall", "-Wno-DECLFILENAME"])
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    if which("ccache").is_some() {
+        c.env("OBJCACHE", "ccache")
+            .env("CCACHE_DIR", work_dir("ccache")?);
+    }
+    c.args(["--cc", "--exe", "--build", "-j", &cores.to_string()])
+        .args(["-Wall", "-Wno-DECLFILENAME"])
         .args(["--top-module", bench.top, "-o", "tb"])
         .args(generics)
         .arg(format!("-I{}", src.display()))

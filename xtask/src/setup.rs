@@ -271,6 +271,14 @@ pub fn verilator() -> Result<(), String> {
             apt_install(package)?;
         }
     }
+    // ccache only makes the builds quicker (`rtl::build` says why): without it they are slower
+    if which("ccache").is_none() {
+        if let Err(e) = apt_install("ccache") {
+            say(format!(
+                "ccache not installed, so RTL builds take longer: {e}"
+            ));
+        }
+    }
     match output(cmd("verilator", ["--version"])) {
         Some(v) => say(format!("verilator: {}", v.trim())),
         None => return Err("setup: verilator is still not on PATH after installing it".into()),
