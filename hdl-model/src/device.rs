@@ -561,54 +561,55 @@ impl Device {
         }
     }
 
-    /// Up to `rays_per_clock` entries from the ray FIFO: frames to the angle unit, rays to the
-    /// rotators (entry k of the clock to rotator k).
-    fn issue(&mut self) -> [Option<RotIn<Info>>; MAX_RAYS_PER_CLOCK as usize] {
-        let mut rot_in = [None; MAX_RAYS_PER_CLOCK as usize];
-        if !self.enable {
-            return rot_in;
-        }
-        let held = self.rotator_occupancy() as usize
+    /// The ray slots held: in the rotators, the queue, the intersection unit and the result
+    /// FIFO (a ray enters a rotator only while one is free).
+    fn held(&self) -> usize {
+        self.rotator_occupancy() as usize
             + self.queue.len()
             + self.intersect.in_flight() as usize
-            + self.result_fifo.len();
-        for (taken, slot) in rot_in.iter_mut().take(self.rays_per_clock()).enumerate() {
-            let Some(e) = self.ray_fifo.front() else {
-                break;
-            };
-            if let Some(req) = e.frame {
-                if !self.frame.busy() {
-                    self.ray_fifo.pop();
-                    self.frame.start(req);
-                }
-                break;
-            }
-            let rotates = e.mode & mode::KIND_MASK != mode::TRACE;
-            if held + taken >= self.params.ray_slots() || (rotates && self.frame.busy()) {
-                break;
-            }
-            let e = *e;
-            self.ray_fifo.pop();
-            let no_frame = rotates && !self.frame_valid;
-            if no_frame {
-                self.raise(error::NO_FRAME);
-            }
-            let angles = self.frame.angles();
-            *slot = Some(RotIn {
-                dir: e.dir,
-                angles,
-                bypass: !rotates || no_frame,
-                info: Info {
-                    mode: e.mode,
-                    error: no_frame,
-                    origin: e.origin,
-                    skip: e.skip,
-                    frame: (rotates && !no_frame).then_some(angles),
-                    dir_ref: e.dir,
-                },
-            });
+            + self.result_fifo.len()
+    }
+
+    /// The ray FIFO's next entry for rotator `taken` of this clock, given `held` slots held
+    /// before the clock: a frame goes to the angle unit (and the clock issues nothing more),
+    /// a ray to the rotator. `None` ends the clock's issue. Up to `rays_per_clock` a clock,
+    /// entry k of the clock to rotator k.
+    fn issue(&mut self, taken: usize, held: usize) -> Option<RotIn<Info>> {
+        if !self.enable || taken >= self.rays_per_clock() {
+            return None;
         }
-        rot_in
+        let e = self.ray_fifo.front()?;
+        if let Some(req) = e.frame {
+            if !self.frame.busy() {
+                self.ray_fifo.pop();
+                self.frame.start(req);
+            }
+            return None;
+        }
+        let rotates = e.mode & mode::KIND_MASK != mode::TRACE;
+        if held + taken >= self.params.ray_slots() || (rotates && self.frame.busy()) {
+            return None;
+        }
+        let e = *e;
+        self.ray_fifo.pop();
+        let no_frame = rotates && !self.frame_valid;
+        if no_frame {
+            self.raise(error::NO_FRAME);
+        }
+        let angles = self.frame.angles();
+        Some(RotIn {
+            dir: e.dir,
+            angles,
+            bypass: !rotates || no_frame,
+            info: Info {
+                mode: e.mode,
+                error: no_frame,
+                origin: e.origin,
+                skip: e.skip,
+                frame: (rotates && !no_frame).then_some(angles),
+                dir_ref: e.dir,
+            },
+        })
     }
 
     /// Shows the intersection unit the set-up key of the ray FIFO's head, if it is a ray that
@@ -636,9 +637,13 @@ impl Device {
     pub fn tick(&mut self) {
         self.retire();
         self.start_rays();
-        let rot_in = self.issue();
-        self.announce_head();
-        for (rotator, input) in self.rotators.iter_mut().zip(rot_in) {
+        // each rotator's entry issued as it ticks (an array of them, built and moved each
+        // clock, was a tenth of the simulation's time)
+        let (held, mut issuing) = (self.held(), true);
+        for k in 0..self.rotators.len() {
+            let input = issuing.then(|| self.issue(k, held)).flatten();
+            issuing = input.is_some();
+            let rotator = &mut self.rotators[k];
             let turned = rotator.latency() as u64;
             let Some((dir, info)) = rotator.tick(input) else {
                 continue;
@@ -662,6 +667,7 @@ impl Device {
             });
             debug_assert!(pushed.is_ok(), "queue credit accounting");
         }
+        self.announce_head();
         if self.frame.tick() {
             self.frame_valid = true;
             self.irq_status |= irq::FRAME;
