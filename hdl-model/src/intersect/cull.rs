@@ -68,6 +68,7 @@
 //! [`MIN_CULL_WIDTH`] bits. Culling therefore only removes patches the edge test would reject:
 //! every hit is the one the full scan finds, which the tests check against the unculled model.
 
+use super::angle_memo::AngleMemo;
 use super::coarse::{block18, Coarse, KAPPA_DECLINE};
 use crate::cordic::{CordicConfig, CordicPipe, CordicSlot, Mode};
 use crate::format::{Angle, Unit};
@@ -221,6 +222,13 @@ impl CullUnit {
         (a, r as i128, s)
     }
 
+    /// A corner's azimuth and polar angle (Q3.29 bits) from its frame coordinates `v`, each
+    /// vectoring's input normalised on its own (the angles ignore the scale).
+    fn angles(&self, v: [i64; 3]) -> (i64, i64) {
+        let (az, r, s) = self.azimuth(v[0] as i128, v[1] as i128);
+        (az, self.polar(v[2] as i128, r, s))
+    }
+
     /// The polar angle atan2(r, z) of a vector whose azimuth vectoring returned magnitude `r` at
     /// shift `s` (so z is taken at that scale, then the pair normalised for the second vectoring).
     fn polar(&self, z: i128, r: i128, s: i32) -> i64 {
@@ -241,13 +249,18 @@ impl CullUnit {
     /// The sector and band of a hemisphere ray with reference direction `d` (Q2.30), if it is
     /// culled.
     pub fn ray_bin(&self, d: [Unit; 3]) -> Option<(u32, u32)> {
+        self.ray_bin_remembering(d, &mut AngleMemo::with_one_slot())
+    }
+
+    /// [`CullUnit::ray_bin`], taking the ray's angles from `memo` where it has them (a
+    /// hemisphere's reference directions are the same at every origin: [`AngleMemo`]).
+    pub fn ray_bin_remembering(&self, d: [Unit; 3], memo: &mut AngleMemo) -> Option<(u32, u32)> {
         let [x, y, z] = d.map(|c| c.to_bits());
         let rho = x.unsigned_abs().max(y.unsigned_abs());
         if self.sectors == 0 || z < 0 || rho < 1 << 25 {
             return None;
         }
-        let (phi, r, s) = self.azimuth(x as i128, y as i128);
-        let theta = self.polar(z as i128, r, s);
+        let (phi, theta) = memo.angles([x, y, z].map(i64::from), |v| self.angles(v));
         Some((self.sector_of(phi), Self::band_of(theta)))
     }
 
@@ -259,6 +272,18 @@ impl CullUnit {
     /// decision is widened by the bound on its error, so the reach holds the reach the exact
     /// products would give (`narrow_reach_holds_the_wide_one`).
     pub fn reach(&self, a: &[[i64; 3]], coarse: &Coarse, axes: &[[Unit; 3]; 3]) -> Reach {
+        self.reach_remembering(a, coarse, axes, &mut AngleMemo::with_one_slot())
+    }
+
+    /// [`CullUnit::reach`], taking the corners' angles from `memo` where it has them (the same
+    /// answer: [`AngleMemo`]).
+    pub fn reach_remembering(
+        &self,
+        a: &[[i64; 3]],
+        coarse: &Coarse,
+        axes: &[[Unit; 3]; 3],
+        memo: &mut AngleMemo,
+    ) -> Reach {
         let ax = axes.map(|v| v.map(|c| (c.to_bits() >> AXIS_SHIFT) as i64));
         // corners in the frame, each on its own scale: f = ã · x̃ within b of the exact
         // (a · x) / 2^(k + AXIS_SHIFT), componentwise
@@ -291,10 +316,7 @@ impl CullUnit {
             let rho = v[0].abs().max(v[1].abs());
             let (n, eb) = (norm(v), norm(e));
             near |= rho < eb + ((n + eb) >> NEAR_AXIS);
-            // each vectoring's input normalised on its own (the angles ignore the scale)
-            let (az, r, s) = self.azimuth(v[0] as i128, v[1] as i128);
-            *p = az;
-            *t = self.polar(v[2] as i128, r, s);
+            (*p, *t) = memo.angles(*v, |v| self.angles(v));
         }
         let phi = &phi[..f.len()];
         let (lo_t, hi_t) = polar_range(phi, &theta[..f.len()]);

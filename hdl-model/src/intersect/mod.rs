@@ -56,6 +56,7 @@
 //! Slots of unknown kinds, and Bezier slots naming a row outside control-point memory, are
 //! skipped and reported through the UNSUPPORTED_PATCH error.
 
+pub mod angle_memo;
 pub mod bezier;
 pub mod bitmap_walk;
 pub mod bitmap_write;
@@ -69,6 +70,7 @@ use crate::fifo::Fifo;
 use crate::format::{quotient, Angle, Coord, Coord64, PlaneDen, PlaneDist, Unit};
 use crate::params::{Params, MAX_LANES, MAX_SECTORS};
 use crate::table::Table;
+use angle_memo::AngleMemo;
 use bezier::{BezierEngine, BezierStats, Box3, Job, RaySetup, SubdivConfig, BEZIER_ROWS};
 use bitmap_walk::WordWalk;
 use bitmap_write::{column, copy_clocks, row_writes, ColumnWriter};
@@ -503,6 +505,10 @@ pub struct IntersectUnit<T: Copy + Default> {
     candidates: Candidates,
     params: Params,
     cull: CullUnit,
+    /// the corners' angles the culling set-up has vectored, and the hemisphere rays' (host
+    /// speed only: [`angle_memo`])
+    angles: AngleMemo,
+    ray_angles: AngleMemo,
     /// the CORDIC words are wide enough to cull (see [`cull::MIN_CULL_WIDTH`])
     cull_ok: bool,
     /// the clock from which each lane, and the Bezier lane, can take its next candidate
@@ -603,6 +609,8 @@ impl<T: Copy + Default> IntersectUnit<T> {
             candidates: Candidates::new(params.capacity() as usize, params.sectors),
             params,
             cull: CullUnit::new(params.sectors),
+            angles: AngleMemo::new(),
+            ray_angles: AngleMemo::new(),
             cull_ok: width >= cull::MIN_CULL_WIDTH,
             bank_free: [0; MAX_LANES as usize],
             bezier_free: 0,
@@ -937,7 +945,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.local[i] = lp;
         let reach = match axes {
             Some(ax) => {
-                let r = self.cull.reach(&a[..sides], &lp.coarse, ax);
+                let r = self
+                    .cull
+                    .reach_remembering(&a[..sides], &lp.coarse, ax, &mut self.angles);
                 let st = &mut self.stats;
                 st.culled_patches += 1;
                 let bands = (r.band_hi - r.band_lo) as u64 + 1;
@@ -981,7 +991,8 @@ impl<T: Copy + Default> IntersectUnit<T> {
             }
             let culled = self.key.is_some_and(|k| k.1.is_some()) && ray.frame.is_some();
             let bin = if culled {
-                self.cull.ray_bin(ray.dir_ref)
+                self.cull
+                    .ray_bin_remembering(ray.dir_ref, &mut self.ray_angles)
             } else {
                 None
             };
