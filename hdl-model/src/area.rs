@@ -144,12 +144,13 @@ pub const ROTATOR: Placed = Placed {
     ffs: 11_055 - 195,
 };
 
-/// The angle unit at the reset CORDIC configuration, `rtl/frame_unit.v` (session 33's place and
-/// route: 4,936 LUT4s and 3,159 flip-flops, 195 of them its harness's; 104.7 MHz): the
-/// vectoring pipe with its gain stage, and its sequencing. The rules gave 6,098 LUT4s with their
-/// 10 % for control.
+/// The angle unit at the reset CORDIC configuration, `rtl/frame_unit.v` (session 35's place and
+/// route, mapped with ABC9: 4,729 LUT4s and 3,159 flip-flops, 195 of them its harness's;
+/// 118.1 MHz; session 33's default mapping gave 4,936 LUT4s at 104.7 MHz): the vectoring pipe
+/// with its gain stage, and its sequencing. The rules gave 6,098 LUT4s with their 10 % for
+/// control.
 pub const ANGLE_UNIT: Placed = Placed {
-    luts: 4_936,
+    luts: 4_729,
     ffs: 3_159 - 195,
 };
 

@@ -61,8 +61,8 @@ impl Params {
     /// subdivision at under 4 (docs/PERFORMANCE.md, "Builds that fit": 0.98 and 3.85 since
     /// session 34 charged the bitmap writer's latencies, 0.96 and 3.77 before session 33
     /// charged its writes; 8 lanes, the default before session 31, give 0.76 and 2.11). Its
-    /// area proxy does not fit an ECP5-85k (`area`, session 34: 159,653 LUT4s, 116,591
-    /// flip-flops, 270 block RAMs, where 8 lanes take 286,618, 182,923 and 432); of the builds
+    /// area proxy does not fit an ECP5-85k (`area`, session 35: 159,446 LUT4s, 116,591
+    /// flip-flops, 270 block RAMs, where 8 lanes take 286,411, 182,923 and 432); of the builds
     /// docs/PERFORMANCE.md lists, two do: one lane at a ray a clock (2.91 and 11.09 cycles a
     /// ray), and two lanes in two groups at a ray a clock (1.53 and 7.39).
     pub const DEFAULT: Params = Params {

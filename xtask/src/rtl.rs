@@ -814,7 +814,9 @@ pub struct Design {
     pub summed: bool,
     /// Whether Yosys maps it with ABC9 (`synth_ecp5 -abc9`): the bitmap writer's, whose
     /// distributed RAM and its multiplexers the default mapping spread over wide LUTs (3,399
-    /// LUT4s at 104.3 MHz, seed 1, against 2,350 at 113.2). The set-up family keeps the default:
+    /// LUT4s at 104.3 MHz, seed 1, against 2,350 at 113.2), and the angle unit's (4,936 LUT4s at
+    /// 104.7 MHz against 4,729 at 118.1; the rotator, 15,904 at 121.8 against 16,165 at 117.6,
+    /// keeps the default). The set-up family keeps the default:
     /// with ABC9 its units alone place smaller and faster, but the joined set-up pass placed at
     /// 97.5 MHz (docs/PERFORMANCE.md, "Session 34").
     pub abc9: bool,
@@ -868,7 +870,7 @@ pub fn frame_design(cfg: Cordic) -> Design {
         ],
         params: vec![("ITER", cfg.iterations), ("W", cfg.width)],
         summed: true,
-        abc9: false,
+        abc9: true,
     }
 }
 
