@@ -6,7 +6,8 @@
 // pass two after this one may begin only once this one's answers are out (in the model, once
 // the lanes have released its buffer), so two sets of registers are enough. Slots other than
 // triangles and quads have their one clock in the front and go nowhere: the Bezier lane's root
-// boxes have no RTL yet.
+// boxes have no RTL yet. Each answer comes with its slot (`out_p_slot`), the place the bank's
+// bitmap writer sets (`bank_pass.v`).
 // Verilog-2005, accepted by Verilator and Yosys.
 module bank_setup #(
     parameter integer SLOT_BITS = 9,
@@ -45,7 +46,9 @@ module bank_setup #(
     output wire [5:0]             out_p_lo,
     output wire [6:0]             out_p_len,
     output wire [3:0]             out_p_band_lo,
-    output wire [3:0]             out_p_band_hi
+    output wire [3:0]             out_p_band_hi,
+    // the answer's slot (its place in the bank's bitmaps)
+    output wire [SLOT_BITS-1:0]   out_p_slot
 );
     // the passes' registers, by tag
     reg         tag;
@@ -57,8 +60,8 @@ module bank_setup #(
     end
 
     wire                 c_valid, c_planar, c_pass, c_last;
-    /* verilator lint_off UNUSEDSIGNAL */ // which slot and corner: the set-up unit needs neither
     wire [SLOT_BITS-1:0] c_slot;
+    /* verilator lint_off UNUSEDSIGNAL */ // which corner: the set-up unit does not need it
     wire [1:0]           c_corner;
     wire                 busy;
     /* verilator lint_on UNUSEDSIGNAL */
@@ -85,4 +88,23 @@ module bank_setup #(
         .out_p_valid(out_p_valid), .out_p_active(out_p_active), .out_p_kappa(out_p_kappa),
         .out_p_kind(out_p_kind), .out_p_lo(out_p_lo), .out_p_len(out_p_len),
         .out_p_band_lo(out_p_band_lo), .out_p_band_hi(out_p_band_hi));
+
+    // The slots of the planar patches in the set-up unit, in order, for their answers, which
+    // leave it in the order their last corners entered: at most its answer latency (83 clocks)
+    // over three corners a patch, 28, are in flight, so 32 entries of distributed RAM.
+    localparam integer FLIGHT_BITS = 5;
+    reg [SLOT_BITS-1:0]   flight [0:(1<<FLIGHT_BITS)-1];
+    reg [FLIGHT_BITS-1:0] f_wr, f_rd;
+    initial begin
+        f_wr = 0;
+        f_rd = 0;
+    end
+    always @(posedge clk) begin
+        if (c_valid && c_planar && c_last) begin
+            flight[f_wr] <= c_slot;
+            f_wr <= f_wr + 1'b1;
+        end
+        if (out_p_valid) f_rd <= f_rd + 1'b1;
+    end
+    assign out_p_slot = flight[f_rd];
 endmodule

@@ -173,6 +173,31 @@ pub const BANK_SETUP_BENCH: Bench = Bench {
     report: "bank_setup",
 };
 
+/// A bank's set-up pass into its bitmaps (`bank_pass.v`: `bank_setup.v` feeding
+/// `bitmap_writer.v`) on the bank's vectors: every answer the writer takes with its clock and
+/// slot, then every copy's rows and every pass's completion, as the writer's bench compares
+/// them.
+pub const BANK_PASS_BENCH: Bench = Bench {
+    top: "bank_pass",
+    sources: &[
+        "horizon_filter.v",
+        "bank_front.v",
+        "bank_setup.v",
+        "setup_unit.v",
+        "coarse_edge.v",
+        "cull_reach.v",
+        "cull_angles.v",
+        "leading_one.v",
+        "cull_bin.v",
+        "cordic_pipe.v",
+        "const_mul.v",
+        "bitmap_writer.v",
+        "bank_pass.v",
+    ],
+    cpp: "tb/bank_pass_tb.cpp",
+    report: "bank_pass",
+};
+
 /// A bank's bitmap writer (`bitmap_writer.v`): the set-up answers of pass after pass into the
 /// candidate bitmaps, every copy's rows, every pass's completion and its valid bits compared
 /// with their clocks.
@@ -269,6 +294,7 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     lint_top(HORIZON_BENCH.top, HORIZON_BENCH.sources, &[])?;
     lint_top(BANK_BENCH.top, BANK_BENCH.sources, &[])?;
     lint_top(BANK_SETUP_BENCH.top, BANK_SETUP_BENCH.sources, &[])?;
+    lint_top(BANK_PASS_BENCH.top, BANK_PASS_BENCH.sources, &[])?;
     // the writer at every sector count the model takes (co-simulated at the default's 32)
     for sectors in [8, 16, 32, 64] {
         let g = [format!("-GSECTORS={sectors}")];
@@ -551,6 +577,7 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     BANK_MUTANT.caught("mutant-bank", &[], &[file("bank.txt")], opt)?;
     BANK_SETUP_MUTANT.caught("mutant-bank-setup", &[], &[file("bank.txt")], opt)?;
     WRITER_MUTANT.caught("mutant-writer", &[], &[file("writer.txt")], opt)?;
+    BANK_PASS_MUTANT.caught("mutant-bank-pass", &[], &[file("bank.txt")], opt)?;
     MUL_MUTANT.caught("mutant-mul", &[], &[MUL_CLOCKS.to_string()], opt)?;
     Ok(())
 }
@@ -614,7 +641,7 @@ const SETUP_MUTANT: Mutant = Mutant {
 /// the filter stops sooner than the model's.
 const BANK_MUTANT: Mutant = Mutant {
     bench: BANK_BENCH,
-    extra: &["tb/bank.h"],
+    extra: &["tb/bank.h", "tb/writer.h"],
     file: "bank_front.v",
     from: "parameter integer FIFO_BITS = 4",
     to: "parameter integer FIFO_BITS = 3",
@@ -625,18 +652,30 @@ const BANK_MUTANT: Mutant = Mutant {
 /// origin and frame go to the registers of the pass before it.
 const BANK_SETUP_MUTANT: Mutant = Mutant {
     bench: BANK_SETUP_BENCH,
-    extra: &["cordic_rom.vh", "tb/bank.h"],
+    extra: &["cordic_rom.vh", "tb/bank.h", "tb/writer.h"],
     file: "bank_setup.v",
     from: ".tag(!tag)",
     to: ".tag(tag)",
     what: "the bank's pass tag",
 };
 
+/// The slots of the patches in the bank's set-up unit kept in 16 entries instead of 32
+/// (`bank_setup.v`'s FLIGHT_BITS 4 for 5, one bit), so that runs of quads, 21 in flight,
+/// overwrite the slots of the answers still to come.
+const BANK_PASS_MUTANT: Mutant = Mutant {
+    bench: BANK_PASS_BENCH,
+    extra: &["cordic_rom.vh", "tb/bank.h", "tb/writer.h"],
+    file: "bank_setup.v",
+    from: "localparam integer FLIGHT_BITS = 5;",
+    to: "localparam integer FLIGHT_BITS = 4;",
+    what: "bit 0 of the set-up pass's slots in flight",
+};
+
 /// The bitmap writer's copy ending a row late (the constant 1 of its last row's COPY − 1 as
 /// 0, one bit), so that every copy is a clock longer than the model's.
 const WRITER_MUTANT: Mutant = Mutant {
     bench: WRITER_BENCH,
-    extra: &[],
+    extra: &["tb/writer.h"],
     file: "bitmap_writer.v",
     from: "row == C7 - 7'd1;",
     to: "row == C7 - 7'd0;",
@@ -719,6 +758,9 @@ fn cosim_run(
         let exe = build(BANK_SETUP_BENCH, &[], &src, &dir.join("bank-setup"), opt)?;
         let r = cosim(BANK_SETUP_BENCH, &exe, &[bv.display().to_string()])?;
         out.push(("bank set-up".to_string(), r));
+        let exe = build(BANK_PASS_BENCH, &[], &src, &dir.join("bank-pass"), opt)?;
+        let r = cosim(BANK_PASS_BENCH, &exe, &[bv.display().to_string()])?;
+        out.push(("bank set-up into bitmaps".to_string(), r));
         let exe = build(WRITER_BENCH, &[], &src, &dir.join("writer"), opt)?;
         let r = cosim(WRITER_BENCH, &exe, &[wv.display().to_string()])?;
         out.push(("bitmap writer".to_string(), r));
@@ -986,6 +1028,20 @@ pub fn bank_design() -> Design {
     }
 }
 
+/// A bank's set-up pass into its bitmaps: the bank front, its set-up unit and its bitmap
+/// writer. Not summed: the set-up unit's, the front's and the writer's harnesses hold them
+/// again. Mapped as the set-up family is (the writer alone is mapped with ABC9).
+pub fn bank_pass_design() -> Design {
+    Design {
+        name: "bank-pass".to_string(),
+        top: "syn_bank_pass",
+        files: [BANK_PASS_BENCH.sources, &["syn/syn_bank_pass.v"]].concat(),
+        params: vec![],
+        summed: false,
+        abc9: false,
+    }
+}
+
 /// A bank's whole set-up pass's harness: the bank front and its set-up unit. Not summed: the
 /// set-up unit's and the front's harnesses hold them again.
 pub fn bank_setup_design() -> Design {
@@ -1013,7 +1069,7 @@ pub fn writer_design() -> Design {
 
 /// Every synthesis harness at CORDIC `cfg` and (u,v) depth `depth` (the final line's figures
 /// are theirs: [`datapath`]).
-fn designs(cfg: Cordic, depth: u32) -> [Design; 12] {
+fn designs(cfg: Cordic, depth: u32) -> [Design; 13] {
     [
         rotator_design(cfg),
         plane_design(depth),
@@ -1027,6 +1083,7 @@ fn designs(cfg: Cordic, depth: u32) -> [Design; 12] {
         bank_design(),
         bank_setup_design(),
         writer_design(),
+        bank_pass_design(),
     ]
 }
 

@@ -127,9 +127,10 @@ fn steps() -> Vec<Step> {
                    reaches of the Cornell box's set-up passes and random passes with their \
                    clocks, the slot boxes' writes and the horizon filter's verdicts with their \
                    clocks, a bank front's corner reads on the model's clocks (the filter \
-                   stopping for a full FIFO) and the set-up unit's answers behind it, a bank's \
-                   bitmap writer's copies and completions on the model's clocks, and the \
-                   multipliers against exact products, then eleven one-bit \
+                   stopping for a full FIFO) and the set-up unit's answers behind it, those \
+                   answers into the bank's bitmaps, a bank's bitmap writer's copies and \
+                   completions on the model's clocks, and the multipliers against exact \
+                   products, then twelve one-bit \
                    mutants of the RTL shown to be caught (cargo xtask rtl is the full form, \
                    with synthesis)",
             kind: Kind::Check(crate::rtl::ci),

@@ -25,6 +25,7 @@ module syn_bank_setup (
     wire [1:0]  p_kind;
     wire [5:0]  p_lo;
     wire [6:0]  p_len;
+    wire [SB-1:0] p_slot;
     bank_setup #(.SLOT_BITS(SB)) bank (
         .clk(clk),
         .box_we(b[0]), .box_slot(b[SB:1]), .box_lo(b[SB+72:SB+1]), .box_hi(b[SB+144:SB+73]),
@@ -36,8 +37,8 @@ module syn_bank_setup (
         .out_e_valid(e_valid), .out_e_words(e_words), .out_e_kappa(e_kappa),
         .out_p_valid(p_valid), .out_p_active(p_active), .out_p_kappa(p_kappa),
         .out_p_kind(p_kind), .out_p_lo(p_lo), .out_p_len(p_len), .out_p_band_lo(p_band_lo),
-        .out_p_band_hi(p_band_hi));
+        .out_p_band_hi(p_band_hi), .out_p_slot(p_slot));
     always @(posedge clk)
         sout <= ^{e_valid, e_words, e_kappa, p_valid, p_active, p_kappa, p_kind, p_lo, p_len,
-                  p_band_lo, p_band_hi};
+                  p_band_lo, p_band_hi, p_slot};
 endmodule

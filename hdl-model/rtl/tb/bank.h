@@ -5,6 +5,7 @@
 #pragma once
 #include "tb.h"
 #include "verilated.h"
+#include "writer.h"
 #include <cstdint>
 #include <vector>
 
@@ -47,11 +48,15 @@ struct Group {
     std::vector<Read> reads;
     std::vector<SetUp> set_ups;
     std::vector<uint64_t> idles;
+    // the passes as the bank's bitmap writer has them (`W` lines: the writer reset with the
+    // group, its clocks the group's)
+    std::vector<writer::Pass> writes;
 };
 // The `L` line: the corner's latency after the model's clock, the idle latency after a pass's
-// end, the set-up unit's answer latency after a patch's last corner.
+// end, the set-up unit's answer latency after a patch's last corner; and the writer's `WL`.
 struct Latency {
     uint64_t corner = 0, idle = 0, answer = 0;
+    writer::Shape writer;
 };
 
 static bool read_set_up(std::istringstream &in, SetUp &s) {
@@ -66,12 +71,14 @@ static bool read_set_up(std::istringstream &in, SetUp &s) {
 static bool read_line(const std::string &tag, std::istringstream &in, Latency &lat,
                       std::vector<Group> &groups) {
     if (tag == "L") return bool(in >> lat.corner >> lat.idle >> lat.answer);
+    if (tag == "WL") return bool(in >> lat.writer.sectors >> lat.writer.copy);
     if (tag == "G") {
         groups.emplace_back();
         return true;
     }
     if (groups.empty()) return false;
     Group &g = groups.back();
+    if (tag.size() == 2 && tag[0] == 'W') return writer::read_line(tag.substr(1), in, lat.writer, g.writes);
     if (tag == "B") {
         Box b;
         in >> b.slot >> b.boxed >> b.clocks >> b.lo[0] >> b.lo[1] >> b.lo[2] >> b.hi[0] >>

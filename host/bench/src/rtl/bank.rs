@@ -6,7 +6,10 @@
 //! [`HORIZON_LATENCY`] clocks after the model's pass ends when no pass follows at once.
 //!
 //! The same file drives the front joined to its set-up unit (`bank_setup.v`): each planar
-//! patch's set-up answer is due [`CULL_SETUP_LATENCY`] after its last corner reaches the unit.
+//! patch's set-up answer is due [`CULL_SETUP_LATENCY`] after its last corner reaches the unit;
+//! and the set-up pass joined to the bank's bitmap writer (`bank_pass.v`): each answer the
+//! writer takes on the model's clock for it, [`WRITER_LATENCY`] after its last corner's, then
+//! the writer's copies and completions (the writer's lines of [`super::writer`], tagged `W`).
 //!
 //! File lines (decimal): first `L corner idle answer`, the three latencies; then groups, each
 //! `G`, the bank's memories, then its passes. Memories: `B slot boxed clocks lo0 lo1 lo2 hi0
@@ -17,7 +20,11 @@
 //! by the model's answers: `K clock slot corner last` (a corner read on the model's clock),
 //! `S clock n` and the answer as the set-up unit's vectors write it (a planar patch's set-up,
 //! on the model's clock for its last corner), and `I clock` (the pass's end, when the bank is
-//! idle after it).
+//! idle after it); then the pass as the writer has it (`WP`, `WA`, `WE`, `WC`, `WX`, `WR`: the
+//! writer's `P`, `A`, … lines, its clocks the group's, the writer reset with each group; its
+//! `L` line once, as `WL`, after the file's). A pass's end reaches the writer on the clock its
+//! last slot's set-up would leave the set-up pipe (this bank the pass's only one), and a pass
+//! begins only once the last pass into its bitmaps' buffer has them complete.
 //!
 //! Workloads: bank 0 of two of a scene's slots, one pass from each of K × K lattice points of
 //! every planar slot in its frame; random banks of up to 512 slots in clusters of small quads
@@ -29,8 +36,9 @@ use super::coarse::is_planar;
 use super::horizon::slot_box;
 use super::reach::{random_axes, scene_frames, Axes};
 use super::setup::{random_slot, set_up, write_answer};
+use super::writer::{Answer, WriterVectors};
 use crate::rng::XorShift;
-use hemi_hdl_model::intersect::cull::CullUnit;
+use hemi_hdl_model::intersect::cull::{CullUnit, Reach};
 use hemi_hdl_model::intersect::horizon::{below, PassTiming, HORIZON_LATENCY};
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use hemi_hdl_model::intersect::{corner_clocks, CORNER_READ, CULL_SETUP_LATENCY};
@@ -40,6 +48,12 @@ use std::fmt::Write as _;
 /// Clocks from the model's clock for a patch's set-up to its corner out of patch memory: the
 /// filter's latency, then the corner's read.
 pub const CORNER_CLOCKS: u64 = HORIZON_LATENCY + CORNER_READ;
+
+/// Clocks from the model's clock for a patch's last corner to the clock its answer is the
+/// bitmap writer's input (`rtl/bank_pass.v`; the model's `at` for it, its set-up latency with
+/// the filter's): the corner's read, the set-up unit's answer latency to the edge that
+/// registers the answer, and the clock after it, on which the writer takes it.
+pub const WRITER_LATENCY: u64 = CORNER_CLOCKS + CULL_SETUP_LATENCY as u64 + 1;
 
 /// Slots a bank holds in the RTL's default (`bank_front.v`'s SLOT_BITS 9).
 const BANK_SLOTS: usize = 512;
@@ -112,6 +126,8 @@ pub fn vectors(
         text: format!("L {CORNER_CLOCKS} {HORIZON_LATENCY} {CULL_SETUP_LATENCY}\n"),
         counts: Counts::default(),
     };
+    let mut writer = WriterVectors::new(Params::DEFAULT.sectors, "W");
+    out.text.push_str(&writer.take_text());
     let bank: Vec<Slot> = slots
         .iter()
         .step_by(2)
@@ -123,7 +139,7 @@ pub fn vectors(
             .into_iter()
             .map(|(o, axes)| (o, axes, bank.len()))
             .collect();
-        out.group(&bank, &passes, &mut XorShift::new(seed));
+        out.group(&bank, &passes, &mut writer, &mut XorShift::new(seed));
     }
     let mut rng = XorShift::new(seed ^ 0x6a09_e667_f3bc_c909);
     for _ in 0..random {
@@ -134,7 +150,7 @@ pub fn vectors(
                 (random_point(&mut rng), random_axes(&mut rng), count)
             })
             .collect();
-        out.group(&bank, &passes, &mut rng);
+        out.group(&bank, &passes, &mut writer, &mut rng);
     }
     (out.text, out.counts)
 }
@@ -188,17 +204,30 @@ type Vectors = super::UnitVectors<Counts>;
 impl Vectors {
     /// A group: `bank` written, then `passes`, each begun on the model's clock its bank is
     /// done, or after the bank has fallen idle now and then (and never before the pass two
-    /// before it has its answers: the set-up unit's two sets of pass registers).
-    fn group(&mut self, bank: &[Slot], passes: &[Pass], rng: &mut XorShift) {
+    /// before it has its answers: the set-up unit's two sets of pass registers; nor before
+    /// the last pass into its bitmaps' buffer has them complete). Each pass's answers go to
+    /// the bank's bitmap writer (`writer`, reset with the group) on the model's clocks.
+    fn group(
+        &mut self,
+        bank: &[Slot],
+        passes: &[Pass],
+        writer: &mut WriterVectors,
+        rng: &mut XorShift,
+    ) {
         self.text.push_str("G\n");
         for (i, s) in bank.iter().enumerate() {
             self.slot(i, s);
         }
+        writer.reset();
         let (mut start, mut answered) = (0, [0u64; 2]);
         for (p, (o, axes, count)) in passes.iter().enumerate() {
-            let (clocks, last) = self.pass(&bank[..*count], start, *o, axes);
+            let (clocks, last, answers) = self.pass(&bank[..*count], start, *o, axes);
             let end = start + clocks;
             answered[p % 2] = last.map_or(0, |l| l + CORNER_CLOCKS + CULL_SETUP_LATENCY as u64);
+            // the pass's end as the model's sequencer gives it to the writer: its last slot's
+            // set-up out of the set-up pipe (this bank the pass's only one)
+            writer.pass(start, &answers, end + WRITER_LATENCY - 1);
+            self.text.push_str(&writer.take_text());
             let gap = if rng.bits().is_multiple_of(3) {
                 HORIZON_LATENCY + 1 + rng.bits() % 8
             } else {
@@ -206,7 +235,7 @@ impl Vectors {
             };
             // the next pass takes the tag registers of the pass before this one: it waits for
             // that pass's answers
-            let next = (end + gap).max(answered[(p + 1) % 2]);
+            let next = writer.begin((end + gap).max(answered[(p + 1) % 2]));
             if next > end + HORIZON_LATENCY || p + 1 == passes.len() {
                 let _ = writeln!(self.text, "I {end}");
             }
@@ -231,9 +260,16 @@ impl Vectors {
         let _ = writeln!(t, "N {i} {} {} {}", n[0] as i32, n[1] as i32, n[2] as i32);
     }
 
-    /// One pass from `start`: its line, the model's corner reads and set-ups; its clocks and
-    /// the model's clock for its last planar patch's last corner, if any.
-    fn pass(&mut self, slots: &[Slot], start: u64, o: [i32; 3], axes: &Axes) -> (u64, Option<u64>) {
+    /// One pass from `start`: its line, the model's corner reads and set-ups; its clocks, the
+    /// model's clock for its last planar patch's last corner, if any, and its answers with the
+    /// clocks the writer takes them on.
+    fn pass(
+        &mut self,
+        slots: &[Slot],
+        start: u64,
+        o: [i32; 3],
+        axes: &Axes,
+    ) -> (u64, Option<u64>, Vec<Answer>) {
         let _ = write!(
             self.text,
             "P {start} {} {} {} {}",
@@ -246,7 +282,7 @@ impl Vectors {
             let _ = write!(self.text, " {v}");
         });
         self.text.push('\n');
-        let (mut t, mut last) = (PassTiming::default(), None);
+        let (mut t, mut last, mut answers) = (PassTiming::default(), None, Vec::new());
         for (i, s) in slots.iter().enumerate() {
             let clocks = (!s.below(o, axes[2])).then_some(s.clocks);
             let Some(begin) = t.patch(0, clocks) else {
@@ -259,28 +295,29 @@ impl Vectors {
             }
             if is_planar(&s.words) {
                 let at = start + begin + s.clocks - 1;
-                self.set_up_line(s, at, o, axes);
+                if let Some(reach) = self.set_up_line(s, at, o, axes) {
+                    answers.push((i, at + WRITER_LATENCY, reach));
+                }
                 last = Some(at);
             }
         }
         self.counts.passes += 1;
         self.counts.slots += slots.len();
         self.counts.stalls += t.filter_clock(0) - slots.len() as u64;
-        (t.bank_clocks(0).max(1), last)
+        (t.bank_clocks(0).max(1), last, answers)
     }
 
     /// A planar patch's set-up as the model gives it: `S clock n` (the model's clock for its
-    /// last corner, its corners) and the answer as the set-up unit's vectors have it.
-    fn set_up_line(&mut self, s: &Slot, at: u64, o: [i32; 3], axes: &Axes) {
+    /// last corner, its corners) and the answer as the set-up unit's vectors have it. Its
+    /// reach, unless the origin is on its plane.
+    fn set_up_line(&mut self, s: &Slot, at: u64, o: [i32; 3], axes: &Axes) -> Option<Reach> {
         let sides = s.clocks as usize;
         let _ = write!(self.text, "S {at} {sides}");
-        write_answer(
-            &mut self.text,
-            sides,
-            set_up(&self.unit, &s.words, o, axes).as_ref(),
-        );
+        let answer = set_up(&self.unit, &s.words, o, axes);
+        write_answer(&mut self.text, sides, answer.as_ref());
         self.text.push('\n');
         self.counts.set_up += 1;
+        answer.map(|(_, _, reach)| reach)
     }
 }
 
@@ -297,5 +334,39 @@ mod tests {
         assert!(c.stalls > 100, "{c:?}");
         let idles = text.lines().filter(|l| l.starts_with("I ")).count();
         assert!(idles > 20 && idles < c.passes, "{idles} {c:?}");
+    }
+
+    /// Each pass's writer lines: begun with the pass, an answer for each set-up whose origin
+    /// is off the plane, on the model's clock for it, and the pass's end after its answers.
+    #[test]
+    fn every_answer_reaches_the_writer_on_the_model_s_clock() {
+        let (text, c) = vectors(&[], 1, 20, 3);
+        let field = |l: &str, k: usize| -> u64 { l.split(' ').nth(k).unwrap().parse().unwrap() };
+        let (mut set_ups, mut answers, mut ends) = (Vec::new(), Vec::new(), 0);
+        let (mut last_start, mut last_answer) = (None, 0);
+        for l in text.lines() {
+            match l.split(' ').next() {
+                Some("P") => last_start = Some(field(l, 1)),
+                Some("WP") => {
+                    assert_eq!(Some(field(l, 1)), last_start.take());
+                    last_answer = 0;
+                }
+                // active: the field after the clock and the corner count
+                Some("S") if field(l, 3) == 1 => set_ups.push(field(l, 1)),
+                Some("WA") => {
+                    last_answer = field(l, 1);
+                    answers.push(last_answer);
+                }
+                Some("WE") => {
+                    assert!(last_answer <= field(l, 1), "{l}");
+                    ends += 1;
+                }
+                _ => {}
+            }
+        }
+        assert_eq!(ends, c.passes);
+        assert!(set_ups.len() > 1000, "{}", set_ups.len());
+        let due: Vec<u64> = set_ups.iter().map(|t| t + WRITER_LATENCY).collect();
+        assert_eq!(answers, due);
     }
 }

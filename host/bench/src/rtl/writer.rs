@@ -49,11 +49,14 @@ pub struct Counts {
 }
 
 /// One answer: its slot's place in the bank, the clock it leaves the set-up pipe, its reach.
-type Answer = (usize, u64, Reach);
+pub type Answer = (usize, u64, Reach);
 
-/// The file being written: the model's writer (it lives from pass to pass, as a bank's does).
-struct Vectors {
+/// The lines being written: the model's writer (it lives from pass to pass, as a bank's does).
+/// Each line's tag is prefixed with `prefix` (the bank's vectors carry the writer's lines
+/// behind their own as `WP`, `WA`, …).
+pub struct WriterVectors {
     sectors: u32,
+    prefix: &'static str,
     writer: ColumnWriter,
     text: String,
     counts: Counts,
@@ -73,14 +76,7 @@ pub fn vectors(
     seed: u64,
 ) -> (String, Counts) {
     let sectors = Params::DEFAULT.sectors;
-    let mut out = Vectors {
-        sectors,
-        writer: ColumnWriter::default(),
-        text: format!("L {sectors} {}\n", copy_clocks(sectors)),
-        counts: Counts::default(),
-        buffer: 0,
-        ready: [0; 2],
-    };
+    let mut out = WriterVectors::new(sectors, "");
     let bank: Vec<&[u32; PATCH_WORDS]> = slots.iter().step_by(2).take(BANK_SLOTS).collect();
     let unit = CullUnit::new(sectors);
     let mut free = 0;
@@ -100,7 +96,7 @@ pub fn vectors(
         let (answers, end) = random_pass(&mut rng, sectors, start);
         free = out.pass(start, &answers, end);
     }
-    (out.text, out.counts)
+    out.into_parts()
 }
 
 /// The answers of a pass from `o` in frame `axes` over `bank`, begun on `start`, and the clock
@@ -225,19 +221,52 @@ fn random_reach(rng: &mut XorShift, sectors: u32) -> Reach {
     }
 }
 
-impl Vectors {
+impl WriterVectors {
+    /// A writer at `sectors` sectors, its lines' tags prefixed with `prefix`, starting with
+    /// its `L` line.
+    pub fn new(sectors: u32, prefix: &'static str) -> Self {
+        WriterVectors {
+            sectors,
+            prefix,
+            writer: ColumnWriter::default(),
+            text: format!("{prefix}L {sectors} {}\n", copy_clocks(sectors)),
+            counts: Counts::default(),
+            buffer: 0,
+            ready: [0; 2],
+        }
+    }
+
+    /// The writer reset, as the RTL's `rst` resets it: nothing open or queued, the first
+    /// pass's buffer 0.
+    pub fn reset(&mut self) {
+        self.writer = ColumnWriter::default();
+        self.buffer = 0;
+        self.ready = [0; 2];
+    }
+
+    /// The lines written so far, taken (the writer's state stays).
+    pub fn take_text(&mut self) -> String {
+        core::mem::take(&mut self.text)
+    }
+
+    /// The lines and what they hold.
+    pub fn into_parts(self) -> (String, Counts) {
+        (self.text, self.counts)
+    }
+
     /// The clock a pass may begin on from `free` (the set-up unit free): not before the last
     /// pass that filled its buffer was complete.
-    fn begin(&self, free: u64) -> u64 {
+    pub fn begin(&self, free: u64) -> u64 {
         free.max(self.ready[self.buffer as usize])
     }
 
     /// One pass begun on `start` with `answers` (in place order) and its end known on `end`: its
     /// lines and the model's copies and completion. Returns the clock the set-up unit is free
     /// for the next pass (the end less the set-up pipe's latency).
-    fn pass(&mut self, start: u64, answers: &[Answer], end: u64) -> u64 {
+    pub fn pass(&mut self, start: u64, answers: &[Answer], end: u64) -> u64 {
         let copy = copy_clocks(self.sectors);
-        let _ = writeln!(self.text, "P {start}");
+        let pre = self.prefix;
+        let _ = writeln!(self.text, "{pre}P {start}");
         let mut copies = Vec::new();
         let mut open: Option<u32> = None;
         for &(place, at, reach) in answers {
@@ -256,7 +285,7 @@ impl Vectors {
                 open = Some(col);
             }
         }
-        let _ = writeln!(self.text, "E {end}");
+        let _ = writeln!(self.text, "{pre}E {end}");
         let port = self.writer.port();
         let ready = self.writer.close(end, copy);
         if self.writer.port() != port {
@@ -266,7 +295,7 @@ impl Vectors {
         for (clock, col) in copies {
             self.copy_lines(clock, col, answers);
         }
-        let _ = writeln!(self.text, "R {ready}");
+        let _ = writeln!(self.text, "{pre}R {ready}");
         self.ready[self.buffer as usize] = ready;
         self.buffer ^= 1;
         self.counts.passes += 1;
@@ -276,14 +305,18 @@ impl Vectors {
     fn answer_line(&mut self, place: usize, at: u64, r: &Reach) {
         let (kind, lo, len) = r.wedge.words();
         let (bl, bh) = (r.band_lo, r.band_hi);
-        let _ = writeln!(self.text, "A {at} {place} {kind} {lo} {len} {bl} {bh}");
+        let _ = writeln!(
+            self.text,
+            "{}A {at} {place} {kind} {lo} {len} {bl} {bh}",
+            self.prefix
+        );
         self.counts.answers += 1;
     }
 
     /// A copy of column `col` on `clock` and its rows' words: every answer of the column sets
     /// its bit in its sectors' and bands' words and its bands in its sectors' mask words.
     fn copy_lines(&mut self, clock: u64, col: u32, answers: &[Answer]) {
-        let _ = writeln!(self.text, "C {clock} {} {col}", self.buffer);
+        let _ = writeln!(self.text, "{}C {clock} {} {col}", self.prefix, self.buffer);
         let mut rows: BTreeMap<u32, (u64, u64, u64)> = BTreeMap::new();
         for (place, _, r) in answers.iter().filter(|a| column(a.0) == col) {
             let bit = 1u64 << (place % 64);
@@ -300,7 +333,7 @@ impl Vectors {
             }
         }
         for (row, (s, m, b)) in rows {
-            let _ = writeln!(self.text, "X {row} {s} {m} {b}");
+            let _ = writeln!(self.text, "{}X {row} {s} {m} {b}", self.prefix);
         }
         self.counts.copies += 1;
     }
