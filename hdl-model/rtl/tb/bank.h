@@ -157,6 +157,18 @@ template <typename M> void load(M &u, const Group &g, uint64_t &clocks) {
     u.normal_we = 0;
 }
 
+// Pass `p`'s count, origin and frame on the ports of a top with the set-up unit behind its
+// front (`bank_setup.v`, `bank_pass.v`), for the clock it begins on.
+template <typename M> void begin(M &u, const Pass &p) {
+    u.count = p.count;
+    for (int c = 0; c < 3; c++) {
+        tb::put(u.origin, 32 * c, 32, p.o[c]);
+        tb::put(u.axis_u, 32 * c, 32, p.axes[c]);
+        tb::put(u.axis_v, 32 * c, 32, p.axes[3 + c]);
+        tb::put(u.axis_w, 32 * c, 32, p.axes[6 + c]);
+    }
+}
+
 // The last clock a group's answers are due on: the model's clocks and their latencies.
 static uint64_t last_due(const Group &g, const Latency &lat) {
     uint64_t last = 0;

@@ -21,17 +21,6 @@ using bank::Group;
 // What the group's checks compared, for the closing line.
 static uint64_t compared = 0;
 
-// Begins pass `p` on this clock.
-static void begin(Vbank_pass &u, const bank::Pass &p) {
-    u.count = p.count;
-    for (int c = 0; c < 3; c++) {
-        tb::put(u.origin, 32 * c, 32, p.o[c]);
-        tb::put(u.axis_u, 32 * c, 32, p.axes[c]);
-        tb::put(u.axis_v, 32 * c, 32, p.axes[3 + c]);
-        tb::put(u.axis_w, 32 * c, 32, p.axes[6 + c]);
-    }
-}
-
 // The answer the writer takes on clock `t` against the model's next one.
 static void answer(const Vbank_pass &u, uint64_t t, const writer::Answer *want,
                    writer::Checker &check) {
@@ -64,7 +53,7 @@ static void run(Vbank_pass &u, const Group &g, const bank::Latency &lat, uint64_
     size_t pi = 0, ai = 0;
     for (uint64_t t = 0; t <= last; t++) {
         u.start = pi < g.passes.size() && g.passes[pi].start == t;
-        if (u.start) begin(u, g.passes[pi++]);
+        if (u.start) bank::begin(u, g.passes[pi++]);
         u.pass_end = ends.count(t) > 0;
         u.eval();
         if (u.a_valid) answer(u, t, ai < answers.size() ? answers[ai++] : nullptr, check);

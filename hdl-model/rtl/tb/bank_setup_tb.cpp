@@ -64,17 +64,6 @@ struct Checker {
     }
 };
 
-// Begins pass `p` on the next edge.
-static void begin(Vbank_setup &u, const bank::Pass &p) {
-    u.count = p.count;
-    for (int c = 0; c < 3; c++) {
-        tb::put(u.origin, 32 * c, 32, p.o[c]);
-        tb::put(u.axis_u, 32 * c, 32, p.axes[c]);
-        tb::put(u.axis_v, 32 * c, 32, p.axes[3 + c]);
-        tb::put(u.axis_w, 32 * c, 32, p.axes[6 + c]);
-    }
-}
-
 // The group's passes, each begun on its clock; mismatches, counted into `bad`.
 static void run(Vbank_setup &u, const Group &g, const bank::Latency &lat, uint64_t &clocks,
                 uint64_t &bad) {
@@ -83,7 +72,7 @@ static void run(Vbank_setup &u, const Group &g, const bank::Latency &lat, uint64
     size_t pi = 0;
     for (uint64_t t = 0; t <= last + 16; t++) {
         u.start = pi < g.passes.size() && g.passes[pi].start == t;
-        if (u.start) begin(u, g.passes[pi++]);
+        if (u.start) bank::begin(u, g.passes[pi++]);
         tb::tick(u);
         clocks++;
         if (u.out_e_valid) check.edge(u);
