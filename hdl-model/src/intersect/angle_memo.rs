@@ -9,7 +9,8 @@
 //! model's time on `scenes/cornell-8x8.toml` went to the vectorings before it).
 //!
 //! Direct-mapped, [`AngleMemo::SLOTS`] entries on hosts; without an allocator (the firmware) a
-//! memo of one entry, which costs nothing and rarely hits.
+//! memo of one entry, which costs nothing and rarely hits. `CullUnit::reach` and `ray_bin` alone
+//! use a memo of none, which allocates nothing.
 //!
 //! ```
 //! use hemi_hdl_model::intersect::angle_memo::AngleMemo;
@@ -59,9 +60,10 @@ impl AngleMemo {
         Self::with_slots(Self::SLOTS)
     }
 
-    /// A memo of one entry, for a single patch's reach.
-    pub(crate) fn with_one_slot() -> Self {
-        Self::with_slots(1)
+    /// A memo of no entries, which remembers nothing (for a single patch's reach or ray's bin;
+    /// an empty table allocates nothing).
+    pub(crate) fn none() -> Self {
+        Self::with_slots(0)
     }
 
     /// A memo of `slots` entries (a power of two; one without an allocator).
@@ -78,6 +80,9 @@ impl AngleMemo {
         f: [i64; 3],
         vector: impl FnOnce([i64; 3]) -> (i64, i64),
     ) -> (i64, i64) {
+        if self.entries.is_empty() {
+            return vector(f);
+        }
         let slot = self.slot(f);
         let Some(e) = self.entries.get_mut(slot) else {
             return vector(f);
@@ -94,6 +99,9 @@ impl AngleMemo {
 
     /// The entry `f` maps to: the top bits of a multiplicative hash of its three words.
     fn slot(&self, f: [i64; 3]) -> usize {
+        if self.entries.len() <= 1 {
+            return 0;
+        }
         let h = f
             .iter()
             .zip([
@@ -103,9 +111,6 @@ impl AngleMemo {
             ])
             .fold(0u64, |h, (&c, k)| (h ^ c as u64).wrapping_mul(k));
         let bits = self.entries.len().trailing_zeros();
-        if bits == 0 {
-            return 0;
-        }
         (h >> (64 - bits)) as usize
     }
 }

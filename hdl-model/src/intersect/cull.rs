@@ -249,7 +249,7 @@ impl CullUnit {
     /// The sector and band of a hemisphere ray with reference direction `d` (Q2.30), if it is
     /// culled.
     pub fn ray_bin(&self, d: [Unit; 3]) -> Option<(u32, u32)> {
-        self.ray_bin_remembering(d, &mut AngleMemo::with_one_slot())
+        self.ray_bin_remembering(d, &mut AngleMemo::none())
     }
 
     /// [`CullUnit::ray_bin`], taking the ray's angles from `memo` where it has them (a
@@ -272,7 +272,7 @@ impl CullUnit {
     /// decision is widened by the bound on its error, so the reach holds the reach the exact
     /// products would give (`narrow_reach_holds_the_wide_one`).
     pub fn reach(&self, a: &[[i64; 3]], coarse: &Coarse, axes: &[[Unit; 3]; 3]) -> Reach {
-        self.reach_remembering(a, coarse, axes, &mut AngleMemo::with_one_slot())
+        self.reach_remembering(a, coarse, axes, &mut AngleMemo::none())
     }
 
     /// [`CullUnit::reach`], taking the corners' angles from `memo` where it has them (the same
