@@ -112,11 +112,16 @@ module cull_angles #(
         .in_payload({p1, z1}), .out_valid(v2), .out_x(r2), .out_y(unused_y2), .out_z(phi2),
         .out_payload(pay2), .early_payload(early2a), .early2_payload(early2b));
 
-    // ---- 3: the second normalisation, of (z·2^s, r) with r the magnitude's 32-bit word
+    // ---- 3: the second normalisation, of (z·2^s, r) with r the magnitude's 32-bit word. |z·2^s|
+    // is taken from the payload a clock before it leaves the pipe, and r needs no absolute value
+    // (a vectoring's magnitude is never negative: x ≥ 0 after the quadrant stage, the gain is
+    // positive, and a normalised input keeps it below 2), so no negation follows the pipe's
+    // output registers: one there was the set-up pass's critical path (session 36).
     wire signed [ZW-1:0] z2 = pay2[ZW-1:0];
+    wire signed [ZW-1:0] z2e = early2a[ZW-1:0];
     wire signed [ZW-1:0] rw = {{(ZW - W){r2[W-1]}}, r2} <<< (32 - W);
-    wire [ZW-1:0] az2 = z2[ZW-1] ? -z2 : z2;
-    wire [ZW-1:0] ar2 = rw[ZW-1] ? -rw : rw;
+    reg        [ZW-1:0] az2;
+    always @(posedge clk) az2 <= z2e[ZW-1] ? -z2e : z2e;
     reg                 vm;
     reg        [ZW-1:0] m2;
     reg signed [ZW-1:0] zm, rm;
@@ -124,7 +129,7 @@ module cull_angles #(
     reg        [PW-1:0] pm;
     always @(posedge clk) begin
         vm <= v2;
-        m2 <= az2 | ar2;
+        m2 <= az2 | rw;
         zm <= z2;
         rm <= rw;
         phim <= phi2;
