@@ -19,6 +19,10 @@
 // words can have: a ray's only a few (its culled directions have ρ near 1), a corner's all.
 // For a zero (x, y) the model takes s = 0 where this takes s = 28 − LO; the polar angle is the
 // same (z·2^s is shifted left exactly, and the second normalisation takes out either shift).
+//
+// LATE = 1 takes the payload a clock after the vector (in_late_payload), so that a caller can
+// register decisions it would otherwise form in the clock the vector enters (the patch side's
+// below and near-axis tests, session 36); the payload leaves with the vector all the same.
 module cull_angles #(
     parameter integer ITER = 14,
     parameter integer W = 20,
@@ -30,7 +34,8 @@ module cull_angles #(
     parameter integer ZW = 35,
     parameter integer LO2 = 27,
     parameter integer HI2 = 34,
-    parameter integer PW = 1
+    parameter integer PW = 1,
+    parameter integer LATE = 0
 ) (
     input  wire                 clk,
     input  wire                 in_valid,
@@ -38,6 +43,7 @@ module cull_angles #(
     input  wire signed [IW-1:0] in_y,
     input  wire signed [IW-1:0] in_z,
     input  wire        [PW-1:0] in_payload,
+    input  wire        [PW-1:0] in_late_payload,
     output wire                 out_valid,
     output wire signed [W-1:0]  out_phi,
     output wire signed [W-1:0]  out_theta,
@@ -79,7 +85,7 @@ module cull_angles #(
         xa <= x0;
         ya <= y0;
         za <= z0;
-        pa <= p0;
+        pa <= (LATE != 0) ? in_late_payload : p0;
     end
     /* verilator lint_off UNUSEDSIGNAL */
     wire signed [ZW-1:0] nx = pick({{(ZW - IW){xa[IW-1]}}, xa}, f1, c1, LO1),

@@ -259,22 +259,33 @@ module cull_reach #(
         dre7 <= $signed({2'd0, rho6}) - $signed({19'd0, eb6});
         fz7 <= {f6[2][37], f6[2]} + $signed({18'd0, bz6});
     end
-    // each decision one carry chain from the registers (ρ − |b|∞ formed a clock earlier): an add
-    // and then a compare put the near-axis decision on the set-up pass's critical path
-    wire signed [39:0] below_sum7 = {fz7[38], fz7} + $signed({10'd0, nb7[38:9]});
-    wire below7 = below_sum7 < 0;
-    wire near7 = dre7 < $signed({5'd0, nb7[38:4]});
+    // the two decisions as sums registered whole, read by their signs a clock later (the
+    // vectorings take them then, LATE): below if f_z + b_z + (|f|∞ + |b|∞) 2^-9 < 0, near if
+    // ρ − |b|∞ − (|f|∞ + |b|∞) 2^-4 < 0 (ρ − |b|∞ formed a clock earlier). An add and a compare
+    // in the clock the corner entered the vectorings were the set-up pass's critical paths.
+    reg                l8, pos8, neg8;
+    /* verilator lint_off UNUSEDSIGNAL */
+    reg signed [39:0]  below8, near8;
+    /* verilator lint_on UNUSEDSIGNAL */
+    always @(posedge clk) begin
+        l8 <= l7;
+        pos8 <= pos7;
+        neg8 <= neg7;
+        below8 <= {fz7[38], fz7} + $signed({10'd0, nb7[38:9]});
+        near8 <= dre7 - $signed({5'd0, nb7[38:4]});
+    end
     // a corner's decisions, beside its angles: last, below, near, +z and −z allowed
-    wire [4:0] flags7 = {l7, below7, near7, pos7, neg7};
+    wire [4:0] flags8 = {l8, below8[39], near8[39], pos8, neg8};
 
     // ---- 4: the corner's angles
     wire                cv;
     wire signed [W-1:0] cphi, ctheta;
     wire [4:0]          cflags;
     cull_angles #(.ITER(ITER), .W(W), .IW(38), .LO1(0), .HI1(37), .ZW(66), .LO2(0), .HI2(65),
-        .PW(5)) angles (
+        .PW(5), .LATE(1)) angles (
         .clk(clk), .in_valid(v7), .in_x(f7[0]), .in_y(f7[1]), .in_z(f7[2]),
-        .in_payload(flags7), .out_valid(cv), .out_phi(cphi), .out_theta(ctheta),
+        .in_payload(5'd0), .in_late_payload(flags8), .out_valid(cv), .out_phi(cphi),
+        .out_theta(ctheta),
         .out_payload(cflags));
 
     // ---- 5: the patch's corners gathered, then its wedge and polar range
