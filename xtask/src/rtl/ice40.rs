@@ -7,7 +7,7 @@
 //! with Debian's nextpnr-ice40 for their clock. The build fits only if the units' sum does.
 
 use super::{fmax, plane_design, regs_design_slots, rotator_design, say, stat, used, work_dir};
-use super::{frame_design, yosys_synth, Cordic, Design};
+use super::{frame_design, yosys_synth, Cordic, Design, NETLIST};
 use crate::util::{run, which};
 use std::path::Path;
 use std::process::Command;
@@ -75,13 +75,12 @@ pub fn report() -> Result<(), String> {
     let mut total = Ice40Cells::default();
     for d in smallest() {
         let dir = work_dir(&format!("ice40-{}", d.name))?;
-        let json = dir.join("netlist.json");
+        let json = dir.join(NETLIST);
         // everything but the `check` step, whose `autoname` ran for over ten minutes on the
         // planar unit's 370,000 LUTs (Yosys 0.23) and which a netlist for nextpnr can do without
         let synth = format!(
-            "synth_ice40 -top {} -run :check; write_json {}",
-            d.top,
-            json.display()
+            "synth_ice40 -top {} -run :check; write_json {NETLIST}",
+            d.top
         );
         let log = yosys_synth(&d, &synth, &dir)?;
         let c = ice40_cells(&log);
