@@ -19,10 +19,6 @@
 // words can have: a ray's only a few (its culled directions have ρ near 1), a corner's all.
 // For a zero (x, y) the model takes s = 0 where this takes s = 28 − LO; the polar angle is the
 // same (z·2^s is shifted left exactly, and the second normalisation takes out either shift).
-//
-// LATE = 1 takes the payload a clock after the vector (in_late_payload), so that a caller can
-// register decisions it would otherwise form in the clock the vector enters (the patch side's
-// below and near-axis tests, session 36); the payload leaves with the vector all the same.
 module cull_angles #(
     parameter integer ITER = 14,
     parameter integer W = 20,
@@ -34,8 +30,7 @@ module cull_angles #(
     parameter integer ZW = 35,
     parameter integer LO2 = 27,
     parameter integer HI2 = 34,
-    parameter integer PW = 1,
-    parameter integer LATE = 0
+    parameter integer PW = 1
 ) (
     input  wire                 clk,
     input  wire                 in_valid,
@@ -43,7 +38,6 @@ module cull_angles #(
     input  wire signed [IW-1:0] in_y,
     input  wire signed [IW-1:0] in_z,
     input  wire        [PW-1:0] in_payload,
-    input  wire        [PW-1:0] in_late_payload,
     output wire                 out_valid,
     output wire signed [W-1:0]  out_phi,
     output wire signed [W-1:0]  out_theta,
@@ -85,7 +79,7 @@ module cull_angles #(
         xa <= x0;
         ya <= y0;
         za <= z0;
-        pa <= (LATE != 0) ? in_late_payload : p0;
+        pa <= p0;
     end
     /* verilator lint_off UNUSEDSIGNAL */
     wire signed [ZW-1:0] nx = pick({{(ZW - IW){xa[IW-1]}}, xa}, f1, c1, LO1),
@@ -118,16 +112,11 @@ module cull_angles #(
         .in_payload({p1, z1}), .out_valid(v2), .out_x(r2), .out_y(unused_y2), .out_z(phi2),
         .out_payload(pay2), .early_payload(early2a), .early2_payload(early2b));
 
-    // ---- 3: the second normalisation, of (z·2^s, r) with r the magnitude's 32-bit word. |z·2^s|
-    // is taken from the payload a clock before it leaves the pipe, and r needs no absolute value
-    // (a vectoring's magnitude is never negative: x ≥ 0 after the quadrant stage, the gain is
-    // positive, and a normalised input keeps it below 2), so no negation follows the pipe's
-    // output registers: one there was the set-up pass's critical path (session 36).
+    // ---- 3: the second normalisation, of (z·2^s, r) with r the magnitude's 32-bit word
     wire signed [ZW-1:0] z2 = pay2[ZW-1:0];
-    wire signed [ZW-1:0] z2e = early2a[ZW-1:0];
     wire signed [ZW-1:0] rw = {{(ZW - W){r2[W-1]}}, r2} <<< (32 - W);
-    reg        [ZW-1:0] az2;
-    always @(posedge clk) az2 <= z2e[ZW-1] ? -z2e : z2e;
+    wire [ZW-1:0] az2 = z2[ZW-1] ? -z2 : z2;
+    wire [ZW-1:0] ar2 = rw[ZW-1] ? -rw : rw;
     reg                 vm;
     reg        [ZW-1:0] m2;
     reg signed [ZW-1:0] zm, rm;
@@ -135,7 +124,7 @@ module cull_angles #(
     reg        [PW-1:0] pm;
     always @(posedge clk) begin
         vm <= v2;
-        m2 <= az2 | rw;
+        m2 <= az2 | ar2;
         zm <= z2;
         rm <= rw;
         phim <= phi2;

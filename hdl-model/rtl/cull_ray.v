@@ -43,8 +43,8 @@ module cull_ray #(
     cull_angles #(.ITER(ITER), .W(W), .IW(32), .LO1(25), .HI1(31), .ZW(35), .LO2(27), .HI2(34),
         .PW(1)) angles (
         .clk(clk), .in_valid(in_valid), .in_x(in_x), .in_y(in_y), .in_z(in_z),
-        .in_payload(culled), .in_late_payload(1'b0), .out_valid(valid), .out_phi(phi),
-        .out_theta(theta), .out_payload(c_angles));
+        .in_payload(culled), .out_valid(valid), .out_phi(phi), .out_theta(theta),
+        .out_payload(c_angles));
     cull_bin #(.SECTORS(SECTORS), .PW(1)) bin (
         .clk(clk), .in_valid(valid), .in_a({{3{phi[W-1]}}, phi, {(32 - W){1'b0}}}),
         .in_t({{3{theta[W-1]}}, theta, {(32 - W){1'b0}}}), .in_payload(c_angles),

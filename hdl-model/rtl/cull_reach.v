@@ -244,10 +244,11 @@ module cull_reach #(
     // shift below)
     reg                v7, l7, pos7, neg7;
     reg signed [37:0]  f7 [0:2];
+    reg        [37:0]  rho7;
     /* verilator lint_off UNUSEDSIGNAL */
     reg        [38:0]  nb7;
     /* verilator lint_on UNUSEDSIGNAL */
-    reg signed [39:0]  dre7;
+    reg        [20:0]  eb7;
     reg signed [38:0]  fz7;
     always @(posedge clk) begin
         v7 <= v6;
@@ -255,37 +256,24 @@ module cull_reach #(
         pos7 <= pos6 || decline6;
         neg7 <= neg6 || decline6;
         for (i = 0; i < 3; i = i + 1) f7[i] <= f6[i];
+        rho7 <= rho6;
         nb7 <= {1'b0, n6} + {18'd0, eb6};
-        dre7 <= $signed({2'd0, rho6}) - $signed({19'd0, eb6});
+        eb7 <= eb6;
         fz7 <= {f6[2][37], f6[2]} + $signed({18'd0, bz6});
     end
-    // the two decisions as sums registered whole, read by their signs a clock later (the
-    // vectorings take them then, LATE): below if f_z + b_z + (|f|∞ + |b|∞) 2^-9 < 0, near if
-    // ρ − |b|∞ − (|f|∞ + |b|∞) 2^-4 < 0 (ρ − |b|∞ formed a clock earlier). An add and a compare
-    // in the clock the corner entered the vectorings were the set-up pass's critical paths.
-    reg                l8, pos8, neg8;
-    /* verilator lint_off UNUSEDSIGNAL */
-    reg signed [39:0]  below8, near8;
-    /* verilator lint_on UNUSEDSIGNAL */
-    always @(posedge clk) begin
-        l8 <= l7;
-        pos8 <= pos7;
-        neg8 <= neg7;
-        below8 <= {fz7[38], fz7} + $signed({10'd0, nb7[38:9]});
-        near8 <= dre7 - $signed({5'd0, nb7[38:4]});
-    end
+    wire below7 = fz7 < -$signed({9'd0, nb7[38:9]});
+    wire near7 = {1'b0, rho7} < {18'd0, eb7} + {4'd0, nb7[38:4]};
     // a corner's decisions, beside its angles: last, below, near, +z and −z allowed
-    wire [4:0] flags8 = {l8, below8[39], near8[39], pos8, neg8};
+    wire [4:0] flags7 = {l7, below7, near7, pos7, neg7};
 
     // ---- 4: the corner's angles
     wire                cv;
     wire signed [W-1:0] cphi, ctheta;
     wire [4:0]          cflags;
     cull_angles #(.ITER(ITER), .W(W), .IW(38), .LO1(0), .HI1(37), .ZW(66), .LO2(0), .HI2(65),
-        .PW(5), .LATE(1)) angles (
+        .PW(5)) angles (
         .clk(clk), .in_valid(v7), .in_x(f7[0]), .in_y(f7[1]), .in_z(f7[2]),
-        .in_payload(5'd0), .in_late_payload(flags8), .out_valid(cv), .out_phi(cphi),
-        .out_theta(ctheta),
+        .in_payload(flags7), .out_valid(cv), .out_phi(cphi), .out_theta(ctheta),
         .out_payload(cflags));
 
     // ---- 5: the patch's corners gathered, then its wedge and polar range

@@ -630,8 +630,8 @@ const REACH_MUTANT: Mutant = Mutant {
     bench: CULL_BENCH,
     extra: &["cordic_rom.vh"],
     file: "cull_reach.v",
-    from: "{5'd0, nb7[38:4]}",
-    to: "{6'd0, nb7[38:5]}",
+    from: "{4'd0, nb7[38:4]}",
+    to: "{5'd0, nb7[38:5]}",
     what: "bit 0 of the culling unit's NEAR_AXIS",
 };
 
