@@ -154,14 +154,17 @@ module bank_front #(
     reg [1:0]         corner;
     reg [SLOT_BITS-1:0] slot;
     reg               planar, slot_tag;
+    // held == 0, kept in a register of its own beside the count: the FIFO's head is chosen by
+    // it on the way into the corner RAMs' address, where a compare of the count was a LUT more
+    reg               empty;
     initial begin
         head = 0;
         tail = 0;
         held = 0;
+        empty = 1'b1;
         left = 0;
     end
     wire kept = f_valid && !f_below;
-    wire empty = held == 0;
     wire free = left == 0;
     // the set-up unit takes a patch when free: the FIFO's oldest, or the verdict falling through
     wire pop = free && (!empty || kept);
@@ -169,14 +172,16 @@ module bank_front #(
     // the filter stops while a kept verdict finds the FIFO full and the set-up unit busy
     always @* full_wait = kept && held[FIFO_BITS] && !free;
     wire push = kept && adv;
+    wire [FIFO_BITS:0] held_next = held + {{FIFO_BITS{1'b0}}, push && !(pop && empty)}
+        - {{FIFO_BITS{1'b0}}, pop && !empty};
     always @(posedge clk) begin
         if (push && !(pop && empty)) begin
             fifo[tail] <= f_pay;
             tail <= tail + 1;
         end
         if (pop && !empty) head <= head + 1;
-        held <= held + {{FIFO_BITS{1'b0}}, push && !(pop && empty)}
-            - {{FIFO_BITS{1'b0}}, pop && !empty};
+        held <= held_next;
+        empty <= held_next == 0;
     end
 
     // the corner read: the address this clock, the RAM's clock, then its register, with what
