@@ -5,7 +5,7 @@
 //! mutant, one of its 16-bit windows a bit short, which must fail, so that a proof that cannot
 //! fail is caught.
 
-use super::{rtl_dir, say, work_dir, yosys};
+use super::{rtl_dir, say, work_dir, yosys, RTL_FROM_WORK_DIR};
 use std::path::Path;
 use std::process::{Command, Stdio};
 
@@ -18,21 +18,19 @@ const RANGES: [(u32, u32, u32); 4] = [(66, 0, 65), (66, 0, 37), (35, 27, 34), (3
 const MUTANT_FROM: &str = "w1[i] | w1[i + 4] | w1[i + 8] | w1[i + 12]";
 const MUTANT_TO: &str = "w1[i] | w1[i + 4] | w1[i + 8]";
 
-/// Whether Yosys proves `leading_one.v` (as `unit`, a path) equal to its specification at one
-/// range, its log in `log`.
-fn proved(unit: &Path, (w, lo, hi): (u32, u32, u32), log: &Path) -> Result<bool, String> {
-    let check = rtl_dir().join("tb").join("leading_one_check.v");
+/// Whether Yosys proves `leading_one.v` (as `unit`, a path relative to the work dir `dir`)
+/// equal to its specification at one range, its log `log` in `dir`. Yosys runs in `dir` on
+/// relative paths, as synthesis does ([`RTL_FROM_WORK_DIR`] says why).
+fn proved(dir: &Path, unit: &str, (w, lo, hi): (u32, u32, u32), log: &str) -> Result<bool, String> {
     let script = format!(
-        "read_verilog {} {}; chparam -set W {w} -set LO {lo} -set HI {hi} leading_one_check; \
+        "read_verilog {unit} {RTL_FROM_WORK_DIR}/tb/leading_one_check.v; \
+         chparam -set W {w} -set LO {lo} -set HI {hi} leading_one_check; \
          hierarchy -top leading_one_check; proc; flatten; opt; \
-         sat -verify -prove bad 0 leading_one_check",
-        unit.display(),
-        check.display()
+         sat -verify -prove bad 0 leading_one_check"
     );
     let status = Command::new(yosys())
-        .args(["-q", "-l"])
-        .arg(log)
-        .args(["-p", &script])
+        .current_dir(dir)
+        .args(["-q", "-l", log, "-p", &script])
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::null())
@@ -46,14 +44,15 @@ pub fn leading_one() -> Result<(), String> {
     let dir = work_dir("prove")?;
     let unit = rtl_dir().join("leading_one.v");
     for r in RANGES {
-        let log = dir.join(format!("leading_one-{}-{}-{}.log", r.0, r.1, r.2));
-        if !proved(&unit, r, &log)? {
+        let log = format!("leading_one-{}-{}-{}.log", r.0, r.1, r.2);
+        let unit_in_dir = format!("{RTL_FROM_WORK_DIR}/leading_one.v");
+        if !proved(&dir, &unit_in_dir, r, &log)? {
             return Err(format!(
                 "leading_one.v differs from its specification at W {}, LO {}, HI {} ({})",
                 r.0,
                 r.1,
                 r.2,
-                log.display()
+                dir.join(log).display()
             ));
         }
         say(format!(
@@ -68,7 +67,7 @@ pub fn leading_one() -> Result<(), String> {
     let mutant = dir.join("leading_one_mutant.v");
     std::fs::write(&mutant, text.replace(MUTANT_FROM, MUTANT_TO))
         .map_err(|e| format!("{}: {e}", mutant.display()))?;
-    if proved(&mutant, RANGES[0], &dir.join("mutant.log"))? {
+    if proved(&dir, "leading_one_mutant.v", RANGES[0], "mutant.log")? {
         return Err("the leading one's mutant (a 16-bit window 4 bits short) was proved equal to its specification: the proof cannot fail".to_string());
     }
     say("leading_one.v's mutant (a 16-bit window 4 bits short) caught by the same proof");
