@@ -108,20 +108,19 @@ module cordic_pipe #(
             wire ccw = (MODE == 0) ? !z[i][W-1] : y[i][W-1];
             wire signed [W-1:0] dx = x[i] >>> i;
             wire signed [W-1:0] dy = y[i] >>> i;
-            // each of the three an adder-subtractor, one carry chain: a − b = a + ~b + 1, the
-            // operand inverted and the carry in set by the direction (written as a choice of a
-            // sum and a difference, Yosys built both and a multiplexer)
-            /* verilator lint_off UNUSEDSIGNAL */
-            wire [W:0] nx = {x[i], 1'b1} + {dy ^ {W{ccw}}, ccw};
-            wire [W:0] ny = {y[i], 1'b1} + {dx ^ {W{!ccw}}, !ccw};
-            wire [W:0] nz = {z[i], 1'b1} + {ATAN ^ {W{ccw}}, ccw};
-            /* verilator lint_on UNUSEDSIGNAL */
+            // each of the three an adder-subtractor, one carry chain whose operand the direction
+            // inverts (add_sub.v; written as a choice of a sum and a difference, Yosys built both
+            // and a multiplexer)
+            wire signed [W-1:0] nx, ny, nz;
+            add_sub #(.W(W)) turn_x (.a(x[i]), .b(dy), .sub(ccw), .s(nx));
+            add_sub #(.W(W)) turn_y (.a(y[i]), .b(dx), .sub(!ccw), .s(ny));
+            add_sub #(.W(W)) turn_z (.a(z[i]), .b(ATAN), .sub(ccw), .s(nz));
             always @(posedge clk) begin
                 if (rst) v[i+1] <= 1'b0;
                 else v[i+1] <= v[i];
-                x[i+1] <= nx[W:1];
-                y[i+1] <= ny[W:1];
-                z[i+1] <= nz[W:1];
+                x[i+1] <= nx;
+                y[i+1] <= ny;
+                z[i+1] <= nz;
                 zero[i+1] <= zero[i];
                 pay[i+1] <= pay[i];
             end

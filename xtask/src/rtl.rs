@@ -65,6 +65,7 @@ pub const CORDIC_BENCH: Bench = Bench {
     sources: &[
         "const_mul.v",
         "cordic_pipe.v",
+        "add_sub.v",
         "rotator.v",
         "frame_unit.v",
         "tb/cosim_top.v",
@@ -106,6 +107,7 @@ pub const CULL_BENCH: Bench = Bench {
         "leading_one.v",
         "cull_bin.v",
         "cordic_pipe.v",
+        "add_sub.v",
         "const_mul.v",
         "tb/cull_top.v",
     ],
@@ -126,6 +128,7 @@ pub const SETUP_BENCH: Bench = Bench {
         "leading_one.v",
         "cull_bin.v",
         "cordic_pipe.v",
+        "add_sub.v",
         "const_mul.v",
     ],
     cpp: "tb/setup_tb.cpp",
@@ -167,6 +170,7 @@ pub const BANK_SETUP_BENCH: Bench = Bench {
         "leading_one.v",
         "cull_bin.v",
         "cordic_pipe.v",
+        "add_sub.v",
         "const_mul.v",
     ],
     cpp: "tb/bank_setup_tb.cpp",
@@ -190,6 +194,7 @@ pub const BANK_PASS_BENCH: Bench = Bench {
         "leading_one.v",
         "cull_bin.v",
         "cordic_pipe.v",
+        "add_sub.v",
         "const_mul.v",
         "bitmap_writer.v",
         "bank_pass.v",
@@ -881,6 +886,7 @@ pub fn rotator_design(cfg: Cordic) -> Design {
         files: vec![
             "const_mul.v",
             "cordic_pipe.v",
+            "add_sub.v",
             "rotator.v",
             "syn/syn_rotator.v",
         ],
@@ -916,6 +922,7 @@ pub fn frame_design(cfg: Cordic) -> Design {
         files: vec![
             "const_mul.v",
             "cordic_pipe.v",
+            "add_sub.v",
             "frame_unit.v",
             "syn/syn_frame.v",
         ],
@@ -970,6 +977,7 @@ pub fn cull_design() -> Design {
             "leading_one.v",
             "cull_bin.v",
             "cordic_pipe.v",
+            "add_sub.v",
             "const_mul.v",
             "syn/syn_cull.v",
         ],
@@ -990,6 +998,7 @@ pub fn reach_design() -> Design {
             "leading_one.v",
             "cull_bin.v",
             "cordic_pipe.v",
+            "add_sub.v",
             "const_mul.v",
             "syn/syn_reach.v",
         ],
@@ -1153,7 +1162,7 @@ fn yosys_synth(d: &Design, synth: &str, dir: &Path) -> Result<String, String> {
         false => format!("chparam {} {}; ", params.join(" "), d.top),
     };
     let script = format!(
-        "read_verilog -I{RTL_FROM_WORK_DIR} {}; {chparam}{synth}; stat",
+        "read_verilog -icells -I{RTL_FROM_WORK_DIR} {}; {chparam}{synth}; stat",
         files.join(" ")
     );
     let mut y = Command::new(yosys());
@@ -1331,7 +1340,7 @@ pub fn main(args: &[String]) -> Result<(), crate::util::Failure> {
         [a] if a == "--all-configs" => (false, true),
         [a] if a == "--prove" => {
             yosys_tool().map_err(Failure::Failed)?;
-            return prove::leading_one().map_err(Failure::Failed);
+            return prove::all().map_err(Failure::Failed);
         }
         _ => {
             return Err(Failure::Usage(
@@ -1392,7 +1401,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
     mutants_caught(CONFIGS[0], &work_dir(&CONFIGS[0].name())?, "-O2")?;
     let mut figures = Fpga::default();
     if !quick {
-        prove::leading_one()?;
+        prove::all()?;
         // every synthesis first, the places and routes after (one took over 20 minutes on
         // this shared machine): the reset configurations of every unit, then the others
         let reset = designs(CONFIGS[0], PLANE_DEPTHS[0]);

@@ -1,11 +1,17 @@
-//! Proofs by Yosys's SAT solver, for a unit a proof covers better than any workload: the
-//! culling's leading one (`rtl/leading_one.v`), whose patch side takes 66-bit words, proved
-//! equal to its specification (`rtl/tb/leading_one_check.v`, the first bit set found by a plain
-//! loop) for every word at each range the RTL instantiates it with; then the same proof on a
-//! mutant, one of its 16-bit windows a bit short, which must fail, so that a proof that cannot
-//! fail is caught.
+//! Proofs by Yosys's SAT solver, for units a proof covers better than any workload:
+//! - the culling's leading one (`rtl/leading_one.v`), whose patch side takes 66-bit words,
+//!   proved equal to its specification (`rtl/tb/leading_one_check.v`, the first bit set found
+//!   by a plain loop) for every word at each range the RTL instantiates it with;
+//! - the CORDIC's adder-subtractor (`rtl/add_sub.v`), whose synthesis form (Yosys's `$alu`
+//!   cell, the inversion in the carry cells' LUT4s) is not the form Verilator co-simulates:
+//!   mapped to the ECP5's cells and proved equal to a + b and a − b (`rtl/tb/add_sub_check.v`)
+//!   at each width the CORDIC configurations use.
+//!
+//! Each proof is then run on a mutant, which must fail, so that a proof that cannot fail is
+//! caught. Yosys runs in the work dir on relative paths, as synthesis does
+//! ([`RTL_FROM_WORK_DIR`] says why).
 
-use super::{rtl_dir, say, work_dir, yosys, RTL_FROM_WORK_DIR};
+use super::{rtl_dir, say, work_dir, yosys, CONFIGS, RTL_FROM_WORK_DIR};
 use std::path::Path;
 use std::process::{Command, Stdio};
 
@@ -14,23 +20,24 @@ use std::process::{Command, Stdio};
 /// (`cull_ray.v`'s: bits 27..34 and 25..31 of 35).
 const RANGES: [(u32, u32, u32); 4] = [(66, 0, 65), (66, 0, 37), (35, 27, 34), (35, 25, 31)];
 
-/// The mutant: `w2[i]` without its last `w1`, so a 16-bit window misses bits i+12..i+15.
+/// The leading one's mutant: `w2[i]` without its last `w1`, so a 16-bit window misses bits
+/// i+12..i+15.
 const MUTANT_FROM: &str = "w1[i] | w1[i + 4] | w1[i + 8] | w1[i + 12]";
 const MUTANT_TO: &str = "w1[i] | w1[i + 4] | w1[i + 8]";
 
-/// Whether Yosys proves `leading_one.v` (as `unit`, a path relative to the work dir `dir`)
-/// equal to its specification at one range, its log `log` in `dir`. Yosys runs in `dir` on
-/// relative paths, as synthesis does ([`RTL_FROM_WORK_DIR`] says why).
-fn proved(dir: &Path, unit: &str, (w, lo, hi): (u32, u32, u32), log: &str) -> Result<bool, String> {
-    let script = format!(
-        "read_verilog {unit} {RTL_FROM_WORK_DIR}/tb/leading_one_check.v; \
-         chparam -set W {w} -set LO {lo} -set HI {hi} leading_one_check; \
-         hierarchy -top leading_one_check; proc; flatten; opt; \
-         sat -verify -prove bad 0 leading_one_check"
-    );
+/// The adder-subtractor's mutant: the carry in of a − b = a + ~b + 1 dropped from the cell.
+const ADD_SUB_FROM: &str = ".CI(sub)";
+const ADD_SUB_TO: &str = ".CI(1'b0)";
+
+/// The culling's CORDIC width (`cull_angles.v`), beside CONFIGS' widths.
+const CULL_WIDTH: u32 = 24;
+
+/// Whether Yosys's `script`, run in `dir` with its log `log` there, succeeds (a proof's
+/// `sat -verify` fails the script when the proof fails).
+fn yosys_ok(dir: &Path, script: &str, log: &str) -> Result<bool, String> {
     let status = Command::new(yosys())
         .current_dir(dir)
-        .args(["-q", "-l", log, "-p", &script])
+        .args(["-q", "-l", log, "-p", script])
         .stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::null())
@@ -39,14 +46,58 @@ fn proved(dir: &Path, unit: &str, (w, lo, hi): (u32, u32, u32), log: &str) -> Re
     Ok(status.success())
 }
 
+/// Whether Yosys proves `leading_one.v` (as `unit`, a path relative to the work dir `dir`)
+/// equal to its specification at one range, its log `log` in `dir`.
+fn proved(dir: &Path, unit: &str, (w, lo, hi): (u32, u32, u32), log: &str) -> Result<bool, String> {
+    let script = format!(
+        "read_verilog {unit} {RTL_FROM_WORK_DIR}/tb/leading_one_check.v; \
+         chparam -set W {w} -set LO {lo} -set HI {hi} leading_one_check; \
+         hierarchy -top leading_one_check; proc; flatten; opt; \
+         sat -verify -prove bad 0 leading_one_check"
+    );
+    yosys_ok(dir, &script, log)
+}
+
+/// Whether `add_sub.v` (as `unit`, relative to `dir`) at width `w`, synthesised for the ECP5
+/// and read back with the cells' simulation models, is proved equal to a ± b.
+fn add_sub_proved(dir: &Path, unit: &str, w: u32, log: &str) -> Result<bool, String> {
+    let mapped = format!("add_sub_mapped_{w}.v");
+    let synth = format!(
+        "read_verilog -icells {unit}; chparam -set W {w} add_sub; synth_ecp5 -top add_sub; \
+         rename add_sub add_sub_mapped; write_verilog -noattr {mapped}"
+    );
+    if !yosys_ok(dir, &synth, &format!("synth-{log}"))? {
+        return Err(format!(
+            "{unit} at W {w} did not synthesise ({})",
+            dir.join(format!("synth-{log}")).display()
+        ));
+    }
+    let script = format!(
+        "read_verilog {mapped} {RTL_FROM_WORK_DIR}/tb/add_sub_check.v; \
+         read_verilog +/ecp5/cells_sim.v; chparam -set W {w} add_sub_check; \
+         hierarchy -top add_sub_check; proc; flatten; opt; \
+         sat -verify -prove bad 0 add_sub_check"
+    );
+    yosys_ok(dir, &script, log)
+}
+
+/// `unit`'s text with `from` replaced by `to`, written as `name` in `dir` (a mutant).
+fn mutant(dir: &Path, unit: &str, from: &str, to: &str, name: &str) -> Result<(), String> {
+    let path = rtl_dir().join(unit);
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    if !text.contains(from) {
+        return Err(format!("{unit} no longer holds `{from}`"));
+    }
+    let out = dir.join(name);
+    std::fs::write(&out, text.replace(from, to)).map_err(|e| format!("{}: {e}", out.display()))
+}
+
 /// Proves the leading one at every range, and shows the mutant's proof failing.
-pub fn leading_one() -> Result<(), String> {
-    let dir = work_dir("prove")?;
-    let unit = rtl_dir().join("leading_one.v");
+fn leading_one(dir: &Path) -> Result<(), String> {
     let unit_in_dir = format!("{RTL_FROM_WORK_DIR}/leading_one.v");
     for r in RANGES {
         let log = format!("leading_one-{}-{}-{}.log", r.0, r.1, r.2);
-        if !proved(&dir, &unit_in_dir, r, &log)? {
+        if !proved(dir, &unit_in_dir, r, &log)? {
             return Err(format!(
                 "leading_one.v differs from its specification at W {}, LO {}, HI {} ({})",
                 r.0,
@@ -60,16 +111,62 @@ pub fn leading_one() -> Result<(), String> {
             r.0, r.1, r.2
         ));
     }
-    let text = std::fs::read_to_string(&unit).map_err(|e| format!("{}: {e}", unit.display()))?;
-    if !text.contains(MUTANT_FROM) {
-        return Err(format!("leading_one.v no longer holds `{MUTANT_FROM}`"));
-    }
-    let mutant = dir.join("leading_one_mutant.v");
-    std::fs::write(&mutant, text.replace(MUTANT_FROM, MUTANT_TO))
-        .map_err(|e| format!("{}: {e}", mutant.display()))?;
-    if proved(&dir, "leading_one_mutant.v", RANGES[0], "mutant.log")? {
+    mutant(
+        dir,
+        "leading_one.v",
+        MUTANT_FROM,
+        MUTANT_TO,
+        "leading_one_mutant.v",
+    )?;
+    if proved(dir, "leading_one_mutant.v", RANGES[0], "mutant.log")? {
         return Err("the leading one's mutant (a 16-bit window 4 bits short) was proved equal to its specification: the proof cannot fail".to_string());
     }
     say("leading_one.v's mutant (a 16-bit window 4 bits short) caught by the same proof");
     Ok(())
+}
+
+/// Proves the adder-subtractor as mapped at every CORDIC width, and shows the mutant's proof
+/// failing.
+fn add_sub(dir: &Path) -> Result<(), String> {
+    let unit_in_dir = format!("{RTL_FROM_WORK_DIR}/add_sub.v");
+    let mut widths: Vec<u32> = CONFIGS.iter().map(|c| c.width).collect();
+    widths.push(CULL_WIDTH);
+    widths.sort_unstable();
+    widths.dedup();
+    for w in widths {
+        let log = format!("add_sub-{w}.log");
+        if !add_sub_proved(dir, &unit_in_dir, w, &log)? {
+            return Err(format!(
+                "add_sub.v as mapped to the ECP5 differs from a ± b at W {w} ({})",
+                dir.join(log).display()
+            ));
+        }
+        say(format!(
+            "add_sub.v as mapped to the ECP5 proved equal to a ± b at W {w}"
+        ));
+    }
+    mutant(
+        dir,
+        "add_sub.v",
+        ADD_SUB_FROM,
+        ADD_SUB_TO,
+        "add_sub_mutant.v",
+    )?;
+    if add_sub_proved(
+        dir,
+        "add_sub_mutant.v",
+        CONFIGS[0].width,
+        "add_sub-mutant.log",
+    )? {
+        return Err("the adder-subtractor's mutant (its carry in dropped) was proved equal to a ± b: the proof cannot fail".to_string());
+    }
+    say("add_sub.v's mutant (its carry in dropped) caught by the same proof");
+    Ok(())
+}
+
+/// Every proof, each with its mutant.
+pub fn all() -> Result<(), String> {
+    let dir = work_dir("prove")?;
+    leading_one(&dir)?;
+    add_sub(&dir)
 }
