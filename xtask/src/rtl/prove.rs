@@ -29,8 +29,9 @@ const MUTANT_TO: &str = "w1[i] | w1[i + 4] | w1[i + 8]";
 const ADD_SUB_FROM: &str = ".CI(sub)";
 const ADD_SUB_TO: &str = ".CI(1'b0)";
 
-/// The culling's CORDIC width (`cull_angles.v`), beside CONFIGS' widths.
-const CULL_WIDTH: u32 = 24;
+/// The culling's CORDIC width (`cull_reach.v`'s and `cull_ray.v`'s W: the model's
+/// `cull::CULL_CORDIC`, 14 iterations on 20 bits), beside CONFIGS' widths.
+const CULL_WIDTH: u32 = 20;
 
 /// Whether Yosys's `script`, run in `dir` with its log `log` there, succeeds (a proof's
 /// `sat -verify` fails the script when the proof fails).
