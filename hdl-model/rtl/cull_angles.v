@@ -50,8 +50,9 @@ module cull_angles #(
     localparam integer CW = (ZW + 7) / 8;
 
     // ---- 1: the first normalisation
-    wire [IW:0] ax = in_x[IW-1] ? -{in_x[IW-1], in_x} : {1'b0, in_x};
-    wire [IW:0] ay = in_y[IW-1] ? -{in_y[IW-1], in_y} : {1'b0, in_y};
+    wire [IW:0] ax, ay;
+    magnitude #(.W(IW + 1)) mag_x (.x({in_x[IW-1], in_x}), .m(ax));
+    magnitude #(.W(IW + 1)) mag_y (.x({in_y[IW-1], in_y}), .m(ay));
     reg                 v0;
     reg        [IW:0]   m0;
     reg signed [IW-1:0] x0, y0, z0;
@@ -115,8 +116,9 @@ module cull_angles #(
     // ---- 3: the second normalisation, of (z·2^s, r) with r the magnitude's 32-bit word
     wire signed [ZW-1:0] z2 = pay2[ZW-1:0];
     wire signed [ZW-1:0] rw = {{(ZW - W){r2[W-1]}}, r2} <<< (32 - W);
-    wire [ZW-1:0] az2 = z2[ZW-1] ? -z2 : z2;
-    wire [ZW-1:0] ar2 = rw[ZW-1] ? -rw : rw;
+    wire [ZW-1:0] az2, ar2;
+    magnitude #(.W(ZW)) mag_z (.x(z2), .m(az2));
+    magnitude #(.W(ZW)) mag_r (.x(rw), .m(ar2));
     reg                 vm;
     reg        [ZW-1:0] m2;
     reg signed [ZW-1:0] zm, rm;

@@ -80,12 +80,17 @@ module cull_reach #(
     reg        [32:0]  m0;
     reg signed [32:0]  a0 [0:2];
     reg signed [17:0]  e0 [0:2];
+    // the corner's magnitudes, each one carry chain (magnitude.v)
+    wire       [32:0]  in_mag [0:2];
+    magnitude #(.W(33)) mag_ax (.x(in_ax), .m(in_mag[0]));
+    magnitude #(.W(33)) mag_ay (.x(in_ay), .m(in_mag[1]));
+    magnitude #(.W(33)) mag_az (.x(in_az), .m(in_mag[2]));
     reg        [3:0]   k0;
     reg signed [17:0]  x0 [0:8];
     always @(posedge clk) begin
         v0 <= in_valid;
         l0 <= in_last;
-        m0 <= mag33(in_ax) | mag33(in_ay) | mag33(in_az);
+        m0 <= in_mag[0] | in_mag[1] | in_mag[2];
         a0[0] <= in_ax;
         a0[1] <= in_ay;
         a0[2] <= in_az;
@@ -110,6 +115,17 @@ module cull_reach #(
     reg signed [32:0]  a1 [0:2];
     reg signed [17:0]  e1 [0:2];
     reg        [17:0]  ea1 [0:2];
+    wire       [17:0]  e0_mag [0:2];
+    wire       [17:0]  x0_mag [0:8];
+    genvar g;
+    generate
+        for (g = 0; g < 3; g = g + 1) begin : mags_e0
+            magnitude #(.W(18)) mag (.x(e0[g]), .m(e0_mag[g]));
+        end
+        for (g = 0; g < 9; g = g + 1) begin : mags_x0
+            magnitude #(.W(18)) mag (.x(x0[g]), .m(x0_mag[g]));
+        end
+    endgenerate
     reg        [3:0]   k1;
     reg signed [17:0]  x1 [0:8];
     reg        [17:0]  xa1 [0:8];
@@ -121,12 +137,12 @@ module cull_reach #(
         for (i = 0; i < 3; i = i + 1) begin
             a1[i] <= a0[i];
             e1[i] <= e0[i];
-            ea1[i] <= mag18(e0[i]);
+            ea1[i] <= e0_mag[i];
         end
         k1 <= k0;
         for (i = 0; i < 9; i = i + 1) begin
             x1[i] <= x0[i];
-            xa1[i] <= mag18(x0[i]);
+            xa1[i] <= x0_mag[i];
         end
     end
     // |e|∞ with its three compares side by side (two in a row placed the set-up unit at 99 MHz)
@@ -164,6 +180,12 @@ module cull_reach #(
     reg signed [35:0]  p3 [0:8];
     reg signed [35:0]  q3 [0:2];
     reg        [17:0]  wa3 [0:2];
+    wire       [17:0]  w2_mag [0:2];
+    generate
+        for (g = 0; g < 3; g = g + 1) begin : mags_w2
+            magnitude #(.W(18)) mag (.x(w2[g]), .m(w2_mag[g]));
+        end
+    endgenerate
     reg        [20:0]  xs3 [0:2];
     reg        [33:0]  bound3;
     reg        [24:0]  mth3;
@@ -175,7 +197,7 @@ module cull_reach #(
         for (i = 0; i < 3; i = i + 1) begin
             q3[i] <= e2[i] * x2[6 + i];
             xs3[i] <= xs2[i];
-            wa3[i] <= mag18(w2[i]);
+            wa3[i] <= w2_mag[i];
         end
         bound3 <= ({13'd0, xs2[2]} << k2) + {14'd0, es2};
         mth3 <= ({7'd0, em2} + (25'd1 << k2)) << 6;
@@ -209,6 +231,12 @@ module cull_reach #(
     reg                v5, l5, pos5, neg5, decline5;
     reg signed [37:0]  f5 [0:2];
     reg        [37:0]  mf5 [0:2];
+    wire       [37:0]  f4_mag [0:2];
+    generate
+        for (g = 0; g < 3; g = g + 1) begin : mags_f4
+            magnitude #(.W(38)) mag (.x(f4[g]), .m(f4_mag[g]));
+        end
+    endgenerate
     reg        [20:0]  eb5;
     reg        [20:0]  bz5;
     always @(posedge clk) begin
@@ -219,7 +247,7 @@ module cull_reach #(
         neg5 <= dot4 < tneg4;
         for (i = 0; i < 3; i = i + 1) begin
             f5[i] <= f4[i];
-            mf5[i] <= f4[i][37] ? -f4[i] : f4[i];
+            mf5[i] <= f4_mag[i];
         end
         eb5 <= eb4[20:0];
         bz5 <= b4[2];
@@ -369,6 +397,14 @@ module cull_reach #(
     reg signed [34:0]  g3hi [0:1];
     reg signed [34:0]  g3loc [0:1];
     reg signed [34:0]  g3bulge [0:3];
+    // |e| / 2 of the four ends (the magnitude as a signed word, so that the most negative
+    // one's, itself, halves as it did written as (d[34] ? -d : d) >>> 1)
+    wire       [34:0]  g2e_mag [0:3];
+    generate
+        for (g = 0; g < 4; g = g + 1) begin : mags_g2e
+            magnitude #(.W(35)) mag (.x(g2e[g]), .m(g2e_mag[g]));
+        end
+    endgenerate
     reg signed [34:0]  g3tmin [0:3];
     always @(posedge clk) begin
         g3v <= g2v;
@@ -386,7 +422,7 @@ module cull_reach #(
         g3loc[0] <= g2d[1][34] ? g2d[1] + SPAN : SPAN;
         g3loc[1] <= g2d[2] < g2d[3] ? g2d[2] + SPAN : g2d[3] + SPAN;
         for (k = 0; k < 4; k = k + 1) begin
-            g3bulge[k] <= half_abs(g2e[k]);
+            g3bulge[k] <= $signed(g2e_mag[k]) >>> 1;
             g3tmin[k] <= g2tmin[k];
         end
     end
@@ -481,12 +517,6 @@ module cull_reach #(
     function [3:0] merge(input [3:0] acc, input [3:0] f);
         merge = {acc[3] && f[3], acc[2] || f[2], acc[1] && f[1], acc[0] && f[0]};
     endfunction
-    function [32:0] mag33(input signed [32:0] v);
-        mag33 = v[32] ? -v : v;
-    endfunction
-    function [17:0] mag18(input signed [17:0] v);
-        mag18 = v[17] ? -v : v;
-    endfunction
     function [37:0] max38(input [37:0] s, input [37:0] t);
         max38 = s > t ? s : t;
     endfunction
@@ -509,9 +539,6 @@ module cull_reach #(
     // an angle difference into (−π, π]
     function signed [34:0] wrap(input signed [34:0] d);
         wrap = d > PI ? d - 2 * PI : d <= -PI ? d + 2 * PI : d;
-    endfunction
-    function signed [34:0] half_abs(input signed [34:0] d);
-        half_abs = (d[34] ? -d : d) >>> 1;
     endfunction
     // the leading one of m as a one-hot word (bit 0 if none)
     function [32:0] lead(input [32:0] m);

@@ -2,10 +2,10 @@
 //! - the culling's leading one (`rtl/leading_one.v`), whose patch side takes 66-bit words,
 //!   proved equal to its specification (`rtl/tb/leading_one_check.v`, the first bit set found
 //!   by a plain loop) for every word at each range the RTL instantiates it with;
-//! - the CORDIC's adder-subtractor (`rtl/add_sub.v`), whose synthesis form (Yosys's `$alu`
-//!   cell, the inversion in the carry cells' LUT4s) is not the form Verilator co-simulates:
-//!   mapped to the ECP5's cells and proved equal to a + b and a − b (`rtl/tb/add_sub_check.v`)
-//!   at each width the CORDIC configurations use.
+//! - the adder-subtractor (`rtl/add_sub.v`: the CORDIC's, and `rtl/magnitude.v`'s), whose
+//!   synthesis form (Yosys's `$alu` cell, the inversion in the carry cells' LUT4s) is not the
+//!   form Verilator co-simulates: mapped to the ECP5's cells and proved equal to a + b and
+//!   a − b (`rtl/tb/add_sub_check.v`) at each width the RTL instantiates it with.
 //!
 //! Each proof is then run on a mutant, which must fail, so that a proof that cannot fail is
 //! caught. Yosys runs in the work dir on relative paths, as synthesis does
@@ -29,9 +29,11 @@ const MUTANT_TO: &str = "w1[i] | w1[i + 4] | w1[i + 8]";
 const ADD_SUB_FROM: &str = ".CI(sub)";
 const ADD_SUB_TO: &str = ".CI(1'b0)";
 
-/// The culling's CORDIC width (`cull_reach.v`'s and `cull_ray.v`'s W: the model's
-/// `cull::CULL_CORDIC`, 14 iterations on 20 bits), beside CONFIGS' widths.
-const CULL_WIDTH: u32 = 20;
+/// Widths the RTL instantiates `add_sub` at besides CONFIGS' CORDIC widths: the culling's
+/// CORDIC (`cull_reach.v`'s and `cull_ray.v`'s W, the model's `cull::CULL_CORDIC`: 20 bits),
+/// and the magnitudes (`magnitude.v`) of the reach (`cull_reach.v`: 18, 33, 35, 38 bits) and
+/// of the culling's normalisations (`cull_angles.v`: 33, 35, 39, 66).
+const OTHER_WIDTHS: [u32; 7] = [18, 20, 33, 35, 38, 39, 66];
 
 /// Whether Yosys's `script`, run in `dir` with its log `log` there, succeeds (a proof's
 /// `sat -verify` fails the script when the proof fails).
@@ -131,7 +133,7 @@ fn leading_one(dir: &Path) -> Result<(), String> {
 fn add_sub(dir: &Path) -> Result<(), String> {
     let unit_in_dir = format!("{RTL_FROM_WORK_DIR}/add_sub.v");
     let mut widths: Vec<u32> = CONFIGS.iter().map(|c| c.width).collect();
-    widths.push(CULL_WIDTH);
+    widths.extend(OTHER_WIDTHS);
     widths.sort_unstable();
     widths.dedup();
     for w in widths {
