@@ -104,14 +104,16 @@ pub struct Placed {
     pub ffs: u64,
 }
 
-/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 33: 19,029 LUT4s and
+/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 37: 17,248 LUT4s and
 /// 14,791 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
-/// tiles for its 6 edge products, h's four and the reach's 12; 107.2 MHz. Session 30: 19,602
-/// LUT4s and 14,865 flip-flops, before the culling's leading one in windows and its shift in two
-/// steps; session 29: 19,683, before the reach's ends were compared with 0 by their sign;
-/// session 28: 21,372, before the culling bins' two-step count).
+/// tiles for its 6 edge products, h's four and the reach's 12; 100.7 MHz. Session 33: 19,029
+/// LUT4s at 107.2 MHz, before the culling's CORDIC and magnitudes took their inversions into the
+/// carry cells, `rtl/add_sub.v`; session 30: 19,602 LUT4s and 14,865 flip-flops, before the
+/// culling's leading one in windows and its shift in two steps; session 29: 19,683, before the
+/// reach's ends were compared with 0 by their sign; session 28: 21,372, before the culling
+/// bins' two-step count).
 pub const SETUP_UNIT: Placed = Placed {
-    luts: 19_029,
+    luts: 17_248,
     ffs: 14_791 - 580,
 };
 
@@ -124,33 +126,35 @@ pub const COARSE_TEST: Placed = Placed {
     ffs: 1_702 - 277,
 };
 
-/// The culling unit's ray side for one ray a clock, `rtl/cull_ray.v` (session 33: 4,597 LUT4s
-/// and 3,427 flip-flops placed, 98 of them its harness's, no DSP tile; 122.9 MHz. Session 29:
-/// 4,510 LUT4s and 3,425 flip-flops, before the leading one in windows, which on the ray side's
-/// few places costs more than the two-step shift saves; session 27: 5,250 LUT4s).
+/// The culling unit's ray side for one ray a clock, `rtl/cull_ray.v` (session 37: 3,761 LUT4s
+/// and 3,427 flip-flops placed, 98 of them its harness's, no DSP tile; 125.9 MHz. Session 33:
+/// 4,597 LUT4s at 122.9 MHz, before `rtl/add_sub.v`; session 29: 4,510 LUT4s and 3,425
+/// flip-flops, before the leading one in windows, which on the ray side's few places costs more
+/// than the two-step shift saves; session 27: 5,250 LUT4s).
 pub const RAY_SIDE: Placed = Placed {
-    luts: 4_597,
+    luts: 3_761,
     ffs: 3_427 - 98,
 };
 
 /// The rotator at the reset CORDIC configuration (24 iterations, 32-bit words), `rtl/rotator.v`
-/// (session 33's place and route, `cargo xtask rtl`: 15,904 LUT4s and 11,055 flip-flops, 195
+/// (session 37's place and route, `cargo xtask rtl`: 12,517 LUT4s and 11,055 flip-flops, 195
 /// of them its harness's input chain and output register; 5 block RAMs, its side table, counted
-/// as a memory; 121.8 MHz). Until session 34 counted by the CORDIC rules, which give 20,750
-/// LUT4s for its three pipes with their 10 % for control (set 5–15 % above the placed units in
-/// session 21: docs/PERFORMANCE.md, "The area proxy against synthesis").
+/// as a memory; 115.8 MHz. Session 33's: 15,904 LUT4s at 121.8 MHz, before the micro-rotations'
+/// adder-subtractors took their inversion into the carry cells, `rtl/add_sub.v`). Until session
+/// 34 counted by the CORDIC rules, which give 20,750 LUT4s for its three pipes with their 10 %
+/// for control at session 33's two LUT4s an adder-subtractor bit.
 pub const ROTATOR: Placed = Placed {
-    luts: 15_904,
+    luts: 12_517,
     ffs: 11_055 - 195,
 };
 
-/// The angle unit at the reset CORDIC configuration, `rtl/frame_unit.v` (session 35's place and
-/// route, mapped with ABC9: 4,729 LUT4s and 3,159 flip-flops, 195 of them its harness's;
-/// 118.1 MHz; session 33's default mapping gave 4,936 LUT4s at 104.7 MHz): the vectoring pipe
-/// with its gain stage, and its sequencing. The rules gave 6,098 LUT4s with their 10 % for
-/// control.
+/// The angle unit at the reset CORDIC configuration, `rtl/frame_unit.v` (session 37's place and
+/// route, mapped with ABC9: 3,638 LUT4s and 3,159 flip-flops, 195 of them its harness's;
+/// 124.3 MHz; session 35's, before `rtl/add_sub.v`, 4,729 LUT4s at 118.1 MHz; session 33's
+/// default mapping gave 4,936 LUT4s at 104.7 MHz): the vectoring pipe with its gain stage, and
+/// its sequencing. Session 33's rules gave 6,098 LUT4s with their 10 % for control.
 pub const ANGLE_UNIT: Placed = Placed {
-    luts: 4_729,
+    luts: 3_638,
     ffs: 3_159 - 195,
 };
 
@@ -192,14 +196,12 @@ impl Proxy {
         self.adder_bits += count * bits;
     }
 
-    /// Adder-subtractors whose direction is data (a CORDIC stage's): the carry chain and a LUT4
-    /// a bit that inverts the operand, as Yosys maps `cordic_pipe.v`. Counted as plain adders
-    /// until session 21, half of what the placed rotator and angle unit hold; counted so, the
-    /// proxy is within 5–15 % above them (docs/PERFORMANCE.md, "The area proxy against
-    /// synthesis").
+    /// Adder-subtractors whose direction is data (a CORDIC stage's): one carry chain, the
+    /// operand's inversion in the carry cells' own LUT4s (`rtl/add_sub.v`, since session 37).
+    /// From session 21 to 36 counted as two LUT4s a bit: Yosys mapped the written form with an
+    /// XOR a bit in front of the chain, as the placed rotator and angle unit then held it.
     fn add_sub(&mut self, count: u64, bits: u64) {
-        self.adders += count;
-        self.adder_bits += 2 * count * bits;
+        self.add(count, bits);
     }
 
     fn mul(&mut self, count: u32, a: u32, b: u32) {
