@@ -196,14 +196,6 @@ impl Proxy {
         self.adder_bits += count * bits;
     }
 
-    /// Adder-subtractors whose direction is data (a CORDIC stage's): one carry chain, the
-    /// operand's inversion in the carry cells' own LUT4s (`rtl/add_sub.v`, since session 37).
-    /// From session 21 to 36 counted as two LUT4s a bit: Yosys mapped the written form with an
-    /// XOR a bit in front of the chain, as the placed rotator and angle unit then held it.
-    fn add_sub(&mut self, count: u64, bits: u64) {
-        self.add(count, bits);
-    }
-
     fn mul(&mut self, count: u32, a: u32, b: u32) {
         self.multipliers
             .extend(core::iter::repeat_n((a, b), count as usize));
@@ -223,10 +215,14 @@ impl Proxy {
         self.placed.ffs += count * unit.ffs;
     }
 
-    /// A pipelined CORDIC of `cfg` (quadrant stage, micro-rotations, gain stage).
+    /// A pipelined CORDIC of `cfg` (quadrant stage, micro-rotations, gain stage). Its
+    /// adder-subtractors, whose direction is data, count as plain adders: one carry chain each,
+    /// the operand's inversion in the carry cells' own LUT4s (`rtl/add_sub.v`, since session
+    /// 37). From session 21 to 36 they counted two LUT4s a bit, as Yosys then mapped the
+    /// written form, an XOR a bit in front of the chain.
     fn cordic(&mut self, cfg: CordicConfig, count: u64) {
         let (n, w) = (cfg.iterations as u64, cfg.width as u64);
-        self.add_sub(count * 3 * (n + 1), w);
+        self.add(count * 3 * (n + 1), w);
         self.const_products(2 * count, w);
         // n + 3 stages of x, y and z (the quadrant stage's decision and turn since session 25,
         // the micro-rotations, the gain), and z beside the gain stage's partial sums
@@ -252,7 +248,7 @@ impl Proxy {
     /// (the angle alone needs no gain stage).
     fn vectoring(&mut self, cfg: CordicConfig, count: u64, magnitude: bool) {
         let (n, w) = (cfg.iterations as u64, cfg.width as u64);
-        self.add_sub(count * 3 * (n + 1), w);
+        self.add(count * 3 * (n + 1), w);
         if magnitude {
             self.add(count * (gain_digits(cfg) as u64 - 1), w);
         }
@@ -786,7 +782,7 @@ fn angle_unit(p: &mut Proxy, cfg: CordicConfig) {
         return;
     }
     let (n, w) = (cfg.iterations as u64, cfg.width as u64);
-    p.add_sub(3 * (n + 1), w);
+    p.add(3 * (n + 1), w);
     p.const_products(1, w);
     p.reg((n + 3) * 3 * w + w);
 }
