@@ -284,7 +284,9 @@ module coarse_edge #(
     always @(posedge clk) begin
         s11_words <= {ws[2][17:0], ws[1][17:0], ws[0][17:0]};
         s11_eta <= e16 >> s10_m;
-        s11_rem <= (e16 & ((24'd1 << s10_m) - 24'd1)) != 24'd0;
+        // the bits below 2^m as a thermometer of ones, not 2^m − 1 (a carry chain after the
+        // shift: the set-up family's critical path)
+        s11_rem <= (e16 & ~(24'hFFFFFF << s10_m)) != 24'd0;
         s11_texp <= (texp < 0) ? 5'd0 : ((texp > 8'sd20) ? 5'd20 : texp[4:0]);
     end
 

@@ -272,11 +272,10 @@ module cull_reach #(
     // shift below)
     reg                v7, l7, pos7, neg7;
     reg signed [37:0]  f7 [0:2];
-    reg        [37:0]  rho7;
+    reg signed [39:0]  slack7;
     /* verilator lint_off UNUSEDSIGNAL */
     reg        [38:0]  nb7;
     /* verilator lint_on UNUSEDSIGNAL */
-    reg        [20:0]  eb7;
     reg signed [38:0]  fz7;
     always @(posedge clk) begin
         v7 <= v6;
@@ -284,13 +283,19 @@ module cull_reach #(
         pos7 <= pos6 || decline6;
         neg7 <= neg6 || decline6;
         for (i = 0; i < 3; i = i + 1) f7[i] <= f6[i];
-        rho7 <= rho6;
+        // ρ − e_b beside |f|∞ + |b|∞, so that NEAR is one compare after the register
+        slack7 <= $signed({2'd0, rho6}) - $signed({19'd0, eb6});
         nb7 <= {1'b0, n6} + {18'd0, eb6};
-        eb7 <= eb6;
         fz7 <= {f6[2][37], f6[2]} + $signed({18'd0, bz6});
     end
-    wire below7 = fz7 < -$signed({9'd0, nb7[38:9]});
-    wire near7 = {1'b0, rho7} < {18'd0, eb7} + {4'd0, nb7[38:4]};
+    // each decision one carry chain after the register (a negation then a compare, or a sum
+    // then a compare, was two in series: the set-up family's critical path):
+    // f_z + b_z < −m as the sign of f_z + b_z + m, ρ < e_b + m' as ρ − e_b < m'
+    /* verilator lint_off UNUSEDSIGNAL */
+    wire signed [39:0] lift7 = {fz7[38], fz7} + $signed({10'd0, nb7[38:9]});
+    /* verilator lint_on UNUSEDSIGNAL */
+    wire below7 = lift7[39];
+    wire near7 = slack7 < $signed({5'd0, nb7[38:4]});
     // a corner's decisions, beside its angles: last, below, near, +z and −z allowed
     wire [4:0] flags7 = {l7, below7, near7, pos7, neg7};
 

@@ -51,7 +51,10 @@ module horizon_filter (
             y4 = h4 ? y8[7:4] : y8[3:0];
             h2 = |y4[3:2];
             h1 = h2 ? y4[3] : y4[1];
-            drop = (|y) ? {1'b0, h8, h4, h2, h1} + 5'd1 : 5'd0;
+            // its place + 1, the increment written out: one LUT after the encoder, where
+            // `+ 5'd1` became a carry chain (the bank front's critical path)
+            drop = (|y) ? {h8 & h4 & h2 & h1, h8 ^ (h4 & h2 & h1), h4 ^ (h2 & h1), h2 ^ h1, ~h1}
+                : 5'd0;
         end
     endfunction
     // x >> k in 18 bits (|x| <= U, so |x >> k| <= 2^17)

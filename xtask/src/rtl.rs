@@ -641,8 +641,8 @@ const REACH_MUTANT: Mutant = Mutant {
     bench: CULL_BENCH,
     extra: &["cordic_rom.vh"],
     file: "cull_reach.v",
-    from: "{4'd0, nb7[38:4]}",
-    to: "{5'd0, nb7[38:5]}",
+    from: "{5'd0, nb7[38:4]}",
+    to: "{6'd0, nb7[38:5]}",
     what: "bit 0 of the culling unit's NEAR_AXIS",
 };
 
@@ -702,14 +702,15 @@ const WRITER_MUTANT: Mutant = Mutant {
     what: "bit 0 of the bitmap writer's last copy row",
 };
 
-/// The horizon filter's shift k = bits(U) − 17 as bits(U) − 18 (the leading one's place plus 1
-/// as plus 0, one bit), so that its words keep a bit more than the model's.
+/// The horizon filter's shift k = bits(U) − 17 with its bit 0 flipped (the leading one's place
+/// plus 1, written out, with bit 0 not inverted), so that its words keep a bit more or less
+/// than the model's.
 const HORIZON_MUTANT: Mutant = Mutant {
     bench: HORIZON_BENCH,
     extra: &[],
     file: "horizon_filter.v",
-    from: "{1'b0, h8, h4, h2, h1} + 5'd1",
-    to: "{1'b0, h8, h4, h2, h1} + 5'd0",
+    from: "h2 ^ h1, ~h1}",
+    to: "h2 ^ h1, h1}",
     what: "bit 0 of the horizon filter's shift",
 };
 
