@@ -108,13 +108,12 @@ pub struct Placed {
 /// 14,771 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
 /// tiles for its 6 edge products, h's four and the reach's 12; 105.3 MHz. Session 37: 17,248
 /// LUT4s at 100.7 MHz, before its decisions took one carry chain each: each of those changes
-/// alone mapped smaller, together Yosys's LUT mapping took 1,839 more (docs/PERFORMANCE.md,
-/// "Session 38"). Session 33: 19,029 LUT4s at 107.2 MHz, before the culling's CORDIC and
-/// magnitudes took their inversions into the carry cells, `rtl/add_sub.v`; session 30: 19,602
-/// LUT4s and 14,865 flip-flops, before the
-/// culling's leading one in windows and its shift in two steps; session 29: 19,683, before the
-/// reach's ends were compared with 0 by their sign; session 28: 21,372, before the culling
-/// bins' two-step count).
+/// alone mapped smaller, together Yosys's LUT mapping took 1,839 LUT4s more, 1,781 as placed
+/// (docs/PERFORMANCE.md, "Session 38"). Session 33: 19,029 LUT4s at 107.2 MHz, before the
+/// culling's CORDIC and magnitudes took their inversions into the carry cells, `rtl/add_sub.v`;
+/// session 30: 19,602 LUT4s and 14,865 flip-flops, before the culling's leading one in windows
+/// and its shift in two steps; session 29: 19,683, before the reach's ends were compared with 0
+/// by their sign; session 28: 21,372, before the culling bins' two-step count).
 pub const SETUP_UNIT: Placed = Placed {
     luts: 19_029,
     ffs: 14_771 - 580,

@@ -41,9 +41,9 @@ commands:
                               against the model at three CORDIC configurations and two (u,v)
                               depths, checks that one-bit mutants are caught, proves the
                               culling's leading one and the CORDIC's adder-subtractor
-                              (--prove: only that), synthesises and
-                              places for an ECP5-85k (reset configurations; --all-configs: the
-                              rotator's others too); ends with `cosim_vectors=N
+                              (--prove: only that), synthesises and places for an ECP5-85k
+                              (reset configurations; --all-configs: the rotator's others
+                              too); ends with `cosim_vectors=N
                               cosim_mismatches=M fmax_mhz=F luts=L dsps=D brams=B`
   layout                      check the host crates' architecture: no import cycle between
                               modules, no CLI/serial crate or environment variable in the

@@ -1,11 +1,9 @@
 //! `cargo xtask rtl [--no-synth | --all-configs | --prove]`: the accelerator's RTL
 //! (`hdl-model/rtl/`) linted, co-simulated against the model, its culling's leading one and its
 //! adder-subtractor's synthesis form proved equal to their specifications ([`prove`];
-//! `--prove` does only that) and synthesised for an
-//! ECP5-85k (the reset
-//! configuration of each unit; `--all-configs` also the rotator's and the angle unit's two
-//! others, the rotator's reset one a place and route of 4 to 57 minutes here), ending with one
-//! line
+//! `--prove` does only that) and synthesised for an ECP5-85k (the reset configuration of each
+//! unit; `--all-configs` also the rotator's and the angle unit's two others, the rotator's reset
+//! one a place and route of 4 to 57 minutes here), ending with one line
 //! `cosim_vectors=N cosim_mismatches=M fmax_mhz=F luts=L dsps=D brams=B` (the place-and-route
 //! figures of the reset configuration's units: the slowest one's Fmax, a unit under 100 MHz
 //! placed again at up to three seeds ([`place_and_route`]); one of each unit's area summed;
