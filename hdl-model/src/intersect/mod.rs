@@ -232,9 +232,8 @@ pub struct EdgeStage;
 
 impl EdgeStage {
     fn eval(&self, dir: &[Unit; 3], lp: &LocalPatch) -> Token {
-        let mut tok = Token::default();
         if !lp.active {
-            return tok;
+            return Token::default();
         }
         let d = dir.map(|c| c.to_bits() as i128);
         let mut inside = true;
@@ -242,14 +241,25 @@ impl EdgeStage {
             let s = d[0] * e[0] as i128 + d[1] * e[1] as i128 + d[2] * e[2] as i128;
             inside &= s >= 0;
         }
-        tok.inside = inside;
-        tok.h = lp.h;
+        self.decided(dir, lp, inside)
+    }
+
+    /// The token of a pair whose side is known (`inside`): a compact lane's coarse test
+    /// decided it, so its edges' exact products are not formed (a model of the lane need not
+    /// form what the lane does not; a debug build checks them against the verdict).
+    fn decided(&self, dir: &[Unit; 3], lp: &LocalPatch, inside: bool) -> Token {
+        let mut tok = Token {
+            inside,
+            h: lp.h,
+            front: lp.h.is_negative(),
+            ..Token::default()
+        };
         // n · d matters only inside the pyramid (the divider ignores it otherwise)
         if inside {
+            let d = dir.map(|c| c.to_bits() as i128);
             let n = lp.n.map(|c| c.to_bits() as i128);
             tok.den = PlaneDen::from_bits(d[0] * n[0] + d[1] * n[1] + d[2] * n[2]);
         }
-        tok.front = lp.h.is_negative();
         tok
     }
 }
@@ -1075,18 +1085,24 @@ impl<T: Copy + Default> IntersectUnit<T> {
             }
             counts[bank] += 1;
             let lp = &self.local[i as usize];
-            let tok = EdgeStage.eval(&ray.dir, lp);
+            let tok;
             if compact && lp.active {
                 let verdict = coarse_inside(&dc, &lp.coarse, lp.sides as usize);
-                match verdict {
+                tok = match verdict {
                     Verdict::Decided(inside) => {
-                        debug_assert_eq!(inside, tok.inside, "coarse bound")
+                        debug_assert_eq!(
+                            inside,
+                            EdgeStage.eval(&ray.dir, lp).inside,
+                            "coarse bound"
+                        );
+                        EdgeStage.decided(&ray.dir, lp, inside)
                     }
                     Verdict::Undecided(edges) => {
                         exact[bank] += exact_pair_clocks(edges);
                         self.stats.exact_edges += edges as u64;
+                        EdgeStage.eval(&ray.dir, lp)
                     }
-                }
+                };
                 if tok.inside {
                     self.inside[inside] = InsidePair {
                         bank: bank as u8,
@@ -1095,6 +1111,8 @@ impl<T: Copy + Default> IntersectUnit<T> {
                     };
                     inside += 1;
                 }
+            } else {
+                tok = EdgeStage.eval(&ray.dir, lp);
             }
             if let Some(t) = DivideStage.eval(tok) {
                 if best.is_none_or(|b| t < b.t) {
