@@ -138,6 +138,18 @@ pub const RAY_SIDE: Placed = Placed {
     ffs: 3_427 - 98,
 };
 
+/// The compact datapath's shared exact edge unit, `rtl/exact_edge.v` (session 39: 2,754 LUT4s
+/// and 3,270 flip-flops placed, 416 of them its harness's input chain, corner word and output
+/// register; 16 DSP tiles for its two 34 × 64 multipliers; 108.9 and 111.3 MHz at seeds 1 and
+/// 2). The rules it replaces (two 34 × 62 multipliers, the cross product's subtraction, the
+/// shift, the side, the dot product's sums) gave 919 LUT4s and 846 flip-flops: the RTL's
+/// multipliers take five clocks each, their tiles' sums in carry chains, and the operands,
+/// corners and edge normals of two edges are registered.
+pub const EXACT_UNIT: Placed = Placed {
+    luts: 2_754,
+    ffs: 3_270 - 416,
+};
+
 /// The rotator at the reset CORDIC configuration (24 iterations, 32-bit words), `rtl/rotator.v`
 /// (session 37's place and route, `cargo xtask rtl`: 12,517 LUT4s and 11,055 flip-flops, 195
 /// of them its harness's input chain and output register; 5 block RAMs, its side table, counted
@@ -395,8 +407,9 @@ pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 /// The compact datapath: per lane the coarse edge test (twelve 18 × 18 products, one DSP tile
 /// each, and the bound's adders and compares); per ray group [`PLANE_UNITS`] plane units
 /// (n · d, divider, running minimum) fed with the pairs its lanes find inside; one shared
-/// exact edge unit (one 34 × 62 multiplier, a product a clock: the six products that recompute
-/// an edge's normal from the corners, then the three of its dot product with d); one set-up
+/// exact edge unit (two 34 × 64 multipliers, two products a clock: the six products that
+/// recompute an edge's normal from the corners, then the three of its dot product with d;
+/// [`EXACT_UNIT`] as placed); one set-up
 /// unit per bank (the wide datapath's); local memory, candidate bitmaps and
 /// exact words double-buffered, each lane's words for its bank (so once per ray group).
 fn compact_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
@@ -433,22 +446,13 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     // the normal read from the group's normal memory, registered
     plane.reg(units * 3 * 32);
     plane.add(l, 8);
-    // the shared exact edge unit: two 34 × 62 multipliers, two products a clock (an edge's
-    // normal recomputed from the corners, a = v − O, then its dot product with d: five clocks
-    // an edge; one multiplier and nine clocks before session 22), the cross product's
-    // subtraction, the origin-wide shift (six levels of 2:1 multiplexers on 68 bits, a LUT4 a
-    // bit a level, counted as adders), the side's sign (a negation) and the dot product's
-    // accumulator with the add of its two products; its queue of undecided pairs (with their
-    // mask of undecided edges), the corners and the normal
+    // the shared exact edge unit as placed ([`EXACT_UNIT`]), its two 34 × 64 multipliers of
+    // eight tiles each; the queue of undecided pairs before it (with their mask of undecided
+    // edges), which the sequencing holds
     let mut exact = Proxy::default();
-    exact.mul(2, 34, 62);
-    exact.add(3, 34);
-    exact.add(1, 68);
-    exact.add(6, 68);
-    exact.add(1, 62);
-    exact.add(2, 98);
+    exact.mul(2, 34, 64);
+    exact.placed(1, EXACT_UNIT);
     exact.mem(params.ray_slots() as u64, tag_bits(params) + 16 + 4 + 4);
-    exact.reg(4 * 3 * 34 + 3 * 68 + 2 * 68 + 98);
     let mut setup = Proxy::default();
     setup_units(&mut setup, params, b);
     let mut horizon = Proxy::default();

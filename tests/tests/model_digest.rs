@@ -406,7 +406,7 @@ fn a_scene_streamed_in_blocks_answers_as_one_memory() {
 // copied row is in the block RAMs a clock after the writer decides it
 // (`bitmap_write::{FIFO_LATENCY, WRITE_LATENCY}`). A pass that does not cull is no longer
 // charged a writer's close. The answers are unchanged.
-const PINNED_CORNELL: (u64, u64, u64) = (0x82b6_a04a_36cc_1ff2, 0xfbb3_33cd_03a3_a913, 0x1_3636);
+const PINNED_CORNELL: (u64, u64, u64) = (0x82b6_a04a_36cc_1ff2, 0xfbb3_33cd_03a3_a913, 0x1_364a);
 const PINNED_CORNELL_NARROW: (u64, u64, u64) =
     (0x119f_86bb_5b47_1a62, 0x3557_eac0_6b61_85bd, 0x473d);
 const PINNED_TEAPOT: (u64, u64, u64) = (0xb7d6_02ab_1be1_4a34, 0x9214_991b_d1f4_7754, 0x7_0a99);

@@ -217,6 +217,15 @@ pub const WRITER_BENCH: Bench = Bench {
     report: "writer",
 };
 
+/// The compact datapath's shared exact edge unit (`exact_edge.v`): pairs the lanes' coarse
+/// test left undecided, each taken and its verdict out compared with the model's clocks.
+pub const EXACT_BENCH: Bench = Bench {
+    top: "exact_edge",
+    sources: &["exact_edge.v", "exact_mul.v"],
+    cpp: "tb/exact_tb.cpp",
+    report: "exact",
+};
+
 /// The multipliers: `array_mul.v` (a multiplier without DSP tiles) and `const_mul.v` (a product
 /// by a constant), against the exact integer products, not against model vectors.
 pub const MUL_BENCH: Bench = Bench {
@@ -319,6 +328,7 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
         lint_top(WRITER_BENCH.top, WRITER_BENCH.sources, &g)?;
     }
     lint_top(MUL_BENCH.top, MUL_BENCH.sources, &[])?;
+    lint_top(EXACT_BENCH.top, EXACT_BENCH.sources, &[])?;
     for d in designs(cfg, depth) {
         let generics: Vec<String> = d.params.iter().map(|(k, v)| format!("-G{k}={v}")).collect();
         lint_top(d.top, &d.files, &generics)?;
@@ -359,11 +369,14 @@ pub struct Workload {
     /// Random passes for the bitmap writer (after the scene's bank 0's set-up passes from
     /// `coarse_samples` points a slot).
     pub writer_random: u32,
+    /// Random patches for the exact edge unit, five pairs each (after the pairs of the scene's
+    /// set-up passes from `coarse_samples` points a slot).
+    pub exact_random: u32,
 }
 
 /// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's, the
 /// coarse edge units', the culling unit's, the set-up unit's, the horizon filter's, the bank
-/// front's and the bitmap writer's (`once`:
+/// front's, the bitmap writer's and the exact edge unit's (`once`:
 /// none depends on CONFIG's CORDIC words)
 /// and the planar unit's at a depth (each into its own file) on the Cornell box, with the
 /// release build of the generator (`release`) or the test suite's debug build.
@@ -372,7 +385,7 @@ pub fn vectors(
     plane: Option<(u32, &Path)>,
     w: Workload,
     release: bool,
-    (cordic_out, once): (&Path, Option<[&Path; 7]>),
+    (cordic_out, once): (&Path, Option<[&Path; 8]>),
 ) -> Result<(), String> {
     let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
     if release {
@@ -385,31 +398,32 @@ pub fn vectors(
         .args(["--scene", "scenes/cornell.toml"])
         .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
         .args(["--random", &n(w.random)]);
-    if let Some([regs_out, coarse_out, cull_out, setup_out, horizon_out, bank_out, writer_out]) =
-        once
-    {
+    if let Some([regs, coarse, cull, setup, horizon, bank, writer, exact]) = once {
         c.arg("--regs")
-            .arg(regs_out)
+            .arg(regs)
             .args(["--regs-steps", &n(w.regs_steps)]);
         c.arg("--coarse")
-            .arg(coarse_out)
+            .arg(coarse)
             .args(["--coarse-samples", &n(w.coarse_samples)])
             .args(["--coarse-random", &n(w.coarse_random)]);
         c.arg("--cull")
-            .arg(cull_out)
+            .arg(cull)
             .args(["--cull-random", &n(w.cull_random)]);
         c.arg("--setup")
-            .arg(setup_out)
+            .arg(setup)
             .args(["--setup-random", &n(w.setup_random)]);
         c.arg("--horizon")
-            .arg(horizon_out)
+            .arg(horizon)
             .args(["--horizon-random", &n(w.horizon_random)]);
         c.arg("--bank")
-            .arg(bank_out)
+            .arg(bank)
             .args(["--bank-random", &n(w.bank_random)]);
         c.arg("--writer")
-            .arg(writer_out)
+            .arg(writer)
             .args(["--writer-random", &n(w.writer_random)]);
+        c.arg("--exact")
+            .arg(exact)
+            .args(["--exact-random", &n(w.exact_random)]);
     }
     if let Some((depth, out)) = plane {
         c.arg("--plane")
@@ -596,6 +610,7 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     BANK_SETUP_MUTANT.caught("mutant-bank-setup", &[], &[file("bank.txt")], opt)?;
     WRITER_MUTANT.caught("mutant-writer", &[], &[file("writer.txt")], opt)?;
     BANK_PASS_MUTANT.caught("mutant-bank-pass", &[], &[file("bank.txt")], opt)?;
+    EXACT_MUTANT.caught("mutant-exact", &[], &[file("exact.txt")], opt)?;
     MUL_MUTANT.caught("mutant-mul", &[], &[MUL_CLOCKS.to_string()], opt)?;
     Ok(())
 }
@@ -609,6 +624,18 @@ const MUL_MUTANT: Mutant = Mutant {
     from: ".NEG((i == A - 1) ? 1 : 0)",
     to: ".NEG((i == A - 2) ? 1 : 0)",
     what: "the array multiplier's subtracting row",
+};
+
+/// The exact edge unit's truncation towards zero with its bias 2^k − 1 one bit short (the
+/// ones of 4'hF as 4'h7): a negative edge normal's component with k = 4 rounded wrongly, so
+/// that shared edges' normals would no longer be exactly opposite.
+const EXACT_MUTANT: Mutant = Mutant {
+    bench: EXACT_BENCH,
+    extra: &[],
+    file: "exact_edge.v",
+    from: "c_ones <= ~(4'hF << q_shift);",
+    to: "c_ones <= ~(4'hF << q_shift) & 4'h7;",
+    what: "bit 3 of the exact edge unit's rounding bias",
 };
 
 /// The constant 15 of need - 1 = 15 + eta + 2^(4 - S) in the set-up unit's κ (one bit: 14), so
@@ -731,13 +758,14 @@ fn cosim_run(
         dir.join("coarse.txt"),
         dir.join("cull.txt"),
     );
-    let (sv, hv, bv, wv) = (
+    let (sv, hv, bv, wv, xv) = (
         dir.join("setup.txt"),
         dir.join("horizon.txt"),
         dir.join("bank.txt"),
         dir.join("writer.txt"),
+        dir.join("exact.txt"),
     );
-    let once_out = once.then_some([&rv, &ev, &uv, &sv, &hv, &bv, &wv].map(PathBuf::as_path));
+    let once_out = once.then_some([&rv, &ev, &uv, &sv, &hv, &bv, &wv, &xv].map(PathBuf::as_path));
     vectors(
         cfg,
         depth.map(|d| (d, pv.as_path())),
@@ -783,6 +811,9 @@ fn cosim_run(
         let exe = build(WRITER_BENCH, &[], &src, &dir.join("writer"), opt)?;
         let r = cosim(WRITER_BENCH, &exe, &[wv.display().to_string()])?;
         out.push(("bitmap writer".to_string(), r));
+        let exe = build(EXACT_BENCH, &[], &src, &dir.join("exact"), opt)?;
+        let r = cosim(EXACT_BENCH, &exe, &[xv.display().to_string()])?;
+        out.push(("exact edge unit".to_string(), r));
         let exe = build(MUL_BENCH, &[], &src, &dir.join("mul"), opt)?;
         let r = cosim(MUL_BENCH, &exe, &[MUL_CLOCKS.to_string()])?;
         out.push(("multipliers".to_string(), r));
@@ -822,6 +853,7 @@ pub fn ci() -> Result<(), String> {
         horizon_random: 5_000,
         bank_random: 40,
         writer_random: 2_000,
+        exact_random: 2_000,
     };
     let reports = cosim_run(cfg, Some(depth), true, w, false, "-O1", &dir)?;
     let bad: u64 = reports.iter().map(|(_, r)| r.mismatches).sum();
@@ -1080,6 +1112,19 @@ pub fn bank_setup_design() -> Design {
     }
 }
 
+/// The exact edge unit's harness (its corner words from the harness's chain: patch memory is
+/// the build's).
+pub fn exact_design() -> Design {
+    Design {
+        name: "exact".to_string(),
+        top: "syn_exact",
+        files: vec!["exact_edge.v", "exact_mul.v", "syn/syn_exact.v"],
+        params: vec![],
+        summed: true,
+        abc9: false,
+    }
+}
+
 /// A bank's bitmap writer's harness.
 pub fn writer_design() -> Design {
     Design {
@@ -1094,7 +1139,7 @@ pub fn writer_design() -> Design {
 
 /// Every synthesis harness at CORDIC `cfg` and (u,v) depth `depth` (the final line's figures
 /// are theirs: [`datapath`]).
-fn designs(cfg: Cordic, depth: u32) -> [Design; 13] {
+fn designs(cfg: Cordic, depth: u32) -> [Design; 14] {
     [
         rotator_design(cfg),
         plane_design(depth),
@@ -1109,6 +1154,7 @@ fn designs(cfg: Cordic, depth: u32) -> [Design; 13] {
         bank_setup_design(),
         writer_design(),
         bank_pass_design(),
+        exact_design(),
     ]
 }
 
@@ -1432,6 +1478,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
         horizon_random: 100_000,
         bank_random: 1_000,
         writer_random: 100_000,
+        exact_random: 40_000,
     };
     let mut total = Cosim::default();
     for (k, cfg) in CONFIGS.iter().enumerate() {

@@ -129,10 +129,10 @@ fn steps() -> Vec<Step> {
                    clocks, a bank front's corner reads on the model's clocks (the filter \
                    stopping for a full FIFO) and the set-up unit's answers behind it, those \
                    answers into the bank's bitmaps, a bank's bitmap writer's copies and \
-                   completions on the model's clocks, and the multipliers against exact \
-                   products, then twelve one-bit \
-                   mutants of the RTL shown to be caught (cargo xtask rtl is the full form, \
-                   with synthesis)",
+                   completions on the model's clocks, the exact edge unit's verdicts on the \
+                   Cornell box's undecided pairs and random ones with their clocks, and the \
+                   multipliers against exact products, then thirteen one-bit mutants of the \
+                   RTL shown to be caught (cargo xtask rtl is the full form, with synthesis)",
             kind: Kind::Check(crate::rtl::ci),
         },
         Step {

@@ -171,27 +171,28 @@ pub fn coarse_sign(ray: &CoarseRay, e: &[i32; 3], kappa: u8) -> Option<bool> {
 pub enum Verdict {
     /// Every edge certainly positive, or one certainly negative: `inside`.
     Decided(bool),
-    /// No edge certainly negative, and this many undecided: the shared exact unit checks
-    /// those edges only (the others are known positive).
+    /// No edge certainly negative, and these undecided (bit k: the edge from corner k to the
+    /// next): the shared exact unit checks those edges only (the others are known positive),
+    /// the mask coming with the pair from the lane.
     Undecided(u8),
 }
 
 /// The coarse test of a (ray, patch) pair over the patch's first `sides` words.
 pub fn coarse_inside(ray: &CoarseRay, coarse: &Coarse, sides: usize) -> Verdict {
     if coarse.kappa >= KAPPA_DECLINE {
-        return Verdict::Undecided(sides as u8);
+        return Verdict::Undecided((1 << sides) - 1);
     }
     let mut undecided = 0;
-    for e in &coarse.words[..sides] {
+    for (k, e) in coarse.words[..sides].iter().enumerate() {
         match coarse_sign(ray, e, coarse.kappa) {
             Some(false) => return Verdict::Decided(false),
             Some(true) => {}
-            None => undecided += 1,
+            None => undecided |= 1 << k,
         }
     }
     match undecided {
         0 => Verdict::Decided(true),
-        n => Verdict::Undecided(n),
+        mask => Verdict::Undecided(mask),
     }
 }
 

@@ -62,6 +62,7 @@ pub mod bitmap_walk;
 pub mod bitmap_write;
 pub mod coarse;
 pub mod cull;
+pub mod exact;
 pub mod horizon;
 pub mod patch_mem;
 pub mod uv;
@@ -235,12 +236,10 @@ impl EdgeStage {
         if !lp.active {
             return Token::default();
         }
-        let d = dir.map(|c| c.to_bits() as i128);
-        let mut inside = true;
-        for e in &lp.e[..lp.sides as usize] {
-            let s = d[0] * e[0] as i128 + d[1] * e[1] as i128 + d[2] * e[2] as i128;
-            inside &= s >= 0;
-        }
+        let d = dir.map(|c| c.to_bits());
+        let inside = lp.e[..lp.sides as usize]
+            .iter()
+            .all(|e| exact::inside_edge(&d, e));
         self.decided(dir, lp, inside)
     }
 
@@ -262,22 +261,6 @@ impl EdgeStage {
         }
         tok
     }
-}
-
-/// Clocks the shared exact edge unit takes for one pair whose coarse test left `edges` edges
-/// undecided. The exact edge normals are not stored (they would take as much block RAM as the
-/// lanes' words): the unit reads the edges' corners from patch memory, a corner a clock as the
-/// set-up units do, and recomputes each edge's normal a_i × a_{i+1} exactly as the set-up pass
-/// forms it (the origin-wide shift, the side's sign) and dots it with d, on two 34 × 62
-/// multipliers, two products a clock: six products of the cross product and three of the dot
-/// product, five clocks an edge, the corner reads overlapping them but for the first edge's
-/// two. The same integers as the model's stored `e`. Since session 22 only the undecided edges
-/// (the pair's mask of them comes with it from the lane), on two multipliers: the compact
-/// set-up's narrow words leave more edges undecided. Before, every edge of the pair on one
-/// multiplier (nine clocks an edge; nine multipliers, an edge a clock, before issue 19's
-/// fourth round).
-fn exact_pair_clocks(edges: u8) -> u64 {
-    5 * edges as u64 + 2
 }
 
 /// Stage 2: t = h / (n · d) as Q8.24, or "no hit" (t ≤ 0, parallel, out of range).
@@ -937,17 +920,11 @@ impl<T: Copy + Default> IntersectUnit<T> {
             return 0;
         };
         let shift = origin_shift(o);
-        let s: i128 = if h.is_positive() { 1 } else { -1 };
+        let negate = !h.is_positive();
         for k in 0..sides {
-            let (u, v) = (a[k], a[(k + 1) % sides]);
-            let cross = [
-                u[1] as i128 * v[2] as i128 - u[2] as i128 * v[1] as i128,
-                u[2] as i128 * v[0] as i128 - u[0] as i128 * v[2] as i128,
-                u[0] as i128 * v[1] as i128 - u[1] as i128 * v[0] as i128,
-            ];
-            lp.e[k] = cross.map(|c| shift_toward_zero(c * s, shift) as i64);
+            lp.e[k] = exact::edge_normal(&a[k], &a[(k + 1) % sides], negate, shift);
         }
-        lp.coarse = self.coarse_words(&a[..sides], &lp.e[..sides], shift, s < 0);
+        lp.coarse = self.coarse_words(&a[..sides], &lp.e[..sides], shift, negate);
         lp.sides = sides as u8;
         lp.n = n;
         lp.h = h;
@@ -1097,8 +1074,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
                         );
                         EdgeStage.decided(&ray.dir, lp, inside)
                     }
-                    Verdict::Undecided(edges) => {
-                        exact[bank] += exact_pair_clocks(edges);
+                    Verdict::Undecided(mask) => {
+                        let edges = mask.count_ones() as u8;
+                        exact[bank] += exact::pair_clocks(edges);
                         self.stats.exact_edges += edges as u64;
                         EdgeStage.eval(&ray.dir, lp)
                     }
@@ -1192,9 +1170,10 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 end = end.max(*free);
             }
             if exact[b] > 0 {
-                let at = self.clocks.exact_free.max(*free);
+                let at = exact::grid(self.clocks.exact_free.max(*free));
                 self.clocks.exact_free = at + exact[b];
-                exact_end[b] = self.clocks.exact_free;
+                exact_end[b] = self.clocks.exact_free + exact::LATENCY;
+                end = end.max(exact_end[b]);
             }
         }
         for k in lane_pairs..inside {

@@ -32,7 +32,9 @@
 
 use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
-use hemi_bench::rtl::{bank, coarse, cordic, cull, horizon, plane, reach, regs, setup, writer};
+use hemi_bench::rtl::{
+    bank, coarse, cordic, cull, exact, horizon, plane, reach, regs, setup, writer,
+};
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
 use std::time::Instant;
@@ -64,6 +66,8 @@ struct Args {
     bank_random: usize,
     writer: Option<String>,
     writer_random: usize,
+    exact: Option<String>,
+    exact_random: usize,
     seed: u64,
 }
 
@@ -95,6 +99,8 @@ fn parse() -> Result<Args> {
         bank_random: 100,
         writer: None,
         writer_random: 1_000,
+        exact: None,
+        exact_random: 4_000,
         seed: 0x2545_f491_4f6c_dd1d,
     };
     let mut it = std::env::args().skip(1);
@@ -127,13 +133,15 @@ fn parse() -> Result<Args> {
             "--bank-random" => a.bank_random = value()?.parse()?,
             "--writer" => a.writer = Some(value()?),
             "--writer-random" => a.writer_random = value()?.parse()?,
+            "--exact" => a.exact = Some(value()?),
+            "--exact-random" => a.exact_random = value()?.parse()?,
             "--seed" => a.seed = value()?.parse()?,
             s if !s.starts_with('-') && a.out.is_empty() => a.out = s.to_string(),
             s => bail!("unknown argument `{s}`"),
         }
     }
     if a.out.is_empty() || !a.cfg.is_valid() || !(1..=24).contains(&a.depth) {
-        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--bank OUT8 --bank-random N] [--writer OUT9 --writer-random N] [--seed S]");
+        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--bank OUT8 --bank-random N] [--writer OUT9 --writer-random N] [--exact OUT10 --exact-random N] [--seed S]");
     }
     Ok(a)
 }
@@ -166,7 +174,7 @@ fn main() -> Result<()> {
     );
     // the scene's slots as the model's patch memory holds them, read once for every unit
     let wanted = [
-        &a.plane, &a.coarse, &a.cull, &a.setup, &a.horizon, &a.bank, &a.writer,
+        &a.plane, &a.coarse, &a.cull, &a.setup, &a.horizon, &a.bank, &a.writer, &a.exact,
     ];
     let slots = match &scene {
         Some(s) if wanted.iter().any(|o| o.is_some()) => plane::loaded_slots(&s.kernel_patches())?,
@@ -225,6 +233,14 @@ fn main() -> Result<()> {
         println!(
             "rtl-vectors: writer passes={} answers={} copies={} empty={}",
             c.passes, c.answers, c.copies, c.empty
+        );
+    }
+    if let Some(out) = &a.exact {
+        let (text, c) = exact::vectors(&slots, a.coarse_samples, a.exact_random, a.seed);
+        std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
+        println!(
+            "rtl-vectors: exact pairs={} edges={} inside={} undecided={}",
+            c.pairs, c.edges, c.inside, c.undecided
         );
     }
     Ok(())

@@ -112,7 +112,7 @@ impl Vectors {
     fn pair(&mut self, d: &[i32; 3], coarse: &Coarse, sides: usize) {
         let (decided, inside, undecided) = match coarse_inside(&CoarseRay::new(*d), coarse, sides) {
             Verdict::Decided(inside) => (1, inside as u8, 0),
-            Verdict::Undecided(n) => (0, 0, n),
+            Verdict::Undecided(mask) => (0, 0, mask.count_ones() as u8),
         };
         let words: Vec<String> = coarse
             .words

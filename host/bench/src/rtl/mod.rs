@@ -14,12 +14,15 @@
 //! - [`bank`]: a bank's set-up pass ahead of its set-up unit (boxes, filter, FIFO, corner reads);
 //! - [`plane`]: the planar intersection unit with (u,v) (one lane, no culling);
 //! - [`regs`]: the register file and its AHB-Lite bus interface;
-//! - [`writer`]: a bank's bitmap writer (the set-up answers into the candidate bitmaps).
+//! - [`writer`]: a bank's bitmap writer (the set-up answers into the candidate bitmaps);
+//! - [`exact`]: the compact datapath's shared exact edge unit (the pairs the lanes' coarse test
+//!   leaves undecided).
 
 pub mod bank;
 pub mod coarse;
 pub mod cordic;
 pub mod cull;
+pub mod exact;
 pub mod horizon;
 pub mod plane;
 pub mod reach;

@@ -1,0 +1,101 @@
+//! The compact datapath's shared exact edge unit (`rtl/exact_edge.v`): the pairs a lane's
+//! coarse test cannot decide ([`super::coarse`]) have their undecided edges tested exactly,
+//! d · e_k ≥ 0, with e_k = a_k × a_{k+1} formed again from the patch's corners as the set-up
+//! pass forms it (the side's sign and the origin-wide truncation). The edge normals are not
+//! stored: they would take as much block RAM as the lanes' words, and about one pair in 500
+//! needs them.
+//!
+//! **Its clocks.** Two multipliers (34 × 64 bits, five clocks each: operands, eight 18 × 18
+//! tiles, three levels of their sum) form an edge's nine products in a five-clock window of a grid the unit
+//! keeps from reset: the cross product's six in the window's first three clocks, the dot
+//! product's three in the next window's last two, once the edge normal is through the
+//! subtraction, the side and the truncation (two clocks). So edges follow one another every five
+//! clocks, a pair's after the last pair's, and a pair takes five clocks an edge. A pair is taken
+//! on the grid's [`GRID_START`] clock; its first edge's two corners are read on the next two
+//! (a corner a clock, as the set-up units read them; each later edge's in the window before
+//! it), each less the origin a clock later, and its first window begins four clocks after it
+//! was taken. Its verdict is out [`LATENCY`] clocks after the clock the next pair could be
+//! taken. Until session 39 the model charged 5 clocks an edge and 2 for the first reads, with
+//! the verdict at once: the RTL showed the multipliers' and the normal's clocks, and the grid.
+
+/// Clocks an edge takes of the unit: a window of the grid.
+pub const WINDOW: u64 = 5;
+
+/// The clock of a window (counted from reset, modulo [`WINDOW`]) on which a pair may be taken,
+/// the clock before its first corner's read.
+pub const GRID_START: u64 = 1;
+
+/// Clocks from the clock the next pair could be taken to a pair's verdict. That clock is the
+/// one after its last window's first; the dot product's last product is issued on that
+/// window's tenth clock (the next window's fifth), takes five clocks of multiplier, then a
+/// clock for the sum and its sign, so the verdict register is read on the last window's
+/// fifteenth clock.
+pub const LATENCY: u64 = 14;
+
+/// Clocks of the unit for a pair with `edges` undecided edges.
+pub fn pair_clocks(edges: u8) -> u64 {
+    WINDOW * edges as u64
+}
+
+/// The first clock at or after `at` on which a pair may begin (a clock of the grid).
+pub fn grid(at: u64) -> u64 {
+    at + (GRID_START + WINDOW - at % WINDOW) % WINDOW
+}
+
+/// The edge normal of the edge from corner a_k to a_{k+1} (both v − O, 33-bit values) as the
+/// set-up pass forms it: the cross product, its sign flipped when the origin is behind the
+/// patch (`negate`), truncated towards zero by the origin-wide `shift` and kept to 64 bits (the
+/// hardware's width; the model's and the RTL's products of it agree bit for bit).
+pub fn edge_normal(u: &[i64; 3], v: &[i64; 3], negate: bool, shift: u32) -> [i64; 3] {
+    let s: i128 = if negate { -1 } else { 1 };
+    let cross = [
+        u[1] as i128 * v[2] as i128 - u[2] as i128 * v[1] as i128,
+        u[2] as i128 * v[0] as i128 - u[0] as i128 * v[2] as i128,
+        u[0] as i128 * v[1] as i128 - u[1] as i128 * v[0] as i128,
+    ];
+    cross.map(|c| super::shift_toward_zero(c * s, shift) as i64)
+}
+
+/// Whether direction `d` (Q2.30 words) is on the inner side of edge normal `e`: d · e ≥ 0,
+/// exactly (98 bits).
+pub fn inside_edge(d: &[i32; 3], e: &[i64; 3]) -> bool {
+    (0..3).map(|c| d[c] as i128 * e[c] as i128).sum::<i128>() >= 0
+}
+
+/// The exact unit's verdict on a pair: `d` inside every edge of `mask` (bit k the edge from
+/// corner k to the next, `a` the patch's corners less the origin).
+pub fn verdict(a: &[[i64; 3]], mask: u8, negate: bool, shift: u32, d: &[i32; 3]) -> bool {
+    (0..a.len())
+        .filter(|k| mask >> k & 1 == 1)
+        .all(|k| inside_edge(d, &edge_normal(&a[k], &a[(k + 1) % a.len()], negate, shift)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_pair_begins_on_the_grid() {
+        assert_eq!(grid(0), 1);
+        assert_eq!(grid(1), 1);
+        assert_eq!(grid(2), 6);
+        assert_eq!(grid(6), 6);
+        // back to back: the next pair begins where the last one's windows end
+        assert_eq!(grid(grid(11) + pair_clocks(3)), grid(11) + pair_clocks(3));
+    }
+
+    #[test]
+    fn shared_edges_hold_opposite_normals() {
+        let (u, v) = (
+            [5i64 << 30, -3 << 29, 7],
+            [-(1i64 << 32), 9 << 28, -(5 << 31)],
+        );
+        for shift in 0..5 {
+            for negate in [false, true] {
+                let e = edge_normal(&u, &v, negate, shift);
+                let back = edge_normal(&v, &u, negate, shift);
+                assert_eq!(e.map(|c| c.wrapping_neg()), back);
+            }
+        }
+    }
+}
