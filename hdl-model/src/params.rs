@@ -58,9 +58,10 @@ impl Params {
     /// larger scene streams through them in blocks), 32 sectors (and the culling unit's 16
     /// polar bands), 2 rays per clock, the compact datapath: the fewest lanes in a power-of-two
     /// number of banks that cast the Cornell box at under 1 cycle a ray and its 1,216-patch
-    /// subdivision at under 4 (docs/PERFORMANCE.md, "Builds that fit": 0.98 and 3.85 since
-    /// session 34 charged the bitmap writer's latencies, 0.96 and 3.77 before session 33
-    /// charged its writes; 8 lanes, the default before session 31, give 0.76 and 2.11). Its
+    /// subdivision at under 4 (docs/PERFORMANCE.md, "Builds that fit": 0.99 and 3.86 since
+    /// session 39 charged the exact edge unit's latency, 0.98 and 3.85 since session 34
+    /// charged the bitmap writer's, 0.96 and 3.77 before session 33 charged its writes; 8
+    /// lanes, the default before session 31, give 0.76 and 2.11). Its
     /// area proxy does not fit an ECP5-85k (`area`, session 35: 159,446 LUT4s, 116,591
     /// flip-flops, 270 block RAMs, where 8 lanes take 286,411, 182,923 and 432); of the builds
     /// docs/PERFORMANCE.md lists, two do: one lane at a ray a clock (2.91 and 11.09 cycles a

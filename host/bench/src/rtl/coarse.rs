@@ -16,7 +16,7 @@
 //! their degenerate cases (edges seen end-on, whose cross product cancels; corners at the
 //! origin; origin-wide truncations up to 4 bits).
 
-use super::plane::lattice_point;
+use super::plane::lattice_origins;
 use crate::rng::XorShift;
 use hemi_hdl_model::intersect::coarse::{
     coarse_inside, narrow_patch, Coarse, CoarseRay, Verdict, COARSE_DIR_SHIFT,
@@ -46,14 +46,9 @@ pub fn vectors(
 ) -> (String, Counts) {
     let mut out = Vectors::default();
     let mut rng = XorShift::new(seed ^ 0x5851_f42d_4c95_7f2d);
-    for slot in slots {
-        for a in 0..samples {
-            for b in 0..samples {
-                let o = lattice_point(slot, a, b, samples);
-                for s in slots {
-                    out.scene_patch(s, o, &mut rng);
-                }
-            }
+    for o in lattice_origins(slots, samples) {
+        for s in slots {
+            out.scene_patch(s, o, &mut rng);
         }
     }
     for n in 0..random {
@@ -85,19 +80,9 @@ impl Vectors {
             let (u, v) = (a[k], a[(k + 1) % a.len()]);
             self.edge(&u, &v, shift, negate, &coarse.words[k], kappas[k]);
         }
-        for k in 0..a.len() {
-            let (u, v) = (a[k], a[(k + 1) % a.len()]);
-            let t = rng.f64();
-            let off = (rng.f64() - 0.5) * 1e-5;
-            let g: [f64; 3] = core::array::from_fn(|c| {
-                let centre = a.iter().map(|p| p[c] as f64).sum::<f64>() / a.len() as f64;
-                let on = u[c] as f64 + t * (v[c] - u[c]) as f64;
-                on + off * (on - centre)
-            });
-            self.pair(&direction(g), &coarse, a.len());
+        for d in rays_at(a, rng) {
+            self.pair(&d.map(|c| c >> COARSE_DIR_SHIFT), &coarse, a.len());
         }
-        let d = [0; 3].map(|_| (rng.bits() as i64 >> 33) as f64);
-        self.pair(&direction(d), &coarse, a.len());
     }
 
     fn edge(&mut self, u: &[i64; 3], v: &[i64; 3], shift: u32, neg: bool, w: &[i32; 3], k: u8) {
@@ -135,10 +120,29 @@ impl Vectors {
     }
 }
 
-/// The lane's d' of the unit direction along `g`, as the rotator hands d (Q2.30).
+/// Rays at a patch (corners `a` less the origin), as the rotator hands d (Q2.30): through a
+/// point next to each edge, inside or out by a few parts in 10⁶ of the way to the centre, and
+/// one random ray.
+pub(super) fn rays_at(a: &[[i64; 3]], rng: &mut XorShift) -> Vec<[i32; 3]> {
+    let mut out: Vec<[i32; 3]> = (0..a.len())
+        .map(|k| {
+            let (u, v) = (a[k], a[(k + 1) % a.len()]);
+            let (t, off) = (rng.f64(), (rng.f64() - 0.5) * 1e-5);
+            direction(core::array::from_fn(|c| {
+                let centre = a.iter().map(|p| p[c] as f64).sum::<f64>() / a.len() as f64;
+                let on = u[c] as f64 + t * (v[c] - u[c]) as f64;
+                on + off * (on - centre)
+            }))
+        })
+        .collect();
+    out.push(direction([0; 3].map(|_| (rng.bits() as i64 >> 33) as f64)));
+    out
+}
+
+/// The unit direction along `g` in Q2.30 words.
 fn direction(g: [f64; 3]) -> [i32; 3] {
     let l = g.iter().map(|c| c * c).sum::<f64>().sqrt().max(1e-300);
-    g.map(|c| (((c / l) * (1u64 << 30) as f64).round() as i32) >> COARSE_DIR_SHIFT)
+    g.map(|c| ((c / l) * (1u64 << 30) as f64).round() as i32)
 }
 
 /// Whether slot `w` is planar (a triangle or a quad), the slots the set-up unit sets up.

@@ -17,8 +17,8 @@
 //! distance with their degenerate cases (an edge seen end-on, a corner at the origin), the side
 //! and every truncation, with random masks. Offered back to back, in bursts and after gaps.
 
-use super::coarse::{random_patch, set_up_view};
-use super::plane::lattice_point;
+use super::coarse::{random_patch, rays_at, set_up_view};
+use super::plane::lattice_origins;
 use crate::rng::XorShift;
 use hemi_hdl_model::intersect::coarse::{
     coarse_inside, narrow_patch, CoarseRay, Verdict, COARSE_DIR_SHIFT,
@@ -64,14 +64,9 @@ pub fn vectors(
 ) -> (String, Counts) {
     let mut out = Vectors::new();
     let mut rng = XorShift::new(seed ^ 0x1405_7b7e_f767_814f);
-    for slot in slots {
-        for a in 0..samples {
-            for b in 0..samples {
-                let o = lattice_point(slot, a, b, samples);
-                for s in slots {
-                    out.scene_patch(s, o, &mut rng);
-                }
-            }
+    for o in lattice_origins(slots, samples) {
+        for s in slots {
+            out.scene_patch(s, o, &mut rng);
         }
     }
     for n in 0..random {
@@ -86,7 +81,7 @@ pub fn vectors(
             })
             .collect();
         let negate = rng.bits() & 1 == 1;
-        for d in rays(&relative(&corners, origin), &mut rng) {
+        for d in rays_at(&relative(&corners, origin), &mut rng) {
             let mask = random_mask(&mut rng, corners.len());
             out.pair(
                 &Pair {
@@ -139,7 +134,7 @@ impl Vectors {
         let corners = (0..sides)
             .map(|k| core::array::from_fn(|c| w[1 + 3 * k + c] as i32))
             .collect::<Vec<[i32; 3]>>();
-        for d in rays(&view.corners, rng) {
+        for d in rays_at(&view.corners, rng) {
             let coarse_d = CoarseRay::new(d.map(|c| c >> COARSE_DIR_SHIFT));
             let mask = match coarse_inside(&coarse_d, &coarse, sides) {
                 Verdict::Undecided(mask) => {
@@ -210,30 +205,6 @@ fn relative(corners: &[[i32; 3]], o: [i32; 3]) -> Vec<[i64; 3]> {
         .iter()
         .map(|v| core::array::from_fn(|c| v[c] as i64 - o[c] as i64))
         .collect()
-}
-
-/// Rays at a patch (corners `a` less the origin): through a point next to each edge, inside or
-/// out by a few parts in 10⁶ of the way to the centre, and one random ray.
-fn rays(a: &[[i64; 3]], rng: &mut XorShift) -> Vec<[i32; 3]> {
-    let mut out: Vec<[i32; 3]> = (0..a.len())
-        .map(|k| {
-            let (u, v) = (a[k], a[(k + 1) % a.len()]);
-            let (t, off) = (rng.f64(), (rng.f64() - 0.5) * 1e-5);
-            direction(core::array::from_fn(|c| {
-                let centre = a.iter().map(|p| p[c] as f64).sum::<f64>() / a.len() as f64;
-                let on = u[c] as f64 + t * (v[c] - u[c]) as f64;
-                on + off * (on - centre)
-            }))
-        })
-        .collect();
-    out.push(direction([0; 3].map(|_| (rng.bits() as i64 >> 33) as f64)));
-    out
-}
-
-/// The unit direction along `g` in Q2.30 words, as the rotator hands a ray's.
-fn direction(g: [f64; 3]) -> [i32; 3] {
-    let l = g.iter().map(|c| c * c).sum::<f64>().sqrt().max(1e-300);
-    g.map(|c| ((c / l) * (1u64 << 30) as f64).round() as i32)
 }
 
 /// A mask of at least one of `sides` edges.

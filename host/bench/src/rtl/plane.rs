@@ -71,6 +71,17 @@ pub fn loaded_slots(patches: &[Patch]) -> anyhow::Result<Vec<[u32; PATCH_WORDS]>
         .collect())
 }
 
+/// The origins of a scene's set-up passes: K × K (`k`) lattice points of every slot, slot by
+/// slot.
+pub(super) fn lattice_origins(
+    slots: &[[u32; PATCH_WORDS]],
+    k: u32,
+) -> impl Iterator<Item = [i32; 3]> + '_ {
+    slots.iter().flat_map(move |slot| {
+        (0..k).flat_map(move |a| (0..k).map(move |b| lattice_point(slot, a, b, k)))
+    })
+}
+
 /// The point at lattice cell (a, b) of K × K on a slot's bilinear map, in Q8.24 words.
 pub(super) fn lattice_point(w: &[u32; PATCH_WORDS], a: u32, b: u32, k: u32) -> [i32; 3] {
     let v = |corner: usize, c: usize| w[1 + 3 * corner + c] as i32 as f64;
