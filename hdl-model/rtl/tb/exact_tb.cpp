@@ -106,8 +106,10 @@ int main(int argc, char **argv) {
         read = u.c_addr;
         tb::tick(u);
         clock++;
-        if (!waiting.empty() && clock > pairs[waiting.front()].verdict + 16) {
-            fail("no verdict", waiting.front(), pairs[waiting.front()].verdict, clock);
+        // a verdict that never comes, or a pair the unit never takes
+        size_t late = waiting.empty() ? next : waiting.front();
+        if (late < pairs.size() && clock > pairs[late].verdict + 16) {
+            fail("no verdict", late, pairs[late].verdict, clock);
             bad += pairs.size() - done;
             break;
         }

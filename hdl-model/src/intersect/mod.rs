@@ -1078,7 +1078,19 @@ impl<T: Copy + Default> IntersectUnit<T> {
                         let edges = mask.count_ones() as u8;
                         exact[bank] += exact::pair_clocks(edges);
                         self.stats.exact_edges += edges as u64;
-                        EdgeStage.eval(&ray.dir, lp)
+                        let tok = EdgeStage.eval(&ray.dir, lp);
+                        // the exact unit tests the masked edges alone: the others are positive
+                        debug_assert_eq!(
+                            tok.inside,
+                            (0..lp.sides as usize)
+                                .filter(|k| mask >> k & 1 == 1)
+                                .all(|k| exact::inside_edge(
+                                    &ray.dir.map(|c| c.to_bits()),
+                                    &lp.e[k]
+                                )),
+                            "the undecided edges decide"
+                        );
+                        tok
                     }
                 };
                 if tok.inside {
