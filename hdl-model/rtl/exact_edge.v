@@ -9,8 +9,8 @@
 //   its next edge are read on phases 2 and 3 (c_addr, a synchronous read: c_data holds the
 //   word a clock later), each less the origin on phases 3 and 4;
 // - an edge's window: its cross product's six products on phases 0 to 2 (two a clock), the
-//   dot product's three on phases 3 and 4 of the next window (the edge normal is formed two
-//   clocks after its products: the subtraction with the side, then the truncation);
+//   dot product's three on phases 3 and 4 of the next window (the normal two clocks after its
+//   products: the difference with the side, the truncation's bias; its shift as it is taken);
 // - a multiplier takes five clocks (exact_mul.v), the sum of the dot product and its sign one
 //   more: the pair's verdict is out on the fifteenth clock after its last window began
 //   (out_valid for one clock, with the tag it came with).
