@@ -406,6 +406,10 @@ fn a_scene_streamed_in_blocks_answers_as_one_memory() {
 // copied row is in the block RAMs a clock after the writer decides it
 // (`bitmap_write::{FIFO_LATENCY, WRITE_LATENCY}`). A pass that does not cull is no longer
 // charged a writer's close. The answers are unchanged.
+// Session 39 (the exact edge unit's RTL): a pair the coarse test leaves undecided begins on
+// the unit's five-clock grid and its verdict is out `exact::LATENCY` clocks after its windows
+// (the model had given it 5 × edges + 2 and the verdict at once): 79,414 → 79,434 clocks on the
+// Cornell box. The answers are unchanged.
 const PINNED_CORNELL: (u64, u64, u64) = (0x82b6_a04a_36cc_1ff2, 0xfbb3_33cd_03a3_a913, 0x1_364a);
 const PINNED_CORNELL_NARROW: (u64, u64, u64) =
     (0x119f_86bb_5b47_1a62, 0x3557_eac0_6b61_85bd, 0x473d);

@@ -376,10 +376,9 @@ pub struct Workload {
 
 /// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's, the
 /// coarse edge units', the culling unit's, the set-up unit's, the horizon filter's, the bank
-/// front's, the bitmap writer's and the exact edge unit's (`once`:
-/// none depends on CONFIG's CORDIC words)
-/// and the planar unit's at a depth (each into its own file) on the Cornell box, with the
-/// release build of the generator (`release`) or the test suite's debug build.
+/// front's, the bitmap writer's and the exact edge unit's (`once`: none depends on CONFIG's
+/// CORDIC words) and the planar unit's at a depth (each into its own file) on the Cornell box,
+/// with the release build of the generator (`release`) or the test suite's debug build.
 pub fn vectors(
     cfg: Cordic,
     plane: Option<(u32, &Path)>,

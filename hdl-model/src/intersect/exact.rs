@@ -7,11 +7,12 @@
 //! candidates; 0.022 on its 1,154-patch subdivision).
 //!
 //! **Its clocks.** Two multipliers (34 × 64 bits, five clocks each: operands, eight 18 × 18
-//! tiles, three levels of their sum) form an edge's nine products in a five-clock window of a grid the unit
-//! keeps from reset: the cross product's six in the window's first three clocks, the dot
-//! product's three in the next window's last two, once the edge normal is through the
-//! subtraction, the side and the truncation (two clocks). So edges follow one another every five
-//! clocks, a pair's after the last pair's, and a pair takes five clocks an edge. A pair is taken
+//! tiles, three levels of their sum) form an edge's nine products in a five-clock window of a
+//! grid the unit keeps from reset: the cross product's six in the window's first three clocks,
+//! the dot product's three in the next window's last two, once the edge normal is through the
+//! difference with the side and the truncation's bias (two clocks; its shift as the dot product
+//! takes it). So edges follow one another every five clocks, a pair's after the last pair's,
+//! and a pair takes five clocks an edge. A pair is taken
 //! on the grid's [`GRID_START`] clock; its first edge's two corners are read on the next two
 //! (a corner a clock, as the set-up units read them; each later edge's in the window before
 //! it), each less the origin a clock later, and its first window begins four clocks after it
@@ -63,12 +64,25 @@ pub fn inside_edge(d: &[i32; 3], e: &[i64; 3]) -> bool {
     (0..3).map(|c| d[c] as i128 * e[c] as i128).sum::<i128>() >= 0
 }
 
-/// The exact unit's verdict on a pair: `d` inside every edge of `mask` (bit k the edge from
-/// corner k to the next, `a` the patch's corners less the origin).
-pub fn verdict(a: &[[i64; 3]], mask: u8, negate: bool, shift: u32, d: &[i32; 3]) -> bool {
-    (0..a.len())
+/// Whether `d` is inside every edge of `mask` (bit k the edge from corner k to the next) among
+/// `sides`, edge k's normal being `normal(k)`: what the unit decides of a pair.
+pub fn inside_masked(
+    d: &[i32; 3],
+    mask: u8,
+    sides: usize,
+    normal: impl Fn(usize) -> [i64; 3],
+) -> bool {
+    (0..sides)
         .filter(|k| mask >> k & 1 == 1)
-        .all(|k| inside_edge(d, &edge_normal(&a[k], &a[(k + 1) % a.len()], negate, shift)))
+        .all(|k| inside_edge(d, &normal(k)))
+}
+
+/// The exact unit's verdict on a pair from its corners (`a`, less the origin), the normals
+/// formed as the unit forms them.
+pub fn verdict(a: &[[i64; 3]], mask: u8, negate: bool, shift: u32, d: &[i32; 3]) -> bool {
+    inside_masked(d, mask, a.len(), |k| {
+        edge_normal(&a[k], &a[(k + 1) % a.len()], negate, shift)
+    })
 }
 
 #[cfg(test)]

@@ -1078,19 +1078,15 @@ impl<T: Copy + Default> IntersectUnit<T> {
                         let edges = mask.count_ones() as u8;
                         exact[bank] += exact::pair_clocks(edges);
                         self.stats.exact_edges += edges as u64;
-                        let tok = EdgeStage.eval(&ray.dir, lp);
                         // the exact unit tests the masked edges alone: the others are positive
+                        let d = ray.dir.map(|c| c.to_bits());
+                        let inside = exact::inside_masked(&d, mask, lp.sides as usize, |k| lp.e[k]);
                         debug_assert_eq!(
-                            tok.inside,
-                            (0..lp.sides as usize)
-                                .filter(|k| mask >> k & 1 == 1)
-                                .all(|k| exact::inside_edge(
-                                    &ray.dir.map(|c| c.to_bits()),
-                                    &lp.e[k]
-                                )),
+                            inside,
+                            EdgeStage.eval(&ray.dir, lp).inside,
                             "the undecided edges decide"
                         );
-                        tok
+                        EdgeStage.decided(&ray.dir, lp, inside)
                     }
                 };
                 if tok.inside {

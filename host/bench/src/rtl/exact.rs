@@ -207,11 +207,7 @@ fn relative(corners: &[[i32; 3]], o: [i32; 3]) -> Vec<[i64; 3]> {
         .collect()
 }
 
-/// A mask of at least one of `sides` edges.
+/// A mask of at least one of `sides` edges, each nonzero mask as likely.
 fn random_mask(rng: &mut XorShift, sides: usize) -> u8 {
-    let all = (1u8 << sides) - 1;
-    match (rng.bits() % ((1 << sides) - 1)) as u8 + 1 {
-        m if m <= all => m,
-        _ => all,
-    }
+    (rng.bits() % ((1 << sides) - 1)) as u8 + 1
 }
