@@ -4,7 +4,9 @@
 // forms it (negated when the origin is behind the patch, truncated towards zero by the
 // origin-wide shift, kept to 64 bits), on two multipliers of 34 x 64 bits.
 //
-// Clocks, on a grid of five-clock windows kept from reset (phase = clocks since reset mod 5):
+// Clocks, on a grid of five-clock windows (phase, from 0 after reset):
+// - an idle unit (no edge in a window, none to start, none offered) holds phase 1, so a pair
+//   offered to it is taken at once and its clocks do not depend on the clocks since reset;
 // - a pair is taken on phase 1 when the last pair has no edge left to start; the corners of
 //   its next edge are read on phases 2 and 3 (c_addr, a synchronous read: c_data holds the
 //   word a clock later), each less the origin on phases 3 and 4;
@@ -38,7 +40,8 @@ module exact_edge #(
     output reg  [TW-1:0]        out_tag
 );
     reg [2:0] phase;
-    always @(posedge clk) phase <= rst || phase == 3'd4 ? 3'd0 : phase + 3'd1;
+    wire      idle;
+    always @(posedge clk) phase <= rst || phase == 3'd4 ? 3'd0 : idle ? 3'd1 : phase + 3'd1;
 
     // ---- the pair whose edges are being started, and the next edge's reads ----
     reg [SLOT_BITS-1:0] p_slot;
@@ -47,7 +50,9 @@ module exact_edge #(
     reg [95:0]          p_origin, p_d;
     reg [TW-1:0]        p_tag;
     reg [3:0]           rem;        // its edges not started yet
+    reg                 x_valid, y_valid;   // an edge in a window, an edge's dot product
     assign in_ready = phase == 3'd1 && rem == 4'd0;
+    assign idle = in_ready && !in_valid && !x_valid && !y_valid;
     wire take = in_valid && in_ready;
     wire [3:0] pick = take ? in_mask : rem;
     wire [1:0] k = pick[0] ? 2'd0 : pick[1] ? 2'd1 : pick[2] ? 2'd2 : 2'd3;
@@ -92,7 +97,7 @@ module exact_edge #(
     endfunction
     reg [98:0] s_au;
     // the edge in its window (x) and the edge whose dot product is formed in it (y)
-    reg              x_valid, x_first, x_last, x_negate, y_valid, y_first, y_last;
+    reg              x_first, x_last, x_negate, y_first, y_last;
     reg [2:0]        x_shift, y_shift;
     reg [98:0]       x_au, x_av;
     reg [95:0]       x_d, y_d;

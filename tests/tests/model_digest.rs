@@ -410,7 +410,11 @@ fn a_scene_streamed_in_blocks_answers_as_one_memory() {
 // the unit's five-clock grid and its verdict is out `exact::LATENCY` clocks after its windows
 // (the model had given it 5 × edges + 2 and the verdict at once): 79,414 → 79,434 clocks on the
 // Cornell box. The answers are unchanged.
-const PINNED_CORNELL: (u64, u64, u64) = (0x82b6_a04a_36cc_1ff2, 0xfbb3_33cd_03a3_a913, 0x1_364a);
+// Session 40: the unit's grid holds on the clock that takes a pair while the unit is idle, so
+// a pair offered to an idle unit is taken at once and the model's clocks no longer depend on
+// how many engines the host splits a run over (`exact::Schedule`): 79,434 → 79,429 clocks on the
+// Cornell box. The answers are unchanged.
+const PINNED_CORNELL: (u64, u64, u64) = (0x82b6_a04a_36cc_1ff2, 0xfbb3_33cd_03a3_a913, 0x1_3645);
 const PINNED_CORNELL_NARROW: (u64, u64, u64) =
     (0x119f_86bb_5b47_1a62, 0x3557_eac0_6b61_85bd, 0x473d);
 const PINNED_TEAPOT: (u64, u64, u64) = (0xb7d6_02ab_1be1_4a34, 0x9214_991b_d1f4_7754, 0x7_0a99);

@@ -8,7 +8,7 @@
 //!
 //! **Its clocks.** Two multipliers (34 × 64 bits, five clocks each: operands, eight 18 × 18
 //! tiles, three levels of their sum) form an edge's nine products in a five-clock window of a
-//! grid the unit keeps from reset: the cross product's six in the window's first three clocks,
+//! grid ([`Schedule`]): the cross product's six in the window's first three clocks,
 //! the dot product's three in the next window's last two, once the edge normal is through the
 //! difference with the side and the truncation's bias (two clocks; its shift as the dot product
 //! takes it). So edges follow one another every five clocks, a pair's after the last pair's,
@@ -19,12 +19,18 @@
 //! was taken. Its verdict is out [`LATENCY`] clocks after the clock the next pair could be
 //! taken. Until session 39 the model charged 5 clocks an edge and 2 for the first reads, with
 //! the verdict at once: the RTL showed the multipliers' and the normal's clocks, and the grid.
+//!
+//! **The grid restarts when the unit is idle.** Kept from reset (session 39), a pair's wait
+//! for the grid depended on every clock since reset, so the model's clock counts moved with the
+//! number of engines the host split a run over. Now a unit with no edge in its windows holds
+//! its grid on the clock that takes a pair, and a pair offered to an idle unit is taken at
+//! once: the wait depends on the unit's own last pair alone.
 
 /// Clocks an edge takes of the unit: a window of the grid.
 pub const WINDOW: u64 = 5;
 
 /// The clock of a window (counted from reset, modulo [`WINDOW`]) on which a pair may be taken,
-/// the clock before its first corner's read.
+/// the clock before its first corner's read, until a pair is taken.
 pub const GRID_START: u64 = 1;
 
 /// Clocks from the clock the next pair could be taken to a pair's verdict. That clock is the
@@ -34,14 +40,67 @@ pub const GRID_START: u64 = 1;
 /// fifteenth clock.
 pub const LATENCY: u64 = 14;
 
+/// Clocks from the clock the next pair could be taken to the first clock the unit is idle: its
+/// last edge's cross products take one more window, their dot products the next.
+pub const IDLE_AFTER: u64 = 2 * WINDOW;
+
 /// Clocks of the unit for a pair with `edges` undecided edges.
 pub fn pair_clocks(edges: u8) -> u64 {
     WINDOW * edges as u64
 }
 
-/// The first clock at or after `at` on which a pair may begin (a clock of the grid).
-pub fn grid(at: u64) -> u64 {
-    at + (GRID_START + WINDOW - at % WINDOW) % WINDOW
+/// The unit's grid: when it takes its next pair.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Schedule {
+    /// the clock the next pair could be taken (a clock of the grid)
+    free: u64,
+    /// the first clock of the idle unit, whose grid holds on the clock that takes a pair
+    idle: u64,
+}
+
+impl Default for Schedule {
+    /// As from reset: idle from the grid's first clock.
+    fn default() -> Self {
+        Schedule {
+            free: GRID_START,
+            idle: GRID_START,
+        }
+    }
+}
+
+impl Schedule {
+    /// The clock a pair offered on `at` is taken: at once by an idle unit, else on the first
+    /// clock of the grid at or after both `at` and the last pair's windows.
+    pub fn begin(&self, at: u64) -> u64 {
+        if at >= self.idle {
+            return at;
+        }
+        let wait = at.saturating_sub(self.free);
+        self.free + wait.div_ceil(WINDOW) * WINDOW
+    }
+
+    /// Takes a pair of `edges` undecided edges offered on `at`: the clock it is taken.
+    pub fn take(&mut self, at: u64, edges: u8) -> u64 {
+        let begin = self.begin(at);
+        self.advance(begin, pair_clocks(edges));
+        begin
+    }
+
+    /// Takes, from clock `begin` (of [`Schedule::begin`]), pairs whose windows take `clocks`.
+    pub fn advance(&mut self, begin: u64, clocks: u64) {
+        self.free = begin + clocks;
+        self.idle = self.free + IDLE_AFTER;
+    }
+
+    /// The clock the next pair could be taken.
+    pub fn free(&self) -> u64 {
+        self.free
+    }
+
+    /// The clock of the last verdict.
+    pub fn verdict(&self) -> u64 {
+        self.free + LATENCY
+    }
 }
 
 /// The edge normal of the edge from corner a_k to a_{k+1} (both v − O, 33-bit values) as the
@@ -90,13 +149,20 @@ mod tests {
     use super::*;
 
     #[test]
-    fn a_pair_begins_on_the_grid() {
-        assert_eq!(grid(0), 1);
-        assert_eq!(grid(1), 1);
-        assert_eq!(grid(2), 6);
-        assert_eq!(grid(6), 6);
-        // back to back: the next pair begins where the last one's windows end
-        assert_eq!(grid(grid(11) + pair_clocks(3)), grid(11) + pair_clocks(3));
+    fn a_pair_begins_on_the_grid_or_at_once() {
+        let mut s = Schedule::default();
+        // idle from reset: the grid's first clock, then any clock
+        assert_eq!(s.begin(0), 1);
+        assert_eq!(s.begin(7), 7);
+        assert_eq!(s.take(7, 2), 7);
+        // busy: back to back, or the grid's next clock
+        assert_eq!(s.begin(9), 17);
+        assert_eq!(s.begin(18), 22);
+        assert_eq!(s.begin(26), 27);
+        // idle two windows after the last pair's
+        assert_eq!(s.begin(28), 28);
+        assert_eq!(s.take(40, 1), 40);
+        assert_eq!(s.verdict(), 45 + LATENCY);
     }
 
     #[test]

@@ -536,9 +536,11 @@ struct CompactClocks {
     ready_at: u64,
     release: [u64; 2],
     setup_free: u64,
-    /// the ray group the next ray goes to, and the clock the shared exact edge unit is free
+    /// the ray group the next ray goes to; the shared exact edge unit's grid, and the clock
+    /// the join lets it take its next pair
     next_group: u32,
-    exact_free: u64,
+    exact: exact::Schedule,
+    exact_hold: u64,
     /// the clock each iterative (u,v) unit is free
     uv_free: [u64; UV_UNITS],
     /// the clock the reciprocal unit takes its next component
@@ -1137,11 +1139,6 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 *free = start + counts[b];
                 end = end.max(*free);
             }
-            if exact[b] > 0 {
-                let start = self.clocks.exact_free.max(*free);
-                self.clocks.exact_free = start + exact[b];
-                end = end.max(self.clocks.exact_free);
-            }
         }
         (best, end)
     }
@@ -1178,9 +1175,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 end = end.max(*free);
             }
             if exact[b] > 0 {
-                let at = exact::grid(self.clocks.exact_free.max(*free));
-                self.clocks.exact_free = at + exact[b];
-                exact_end[b] = self.clocks.exact_free + exact::LATENCY;
+                let unit = &mut self.clocks.exact;
+                unit.advance(unit.begin(self.clocks.exact_hold.max(*free)), exact[b]);
+                exact_end[b] = unit.verdict();
                 end = end.max(exact_end[b]);
             }
         }
@@ -1190,14 +1187,15 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 &mut self.clocks.plane_free[group],
                 exact_end[p.bank as usize],
             );
-            self.clocks.exact_free = self.clocks.exact_free.max(taken + 1);
+            self.clocks.exact_hold = self.clocks.exact_hold.max(taken + 1);
         }
         let plane = self.clocks.plane_free[group]
             .iter()
             .copied()
             .max()
             .unwrap_or(0);
-        end.max(self.clocks.exact_free).max(plane)
+        let exact = self.clocks.exact.free().max(self.clocks.exact_hold);
+        end.max(exact).max(plane)
     }
 
     /// The first `n` pairs of `self.inside` (the lanes' own, sorted by bank and place) through

@@ -102,8 +102,8 @@ pub fn vectors(
 struct Vectors {
     text: String,
     counts: Counts,
-    /// The unit's next free clock and the clock the last pair was offered.
-    free: u64,
+    /// The unit's grid and the clock the last pair was offered.
+    unit: exact::Schedule,
     at: u64,
 }
 
@@ -118,7 +118,7 @@ impl Vectors {
         Vectors {
             text,
             counts: Counts::default(),
-            free: 0,
+            unit: exact::Schedule::default(),
             at: 0,
         }
     }
@@ -156,18 +156,19 @@ impl Vectors {
         }
     }
 
-    /// One pair, offered after a gap (none, a few clocks or a few windows), with the model's
-    /// clocks and verdict.
+    /// One pair, with the model's clocks and verdict: offered with the last (back to back), or
+    /// a few clocks after the unit could take it (waiting for the grid), or a few windows after
+    /// (an idle unit takes it at once).
     fn pair(&mut self, p: &Pair, rng: &mut XorShift) {
-        self.at += match rng.bits() % 10 {
-            0..=4 => 0,
-            5..=7 => 1 + rng.bits() % 6,
-            _ => 10 + rng.bits() % 30,
+        let free = self.at.max(self.unit.free());
+        self.at = match rng.bits() % 10 {
+            0..=4 => self.at,
+            5..=7 => free + 1 + rng.bits() % 6,
+            _ => free + 10 + rng.bits() % 30,
         };
         let edges = p.mask.count_ones() as u8;
-        let begin = exact::grid(self.at.max(self.free));
-        self.free = begin + exact::pair_clocks(edges);
-        let verdict = self.free + exact::LATENCY;
+        let begin = self.unit.take(self.at, edges);
+        let verdict = self.unit.verdict();
         let a = relative(&p.corners, p.origin);
         let inside = exact::verdict(&a, p.mask, p.negate, p.shift, &p.d);
         let v: Vec<String> = (0..4)
