@@ -138,16 +138,31 @@ pub const RAY_SIDE: Placed = Placed {
     ffs: 3_427 - 98,
 };
 
-/// The compact datapath's shared exact edge unit, `rtl/exact_edge.v` (session 39: 2,754 LUT4s
+/// The compact datapath's shared exact edge unit, `rtl/exact_edge.v` (session 40: 2,756 LUT4s
 /// and 3,270 flip-flops placed, 416 of them its harness's input chain, corner word and output
-/// register; 16 DSP tiles for its two 34 × 64 multipliers; 108.9 and 111.3 MHz at seeds 1 and
-/// 2). The rules it replaces (two 34 × 62 multipliers, the cross product's subtraction, the
-/// shift, the side, the dot product's sums) gave 919 LUT4s and 846 flip-flops: the RTL's
-/// multipliers take five clocks each, their tiles' sums in carry chains, and the operands,
-/// corners and edge normals of two edges are registered.
+/// register; 16 DSP tiles for its two 34 × 64 multipliers; 110.1 MHz. Session 39's, before an
+/// idle unit held its grid: 2,754 LUT4s, 108.9 and 111.3 MHz at seeds 1 and 2). The rules it
+/// replaces (two 34 × 62 multipliers, the cross product's subtraction, the shift, the side, the
+/// dot product's sums) gave 919 LUT4s and 846 flip-flops: the RTL's multipliers take five
+/// clocks each, their tiles' sums in carry chains, and the operands, corners and edge normals
+/// of two edges are registered.
 pub const EXACT_UNIT: Placed = Placed {
-    luts: 2_754,
+    luts: 2_756,
     ffs: 3_270 - 416,
+};
+
+/// A compact build's plane unit, one a ray group, `rtl/group_plane.v` (session 40: 5,798 LUT4s
+/// and 6,658 flip-flops placed, 305 of them its harness's input chain and output register; 12
+/// DSP tiles for n · d, 14 block RAMs for its normal memory, its minima and their generation
+/// bits, counted as memories; 108.6 and 113.7 MHz at seeds 1 and 2). Its divider is most of it
+/// (2,245 LUT4s and 1,217 carry cells in synthesis, its remainders and divisors 5,478
+/// flip-flops). The rules it replaces (the wide datapath's lane's) gave the default build's
+/// two units, with the lanes' hand-off registers and 10 % for control, 5,552 LUT4s and 13,120
+/// flip-flops, now 11,631 and 13,062: they counted a divider stage's subtract, not the select
+/// of the remainder after it.
+pub const GROUP_PLANE_UNIT: Placed = Placed {
+    luts: 5_798,
+    ffs: 6_658 - 305,
 };
 
 /// The rotator at the reset CORDIC configuration (24 iterations, 32-bit words), `rtl/rotator.v`
@@ -429,22 +444,14 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     let mut coarse = Proxy::default();
     coarse.mul(12 * l as u32, 18, 18);
     coarse.placed(l, COARSE_TEST);
-    // the plane units, PLANE_UNITS a ray group: n · d, divider, running minimum (as the wide
-    // datapath's lane has them) and the min tree; each lane's hand-off register (its pair's
-    // slot and h from its word) and the oldest-first arbiter's compares of ray tags
+    // the plane units, PLANE_UNITS a ray group, as placed ([`GROUP_PLANE_UNIT`]: n · d on
+    // twelve tiles, the divider, each ray's minimum); each lane's hand-off register (its
+    // pair's slot and h from its word) and the oldest-first arbiter's compares of ray tags
     let units = params.ray_groups as u64 * PLANE_UNITS as u64;
     let mut plane = Proxy::default();
     plane.mul(3 * units as u32, 32, 32);
-    plane.add(units * 2, 94);
-    plane.add(units * crate::intersect::DIV_LATENCY as u64, DIV_BITS);
-    plane.reg(units * crate::intersect::DIV_LATENCY as u64 * DIV_STAGE_BITS);
-    plane.add(units, 64);
-    plane.reg(units * (94 + 64 + 64));
-    plane.add(units, 64 + 16);
-    plane.reg(units * 80);
+    plane.placed(units, GROUP_PLANE_UNIT);
     plane.reg(l * (16 + H_BITS + 8 + 1));
-    // the normal read from the group's normal memory, registered
-    plane.reg(units * 3 * 32);
     plane.add(l, 8);
     // the shared exact edge unit as placed ([`EXACT_UNIT`]), its two 34 × 64 multipliers of
     // eight tiles each; the queue of undecided pairs before it (with their mask of undecided
@@ -505,9 +512,16 @@ fn compact_memories(params: &Params) -> Proxy {
         p.mem(2 * params.bank_slots as u64, COARSE_WORD);
     }
     p.mem(slots * 16, 32);
-    // each ray group's normal memory (n of every slot, written with patch memory)
+    // each ray group's normal memory (n of every slot, written with patch memory), and its
+    // plane units' minima, an entry {t, slot, side, g} a ray tag, a copy for the minimum and
+    // one for the readout, and each copy's generation bits
+    let slot_bits = 64 - (slots - 1).max(1).leading_zeros() as u64;
     for _ in 0..params.ray_groups {
         p.mem(slots, 3 * 32);
+    }
+    for _ in 0..2 * params.ray_groups as usize * PLANE_UNITS {
+        p.mem(params.ray_slots() as u64, 31 + slot_bits + 2);
+        p.mem(params.ray_slots() as u64, 1);
     }
     if params.sectors > 0 {
         for _ in 0..params.banks() * params.ray_groups {

@@ -226,6 +226,16 @@ pub const EXACT_BENCH: Bench = Bench {
     report: "exact",
 };
 
+/// A compact build's plane unit (`group_plane.v`): a ray group's pairs found inside, each
+/// ray's answer out compared with the model's clock and answer, after a reset that must empty
+/// the minima the unit held before it.
+pub const GROUP_PLANE_BENCH: Bench = Bench {
+    top: "group_plane",
+    sources: &["group_plane.v", "plane_divider.v"],
+    cpp: "tb/group_plane_tb.cpp",
+    report: "group_plane",
+};
+
 /// The multipliers: `array_mul.v` (a multiplier without DSP tiles) and `const_mul.v` (a product
 /// by a constant), against the exact integer products, not against model vectors.
 pub const MUL_BENCH: Bench = Bench {
@@ -329,6 +339,7 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     }
     lint_top(MUL_BENCH.top, MUL_BENCH.sources, &[])?;
     lint_top(EXACT_BENCH.top, EXACT_BENCH.sources, &[])?;
+    lint_top(GROUP_PLANE_BENCH.top, GROUP_PLANE_BENCH.sources, &[])?;
     for d in designs(cfg, depth) {
         let generics: Vec<String> = d.params.iter().map(|(k, v)| format!("-G{k}={v}")).collect();
         lint_top(d.top, &d.files, &generics)?;
@@ -372,11 +383,14 @@ pub struct Workload {
     /// Random patches for the exact edge unit, five pairs each (after the pairs of the scene's
     /// set-up passes from `coarse_samples` points a slot).
     pub exact_random: u32,
+    /// Random rays for a compact build's plane unit, zero to six pairs each (after the rays
+    /// of the scene's set-up passes from `coarse_samples` points a slot).
+    pub group_plane_random: u32,
 }
 
 /// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's, the
 /// coarse edge units', the culling unit's, the set-up unit's, the horizon filter's, the bank
-/// front's, the bitmap writer's and the exact edge unit's (`once`: none depends on CONFIG's
+/// front's, the bitmap writer's, the exact edge unit's and the plane unit's (`once`: none depends on CONFIG's
 /// CORDIC words) and the planar unit's at a depth (each into its own file) on the Cornell box,
 /// with the release build of the generator (`release`) or the test suite's debug build.
 pub fn vectors(
@@ -384,7 +398,7 @@ pub fn vectors(
     plane: Option<(u32, &Path)>,
     w: Workload,
     release: bool,
-    (cordic_out, once): (&Path, Option<[&Path; 8]>),
+    (cordic_out, once): (&Path, Option<[&Path; 9]>),
 ) -> Result<(), String> {
     let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
     if release {
@@ -397,7 +411,7 @@ pub fn vectors(
         .args(["--scene", "scenes/cornell.toml"])
         .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
         .args(["--random", &n(w.random)]);
-    if let Some([regs, coarse, cull, setup, horizon, bank, writer, exact]) = once {
+    if let Some([regs, coarse, cull, setup, horizon, bank, writer, exact, group_plane]) = once {
         c.arg("--regs")
             .arg(regs)
             .args(["--regs-steps", &n(w.regs_steps)]);
@@ -423,6 +437,9 @@ pub fn vectors(
         c.arg("--exact")
             .arg(exact)
             .args(["--exact-random", &n(w.exact_random)]);
+        c.arg("--group-plane")
+            .arg(group_plane)
+            .args(["--group-plane-random", &n(w.group_plane_random)]);
     }
     if let Some((depth, out)) = plane {
         c.arg("--plane")
@@ -610,6 +627,7 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     WRITER_MUTANT.caught("mutant-writer", &[], &[file("writer.txt")], opt)?;
     BANK_PASS_MUTANT.caught("mutant-bank-pass", &[], &[file("bank.txt")], opt)?;
     EXACT_MUTANT.caught("mutant-exact", &[], &[file("exact.txt")], opt)?;
+    GROUP_PLANE_MUTANT.caught("mutant-group-plane", &[], &[file("group_plane.txt")], opt)?;
     MUL_MUTANT.caught("mutant-mul", &[], &[MUL_CLOCKS.to_string()], opt)?;
     Ok(())
 }
@@ -635,6 +653,18 @@ const EXACT_MUTANT: Mutant = Mutant {
     from: "c_ones <= ~(4'hF << q_shift);",
     to: "c_ones <= ~(4'hF << q_shift) & 4'h7;",
     what: "bit 3 of the exact edge unit's rounding bias",
+};
+
+/// The plane unit's readout reading a tag's entry a clock early (WAIT 41 as 40): the answer
+/// out a clock before the model's, and without the write of a pair taken the clock before the
+/// readout.
+const GROUP_PLANE_MUTANT: Mutant = Mutant {
+    bench: GROUP_PLANE_BENCH,
+    extra: &[],
+    file: "group_plane.v",
+    from: "localparam integer WAIT = 41;",
+    to: "localparam integer WAIT = 40;",
+    what: "bit 0 of the plane unit's readout wait",
 };
 
 /// The constant 15 of need - 1 = 15 + eta + 2^(4 - S) in the set-up unit's κ (one bit: 14), so
@@ -757,14 +787,16 @@ fn cosim_run(
         dir.join("coarse.txt"),
         dir.join("cull.txt"),
     );
-    let (sv, hv, bv, wv, xv) = (
+    let (sv, hv, bv, wv, xv, gv) = (
         dir.join("setup.txt"),
         dir.join("horizon.txt"),
         dir.join("bank.txt"),
         dir.join("writer.txt"),
         dir.join("exact.txt"),
+        dir.join("group_plane.txt"),
     );
-    let once_out = once.then_some([&rv, &ev, &uv, &sv, &hv, &bv, &wv, &xv].map(PathBuf::as_path));
+    let once_out =
+        once.then_some([&rv, &ev, &uv, &sv, &hv, &bv, &wv, &xv, &gv].map(PathBuf::as_path));
     vectors(
         cfg,
         depth.map(|d| (d, pv.as_path())),
@@ -813,6 +845,9 @@ fn cosim_run(
         let exe = build(EXACT_BENCH, &[], &src, &dir.join("exact"), opt)?;
         let r = cosim(EXACT_BENCH, &exe, &[xv.display().to_string()])?;
         out.push(("exact edge unit".to_string(), r));
+        let exe = build(GROUP_PLANE_BENCH, &[], &src, &dir.join("group-plane"), opt)?;
+        let r = cosim(GROUP_PLANE_BENCH, &exe, &[gv.display().to_string()])?;
+        out.push(("plane unit".to_string(), r));
         let exe = build(MUL_BENCH, &[], &src, &dir.join("mul"), opt)?;
         let r = cosim(MUL_BENCH, &exe, &[MUL_CLOCKS.to_string()])?;
         out.push(("multipliers".to_string(), r));
@@ -853,6 +888,7 @@ pub fn ci() -> Result<(), String> {
         bank_random: 40,
         writer_random: 2_000,
         exact_random: 2_000,
+        group_plane_random: 2_000,
     };
     let reports = cosim_run(cfg, Some(depth), true, w, false, "-O1", &dir)?;
     let bad: u64 = reports.iter().map(|(_, r)| r.mismatches).sum();
@@ -1124,6 +1160,18 @@ pub fn exact_design() -> Design {
     }
 }
 
+/// A compact build's plane unit's harness (the normal memory is the unit's, one a ray group).
+pub fn group_plane_design() -> Design {
+    Design {
+        name: "group-plane".to_string(),
+        top: "syn_group_plane",
+        files: [GROUP_PLANE_BENCH.sources, &["syn/syn_group_plane.v"]].concat(),
+        params: vec![],
+        summed: true,
+        abc9: false,
+    }
+}
+
 /// A bank's bitmap writer's harness.
 pub fn writer_design() -> Design {
     Design {
@@ -1138,7 +1186,7 @@ pub fn writer_design() -> Design {
 
 /// Every synthesis harness at CORDIC `cfg` and (u,v) depth `depth` (the final line's figures
 /// are theirs: [`datapath`]).
-fn designs(cfg: Cordic, depth: u32) -> [Design; 14] {
+fn designs(cfg: Cordic, depth: u32) -> [Design; 15] {
     [
         rotator_design(cfg),
         plane_design(depth),
@@ -1154,6 +1202,7 @@ fn designs(cfg: Cordic, depth: u32) -> [Design; 14] {
         writer_design(),
         bank_pass_design(),
         exact_design(),
+        group_plane_design(),
     ]
 }
 
@@ -1478,6 +1527,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
         bank_random: 1_000,
         writer_random: 100_000,
         exact_random: 40_000,
+        group_plane_random: 100_000,
     };
     let mut total = Cosim::default();
     for (k, cfg) in CONFIGS.iter().enumerate() {

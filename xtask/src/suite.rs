@@ -130,9 +130,11 @@ fn steps() -> Vec<Step> {
                    stopping for a full FIFO) and the set-up unit's answers behind it, those \
                    answers into the bank's bitmaps, a bank's bitmap writer's copies and \
                    completions on the model's clocks, the exact edge unit's verdicts on the \
-                   Cornell box's undecided pairs and random ones with their clocks, and the \
-                   multipliers against exact products, then thirteen one-bit mutants of the \
-                   RTL shown to be caught (cargo xtask rtl is the full form, with synthesis)",
+                   Cornell box's undecided pairs and random ones with their clocks, the \
+                   plane unit's answers on the Cornell box's rays and random ones with their \
+                   clocks, and the multipliers against exact products, then fourteen one-bit \
+                   mutants of the RTL shown to be caught (cargo xtask rtl is the full form, \
+                   with synthesis)",
             kind: Kind::Check(crate::rtl::ci),
         },
         Step {

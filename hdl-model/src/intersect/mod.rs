@@ -63,6 +63,7 @@ pub mod bitmap_write;
 pub mod coarse;
 pub mod cull;
 pub mod exact;
+pub mod group_plane;
 pub mod horizon;
 pub mod patch_mem;
 pub mod uv;
@@ -545,8 +546,9 @@ struct CompactClocks {
     uv_free: [u64; UV_UNITS],
     /// the clock the reciprocal unit takes its next component
     recip_free: u64,
-    /// the clock each ray group's plane units are free
+    /// the clock each ray group's plane units are free, and take their next readout
     plane_free: [[u64; PLANE_UNITS]; MAX_GROUPS],
+    readout_free: [u64; MAX_GROUPS],
     /// the next set-up key seen at the ray FIFO's head ([`IntersectUnit::announce`]) and the
     /// clock it was first seen
     lookahead: Option<(SetupKey, u64)>,
@@ -973,6 +975,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let mut hit = None;
         let mut finish = now + 1;
         let mut wants_uv_unit = false;
+        let mut group = None;
         if !ray.bypass {
             let key = (ray.origin, ray.frame.filter(|_| self.culls()));
             if self.stale(&key) {
@@ -992,6 +995,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             } else {
                 now
             };
+            group = Some(self.clocks.next_group as usize);
             let (planar, end) = self.lanes(&ray, bin, at);
             let (curved, bez_end) = self.bezier_lane(mem, &ray, now);
             finish = end.max(bez_end);
@@ -1002,25 +1006,30 @@ impl<T: Copy + Default> IntersectUnit<T> {
             hit = best.map(|b| self.hit_out(mem, &ray, b));
         }
         let ready = self
-            .retire_clock(finish, wants_uv_unit)
+            .retire_clock(finish, group, wants_uv_unit)
             .max(self.last_ready);
         self.last_ready = ready;
         let pushed = self.retire.push((ready, RayOut { ray, hit }));
         debug_assert!(pushed.is_ok(), "ray slots");
     }
 
-    /// The clock a ray whose lanes are done on `finish` can leave (before in-order
-    /// retirement): the min tree and the divider, then the wide datapath's unrolled (u,v) pipe
-    /// for every ray, or the compact datapath's first free iterative (u,v) unit for a planar hit
-    /// that wants (u,v) (the others pass it by).
-    fn retire_clock(&mut self, finish: u64, wants_uv_unit: bool) -> u64 {
-        // a compact build's plane unit reads its pair's n from its group's normal memory first
-        let read_n = self.params.compact as u64 * NORMAL_READ;
-        let base = finish + merge_latency(self.params.banks()) + DIV_LATENCY as u64 + read_n;
+    /// The clock a ray whose lanes (of ray `group`, if it was cast) are done on `finish` can
+    /// leave (before in-order retirement). The wide datapath: the min tree and the divider,
+    /// then its unrolled (u,v) pipe for every ray. The compact one: the group's plane unit's
+    /// answer ([`group_plane`]) against the Bezier lane's (a level of the min tree and the
+    /// select), then the first free iterative (u,v) unit for a planar hit that wants (u,v)
+    /// (the others pass it by).
+    fn retire_clock(&mut self, finish: u64, group: Option<usize>, wants_uv_unit: bool) -> u64 {
         let depth = self.depth as u64;
         if !self.params.compact {
+            let base = finish + merge_latency(self.params.banks()) + DIV_LATENCY as u64;
             return base + depth + 1;
         }
+        let asked = match group {
+            Some(g) => group_plane::readout(&mut self.clocks.readout_free[g], finish),
+            None => finish,
+        };
+        let base = asked + group_plane::ANSWER_LATENCY + merge_latency(1);
         if !wants_uv_unit {
             return base + 1;
         }

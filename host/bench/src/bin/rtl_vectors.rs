@@ -33,7 +33,7 @@
 use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
 use hemi_bench::rtl::{
-    bank, coarse, cordic, cull, exact, horizon, plane, reach, regs, setup, writer,
+    bank, coarse, cordic, cull, exact, group_plane, horizon, plane, reach, regs, setup, writer,
 };
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
@@ -68,6 +68,8 @@ struct Args {
     writer_random: usize,
     exact: Option<String>,
     exact_random: usize,
+    group_plane: Option<String>,
+    group_plane_random: usize,
     seed: u64,
 }
 
@@ -101,6 +103,8 @@ fn parse() -> Result<Args> {
         writer_random: 1_000,
         exact: None,
         exact_random: 4_000,
+        group_plane: None,
+        group_plane_random: 4_000,
         seed: 0x2545_f491_4f6c_dd1d,
     };
     let mut it = std::env::args().skip(1);
@@ -135,13 +139,15 @@ fn parse() -> Result<Args> {
             "--writer-random" => a.writer_random = value()?.parse()?,
             "--exact" => a.exact = Some(value()?),
             "--exact-random" => a.exact_random = value()?.parse()?,
+            "--group-plane" => a.group_plane = Some(value()?),
+            "--group-plane-random" => a.group_plane_random = value()?.parse()?,
             "--seed" => a.seed = value()?.parse()?,
             s if !s.starts_with('-') && a.out.is_empty() => a.out = s.to_string(),
             s => bail!("unknown argument `{s}`"),
         }
     }
     if a.out.is_empty() || !a.cfg.is_valid() || !(1..=24).contains(&a.depth) {
-        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--bank OUT8 --bank-random N] [--writer OUT9 --writer-random N] [--exact OUT10 --exact-random N] [--seed S]");
+        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--bank OUT8 --bank-random N] [--writer OUT9 --writer-random N] [--exact OUT10 --exact-random N] [--group-plane OUT11 --group-plane-random N] [--seed S]");
     }
     Ok(a)
 }
@@ -174,7 +180,15 @@ fn main() -> Result<()> {
     );
     // the scene's slots as the model's patch memory holds them, read once for every unit
     let wanted = [
-        &a.plane, &a.coarse, &a.cull, &a.setup, &a.horizon, &a.bank, &a.writer, &a.exact,
+        &a.plane,
+        &a.coarse,
+        &a.cull,
+        &a.setup,
+        &a.horizon,
+        &a.bank,
+        &a.writer,
+        &a.exact,
+        &a.group_plane,
     ];
     let slots = match &scene {
         Some(s) if wanted.iter().any(|o| o.is_some()) => plane::loaded_slots(&s.kernel_patches())?,
@@ -241,6 +255,15 @@ fn main() -> Result<()> {
         println!(
             "rtl-vectors: exact pairs={} edges={} inside={} undecided={}",
             c.pairs, c.edges, c.inside, c.undecided
+        );
+    }
+    if let Some(out) = &a.group_plane {
+        let random = a.group_plane_random;
+        let (text, c) = group_plane::vectors(&slots, a.coarse_samples, random, a.seed);
+        std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
+        println!(
+            "rtl-vectors: group plane rays={} pairs={} hits={} no_t={}",
+            c.rays, c.pairs, c.hits, c.no_t
         );
     }
     Ok(())

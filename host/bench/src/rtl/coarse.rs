@@ -140,7 +140,7 @@ pub(super) fn rays_at(a: &[[i64; 3]], rng: &mut XorShift) -> Vec<[i32; 3]> {
 }
 
 /// The unit direction along `g` in Q2.30 words.
-fn direction(g: [f64; 3]) -> [i32; 3] {
+pub(super) fn direction(g: [f64; 3]) -> [i32; 3] {
     let l = g.iter().map(|c| c * c).sum::<f64>().sqrt().max(1e-300);
     g.map(|c| ((c / l) * (1u64 << 30) as f64).round() as i32)
 }

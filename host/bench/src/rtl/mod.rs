@@ -16,13 +16,16 @@
 //! - [`regs`]: the register file and its AHB-Lite bus interface;
 //! - [`writer`]: a bank's bitmap writer (the set-up answers into the candidate bitmaps);
 //! - [`exact`]: the compact datapath's shared exact edge unit (the pairs the lanes' coarse test
-//!   leaves undecided).
+//!   leaves undecided);
+//! - [`group_plane`]: a compact build's plane unit (a ray group's pairs found inside, each
+//!   ray's nearest hit).
 
 pub mod bank;
 pub mod coarse;
 pub mod cordic;
 pub mod cull;
 pub mod exact;
+pub mod group_plane;
 pub mod horizon;
 pub mod plane;
 pub mod reach;
