@@ -15,7 +15,9 @@
 //! few parts in 10⁶, and a random ray), the pairs the coarse test leaves undecided with their
 //! masks and one in four of the others with a random mask; and random patches of every size and
 //! distance with their degenerate cases (an edge seen end-on, a corner at the origin), the side
-//! and every truncation, with random masks. Offered back to back, in bursts and after gaps.
+//! and every truncation, with random masks. Offered back to back, a few clocks after the unit
+//! could take them (waiting for its grid) or a few windows after (an idle unit takes them at
+//! once).
 
 use super::coarse::{random_patch, rays_at, set_up_view};
 use super::plane::lattice_origins;

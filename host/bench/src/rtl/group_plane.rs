@@ -12,11 +12,12 @@
 //! Workloads: rays of a scene's set-up passes (from K × K lattice points of every planar slot,
 //! through points next to each edge of each slot and a random one) with every slot they are
 //! inside, as the exact edge test decides; then random rays of zero to six random pairs: random
-//! normals, a fifth of the directions at right angles to the normal (n · d = 0), h of every
-//! size and both signs (t behind the origin, out of Q8.24's range), and equal t on slots
-//! whose normals are the same (the lower slot wins). A ray's pairs come one a clock or after
-//! gaps, interleaved with those of up to eight other rays; its readout comes once its last
-//! pair is taken, in ray order, one a clock.
+//! normals, a fifth of the directions at right angles to the normal (n · d = 0), h for a
+//! random t in Q8.24's range or, one in four, of every size and both signs (t behind the
+//! origin, out of Q8.24's range, truncated to 0), and equal t on slots whose normals are the
+//! same (the lower slot wins). A ray's pairs come one a clock or after gaps, interleaved with
+//! those of up to eight other rays; its readout comes once its last pair is taken, in ray
+//! order, one a clock.
 
 use super::coarse::{direction, rays_at, set_up_view};
 use super::plane::lattice_origins;
@@ -126,11 +127,12 @@ fn random_pairs(normals: &[[i32; 3]], rng: &mut XorShift) -> Vec<Pair> {
         } else {
             d
         };
-        out.push(Pair {
-            slot,
-            h: random_h(rng),
-            d,
-        });
+        let h = if rng.bits().is_multiple_of(4) {
+            random_h(rng)
+        } else {
+            h_for_a_t(rng, normals[slot], d)
+        };
+        out.push(Pair { slot, h, d });
     }
     if count > 0 && rng.bits().is_multiple_of(3) {
         // the same h on the slot that shares this one's normal: the same t
@@ -146,6 +148,15 @@ fn random_pairs(normals: &[[i32; 3]], rng: &mut XorShift) -> Vec<Pair> {
 /// A direction (Q2.30) with n · d = 0 exactly.
 fn at_right_angles(n: [i32; 3]) -> [i32; 3] {
     [-n[1], n[0], 0]
+}
+
+/// h (Q.54) for which the slot of normal `n` is met along `d` at a random t in Q8.24's range
+/// (near the origin to far): t (n · d), so that a ray's pairs mostly hit and its minimum has
+/// several to choose from.
+fn h_for_a_t(rng: &mut XorShift, n: [i32; 3], d: [i32; 3]) -> PlaneDist {
+    let den: i128 = (0..3).map(|c| n[c] as i128 * d[c] as i128).sum();
+    let t = (rng.bits() >> (33 + rng.bits() % 12)) as i128;
+    PlaneDist::from_bits((t * den) >> 30)
 }
 
 /// h (Q.54) of either sign, from a few units of 2^-54 to 2^66.
