@@ -16,8 +16,10 @@
 //   reads the entry on R + 41 and sets its generation bits to the entry's g on R + 42, which
 //   empties it; the answer is out on R + 43 for one clock (group_plane::ANSWER_LATENCY), with
 //   the tag it was asked with;
-// - after a reset the unit reads every tag's entry in the same way, a tag a clock, and is
-//   ready TAGS clocks after it.
+// - after a reset the unit reads every tag's entry in the same way, a tag a clock, and raises
+//   `ready` TAGS + 1 clocks after it; the pairs still in the divider are dropped.
+// A tag is reused once its answer is out (its generation bits are set on R + 42, and a pair
+// of the tag's next ray reaches the minimum 39 clocks after it is taken).
 module group_plane #(
     parameter integer SLOT_BITS = 10,
     parameter integer TW = 10          // the tag's bits
@@ -37,7 +39,7 @@ module group_plane #(
     // a ray's answer asked for
     input  wire                 rd_valid,
     input  wire [TW-1:0]        rd_tag,
-    // high once the reset's sweep is done (TAGS + 1 clocks): pairs and readouts from then
+    // high once the reset's sweep is done: pairs and readouts from then
     output wire                 ready,
     output reg                  out_valid,
     output reg                  out_hit,
@@ -123,8 +125,8 @@ module group_plane #(
     // An entry holds a ray's minimum when its g differs from its tag's generation bit, which
     // the readout sets to g: so a readout empties its entry without writing it (the block
     // RAM's write port is the minimum's), and the minimum writes g as the bit's complement.
-    // The generation bits are LUT RAM, a copy for each reader; after a reset each is set to
-    // its entry's g, a tag a clock, before the unit is ready.
+    // The generation bits, a copy for each reader (Yosys maps each to a block RAM); after a
+    // reset each is set to its entry's g, a tag a clock, before the unit is ready.
     localparam integer EW = 31 + SLOT_BITS + 2;
     localparam integer TAGS = 1 << TW;
     reg [EW-1:0] near_u [0:TAGS-1];   // read by the minimum
@@ -138,7 +140,8 @@ module group_plane #(
     reg [EW-1:0]   k_old, m_old;
     reg [EW-2:0]   k_pair, m_pair, w1_body, w2_body;   // {t, slot, front}
     always @(posedge clk) begin
-        k_v <= !rst && dv_v && dv_hit;
+        // a pair in the divider when the unit was reset comes out during the sweep: dropped
+        k_v <= !rst && ready && dv_v && dv_hit;
         k_tag <= dv_pay[TW-1:0];
         k_pair <= {dv_t, dv_pay[DPW-1 -: SLOT_BITS], dv_pay[TW]};
         k_gen <= gen_u[dv_pay[TW-1:0]];

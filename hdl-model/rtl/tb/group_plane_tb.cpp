@@ -1,7 +1,7 @@
 // A compact build's plane unit's testbench: reads the model's vectors (hemi-bench's
 // `rtl-vectors --group-plane`, host/bench/src/rtl/group_plane.rs), writes the normal memory,
-// hands the unit the first pairs and resets it (their minima must be gone), waits for it to be
-// ready, hands it each pair on the model's clock and asks each ray's answer on the model's
+// hands the unit the first pairs and resets it with them in flight (their minima must be
+// gone), waits for it to be ready, hands it each pair on the model's clock and asks each ray's answer on the model's
 // clock, and checks that each answer is out on the clock the model gives (the readout's clock
 // plus `answer_latency`), with its tag, hit, and for a hit its t, slot and side; and that no
 // answer comes that was not asked for. Prints `group_plane: rays=N vectors=M clocks=C
@@ -80,6 +80,10 @@ int main(int argc, char **argv) {
     std::vector<Readout> readouts;
     uint64_t latency = 0;
     if (!read_vectors(argv[1], normals, pairs, readouts, latency)) return 2;
+    if (readouts.empty()) {
+        fprintf(stderr, "group_plane: no readouts in %s\n", argv[1]);
+        return 2;
+    }
     tb::Stopwatch watch;
     Vgroup_plane u;
     u.clk = 0;
@@ -99,19 +103,21 @@ int main(int argc, char **argv) {
     }
     u.nm_we = 0;
     // the unit used before a reset: the first pairs, their minima never read out, must be gone
-    // after it
+    // after it; the last 64 on the first eight tags, which the sweep empties first, so that
+    // those still in the divider come out after it
     for (int i = 0; i < 50; i++) tb::tick(u);
-    for (size_t i = 0; i < pairs.size() && i < 4000; i++) {
+    size_t dirty = pairs.size() < 4000 ? pairs.size() : 4000;
+    for (size_t i = 0; i < dirty; i++) {
         u.in_valid = 1;
         u.in_slot = pairs[i].slot;
-        u.in_tag = pairs[i].tag;
+        u.in_tag = i + 64 < dirty ? pairs[i].tag : i % 8;
         tb::put(u.in_h, 0, 64, (int64_t)pairs[i].h);
         tb::put(u.in_h, 64, 4, (int64_t)(pairs[i].h >> 64));
         for (int c = 0; c < 3; c++) tb::put(u.in_d, 32 * c, 32, pairs[i].d[c]);
         tb::tick(u);
     }
+    // reset with those pairs still in the unit's pipeline
     u.in_valid = 0;
-    for (int i = 0; i < 50; i++) tb::tick(u);
     u.rst = 1;
     tb::tick(u);
     u.rst = 0;

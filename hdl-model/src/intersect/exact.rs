@@ -29,8 +29,9 @@
 /// Clocks an edge takes of the unit: a window of the grid.
 pub const WINDOW: u64 = 5;
 
-/// The clock of a window (counted from reset, modulo [`WINDOW`]) on which a pair may be taken,
-/// the clock before its first corner's read, until a pair is taken.
+/// The clock of a window on which a pair may be taken, the clock before its first corner's
+/// read (counted modulo [`WINDOW`] from the clock the unit last took a pair when idle, or from
+/// reset): the first clock after reset an idle unit takes a pair on.
 pub const GRID_START: u64 = 1;
 
 /// Clocks from the clock the next pair could be taken to a pair's verdict. That clock is the
@@ -79,8 +80,14 @@ impl Schedule {
         self.free + wait.div_ceil(WINDOW) * WINDOW
     }
 
-    /// Takes a pair of `edges` undecided edges offered on `at`: the clock it is taken.
+    /// Takes a pair of `edges` undecided edges offered on `at`: the clock it is taken. A pair
+    /// has an undecided edge, or the coarse test decided it (the RTL would fall idle a window
+    /// early on an empty mask).
     pub fn take(&mut self, at: u64, edges: u8) -> u64 {
+        debug_assert!(
+            edges > 0,
+            "a pair the exact unit is handed has an undecided edge"
+        );
         let begin = self.begin(at);
         self.advance(begin, pair_clocks(edges));
         begin

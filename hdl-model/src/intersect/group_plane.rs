@@ -11,13 +11,15 @@
 //! levels of their sum ([`DOT_CLOCKS`] after the read), then the divider's
 //! [`DIVIDER_CLOCKS`]; the minimum reads the tag's entry as t leaves the divider and writes it
 //! two clocks later (the block RAM's read takes most of a clock, so it is registered before
-//! the compare; placed without that register, the unit ran at 59 MHz). A ray's answer is asked
+//! the compare; placed without that register, the unit ran at 67 MHz). A ray's answer is asked
 //! for at most once a clock, in ray order within the group, once its lanes are done
 //! ([`readout`]); its entry is read [`T_LATENCY`] + 2 clocks later (after the last write of a
 //! pair taken before the readout) and the answer is out two clocks after that
 //! ([`ANSWER_LATENCY`]). Until session 40 the model charged a compact ray the wide datapath's
-//! min tree over the lanes and its divider (34 clocks) plus the normal's read, from the clock
-//! its lanes were done, whatever the other rays of its group.
+//! min tree over the lanes and its divider ([`super::DIV_LATENCY`], 34 clocks; the RTL
+//! divider itself takes [`DIVIDER_CLOCKS`]) plus the normal's read, from the clock its lanes
+//! were done, whatever the other rays of its group. A tag is reused once its ray's answer is
+//! out (the RTL needs four clocks after the readout).
 
 use super::{DivideStage, EdgeStage, LocalPatch};
 use crate::format::{Coord64, PlaneDist, Unit};

@@ -32,8 +32,8 @@
 //! On the compact datapath a lane has only the edge stage (a coarse test, the undecided pairs
 //! to a shared exact unit): the pairs it finds inside go, with the h of the lane's word, to one
 //! of its ray group's [`PLANE_UNITS`] plane units, which read the slot's n from the group's
-//! normal memory and hold the n · d, the divider and the group's running minimum; a lane whose
-//! pair finds them busy waits with it.
+//! normal memory and hold the n · d, the divider and each ray's running minimum by its tag
+//! ([`group_plane`]); a lane whose pair finds them busy waits with it.
 //!
 //! Then the (u,v) pipe ([`uv`]) locates the hit point on the hit patch. Widths: coordinates Q8.24
 //! (32 bits), a_i 34 bits, e_i ≤ 62 bits (an origin-wide truncation keeps far origins in range),
@@ -367,8 +367,8 @@ pub const UV_UNITS: usize = 2;
 /// Plane units of each ray group in a compact build: the lanes test edges only, and hand each
 /// pair they find inside (with its slot's h from the lane's word) to one of their group's
 /// plane units, which reads the slot's n from the group's normal memory ([`NORMAL_READ`]),
-/// forms n · d, divides and keeps the group's running minimum. A pair takes a plane unit one
-/// clock; a lane whose pair finds them busy holds it and stalls.
+/// forms n · d, divides and keeps each ray's running minimum by its tag ([`group_plane`]). A
+/// pair takes a plane unit one clock; a lane whose pair finds them busy holds it and stalls.
 pub const PLANE_UNITS: usize = 1;
 
 /// Clocks a compact build's plane unit spends reading a pair's unit normal n from its ray
@@ -1013,7 +1013,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
         debug_assert!(pushed.is_ok(), "ray slots");
     }
 
-    /// The clock a ray whose lanes (of ray `group`, if it was cast) are done on `finish` can
+    /// The clock a ray whose lanes (of ray group `group`, if it was cast) are done on `finish` can
     /// leave (before in-order retirement). The wide datapath: the min tree and the divider,
     /// then its unrolled (u,v) pipe for every ray. The compact one: the group's plane unit's
     /// answer ([`group_plane`]) against the Bezier lane's (a level of the min tree and the

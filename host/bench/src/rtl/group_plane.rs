@@ -14,10 +14,10 @@
 //! inside, as the exact edge test decides; then random rays of zero to six random pairs: random
 //! normals, a fifth of the directions at right angles to the normal (n · d = 0), h for a
 //! random t in Q8.24's range or, one in four, of every size and both signs (t behind the
-//! origin, out of Q8.24's range, truncated to 0), and equal t on slots whose normals are the
-//! same (the lower slot wins). A ray's pairs come one a clock or after gaps, interleaved with
-//! those of up to eight other rays; its readout comes once its last pair is taken, in ray
-//! order, one a clock.
+//! origin, out of Q8.24's range, truncated to 0), and a third with one more pair, of equal t on
+//! the slot of the same normal (the lower slot wins). A ray's pairs come one a clock or after
+//! gaps, interleaved with those of up to eight other rays; its readout comes once its last
+//! pair is taken, in ray order, one a clock.
 
 use super::coarse::{direction, rays_at, set_up_view};
 use super::plane::lattice_origins;
