@@ -156,9 +156,8 @@ pub const EXACT_UNIT: Placed = Placed {
 /// DSP tiles for n · d, 14 block RAMs for its normal memory, its minima and their generation
 /// bits, counted as memories; 114.1 MHz at seed 1. Before its minimum dropped the pairs in
 /// flight across a reset, one term more, Yosys mapped it into 5,798 LUT4s: 108.6 and 113.7
-/// MHz at seeds 1 and 2). Its divider is most of it
-/// (2,245 LUT4s and 1,217 carry cells in synthesis, its remainders and divisors 5,478
-/// flip-flops). The rules it replaces (the wide datapath's lane's) gave the default build's
+/// MHz at seeds 1 and 2). Its divider is most of it (2,245 LUT4s and 1,217 carry cells in
+/// synthesis, its remainders and divisors 5,478 flip-flops). The rules it replaces (the wide datapath's lane's) gave the default build's
 /// two units, with the lanes' hand-off registers and 10 % for control, 5,552 LUT4s and 13,120
 /// flip-flops, now 12,133 and 13,062: they counted a divider stage's subtract, not the select
 /// of the remainder after it.

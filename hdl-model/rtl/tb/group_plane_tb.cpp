@@ -44,6 +44,16 @@ static bool read_i128(std::istringstream &in, __int128 &out) {
     return true;
 }
 
+// Pair `p` on the unit's inputs, with tag `tag`.
+static void offer(Vgroup_plane &u, const Pair &p, uint32_t tag) {
+    u.in_valid = 1;
+    u.in_slot = p.slot;
+    u.in_tag = tag;
+    tb::put(u.in_h, 0, 64, (int64_t)p.h);
+    tb::put(u.in_h, 64, 4, (int64_t)(p.h >> 64));
+    for (int c = 0; c < 3; c++) tb::put(u.in_d, 32 * c, 32, p.d[c]);
+}
+
 static bool read_vectors(const char *path, std::vector<Normal> &normals, std::vector<Pair> &pairs,
                          std::vector<Readout> &readouts, uint64_t &latency) {
     return tb::read_lines("group_plane", path, [&](const std::string &tag, std::istringstream &in) {
@@ -108,12 +118,7 @@ int main(int argc, char **argv) {
     for (int i = 0; i < 50; i++) tb::tick(u);
     size_t dirty = pairs.size() < 4000 ? pairs.size() : 4000;
     for (size_t i = 0; i < dirty; i++) {
-        u.in_valid = 1;
-        u.in_slot = pairs[i].slot;
-        u.in_tag = i + 64 < dirty ? pairs[i].tag : i % 8;
-        tb::put(u.in_h, 0, 64, (int64_t)pairs[i].h);
-        tb::put(u.in_h, 64, 4, (int64_t)(pairs[i].h >> 64));
-        for (int c = 0; c < 3; c++) tb::put(u.in_d, 32 * c, 32, pairs[i].d[c]);
+        offer(u, pairs[i], i + 64 < dirty ? pairs[i].tag : i % 8);
         tb::tick(u);
     }
     // reset with those pairs still in the unit's pipeline
@@ -137,14 +142,10 @@ int main(int argc, char **argv) {
                    i, i < readouts.size() ? readouts[i].tag : 0, what, model, rtl);
     };
     while (done < readouts.size()) {
-        u.in_valid = next_pair < pairs.size() && pairs[next_pair].at == clock;
-        if (u.in_valid) {
-            const Pair &p = pairs[next_pair++];
-            u.in_slot = p.slot;
-            u.in_tag = p.tag;
-            tb::put(u.in_h, 0, 64, (int64_t)p.h);
-            tb::put(u.in_h, 64, 4, (int64_t)(p.h >> 64));
-            for (int c = 0; c < 3; c++) tb::put(u.in_d, 32 * c, 32, p.d[c]);
+        u.in_valid = 0;
+        if (next_pair < pairs.size() && pairs[next_pair].at == clock) {
+            offer(u, pairs[next_pair], pairs[next_pair].tag);
+            next_pair++;
         }
         u.rd_valid = next_read < readouts.size() && readouts[next_read].at == clock;
         if (u.rd_valid) u.rd_tag = readouts[next_read++].tag;

@@ -18,6 +18,7 @@
 
 use super::plane::lattice_origins;
 use crate::rng::XorShift;
+use hemi_hdl_model::format::PlaneDist;
 use hemi_hdl_model::intersect::coarse::{
     coarse_inside, narrow_patch, Coarse, CoarseRay, Verdict, COARSE_DIR_SHIFT,
 };
@@ -158,6 +159,13 @@ pub(super) struct SetUpView {
     pub shift: u32,
     /// The origin is on the back of the slot (h < 0): the edge words are negated.
     pub negate: bool,
+    /// h = n · (v₀ − O), as the set-up pass forms it (Q.54).
+    pub h: PlaneDist,
+}
+
+/// A slot's unit normal n, its Q2.30 words.
+pub(super) fn normal_words(w: &[u32; PATCH_WORDS]) -> [i32; 3] {
+    core::array::from_fn(|c| w[13 + c] as i32)
 }
 
 /// Slot `w` from origin `o` (Q8.24 words), or `None` if the set-up pass sets nothing up: a slot
@@ -171,13 +179,13 @@ pub(super) fn set_up_view(w: &[u32; PATCH_WORDS], o: [i32; 3]) -> Option<SetUpVi
     let corners: Vec<[i64; 3]> = (0..sides)
         .map(|k| core::array::from_fn(|c| w[1 + 3 * k + c] as i32 as i64 - o[c] as i64))
         .collect();
-    let n: [i32; 3] = core::array::from_fn(|c| w[13 + c] as i32);
     // the set-up pass's rule: an origin on the patch's plane sets nothing up
-    let h = plane_distance(n, corners[0])?;
+    let h = plane_distance(normal_words(w), corners[0])?;
     Some(SetUpView {
         corners,
         shift: origin_shift(o.map(i64::from)),
         negate: h.is_negative(),
+        h,
     })
 }
 

@@ -19,7 +19,7 @@
 //! gaps, interleaved with those of up to eight other rays; its readout comes once its last
 //! pair is taken, in ray order, one a clock.
 
-use super::coarse::{direction, rays_at, set_up_view};
+use super::coarse::{direction, normal_words, rays_at, set_up_view};
 use super::plane::lattice_origins;
 use crate::rng::XorShift;
 use hemi_hdl_model::format::{PlaneDist, Unit};
@@ -68,7 +68,7 @@ pub fn vectors(
     let mut rng = XorShift::new(seed ^ 0x6a09_e667_f3bc_c908);
     let mut normals = vec![[0i32; 3]; SLOTS];
     for (s, w) in slots.iter().enumerate().take(RANDOM_SLOTS) {
-        normals[s] = core::array::from_fn(|c| w[13 + c] as i32);
+        normals[s] = normal_words(w);
     }
     for s in (RANDOM_SLOTS..SLOTS).step_by(2) {
         let n = direction([0; 3].map(|_| (rng.bits() as i64 >> 33) as f64));
@@ -103,13 +103,7 @@ fn scene_pairs(slots: &[[u32; PATCH_WORDS]], o: [i32; 3], d: [i32; 3]) -> Vec<Pa
         let a = &view.corners;
         let all = (1u8 << a.len()) - 1;
         if exact::verdict(a, all, view.negate, view.shift, &d) {
-            let n: [i32; 3] = core::array::from_fn(|c| w[13 + c] as i32);
-            let h = hemi_hdl_model::intersect::plane_distance(n, a[0]);
-            out.push(Pair {
-                slot,
-                h: h.unwrap_or(PlaneDist::ZERO),
-                d,
-            });
+            out.push(Pair { slot, h: view.h, d });
         }
     }
     out
