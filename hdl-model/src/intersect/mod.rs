@@ -995,8 +995,10 @@ impl<T: Copy + Default> IntersectUnit<T> {
             } else {
                 now
             };
-            group = Some(self.clocks.next_group as usize);
-            let (planar, end) = self.lanes(&ray, bin, at);
+            let g = self.clocks.next_group as usize;
+            self.clocks.next_group = (self.clocks.next_group + 1) % self.params.ray_groups.max(1);
+            group = Some(g);
+            let (planar, end) = self.lanes(&ray, g, bin, at);
             let (curved, bez_end) = self.bezier_lane(mem, &ray, now);
             finish = end.max(bez_end);
             let used = &mut self.clocks.release[self.clocks.buffer];
@@ -1042,14 +1044,18 @@ impl<T: Copy + Default> IntersectUnit<T> {
     }
 
     /// The planar lanes on one ray: its nearest planar hit and the clock its last lane is
-    /// done. The ray goes to one group's lanes (round robin); in a compact build each
-    /// candidate's coarse test runs in its lane, the pairs it cannot decide queue for the
-    /// shared exact unit after that lane's last candidate of the ray, and the pairs found
-    /// inside go to the group's plane units (`compact_lanes`).
-    fn lanes(&mut self, ray: &RayIn<T>, bin: Option<(u32, u32)>, now: u64) -> (Option<Best>, u64) {
+    /// done. The ray goes to ray group `group`'s lanes (`start` deals them round robin); in a
+    /// compact build each candidate's coarse test runs in its lane, the pairs it cannot decide
+    /// queue for the shared exact unit after that lane's last candidate of the ray, and the
+    /// pairs found inside go to the group's plane units (`compact_lanes`).
+    fn lanes(
+        &mut self,
+        ray: &RayIn<T>,
+        group: usize,
+        bin: Option<(u32, u32)>,
+        now: u64,
+    ) -> (Option<Best>, u64) {
         let banks = self.params.banks() as usize;
-        let group = self.clocks.next_group as usize;
-        self.clocks.next_group = (self.clocks.next_group + 1) % self.params.ray_groups.max(1);
         let mut counts = [0u64; MAX_LANES as usize];
         // edges the exact unit checks, per bank
         let mut exact = [0u64; MAX_LANES as usize];
