@@ -59,8 +59,17 @@ module ahb_regs #(
     input  wire         result_valid,
     input  wire [127:0] result_words,
     output reg          result_pop,
-    // what the datapath is told
+    // errors the datapath raises on this clock (ERROR bits: NO_FRAME when a ray that rotates
+    // finds no frame)
+    input  wire [31:0]  dp_raise,
+    // what the datapath is told: ENABLE and FRAME_VALID as the access in its data phase
+    // leaves them (the model's tick, which issues entries, runs after its access)
     output wire         enable,
+    output wire         frame_ok,
+    // a slot word written through PATCH_DATA, for the datapath's own copy of patch memory
+    output wire          pm_we,
+    output wire [SLOT_BITS+3:0] pm_addr,
+    output wire [31:0]   pm_data,
     output wire [31:0]  config_active,
     output wire [31:0]  bz_config_active,
     output wire [31:0]  patch_count,
@@ -133,11 +142,12 @@ module ahb_regs #(
     reg [5:0]   count;
 
     assign irq = |(irq_status & irq_enable);
-    assign enable = enable_reg;
+    // (APPLY_CONFIG clears FRAME_VALID; it is refused while anything is busy, so no frame
+    // completes on its clock)
+    assign frame_ok = frame_valid && !apply;
     assign config_active = config_act;
     assign bz_config_active = bz_act;
     assign patch_count = pcount;
-    assign entry_valid = count != 6'd0;
     // a push is written into its bank a clock after its access, from registers (pend_*), so
     // that the LUT RAMs' write enables are a register's fanout and not the access's decoding;
     // the head is read past a write still pending
@@ -148,9 +158,9 @@ module ahb_regs #(
         : fifo_even[head[4:1]];
     wire [255:0] head_odd = pend_odd_we && pend_odd_at == head[4:1] ? pend_odd
         : fifo_odd[head[4:1]];
-    assign entry = head[0] ? head_odd : head_even;
-
-    wire busy = count != 6'd0 || dp_busy;
+    // busy as the model's accesses see it, before their clock's tick: as the last clock left
+    // it (the ray FIFO not empty, or the datapath busy at the end of its clock, `dp_busy`)
+    wire busy = was_busy;
     // the data phase's word within the register groups
     wire [9:0] origin_ix = d_addr - A_ORIGIN, normal_ix = d_addr - A_NORMAL;
     wire [9:0] spin_ix = d_addr - A_SPIN, phi_ix = d_addr - A_PHI, theta_ix = d_addr - A_THETA;
@@ -347,6 +357,16 @@ module ahb_regs #(
         origin[2], origin[1], origin[0], mode};
     wire [255:0] entry_a = d_ray_in_write ? ray_entry : hwdata[1] ? frame_normal : frame_pairs;
     wire [255:0] entry_b = frame_pairs;
+    // an entry queued by this clock's access into an empty FIFO is the head already: the
+    // model's access comes before its tick, which may issue it on the same clock
+    wire bypass = count == 6'd0 && ((d_ctrl_write && !d_ctrl_reset && (hwdata[1] || hwdata[2]))
+        || (d_ray_in_write && staged == 2'd2));
+    assign entry_valid = count != 6'd0 || bypass;
+    assign entry = count == 6'd0 ? entry_a : head[0] ? head_odd : head_even;
+    assign enable = n_enable && !d_ctrl_reset;
+    assign pm_we = hresetn && d_patch_write && !busy && at_slot;
+    assign pm_addr = patch_addr[SLOT_BITS+3:0];
+    assign pm_data = hwdata;
     reg [31:0] n_cycle_hi, n_busy_hi;
 
     task raise(input [31:0] bits);
@@ -458,6 +478,7 @@ module ahb_regs #(
         else if (push_a) n_step = entry_pop ? 6'd0 : 6'd1;
         else n_step = entry_pop && count != 6'd0 ? 6'h3F : 6'd0;
         n_count = count + n_step;
+        if (dp_raise != 32'd0) raise(dp_raise);
         if (frame_done) begin
             n_frame_valid = 1'b1;
             n_irq_status = n_irq_status | I_FRAME;
@@ -587,7 +608,7 @@ module ahb_regs #(
             staged <= n_staged;
             result_word <= n_word;
             count <= n_count;
-            if (entry_pop && count != 6'd0) head <= head + 5'd1;
+            if (entry_pop && (count != 6'd0 || push_a)) head <= head + 5'd1;
             pend_even_we <= even_we;
             pend_odd_we <= odd_we;
             pend_even_at <= even_at;

@@ -26,6 +26,7 @@ module plane_unit #(
     input  wire [IW+3:0] pm_addr,
     input  wire [31:0]   pm_data,
     input  wire [IW:0]   count,     // PATCH_COUNT
+    input  wire          invalidate, // the set-up forgotten (patch memory or PATCH_COUNT written)
     // rays
     input  wire          in_valid,
     output wire          in_ready,
@@ -84,7 +85,7 @@ module plane_unit #(
         end else begin
             in_flight <= in_flight + {8'd0, in_fire} - {8'd0, out_valid};
             if (in_fire) in_seq <= in_seq + 8'd1;
-            if (pm_we) key_valid <= 1'b0;
+            if (pm_we || invalidate) key_valid <= 1'b0;
             else if (lane_ray && stale) begin
                 key_valid <= 1'b1;
                 key_o <= in_origin;

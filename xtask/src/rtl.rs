@@ -256,6 +256,29 @@ pub const REGS_BENCH: Bench = Bench {
     report: "regs",
 };
 
+/// The whole accelerator of the one-lane build (`accel_single.v`: the register file, the angle
+/// unit, the rotator, the planar unit and the result FIFO joined as `Device::tick` joins them),
+/// driven through its AHB-Lite slave by the register driver's accesses, every read compared.
+pub const ACCEL_BENCH: Bench = Bench {
+    top: "accel_single",
+    sources: &[
+        "accel_single.v",
+        "ahb_regs.v",
+        "patch_group.v",
+        "frame_unit.v",
+        "rotator.v",
+        "cordic_pipe.v",
+        "const_mul.v",
+        "add_sub.v",
+        "plane_unit.v",
+        "plane_setup.v",
+        "plane_divider.v",
+        "uv_level.v",
+    ],
+    cpp: "tb/accel_tb.cpp",
+    report: "accel",
+};
+
 /// The planar unit's (u,v) depths co-simulated (CONFIG.DEPTH; 16 is the reset value), at 256
 /// patch slots (IW = 8, what `rtl-vectors` writes for).
 pub const PLANE_DEPTHS: [u32; 2] = [16, 8];
@@ -340,6 +363,7 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
     lint_top(MUL_BENCH.top, MUL_BENCH.sources, &[])?;
     lint_top(EXACT_BENCH.top, EXACT_BENCH.sources, &[])?;
     lint_top(GROUP_PLANE_BENCH.top, GROUP_PLANE_BENCH.sources, &[])?;
+    lint_top(ACCEL_BENCH.top, ACCEL_BENCH.sources, &[])?;
     for d in designs(cfg, depth) {
         let generics: Vec<String> = d.params.iter().map(|(k, v)| format!("-G{k}={v}")).collect();
         lint_top(d.top, &d.files, &generics)?;
@@ -386,11 +410,16 @@ pub struct Workload {
     /// Random rays for a compact build's plane unit, zero to six pairs each (after the rays
     /// of the scene's set-up passes from `coarse_samples` points a slot).
     pub group_plane_random: u32,
+    /// Sample points K × K a slot for the whole one-lane accelerator's hemispheres (same R),
+    /// and random rays after them.
+    pub accel_samples: u32,
+    pub accel_random: u32,
 }
 
 /// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's, the
 /// coarse edge units', the culling unit's, the set-up unit's, the horizon filter's, the bank
-/// front's, the bitmap writer's, the exact edge unit's and the plane unit's (`once`: none depends on CONFIG's
+/// front's, the bitmap writer's, the exact edge unit's, the plane unit's and the whole one-lane
+/// accelerator's (`once`: none depends on CONFIG's
 /// CORDIC words) and the planar unit's at a depth (each into its own file) on the Cornell box,
 /// with the release build of the generator (`release`) or the test suite's debug build.
 pub fn vectors(
@@ -398,7 +427,7 @@ pub fn vectors(
     plane: Option<(u32, &Path)>,
     w: Workload,
     release: bool,
-    (cordic_out, once): (&Path, Option<[&Path; 9]>),
+    (cordic_out, once): (&Path, Option<[&Path; 10]>),
 ) -> Result<(), String> {
     let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
     if release {
@@ -411,7 +440,9 @@ pub fn vectors(
         .args(["--scene", "scenes/cornell.toml"])
         .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
         .args(["--random", &n(w.random)]);
-    if let Some([regs, coarse, cull, setup, horizon, bank, writer, exact, group_plane]) = once {
+    if let Some([regs, coarse, cull, setup, horizon, bank, writer, exact, group_plane, accel]) =
+        once
+    {
         c.arg("--regs")
             .arg(regs)
             .args(["--regs-steps", &n(w.regs_steps)]);
@@ -440,6 +471,10 @@ pub fn vectors(
         c.arg("--group-plane")
             .arg(group_plane)
             .args(["--group-plane-random", &n(w.group_plane_random)]);
+        c.arg("--accel")
+            .arg(accel)
+            .args(["--accel-samples", &n(w.accel_samples)])
+            .args(["--accel-random", &n(w.accel_random)]);
     }
     if let Some((depth, out)) = plane {
         c.arg("--plane")
@@ -556,7 +591,7 @@ const CORDIC_MUTANT: Mutant = Mutant {
 /// Bit 0 of SPIN_C's reset value (the directed workload reads SPIN_C after reset).
 const REGS_MUTANT: Mutant = Mutant {
     bench: REGS_BENCH,
-    extra: &[],
+    extra: &["tb/ahb.h"],
     file: "ahb_regs.v",
     from: "SPIN_C_RESET = 32'h3FFF_FFFF",
     to: "SPIN_C_RESET = 32'h3FFF_FFFE",
@@ -628,6 +663,7 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     BANK_PASS_MUTANT.caught("mutant-bank-pass", &[], &[file("bank.txt")], opt)?;
     EXACT_MUTANT.caught("mutant-exact", &[], &[file("exact.txt")], opt)?;
     GROUP_PLANE_MUTANT.caught("mutant-group-plane", &[], &[file("group_plane.txt")], opt)?;
+    ACCEL_MUTANT.caught("mutant-accel", &[], &[file("accel.txt")], opt)?;
     MUL_MUTANT.caught("mutant-mul", &[], &[MUL_CLOCKS.to_string()], opt)?;
     Ok(())
 }
@@ -665,6 +701,17 @@ const GROUP_PLANE_MUTANT: Mutant = Mutant {
     from: "localparam integer WAIT = 41;",
     to: "localparam integer WAIT = 40;",
     what: "bit 0 of the plane unit's readout wait",
+};
+
+/// The one-lane accelerator's credits one short (255 as 254, bit 0): a ray held back a clock
+/// whenever 254 are held, where the model issues it.
+const ACCEL_MUTANT: Mutant = Mutant {
+    bench: ACCEL_BENCH,
+    extra: &["cordic_rom.vh", "tb/ahb.h"],
+    file: "accel_single.v",
+    from: "localparam [8:0] CREDITS = 9'd255;",
+    to: "localparam [8:0] CREDITS = 9'd254;",
+    what: "bit 0 of the one-lane accelerator's credits",
 };
 
 /// The constant 15 of need - 1 = 15 + eta + 2^(4 - S) in the set-up unit's κ (one bit: 14), so
@@ -787,6 +834,7 @@ fn cosim_run(
         dir.join("coarse.txt"),
         dir.join("cull.txt"),
     );
+    let av = dir.join("accel.txt");
     let (sv, hv, bv, wv, xv, gv) = (
         dir.join("setup.txt"),
         dir.join("horizon.txt"),
@@ -796,7 +844,7 @@ fn cosim_run(
         dir.join("group_plane.txt"),
     );
     let once_out =
-        once.then_some([&rv, &ev, &uv, &sv, &hv, &bv, &wv, &xv, &gv].map(PathBuf::as_path));
+        once.then_some([&rv, &ev, &uv, &sv, &hv, &bv, &wv, &xv, &gv, &av].map(PathBuf::as_path));
     vectors(
         cfg,
         depth.map(|d| (d, pv.as_path())),
@@ -848,6 +896,9 @@ fn cosim_run(
         let exe = build(GROUP_PLANE_BENCH, &[], &src, &dir.join("group-plane"), opt)?;
         let r = cosim(GROUP_PLANE_BENCH, &exe, &[gv.display().to_string()])?;
         out.push(("plane unit".to_string(), r));
+        let exe = build(ACCEL_BENCH, &[], &src, &dir.join("accel"), opt)?;
+        let r = cosim(ACCEL_BENCH, &exe, &[av.display().to_string()])?;
+        out.push(("one-lane accelerator".to_string(), r));
         let exe = build(MUL_BENCH, &[], &src, &dir.join("mul"), opt)?;
         let r = cosim(MUL_BENCH, &exe, &[MUL_CLOCKS.to_string()])?;
         out.push(("multipliers".to_string(), r));
@@ -889,6 +940,8 @@ pub fn ci() -> Result<(), String> {
         writer_random: 2_000,
         exact_random: 2_000,
         group_plane_random: 2_000,
+        accel_samples: 1,
+        accel_random: 500,
     };
     let reports = cosim_run(cfg, Some(depth), true, w, false, "-O1", &dir)?;
     let bad: u64 = reports.iter().map(|(_, r)| r.mismatches).sum();
@@ -1528,6 +1581,8 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
         writer_random: 100_000,
         exact_random: 40_000,
         group_plane_random: 100_000,
+        accel_samples: 1,
+        accel_random: 20_000,
     };
     let mut total = Cosim::default();
     for (k, cfg) in CONFIGS.iter().enumerate() {

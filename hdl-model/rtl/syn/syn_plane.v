@@ -10,7 +10,7 @@ module syn_plane #(
     input  wire sin,
     output reg  sout
 );
-    localparam integer N = (IW + 5) + 32 + (IW + 1) + 192 + 3 + IW + 1;
+    localparam integer N = (IW + 5) + 32 + (IW + 1) + 192 + 3 + IW + 2;
     reg [N-1:0] chain;
     always @(posedge clk) chain <= {chain[N-2:0], sin};
 
@@ -22,7 +22,7 @@ module syn_plane #(
     plane_unit #(.IW(IW), .DEPTH(DEPTH)) dut (
         .clk(clk), .rst(rst),
         .pm_we(chain[0]), .pm_addr(chain[A +: IW + 4]), .pm_data(chain[D +: 32]),
-        .count(chain[C +: IW + 1]),
+        .count(chain[C +: IW + 1]), .invalidate(chain[F + 4 + IW]),
         .in_valid(chain[F]), .in_ready(in_ready),
         .in_origin(chain[O +: 96]), .in_dir(chain[R +: 96]),
         .in_uv(chain[F + 1]), .in_skip_en(chain[F + 2]), .in_skip(chain[F + 3 +: IW]),

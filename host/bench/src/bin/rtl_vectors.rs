@@ -33,7 +33,8 @@
 use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
 use hemi_bench::rtl::{
-    bank, coarse, cordic, cull, exact, group_plane, horizon, plane, reach, regs, setup, writer,
+    accel, bank, coarse, cordic, cull, exact, group_plane, horizon, plane, reach, regs, setup,
+    writer,
 };
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
@@ -70,6 +71,9 @@ struct Args {
     exact_random: usize,
     group_plane: Option<String>,
     group_plane_random: usize,
+    accel: Option<String>,
+    accel_samples: u32,
+    accel_random: usize,
     seed: u64,
 }
 
@@ -105,6 +109,9 @@ fn parse() -> Result<Args> {
         exact_random: 4_000,
         group_plane: None,
         group_plane_random: 4_000,
+        accel: None,
+        accel_samples: 1,
+        accel_random: 500,
         seed: 0x2545_f491_4f6c_dd1d,
     };
     let mut it = std::env::args().skip(1);
@@ -141,13 +148,16 @@ fn parse() -> Result<Args> {
             "--exact-random" => a.exact_random = value()?.parse()?,
             "--group-plane" => a.group_plane = Some(value()?),
             "--group-plane-random" => a.group_plane_random = value()?.parse()?,
+            "--accel" => a.accel = Some(value()?),
+            "--accel-samples" => a.accel_samples = value()?.parse()?,
+            "--accel-random" => a.accel_random = value()?.parse()?,
             "--seed" => a.seed = value()?.parse()?,
             s if !s.starts_with('-') && a.out.is_empty() => a.out = s.to_string(),
             s => bail!("unknown argument `{s}`"),
         }
     }
     if a.out.is_empty() || !a.cfg.is_valid() || !(1..=24).contains(&a.depth) {
-        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--bank OUT8 --bank-random N] [--writer OUT9 --writer-random N] [--exact OUT10 --exact-random N] [--group-plane OUT11 --group-plane-random N] [--seed S]");
+        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--bank OUT8 --bank-random N] [--writer OUT9 --writer-random N] [--exact OUT10 --exact-random N] [--group-plane OUT11 --group-plane-random N] [--accel OUT12 --accel-samples K --accel-random N] [--seed S]");
     }
     Ok(a)
 }
@@ -255,6 +265,16 @@ fn main() -> Result<()> {
         println!(
             "rtl-vectors: exact pairs={} edges={} inside={} undecided={}",
             c.pairs, c.edges, c.inside, c.undecided
+        );
+    }
+    if let (Some(out), Some(s)) = (&a.accel, &scene) {
+        let (samples, random) = (a.accel_samples, a.accel_random);
+        let patches = s.kernel_patches();
+        let (text, c, t) = accel::vectors(&patches, a.circles, samples, random, a.seed)?;
+        std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
+        println!(
+            "rtl-vectors: accel accesses={} clocks={} rays={} hits={}",
+            c.accesses, c.clocks, t.rays, t.hits
         );
     }
     if let Some(out) = &a.group_plane {

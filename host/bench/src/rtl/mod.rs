@@ -18,8 +18,11 @@
 //! - [`exact`]: the compact datapath's shared exact edge unit (the pairs the lanes' coarse test
 //!   leaves undecided);
 //! - [`group_plane`]: a compact build's plane unit (a ray group's pairs found inside, each
-//!   ray's nearest hit).
+//!   ray's nearest hit);
+//! - [`accel`]: the whole accelerator of the one-lane build, through its bus (the register
+//!   driver's accesses, every read compared).
 
+pub mod accel;
 pub mod bank;
 pub mod coarse;
 pub mod cordic;

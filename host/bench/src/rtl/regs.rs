@@ -21,6 +21,7 @@
 
 use crate::rng::XorShift;
 use hemi_hdl_model::device::{Device, ENTRY_WORDS};
+use hemi_hdl_model::driver::RegisterAccess;
 use hemi_hdl_model::intersect::bezier::{BEZIER_ROWS, CP_WORDS};
 use hemi_hdl_model::intersect::patch_mem::CP_BASE;
 use hemi_hdl_model::regs::{self, ctrl, status};
@@ -94,20 +95,34 @@ const OFFSETS: [u32; 49] = [
     0x0FFC,
 ];
 
-/// The model and the file being written.
-struct Bench {
-    dev: Device,
-    text: String,
-    counts: Counts,
+/// The model and the file being written: a register bus that writes down every access it
+/// makes, in this file's lines (the whole accelerator's vectors, [`super::accel`], drive the
+/// register driver over it).
+pub(super) struct Bench {
+    pub(super) dev: Device,
+    pub(super) text: String,
+    pub(super) counts: Counts,
 }
 
 impl Bench {
+    /// A bench over `dev`, idle for the RTL's first clock (the first access's address phase:
+    /// the model idles one clock to match).
+    pub(super) fn new(dev: Device) -> Self {
+        let mut b = Bench {
+            dev,
+            text: String::new(),
+            counts: Counts::default(),
+        };
+        b.idle(1);
+        b
+    }
+
     /// The model's clock (CYCLE: it restarts at each soft reset).
     fn clock(&self) -> u64 {
         self.dev.cycles()
     }
 
-    fn write(&mut self, addr: u32, data: u32) {
+    pub(super) fn write(&mut self, addr: u32, data: u32) {
         let (clk, irq) = (self.clock(), self.dev.irq_line() as u32);
         let _ = writeln!(self.text, "W {clk} {addr:x} {data:x} {irq}");
         self.dev.write(addr, data);
@@ -118,7 +133,7 @@ impl Bench {
 
     /// A read; a PATCH_DATA read's wait states first (clocks of counting: the testbench sees
     /// them as HREADYOUT low).
-    fn read(&mut self, addr: u32) {
+    pub(super) fn read(&mut self, addr: u32) -> u32 {
         let waits = regs::read_waits(addr);
         for _ in 0..waits {
             self.dev.tick();
@@ -130,9 +145,10 @@ impl Bench {
         let _ = writeln!(self.text, "R {clk} {addr:x} {data:x} {irq}");
         self.counts.accesses += 1;
         self.counts.clocks += 1;
+        data
     }
 
-    fn idle(&mut self, n: u32) {
+    pub(super) fn idle(&mut self, n: u32) {
         for _ in 0..n {
             self.dev.tick();
         }
@@ -226,7 +242,7 @@ fn step(b: &mut Bench, rng: &mut XorShift, slots: u32) {
     match rng.bits() % 20 {
         0 | 1 => {
             let addr = OFFSETS[(rng.bits() % OFFSETS.len() as u64) as usize];
-            b.read(addr)
+            b.read(addr);
         }
         2 => {
             let addr = OFFSETS[(rng.bits() % OFFSETS.len() as u64) as usize];
@@ -260,7 +276,9 @@ fn step(b: &mut Bench, rng: &mut XorShift, slots: u32) {
             b.read(lo);
             b.read(lo + 4);
         }
-        11 => b.read(regs::RESULT_OUT),
+        11 => {
+            b.read(regs::RESULT_OUT);
+        }
         12 => b.idle(1 + (rng.bits() % 5) as u32),
         13 => b.write(regs::MODE, mode_word(rng)),
         14 => b.write(regs::CONFIG, config_word(rng)),
@@ -270,7 +288,9 @@ fn step(b: &mut Bench, rng: &mut XorShift, slots: u32) {
             b.write(reg, value(rng));
         }
         17 => b.write(regs::SKIP_PATCH, value(rng)),
-        _ => b.read(regs::STATUS),
+        _ => {
+            b.read(regs::STATUS);
+        }
     }
 }
 
@@ -299,7 +319,9 @@ fn patch_burst(b: &mut Bench, rng: &mut XorShift, slots: u32) {
     for _ in 0..1 + rng.bits() % 20 {
         match write {
             true => b.write(regs::PATCH_DATA, value(rng)),
-            false => b.read(regs::PATCH_DATA),
+            false => {
+                b.read(regs::PATCH_DATA);
+            }
         }
     }
 }
@@ -367,17 +389,20 @@ fn directed(b: &mut Bench) {
     b.write(regs::IRQ_STATUS, 0xF);
 }
 
+/// The driver's bus, written down access by access.
+impl RegisterAccess for Bench {
+    fn read(&mut self, offset: u32) -> u32 {
+        Bench::read(self, offset)
+    }
+    fn write(&mut self, offset: u32, value: u32) {
+        Bench::write(self, offset, value)
+    }
+}
+
 /// The register workload: the directed start, then `steps` random steps from `seed`.
 pub fn vectors(steps: usize, seed: u64) -> (String, Counts) {
-    let mut b = Bench {
-        dev: Device::new(),
-        text: String::new(),
-        counts: Counts::default(),
-    };
+    let mut b = Bench::new(Device::new());
     let slots = b.dev.read(regs::CAPS) >> 16;
-    // the RTL's first data phase is its second clock (the first is the first access's address
-    // phase): the model idles one clock to match
-    b.idle(1);
     directed(&mut b);
     let mut rng = XorShift::new(seed);
     for _ in 0..steps {
