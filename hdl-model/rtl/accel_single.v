@@ -39,9 +39,19 @@ module accel_single #(
     output wire [31:0] hrdata,
     output wire        hreadyout,
     output wire        hresp,
-    output wire        irq
+    output wire        irq,
+    // the stream port (CAPS_LANES bit 24): on a clock without a bus access, a ray entry in
+    // (its direction, z in 95:64) unless `sp_full`, and the whole result at the head out when
+    // `sp_valid` (its four words, word 0 in 31:0)
+    input  wire        sp_push,
+    input  wire [95:0] sp_dir,
+    input  wire        sp_pop,
+    output wire        sp_full,
+    output wire        sp_valid,
+    output wire [127:0] sp_result
 );
-    // `Params::SINGLE.caps_word()`: one lane, one ray a clock, no culling, the stream port
+    // `Params::SINGLE.caps_word()`: one lane, one ray a clock, no culling, the stream port (bit
+    // 24)
     localparam [31:0] CAPS_LANES = 32'h0100_0101;
     localparam [31:0] E_NO_FRAME = 32'h010;
     localparam [31:0] R_HIT = 32'h8000_0000, R_FRONT = 32'h4000_0000, R_ERROR = 32'h2000_0000,
@@ -76,6 +86,8 @@ module accel_single #(
         .frame_angles({phi32, theta32, psi32}), .stack_high(8'd0),
         .result_push(retire), .result_level(rf_count[7:0]), .result_valid(rf_count != 9'd0),
         .result_words(rf_head), .result_pop(result_pop), .dp_raise(raised),
+        .sp_push(sp_push), .sp_dir(sp_dir), .sp_pop(sp_pop), .sp_full(sp_full),
+        .sp_valid(sp_valid),
         .enable(enable), .frame_ok(frame_ok), .pm_we(pm_we), .pm_addr(pm_addr),
         .pm_data(pm_data), .config_active(config_active), .bz_config_active(bz_config_active),
         .patch_count(patch_count), .apply(apply), .soft_reset(soft_reset),
@@ -171,6 +183,7 @@ module accel_single #(
     reg [127:0] rf [0:255];
     reg [7:0]   rf_wp, rf_rp;
     assign rf_head = rf[rf_rp];
+    assign sp_result = rf_head;
     always @(posedge hclk) if (retire) rf[rf_wp] <= words;
 
     // ---- the places, the credits and BUSY (the datapath's, as the clock leaves it)

@@ -62,6 +62,15 @@ module ahb_regs #(
     // errors the datapath raises on this clock (ERROR bits: NO_FRAME when a ray that rotates
     // finds no frame)
     input  wire [31:0]  dp_raise,
+    // the stream port (a DMA pair beside the bus, CAPS_LANES bit 24), on clocks without an
+    // access: a ray entry in (its direction; MODE, ORIGIN and SKIP_PATCH as RAY_IN latches
+    // them; dropped if the FIFO is full, which `sp_full` said) and a whole result out (when
+    // `sp_valid`: none is being read through RESULT_OUT)
+    input  wire         sp_push,
+    input  wire [95:0]  sp_dir,
+    input  wire         sp_pop,
+    output wire         sp_full,
+    output wire         sp_valid,
     // what the datapath is told: ENABLE and FRAME_VALID as the access in its data phase
     // leaves them (the model's tick, which issues entries, runs after its access)
     output wire         enable,
@@ -123,7 +132,9 @@ module ahb_regs #(
     reg [31:0] config_reg, config_act, bz_reg, bz_act, error, mode, skip_reg, patch_addr, pcount;
     reg [3:0]  irq_status, irq_enable;
     reg        enable_reg, frame_valid, was_busy;
-    reg [63:0] cycles, busy_cycles;
+    // (CYCLE readable by a simulation harness without a bus access: accel_sim.cpp)
+    reg [63:0] cycles /* verilator public_flat_rd */;
+    reg [63:0] busy_cycles;
     reg [31:0] cycle_hi, busy_hi, results_done;
     reg [31:0] origin [0:2];
     reg [31:0] normal [0:2];
@@ -355,13 +366,18 @@ module ahb_regs #(
         32'h0002_0000};
     wire [255:0] ray_entry = {hwdata, staging[1], staging[0], skip_reg[31] ? skip_reg : 32'd0,
         origin[2], origin[1], origin[0], mode};
-    wire [255:0] entry_a = d_ray_in_write ? ray_entry : hwdata[1] ? frame_normal : frame_pairs;
+    wire [255:0] stream_entry = {sp_dir, skip_reg[31] ? skip_reg : 32'd0, origin[2], origin[1],
+        origin[0], mode};
+    wire [255:0] entry_a = sp_push ? stream_entry : d_ray_in_write ? ray_entry
+        : hwdata[1] ? frame_normal : frame_pairs;
     wire [255:0] entry_b = frame_pairs;
     // an entry queued by this clock's access into an empty FIFO is the head already: the
     // model's access comes before its tick, which may issue it on the same clock
     wire bypass = count == 6'd0 && ((d_ctrl_write && !d_ctrl_reset && (hwdata[1] || hwdata[2]))
-        || (d_ray_in_write && staged == 2'd2));
+        || (d_ray_in_write && staged == 2'd2) || sp_push);
     assign entry_valid = count != 6'd0 || bypass;
+    assign sp_full = count == RAY_DEPTH[5:0];
+    assign sp_valid = result_valid && result_word == 2'd0;
     assign entry = count == 6'd0 ? entry_a : head[0] ? head_odd : head_even;
     assign enable = n_enable && !d_ctrl_reset;
     assign pm_we = hresetn && d_patch_write && !busy && at_slot;
@@ -455,6 +471,8 @@ module ahb_regs #(
             if (hwdata[2]) queue;
         end
         if (d_ray_in_write && staged == 2'd2) queue;
+        if (sp_push && !sp_full) push_a = 1'b1;
+        if (sp_pop && sp_valid) result_pop = 1'b1;
         if (d_rd) begin
             case (d_addr)
                 A_CYCLE_LO: n_cycle_hi = cycles[63:32];

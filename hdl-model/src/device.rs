@@ -496,6 +496,11 @@ impl Device {
         true
     }
 
+    /// Whether [`Device::stream_pop`] would give a result now.
+    pub fn stream_ready(&self) -> bool {
+        self.result_word == 0 && !self.result_fifo.is_empty()
+    }
+
     /// The stream port's result side: the oldest whole result (four words; u, v are 0 in a
     /// SHORT one), unless none is ready or RESULT_OUT has been read part-way into it.
     pub fn stream_pop(&mut self) -> Option<[u32; 4]> {

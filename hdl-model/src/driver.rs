@@ -22,6 +22,21 @@ pub trait RegisterAccess {
     }
 }
 
+/// A bus that can tell its accelerator's clock without an access: the model's CYCLE counter,
+/// or a simulator's. The host's engines count the clocks of a pass with it, where reading
+/// CYCLE_LO and CYCLE_HI through the bus would spend two of them.
+pub trait ClockedBus: RegisterAccess {
+    /// Clocks the accelerator has run since its last reset, as CYCLE would read after the
+    /// last access.
+    fn clocks(&self) -> u64;
+}
+
+impl ClockedBus for ModelBus {
+    fn clocks(&self) -> u64 {
+        self.dev.cycles()
+    }
+}
+
 /// The stream port: a DMA pair between the MCU's memory and the accelerator's FIFOs, moving up
 /// to [`StreamPort::rays_per_clock`] ray entries in and as many results out per clock, beside the
 /// register bus.

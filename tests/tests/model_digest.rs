@@ -568,7 +568,7 @@ fn split_pass(config: ModelConfig, engines: usize) -> ((u64, u64), (u64, u64)) {
     for (e, part) in batches.chunks(per_engine).enumerate() {
         let mut engine = model.engine(&patches);
         for (k, batch) in part.iter().enumerate() {
-            Model::begin_batch(&mut engine, first + (e * per_engine + k) as u64);
+            <Model as Engines>::begin_batch(&mut engine, first + (e * per_engine + k) as u64);
             let rings = 0..view.rings().len();
             engine.cast_hemispheres(batch, &view, rings, true, |_, _, _, _| {});
         }

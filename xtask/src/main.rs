@@ -6,6 +6,8 @@
 //! - `test`: the whole test suite, as CI runs it (`.ci/run` calls exactly `cargo xtask test`).
 //! - `rtl`: the accelerator's RTL linted, co-simulated against the model and synthesised
 //!   (`rtl.rs`).
+//! - `rtl-sim`: the one-lane accelerator's RTL Verilated into the simulator `hemi --backend
+//!   rtl` drives (`target/rtl/sim/accel-sim`).
 //! - `layout`: the architecture's invariants the compiler does not check (no import cycle in the
 //!   host crates, a library without CLI or serial crates, short functions).
 //! - `qemu [ELF]`: boot the firmware in QEMU, UART on a pty, defmt log decoded on the terminal.
@@ -45,6 +47,8 @@ commands:
                               (reset configurations; --all-configs: the rotator's others
                               too); ends with `cosim_vectors=N
                               cosim_mismatches=M fmax_mhz=F luts=L dsps=D brams=B`
+  rtl-sim                     the simulator `hemi --backend rtl` runs: the one-lane build's RTL
+                              Verilated (installs Verilator) into target/rtl/sim/accel-sim
   layout                      check the host crates' architecture: no import cycle between
                               modules, no CLI/serial crate or environment variable in the
                               library, no function over 150 lines (main: 60)
@@ -77,6 +81,7 @@ fn main() -> ExitCode {
         "test" => suite::main(rest),
         "layout" => layout::check().map_err(util::Failure::Failed),
         "rtl" => rtl::main(rest),
+        "rtl-sim" => rtl::sim_main(rest),
         "qemu" => boards::qemu(rest),
         "flash" => boards::flash(rest),
         "help" | "-h" | "--help" => {

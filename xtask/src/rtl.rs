@@ -279,6 +279,59 @@ pub const ACCEL_BENCH: Bench = Bench {
     report: "accel",
 };
 
+/// The one-lane accelerator as the simulator `--backend rtl` drives (`tb/accel_sim.cpp`): the
+/// same RTL, its bus and stream port taken from the host's commands on standard input.
+const SIM_BENCH: Bench = Bench {
+    cpp: "tb/accel_sim.cpp",
+    ..ACCEL_BENCH
+};
+
+/// Where `rtl-sim` leaves the simulator, under the workspace (the CLI's `--rtl-sim` default).
+const SIM_EXE: &str = "target/rtl/sim/accel-sim";
+
+/// Builds the simulator of `--backend rtl` (`SIM_EXE`) with C++ optimisation `opt`; its path.
+pub fn sim(opt: &str) -> Result<PathBuf, String> {
+    let exe = build(SIM_BENCH, &[], &rtl_dir(), &work_dir("sim-build")?, opt)?;
+    let to = crate::util::root().join(SIM_EXE);
+    work_dir("sim")?;
+    std::fs::copy(&exe, &to)
+        .map_err(|e| format!("copying {} to {}: {e}", exe.display(), to.display()))?;
+    Ok(to)
+}
+
+/// `cargo xtask rtl-sim`: the simulator of `--backend rtl`, Verilator installed first.
+pub fn sim_main(args: &[String]) -> Result<(), crate::util::Failure> {
+    use crate::util::Failure;
+    if let Some(extra) = args.first() {
+        return Err(Failure::Usage(format!(
+            "`rtl-sim` takes no arguments, got `{extra}`"
+        )));
+    }
+    crate::setup::verilator().map_err(Failure::Failed)?;
+    let exe = sim("-O2").map_err(Failure::Failed)?;
+    say(format!(
+        "the RTL's simulator for --backend rtl: {}",
+        exe.display()
+    ));
+    Ok(())
+}
+
+/// The CLI on the RTL's simulator at `exe` against the model of the same build
+/// (`host/cli/tests/rtl_cli.rs`, its ignored tests): form factors, hits and clocks.
+fn backend_rtl_checked(exe: &Path) -> Result<(), String> {
+    let mut c = cargo([
+        "test",
+        "-p",
+        "hemi-cli",
+        "--test",
+        "rtl_cli",
+        "--",
+        "--ignored",
+    ]);
+    c.env("HEMI_RTL_SIM", exe);
+    run(c)
+}
+
 /// The planar unit's (u,v) depths co-simulated (CONFIG.DEPTH; 16 is the reset value), at 256
 /// patch slots (IW = 8, what `rtl-vectors` writes for).
 pub const PLANE_DEPTHS: [u32; 2] = [16, 8];
@@ -948,7 +1001,8 @@ pub fn ci() -> Result<(), String> {
     if bad > 0 {
         return Err(format!("{bad} co-simulation mismatches"));
     }
-    mutants_caught(cfg, &dir, "-O1")
+    mutants_caught(cfg, &dir, "-O1")?;
+    backend_rtl_checked(&sim("-O1")?)
 }
 
 /// Synthesis and place-and-route figures of one build.

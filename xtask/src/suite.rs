@@ -132,9 +132,12 @@ fn steps() -> Vec<Step> {
                    completions on the model's clocks, the exact edge unit's verdicts on the \
                    Cornell box's undecided pairs and random ones with their clocks, the \
                    plane unit's answers on the Cornell box's rays and random ones with their \
-                   clocks, and the multipliers against exact products, then fourteen one-bit \
-                   mutants of the RTL shown to be caught (cargo xtask rtl is the full form, \
-                   with synthesis)",
+                   clocks, the multipliers against exact products, and the whole one-lane \
+                   accelerator through its AHB-Lite bus and stream port (the register \
+                   driver's own accesses, every read and result compared), then fifteen \
+                   one-bit mutants of the RTL shown to be caught, and `hemi --backend rtl` on \
+                   the Verilated accelerator against the model of the same build, form factors, \
+                   hits and clocks (cargo xtask rtl is the full form, with synthesis)",
             kind: Kind::Check(crate::rtl::ci),
         },
         Step {

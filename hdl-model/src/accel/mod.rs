@@ -19,7 +19,7 @@
 //! - `set_origin_patch` becomes the SKIP_PATCH register, latched with every ray, as the soft
 //!   engine applies it to every cast.
 
-use crate::driver::{Driver, DriverError, ModelBus, RegisterAccess};
+use crate::driver::{ClockedBus, Driver, DriverError, ModelBus, RegisterAccess};
 use crate::format::{Coord, Unit};
 use crate::intersect::bezier::{BEZIER_ROWS, CP_WORDS};
 use crate::intersect::patch_mem::{BezierSlot, PatchWords, KIND_QUAD, KIND_TRIANGLE, PATCH_WORDS};
@@ -163,11 +163,6 @@ impl ModelAccelerator {
         Ok(acc)
     }
 
-    /// Clocks the model has run (the CYCLE counter, read without spending bus cycles on it).
-    pub fn cycles(&self) -> u64 {
-        self.driver.bus().device().cycles()
-    }
-
     /// The Bezier unit's work counters: patch tests, subdivision steps, leaves, clocks.
     pub fn bezier_stats(&self) -> crate::intersect::bezier::BezierStats {
         self.driver.bus().device().bezier_stats()
@@ -176,6 +171,14 @@ impl ModelAccelerator {
     /// The lanes' work counters: candidates tested, rays culled, set-up passes.
     pub fn lane_stats(&self) -> crate::intersect::LaneStats {
         self.driver.bus().device().lane_stats()
+    }
+}
+
+impl<B: ClockedBus> RegisterAccelerator<B> {
+    /// Clocks the accelerator has run (its CYCLE counter, read without spending bus cycles on
+    /// it).
+    pub fn cycles(&self) -> u64 {
+        self.driver.bus().clocks()
     }
 }
 

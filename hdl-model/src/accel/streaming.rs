@@ -19,8 +19,8 @@
 
 extern crate alloc;
 
-use super::{decode, ModelAccelerator, ModelConfig, ModelError, Normalise, RingCursor, MISS};
-use crate::driver::ModelBus;
+use super::{decode, ModelConfig, ModelError, Normalise, RegisterAccelerator, RingCursor, MISS};
+use crate::driver::{ClockedBus, ModelBus};
 use crate::intersect::bezier::BEZIER_ROWS;
 #[cfg(doc)]
 use crate::intersect::patch_mem::PATCH_WORDS;
@@ -34,11 +34,11 @@ use hemi_kernel::hemisphere::Hemisphere;
 use hemi_kernel::patch::{Patch, Shape};
 use hemi_kernel::rotation::Rotation;
 
-/// The model's accelerator over a scene of any size: [`ModelAccelerator`] with the scene's
-/// patches at hand, loading them block by block when they do not fit at once. A scene that fits
-/// is one block and costs nothing more than the accelerator alone.
-pub struct StreamingModel<'p> {
-    hw: ModelAccelerator,
+/// The accelerator over a scene of any size: a [`RegisterAccelerator`] (the model's, by
+/// default) with the scene's patches at hand, loading them block by block when they do not fit
+/// at once. A scene that fits is one block and costs nothing more than the accelerator alone.
+pub struct StreamingModel<'p, B: ClockedBus = ModelBus> {
+    hw: RegisterAccelerator<B>,
     patches: &'p [Patch],
     /// consecutive ranges of `patches`, each within the build's memories
     blocks: Vec<Range<usize>>,
@@ -61,7 +61,28 @@ impl<'p> StreamingModel<'p> {
         if !config.params.is_valid() {
             return Err(ModelError::BadParams);
         }
-        let mut hw = ModelAccelerator::unattached(ModelBus::with_params(config.params));
+        Self::with_bus(patches, config, ModelBus::with_params(config.params))
+    }
+
+    /// Blocks a model of `params` cuts `patches` into (1 when they fit its patch memory).
+    pub fn blocks_needed(patches: &[Patch], params: Params) -> usize {
+        blocks(patches, params.capacity() as usize).len()
+    }
+
+    /// The lanes' work counters over every block: candidates tested, rays culled, set-up
+    /// passes.
+    pub fn lane_stats(&self) -> crate::intersect::LaneStats {
+        self.hw.lane_stats()
+    }
+}
+
+impl<'p, B: ClockedBus> StreamingModel<'p, B> {
+    /// The accelerator behind `bus` (its own patch capacity, from CAPS) configured with
+    /// `config`'s CORDIC, (u,v) and Bezier settings, and the first block of `patches` loaded:
+    /// the model's, or another implementation's behind the same registers (the RTL in a
+    /// simulator).
+    pub fn with_bus(patches: &'p [Patch], config: ModelConfig, bus: B) -> Result<Self, ModelError> {
+        let mut hw = RegisterAccelerator::unattached(bus);
         hw.configure(config)?;
         hw.norm = Normalise::around(patches, config.flatness)?;
         let blocks = blocks(patches, hw.driver.patch_capacity() as usize);
@@ -78,11 +99,6 @@ impl<'p> StreamingModel<'p> {
             load_clocks,
             align_clocks: 0,
         })
-    }
-
-    /// Blocks a model of `params` cuts `patches` into (1 when they fit its patch memory).
-    pub fn blocks_needed(patches: &[Patch], params: Params) -> usize {
-        blocks(patches, params.capacity() as usize).len()
     }
 
     /// Clocks the model has run, the stream's writes included.
@@ -126,12 +142,6 @@ impl<'p> StreamingModel<'p> {
         self.stream_clocks
     }
 
-    /// The lanes' work counters over every block: candidates tested, rays culled, set-up
-    /// passes.
-    pub fn lane_stats(&self) -> crate::intersect::LaneStats {
-        self.hw.lane_stats()
-    }
-
     /// Blocks the scene is cut into (1 when it fits the patch memory).
     pub fn blocks(&self) -> usize {
         self.blocks.len()
@@ -153,7 +163,7 @@ impl<'p> StreamingModel<'p> {
     fn each_block(
         &mut self,
         n: usize,
-        mut cast: impl FnMut(&mut ModelAccelerator, Range<usize>, &mut dyn FnMut(usize, [u32; 4])),
+        mut cast: impl FnMut(&mut RegisterAccelerator<B>, Range<usize>, &mut dyn FnMut(usize, [u32; 4])),
         mut emit: impl FnMut(usize, Option<Hit>),
     ) {
         self.nearest.clear();
@@ -256,7 +266,7 @@ impl Nearest {
     }
 }
 
-impl Accelerator for StreamingModel<'_> {
+impl<B: ClockedBus> Accelerator for StreamingModel<'_, B> {
     fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
         self.hw.rotate(rot, d)
     }
@@ -285,7 +295,7 @@ impl Accelerator for StreamingModel<'_> {
             return self.hw.cast_from(origin, dirs, want_uv, sink);
         }
         let own = self.origin_patch;
-        let cast = |hw: &mut ModelAccelerator,
+        let cast = |hw: &mut RegisterAccelerator<B>,
                     block: Range<usize>,
                     put: &mut dyn FnMut(usize, [u32; 4])| {
             hw.origin_patch = own.and_then(|p| local(block, p));
@@ -308,7 +318,7 @@ impl Accelerator for StreamingModel<'_> {
         }
         let places = RingPlaces::new(hemi, rings.clone());
         let own = self.origin_patch;
-        let cast = |hw: &mut ModelAccelerator,
+        let cast = |hw: &mut RegisterAccelerator<B>,
                     block: Range<usize>,
                     put: &mut dyn FnMut(usize, [u32; 4])| {
             hw.origin_patch = own.and_then(|p| local(block, p));
@@ -337,7 +347,7 @@ impl Accelerator for StreamingModel<'_> {
         let places = RingPlaces::new(hemi, rings.clone());
         let per_shot = places.len;
         let mut local_shots = shots.to_vec();
-        let cast = |hw: &mut ModelAccelerator,
+        let cast = |hw: &mut RegisterAccelerator<B>,
                     block: Range<usize>,
                     put: &mut dyn FnMut(usize, [u32; 4])| {
             // each shot's own patch, as a slot of this block

@@ -4,7 +4,7 @@
 
 use crate::options::{BoardAccelArg, BoardArgs, EngineArgs, ModelArgs};
 use anyhow::{bail, Result};
-use hemi::backend::{Backend, InProcess, Model, Soft};
+use hemi::backend::{Backend, InProcess, Model, RtlSim, Soft};
 use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
 use hemi_boards::farm::{parse_boards, BoardSpec, FarmOptions};
@@ -19,6 +19,8 @@ pub enum Choice {
     Soft,
     /// The cycle-level model of the accelerator in this process.
     Model(ModelConfig),
+    /// The accelerator's RTL in its simulator.
+    Rtl(RtlSim),
     /// Boards over the link.
     Boards(Vec<BoardSpec>),
 }
@@ -29,6 +31,8 @@ pub enum Engine {
     Soft,
     /// The cycle-level model of the accelerator in this process.
     Model(ModelConfig),
+    /// The accelerator's RTL in its simulator, driven from this process.
+    Rtl(RtlSim),
     /// Boards over the link; the firmware runs the jobs.
     Boards {
         /// The connected boards (boxed: a farm is large beside the other engines).
@@ -44,6 +48,8 @@ pub enum Running<'s> {
     Soft(InProcess<'s, Soft>),
     /// In-process model engines, with their counters.
     Model(InProcess<'s, Model>),
+    /// The RTL's simulators driven from this process, with their counters.
+    Rtl(InProcess<'s, Model<RtlSim>>),
     /// A farm of boards.
     Boards(Boards<'s>),
 }
@@ -54,11 +60,20 @@ impl EngineArgs {
         match self.backend.as_str() {
             "soft" => Ok(Choice::Soft),
             "model" => Ok(Choice::Model(self.model.config()?)),
+            "rtl" => {
+                anyhow::ensure!(
+                    !self.model.changed(),
+                    "--backend rtl: the RTL is built for one configuration (the one-lane build, \
+                     CONFIG's reset value); the model's options (--lanes, --cordic-*, \
+                     --bezier-*, --clock-mhz, …) do not apply to it"
+                );
+                Ok(Choice::Rtl(RtlSim::at(&self.rtl_sim)?))
+            }
             list => match parse_boards(list)? {
                 Some(specs) => Ok(Choice::Boards(specs)),
                 None => bail!(
-                    "--backend {list}: expected soft, model, qemu or serial:PATH (boards may be \
-                     listed comma-separated)"
+                    "--backend {list}: expected soft, model, rtl, qemu or serial:PATH (boards \
+                     may be listed comma-separated)"
                 ),
             },
         }
@@ -81,6 +96,7 @@ impl Choice {
         Ok(match self {
             Choice::Soft => Engine::Soft,
             Choice::Model(config) => Engine::Model(config),
+            Choice::Rtl(sim) => Engine::Rtl(sim),
             Choice::Boards(specs) => {
                 let options = FarmOptions {
                     firmware: boards.qemu.firmware.clone(),
@@ -157,6 +173,10 @@ impl Engine {
             Engine::Model(config) => {
                 Running::Model(InProcess::new(scene, settings, Model::new(*config))?)
             }
+            Engine::Rtl(sim) => {
+                let engines = Model::on(sim.clone(), RtlSim::config());
+                Running::Rtl(InProcess::new(scene, settings, engines)?)
+            }
             Engine::Boards { farm, accel } => {
                 Running::Boards(Boards::new(farm, scene, settings, *accel)?)
             }
@@ -179,6 +199,7 @@ impl Running<'_> {
         match self {
             Running::Soft(b) => b,
             Running::Model(b) => b,
+            Running::Rtl(b) => b,
             Running::Boards(b) => b,
         }
     }
@@ -187,6 +208,7 @@ impl Running<'_> {
     pub fn model_counts(&self) -> Option<(u64, u64)> {
         match self {
             Running::Model(b) => Some(b.engines().counters.get()),
+            Running::Rtl(b) => Some(b.engines().counters.get()),
             _ => None,
         }
     }
@@ -195,6 +217,7 @@ impl Running<'_> {
     pub fn model_stream(&self) -> Option<(u64, u64)> {
         match self {
             Running::Model(b) => Some(b.engines().counters.stream()),
+            Running::Rtl(b) => Some(b.engines().counters.stream()),
             _ => None,
         }
     }
@@ -203,6 +226,7 @@ impl Running<'_> {
     pub fn model_config(&self) -> Option<ModelConfig> {
         match self {
             Running::Model(b) => Some(b.engines().config),
+            Running::Rtl(b) => Some(b.engines().config),
             _ => None,
         }
     }
@@ -234,8 +258,12 @@ impl Running<'_> {
             ),
             _ => String::new(),
         };
+        let who = match self {
+            Running::Rtl(_) => "rtl",
+            _ => "model",
+        };
         eprintln!(
-            "model ({} CORDIC iterations, {}-bit words; {} lanes, {} sectors, {} rays/clock): \
+            "{who} ({} CORDIC iterations, {}-bit words; {} lanes, {} sectors, {} rays/clock): \
              {what}: {cycles} cycles for {rays} rays = {:.2} cycles/ray{per_hemisphere}; \
              {:.3} s at {clock_mhz} MHz{streamed}",
             cfg.iterations,

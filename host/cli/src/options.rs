@@ -125,9 +125,14 @@ impl From<TestArg> for Test {
 /// Which ray engine runs the passes, and how the modelled accelerator and the boards are set.
 #[derive(Args, Clone, Debug)]
 pub struct EngineArgs {
-    /// Ray engine: soft | model | qemu | serial:PATH (boards comma-separated to spread jobs).
+    /// Ray engine: soft | model | rtl | qemu | serial:PATH (boards comma-separated to spread
+    /// jobs). `rtl` runs the one-lane build's Verilog in its Verilator simulator (`cargo xtask
+    /// rtl-sim` builds it; planar scenes).
     #[arg(long, default_value = "soft")]
     pub backend: String,
+    /// The RTL's simulator program, for `--backend rtl`.
+    #[arg(long, default_value = hemi::backend::DEFAULT_SIM)]
+    pub rtl_sim: std::path::PathBuf,
     #[command(flatten)]
     pub model: ModelArgs,
     #[command(flatten)]

@@ -7,9 +7,10 @@
 //! answers and its clocks are both compared.
 //!
 //! The workload: the scene loaded by the driver; pass 1's hemispheres at K × K sample points
-//! of every planar slot (results without (u,v)); a second round of hemispheres with (u,v);
-//! random rays traced from points inside the scene's box, with (u,v); directions rotated
-//! alone; then, register by register, the cases the driver does not make: a ray that rotates
+//! of every planar slot (results without (u,v)) through RAY_IN and RESULT_OUT; a second round
+//! of hemispheres with (u,v) through the stream port (the driver's way when the build has one);
+//! random rays traced from points inside the scene's box, with (u,v), and directions rotated
+//! alone, through the port; then, register by register, the cases the driver does not make: a ray that rotates
 //! before any frame (NO_FRAME, an ERROR result), frames from pairs, a skipped slot beyond the
 //! build's slots, PATCH_COUNT lowered and restored with rays, and a soft reset with rays in
 //! flight.
@@ -56,6 +57,7 @@ pub fn vectors(
     let mut traced = Traced::default();
     let shots = shots(patches, samples);
     for want_uv in [false, true] {
+        acc.driver_mut().bus_mut().port = want_uv;
         let rings = 0..hemi.view().rings().len();
         acc.cast_hemispheres(&shots, &hemi.view(), rings, want_uv, |_, _, _, hit| {
             traced.rays += 1;
@@ -65,6 +67,7 @@ pub fn vectors(
     let mut rng = XorShift::new(seed);
     random_rays(&mut acc, patches, random, &mut rng, &mut traced);
     let bench = acc.driver_mut().bus_mut();
+    bench.port = false;
     directed(bench, patches.len() as u32);
     let text = core::mem::take(&mut bench.text);
     Ok((text, bench.counts, traced))

@@ -21,7 +21,7 @@
 
 use crate::rng::XorShift;
 use hemi_hdl_model::device::{Device, ENTRY_WORDS};
-use hemi_hdl_model::driver::RegisterAccess;
+use hemi_hdl_model::driver::{RegisterAccess, StreamPort};
 use hemi_hdl_model::intersect::bezier::{BEZIER_ROWS, CP_WORDS};
 use hemi_hdl_model::intersect::patch_mem::CP_BASE;
 use hemi_hdl_model::regs::{self, ctrl, status};
@@ -102,6 +102,20 @@ pub(super) struct Bench {
     pub(super) dev: Device,
     pub(super) text: String,
     pub(super) counts: Counts,
+    /// Whether the driver sees the device's stream port (the whole accelerator's workload
+    /// casts both ways; the register file alone has none)
+    pub(super) port: bool,
+    /// The stream port's clock being made: the port as it was before it, what moved
+    pending: Option<PortClock>,
+}
+
+/// One stream port clock, written down when it ends (`S` lines).
+#[derive(Clone, Copy, Debug, Default)]
+struct PortClock {
+    full: bool,
+    ready: bool,
+    push: Option<[u32; 3]>,
+    pop: Option<[u32; 4]>,
 }
 
 impl Bench {
@@ -112,18 +126,20 @@ impl Bench {
             dev,
             text: String::new(),
             counts: Counts::default(),
+            port: false,
+            pending: None,
         };
         b.idle(1);
         b
     }
 
     /// The model's clock (CYCLE: it restarts at each soft reset).
-    fn clock(&self) -> u64 {
+    fn model_clock(&self) -> u64 {
         self.dev.cycles()
     }
 
     pub(super) fn write(&mut self, addr: u32, data: u32) {
-        let (clk, irq) = (self.clock(), self.dev.irq_line() as u32);
+        let (clk, irq) = (self.model_clock(), self.dev.irq_line() as u32);
         let _ = writeln!(self.text, "W {clk} {addr:x} {data:x} {irq}");
         self.dev.write(addr, data);
         self.dev.tick();
@@ -139,7 +155,7 @@ impl Bench {
             self.dev.tick();
         }
         self.counts.clocks += waits;
-        let (clk, irq) = (self.clock(), self.dev.irq_line() as u32);
+        let (clk, irq) = (self.model_clock(), self.dev.irq_line() as u32);
         let data = self.dev.read(addr);
         self.dev.tick();
         let _ = writeln!(self.text, "R {clk} {addr:x} {data:x} {irq}");
@@ -396,6 +412,72 @@ impl RegisterAccess for Bench {
     }
     fn write(&mut self, offset: u32, value: u32) {
         Bench::write(self, offset, value)
+    }
+    fn stream_port(&mut self) -> Option<&mut dyn StreamPort> {
+        match self.port {
+            true => Some(self),
+            false => None,
+        }
+    }
+}
+
+impl Bench {
+    /// The stream port's clock being made, begun with the port as it is now.
+    fn port_clock(&mut self) -> &mut PortClock {
+        let (full, ready) = (self.dev.ray_full(), self.dev.stream_ready());
+        self.pending.get_or_insert(PortClock {
+            full,
+            ready,
+            ..PortClock::default()
+        })
+    }
+}
+
+/// The device's stream port, clock by clock written down: `S clk push pop dx dy dz full ready
+/// r0 r1 r2 r3` (the port's FULL and VALID before the clock, the result popped).
+impl StreamPort for Bench {
+    fn rays_per_clock(&self) -> usize {
+        self.dev.rays_per_clock()
+    }
+    fn can_push(&self) -> bool {
+        !self.dev.ray_full()
+    }
+    fn push(&mut self, dir: [u32; 3]) {
+        self.port_clock().push = Some(dir);
+        let pushed = self.dev.stream_push(dir);
+        debug_assert!(pushed, "pushed without room");
+    }
+    fn pop(&mut self) -> Option<[u32; 4]> {
+        self.port_clock();
+        let r = self.dev.stream_pop();
+        if let (Some(c), Some(r)) = (self.pending.as_mut(), r) {
+            c.pop = Some(r);
+        }
+        r
+    }
+    fn clock(&mut self) {
+        let c = *self.port_clock();
+        self.pending = None;
+        let d = c.push.unwrap_or_default();
+        let r = c.pop.unwrap_or_default();
+        let _ = writeln!(
+            self.text,
+            "S {} {} {} {:x} {:x} {:x} {} {} {:x} {:x} {:x} {:x}",
+            self.model_clock(),
+            c.push.is_some() as u8,
+            c.pop.is_some() as u8,
+            d[0],
+            d[1],
+            d[2],
+            c.full as u8,
+            c.ready as u8,
+            r[0],
+            r[1],
+            r[2],
+            r[3]
+        );
+        self.dev.tick();
+        self.counts.clocks += 1;
     }
 }
 

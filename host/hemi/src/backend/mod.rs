@@ -13,11 +13,13 @@
 
 mod in_process;
 mod model;
+mod rtl;
 mod soft;
 mod touched_row;
 
 pub use in_process::{Engines, InProcess};
-pub use model::{CountedModel, Counters, Model};
+pub use model::{CountedModel, Counters, Device, Model, ModelDevice};
+pub use rtl::{RtlBus, RtlSim, DEFAULT_SIM};
 pub use soft::{Soft, SoftEngine, TREE_MIN_BUNDLE, TREE_MIN_SINGLE};
 pub use touched_row::TouchedRow;
 

@@ -1,9 +1,11 @@
-//! The cycle-level model of the accelerator as an in-process engine, driven through its
-//! register driver, with the cycles and rays of all its engines summed and the scene's load
-//! counted once.
+//! The accelerator behind its register driver as an in-process engine, with the cycles and
+//! rays of all its engines summed and the scene's load counted once: the cycle-level model in
+//! this process ([`ModelDevice`]), or any other implementation behind the same registers (the
+//! RTL in a simulator, [`super::rtl`]).
 
 use super::in_process::SHOT_BATCH;
 use super::Engines;
+use hemi_hdl_model::driver::{ClockedBus, ModelBus};
 use hemi_hdl_model::{ModelConfig, ModelError, StreamingModel};
 use hemi_kernel::accel::{Accelerator, HemiShot, Hit, Ray};
 use hemi_kernel::geometry::Vec3;
@@ -13,40 +15,88 @@ use hemi_kernel::rotation::Rotation;
 use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
-/// The in-process engines of the model backend ([`super::InProcess`]`<Model>`): one modelled
-/// accelerator for each job rayon splits a pass into, all adding to one set of [`Counters`].
+/// Where an engine's accelerator is: a bus to it for each engine, and what it cannot take.
+pub trait Device: Sync {
+    /// The bus an engine drives it through.
+    type Bus: ClockedBus;
+    /// The backend's name in errors (`--backend model`).
+    const NAME: &'static str;
+    /// A bus to a freshly reset accelerator of `config`'s build.
+    fn open(&self, config: &ModelConfig) -> anyhow::Result<Self::Bus>;
+    /// Whether it can cast on `patches` (beyond the driver's own checks).
+    fn supports(&self, _patches: &[Patch]) -> anyhow::Result<()> {
+        Ok(())
+    }
+}
+
+/// The cycle-level model in this process.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct ModelDevice;
+
+impl Device for ModelDevice {
+    type Bus = ModelBus;
+    const NAME: &'static str = "--backend model";
+    fn open(&self, config: &ModelConfig) -> anyhow::Result<ModelBus> {
+        anyhow::ensure!(
+            config.params.is_valid(),
+            "{}: {:?}",
+            Self::NAME,
+            ModelError::BadParams
+        );
+        Ok(ModelBus::with_params(config.params))
+    }
+}
+
+/// The in-process engines of the model backend ([`super::InProcess`]`<Model>`): one
+/// accelerator for each job rayon splits a pass into (the model's, or `D`'s), all adding to one
+/// set of [`Counters`].
 #[derive(Debug, Default)]
-pub struct Model {
-    /// The modelled accelerator's configuration.
+pub struct Model<D: Device = ModelDevice> {
+    /// The accelerator's configuration.
     pub config: ModelConfig,
     /// What its engines did, summed.
     pub counters: Counters,
     /// Batches numbered so far ([`Engines::number_batches`]).
     batches: AtomicU64,
+    /// Where the accelerator is.
+    device: D,
 }
 
 impl Model {
     /// Engines of `config`, with fresh counters.
     pub fn new(config: ModelConfig) -> Model {
+        Model::on(ModelDevice, config)
+    }
+}
+
+impl<D: Device> Model<D> {
+    /// Engines of `config` on `device`, with fresh counters.
+    pub fn on(device: D, config: ModelConfig) -> Model<D> {
         Model {
             config,
             counters: Counters::default(),
             batches: AtomicU64::new(0),
+            device,
         }
     }
 }
 
-impl Engines for Model {
+impl<D: Device> Engines for Model<D> {
     const BATCHES: bool = true;
 
-    type Engine<'p> = CountedModel<'p>;
+    type Engine<'p>
+        = CountedModel<'p, D::Bus>
+    where
+        D: 'p;
 
     fn check(&self, patches: &[Patch]) -> anyhow::Result<()> {
-        model_engine(patches, self.config).map(drop)
+        self.device.supports(patches)?;
+        engine_on(&self.device, patches, self.config).map(drop)
     }
 
-    fn engine<'p>(&'p self, patches: &'p [Patch]) -> CountedModel<'p> {
-        let inner = model_engine(patches, self.config).expect("checked when the backend was made");
+    fn engine<'p>(&'p self, patches: &'p [Patch]) -> CountedModel<'p, D::Bus> {
+        let inner = engine_on(&self.device, patches, self.config)
+            .expect("checked when the backend was made");
         CountedModel::new(inner, &self.counters)
     }
 
@@ -64,7 +114,7 @@ impl Engines for Model {
         self.batches.fetch_add(count as u64, Relaxed)
     }
 
-    fn begin_batch(engine: &mut CountedModel<'_>, number: u64) {
+    fn begin_batch(engine: &mut CountedModel<'_, D::Bus>, number: u64) {
         engine.inner.align_to_batch(number);
     }
 }
@@ -109,14 +159,14 @@ impl Counters {
 
 /// A model engine that adds its cycles and rays to shared [`Counters`] when dropped. The model
 /// (about 100 KB) lives on the heap: worker threads' stacks are rayon's 2 MiB by default.
-pub struct CountedModel<'c> {
-    inner: Box<StreamingModel<'c>>,
+pub struct CountedModel<'c, B: ClockedBus = ModelBus> {
+    inner: Box<StreamingModel<'c, B>>,
     counters: &'c Counters,
 }
 
-impl<'c> CountedModel<'c> {
+impl<'c, B: ClockedBus> CountedModel<'c, B> {
     /// Wraps `inner`.
-    pub fn new(inner: StreamingModel<'c>, counters: &'c Counters) -> Self {
+    pub fn new(inner: StreamingModel<'c, B>, counters: &'c Counters) -> Self {
         CountedModel {
             inner: Box::new(inner),
             counters,
@@ -124,7 +174,7 @@ impl<'c> CountedModel<'c> {
     }
 }
 
-impl Drop for CountedModel<'_> {
+impl<B: ClockedBus> Drop for CountedModel<'_, B> {
     fn drop(&mut self) {
         let load = self.inner.load_cycles();
         let uncounted = load + self.inner.aligning_cycles();
@@ -140,7 +190,7 @@ impl Drop for CountedModel<'_> {
     }
 }
 
-impl Accelerator for CountedModel<'_> {
+impl<B: ClockedBus> Accelerator for CountedModel<'_, B> {
     fn rotate(&mut self, rot: &Rotation, d: Vec3) -> Vec3 {
         self.inner.rotate(rot, d)
     }
@@ -184,13 +234,19 @@ impl Accelerator for CountedModel<'_> {
     }
 }
 
-/// Builds a model engine over `patches`, with an error that says what the model cannot load. A
-/// scene larger than the accelerator's patch memory is streamed through it in blocks.
-pub fn model_engine(patches: &[Patch], config: ModelConfig) -> anyhow::Result<StreamingModel<'_>> {
-    StreamingModel::new(patches, config).map_err(|e| match e {
+/// An engine over `patches` on `device`'s accelerator, with an error that says what it cannot
+/// load. A scene larger than the accelerator's patch memory is streamed through it in blocks.
+fn engine_on<'p, D: Device>(
+    device: &D,
+    patches: &'p [Patch],
+    config: ModelConfig,
+) -> anyhow::Result<StreamingModel<'p, D::Bus>> {
+    let bus = device.open(&config)?;
+    StreamingModel::with_bus(patches, config, bus).map_err(|e| match e {
         ModelError::BadGeometry(i) => anyhow::anyhow!(
-            "--backend model: patch {i} does not fit the accelerator's fixed-point formats (non-finite or out of range)"
+            "{}: patch {i} does not fit the accelerator's fixed-point formats (non-finite or out of range)",
+            D::NAME
         ),
-        other => anyhow::anyhow!("--backend model: {other:?}"),
+        other => anyhow::anyhow!("{}: {other:?}", D::NAME),
     })
 }
