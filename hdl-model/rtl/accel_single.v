@@ -112,7 +112,7 @@ module accel_single #(
 
     // ---- the angle unit: a frame from NORMAL and SPIN (words 1..5) or from pairs (1..6)
     frame_unit #(.ITER(ITER), .W(W)) frame (
-        .clk(hclk), .rst(rst || (apply && !issue_frame)), .start(issue_frame), .pairs(entry[17]),
+        .clk(hclk), .rst(rst), .start(issue_frame), .clear(apply), .pairs(entry[17]),
         .w1(entry[63:64-W]), .w2(entry[95:96-W]), .w3(entry[127:128-W]),
         .w4(entry[159:160-W]), .w5(entry[191:192-W]), .w6(entry[223:224-W]),
         .busy(frame_busy), .done(frame_done), .psi(psi), .theta(theta), .phi(phi));
@@ -159,7 +159,7 @@ module accel_single #(
     wire [2:0]    s_mode = t_mode[started];
     plane_unit #(.IW(IW), .DEPTH(DEPTH)) lane (
         .clk(hclk), .rst(rst), .pm_we(pm_we), .pm_addr(pm_addr), .pm_data(pm_data),
-        .count(patch_count[IW:0]), .invalidate(invalidate),
+        .count(patch_count[IW:0]), .invalidate(invalidate || apply),
         .in_valid(start), .in_ready(in_ready), .in_origin(t_origin[started]),
         .in_dir(t_dir[started]), .in_uv(!s_mode[2]), .in_skip_en(t_skip_en[started]),
         .in_skip(t_skip[started]),

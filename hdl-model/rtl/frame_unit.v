@@ -20,6 +20,7 @@ module frame_unit #(
     input  wire         clk,
     input  wire         rst,
     input  wire         start,
+    input  wire         clear,  // the angles to zero (an APPLY_CONFIG: the model's new unit)
     input  wire         pairs,
     input  wire [W-1:0] w1,
     input  wire [W-1:0] w2,
@@ -103,6 +104,13 @@ module frame_unit #(
                 {pend_v, pend_x, pend_y, pend_t} <= {q0_v, q0_x, q0_y, q0_t};
                 q0_v <= 1'b0;
             end
+        end
+        // (an APPLY_CONFIG comes only while the unit is idle: no angle leaves on its clock; a
+        // frame started on the same clock computes its angles afresh)
+        if (clear && !rst) begin
+            psi <= {W{1'b0}};
+            theta <= {W{1'b0}};
+            phi <= {W{1'b0}};
         end
     end
 endmodule

@@ -4,7 +4,10 @@
 // positive and fits the 31 bits of a positive Q8.24 t. Magnitudes are divided (a positive
 // quotient needs both signs equal); one stage settles the signs, 31 stages give the bits (the
 // first also the "does it fit" test, |h| << 30 < |n . d| << 31, that is |h| < 2 |n . d|), so a
-// token is at the output 32 clocks after it enters. PW bits of payload ride along.
+// token is at the output 32 clocks after it enters. PW bits of payload ride along. A reset
+// empties the stages (their valid bits), so that nothing started before it comes out after.
+// (Until session 41 the valid bits had no reset: after a soft reset of the one-lane
+// accelerator, a division in flight came out as the new first ray's.)
 //
 // The bits as long division: the numerator's bits below |h| are zeros, so the remainder starts
 // as |h| (below 2 |n . d| when it fits) and each stage subtracts |n . d| where it can, then
@@ -15,6 +18,7 @@ module plane_divider #(
     parameter integer PW = 1
 ) (
     input  wire               clk,
+    input  wire               rst,
     input  wire               in_valid,
     input  wire               in_inside,   // the edge stage found the ray inside the pyramid
     input  wire signed [67:0] in_h,        // Q.54
@@ -40,7 +44,7 @@ module plane_divider #(
     wire same_sign = in_h[67] == in_den[67];
 
     always @(posedge clk) begin
-        v[0] <= in_valid;
+        v[0] <= in_valid && !rst;
         ok[0] <= in_inside && in_den != 0 && same_sign;
         r[0] <= {2'b0, abs_h};
         d[0] <= abs_d;
@@ -61,7 +65,7 @@ module plane_divider #(
             // unit's slowest path, 86 to 88 MHz)
             wire fits = i != 1 || r[i-1] < {1'b0, d[i-1], 1'b0};
             always @(posedge clk) begin
-                v[i] <= v[i-1];
+                v[i] <= v[i-1] && !rst;
                 ok[i] <= ok[i-1] && fits;
                 r[i] <= {rest, 1'b0};
                 d[i] <= d[i-1];

@@ -281,7 +281,7 @@ module plane_unit #(
     wire [30:0]   dv_t;
     wire [DPW-1:0] dv_pay;
     plane_divider #(.PW(DPW)) divider (
-        .clk(clk), .in_valid(c1_v), .in_inside(c1_inside), .in_h(c1_h), .in_den(c1_den),
+        .clk(clk), .rst(rst), .in_valid(c1_v), .in_inside(c1_inside), .in_h(c1_h), .in_den(c1_den),
         .in_payload(c1_pay), .out_valid(dv_v), .out_hit(dv_hit), .out_t(dv_t),
         .out_payload(dv_pay));
     wire [IW-1:0] dv_patch = dv_pay[DPW-1 -: IW];

@@ -26,8 +26,9 @@ pub trait RegisterAccess {
 /// or a simulator's. The host's engines count the clocks of a pass with it, where reading
 /// CYCLE_LO and CYCLE_HI through the bus would spend two of them.
 pub trait ClockedBus: RegisterAccess {
-    /// Clocks the accelerator has run since its last reset, as CYCLE would read after the
-    /// last access.
+    /// Clocks the accelerator has run since its last reset, in the model's count: one for
+    /// each access (a PATCH_DATA read's wait states too) and each clock without one, as the
+    /// model's CYCLE reads after the last.
     fn clocks(&self) -> u64;
 }
 

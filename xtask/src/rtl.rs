@@ -286,14 +286,18 @@ const SIM_BENCH: Bench = Bench {
     ..ACCEL_BENCH
 };
 
-/// Where `rtl-sim` leaves the simulator, under the workspace (the CLI's `--rtl-sim` default).
-const SIM_EXE: &str = "target/rtl/sim/accel-sim";
-
-/// Builds the simulator of `--backend rtl` (`SIM_EXE`) with C++ optimisation `opt`; its path.
-pub fn sim(opt: &str) -> Result<PathBuf, String> {
-    let exe = build(SIM_BENCH, &[], &rtl_dir(), &work_dir("sim-build")?, opt)?;
-    let to = crate::util::root().join(SIM_EXE);
-    work_dir("sim")?;
+/// Builds the simulator of `--backend rtl` with C++ optimisation `opt` into `target/rtl/<name>/
+/// accel-sim` (`rtl-sim`'s, "sim", is the CLI's `--rtl-sim` default; the suite builds its own,
+/// so as not to replace a user's optimised one); its path.
+pub fn sim(name: &str, opt: &str) -> Result<PathBuf, String> {
+    let exe = build(
+        SIM_BENCH,
+        &[],
+        &rtl_dir(),
+        &work_dir(&format!("{name}-build"))?,
+        opt,
+    )?;
+    let to = work_dir(name)?.join("accel-sim");
     std::fs::copy(&exe, &to)
         .map_err(|e| format!("copying {} to {}: {e}", exe.display(), to.display()))?;
     Ok(to)
@@ -308,7 +312,7 @@ pub fn sim_main(args: &[String]) -> Result<(), crate::util::Failure> {
         )));
     }
     crate::setup::verilator().map_err(Failure::Failed)?;
-    let exe = sim("-O2").map_err(Failure::Failed)?;
+    let exe = sim("sim", "-O2").map_err(Failure::Failed)?;
     say(format!(
         "the RTL's simulator for --backend rtl: {}",
         exe.display()
@@ -1002,7 +1006,7 @@ pub fn ci() -> Result<(), String> {
         return Err(format!("{bad} co-simulation mismatches"));
     }
     mutants_caught(cfg, &dir, "-O1")?;
-    backend_rtl_checked(&sim("-O1")?)
+    backend_rtl_checked(&sim("ci-sim", "-O1")?)
 }
 
 /// Synthesis and place-and-route figures of one build.

@@ -56,7 +56,7 @@ module cosim_top #(
         .in_payload(1'b0), .out_valid(vo_valid), .out_x(vo_x), .out_y(vo_y), .out_z(vo_z),
         .out_payload(payload), .early_payload(early), .early2_payload(early2));
     frame_unit #(.ITER(ITER), .W(W)) frame (
-        .clk(clk), .rst(rst), .start(f_start), .pairs(f_pairs), .w1(f_w1), .w2(f_w2),
+        .clk(clk), .rst(rst), .start(f_start), .clear(1'b0), .pairs(f_pairs), .w1(f_w1), .w2(f_w2),
         .w3(f_w3), .w4(f_w4), .w5(f_w5), .w6(f_w6), .busy(fo_busy), .done(fo_done),
         .psi(fo_psi), .theta(fo_theta), .phi(fo_phi));
 endmodule

@@ -57,17 +57,28 @@ pub enum Running<'s> {
 impl EngineArgs {
     /// Parses `--backend` and checks its settings, without opening anything.
     pub fn check(&self) -> Result<Choice> {
+        if self.rtl_sim.is_some() && self.backend != "rtl" {
+            eprintln!("warning: --rtl-sim has no effect without --backend rtl");
+        }
         match self.backend.as_str() {
             "soft" => Ok(Choice::Soft),
             "model" => Ok(Choice::Model(self.model.config()?)),
             "rtl" => {
+                // the clock the report assumes is the only model option that applies
+                let model = ModelArgs {
+                    clock_mhz: crate::options::MEASURED_CLOCK_MHZ,
+                    ..self.model.clone()
+                };
                 anyhow::ensure!(
-                    !self.model.changed(),
+                    !model.changed(),
                     "--backend rtl: the RTL is built for one configuration (the one-lane build, \
                      CONFIG's reset value); the model's options (--lanes, --cordic-*, \
-                     --bezier-*, --clock-mhz, …) do not apply to it"
+                     --bezier-*, …) do not apply to it"
                 );
-                Ok(Choice::Rtl(RtlSim::at(&self.rtl_sim)?))
+                let default = std::path::Path::new(hemi::backend::DEFAULT_SIM);
+                Ok(Choice::Rtl(RtlSim::at(
+                    self.rtl_sim.as_deref().unwrap_or(default),
+                )?))
             }
             list => match parse_boards(list)? {
                 Some(specs) => Ok(Choice::Boards(specs)),

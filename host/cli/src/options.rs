@@ -130,9 +130,10 @@ pub struct EngineArgs {
     /// rtl-sim` builds it; planar scenes).
     #[arg(long, default_value = "soft")]
     pub backend: String,
-    /// The RTL's simulator program, for `--backend rtl`.
-    #[arg(long, default_value = hemi::backend::DEFAULT_SIM)]
-    pub rtl_sim: std::path::PathBuf,
+    /// The RTL's simulator program, for `--backend rtl` (default: where `cargo xtask rtl-sim`
+    /// builds it, target/rtl/sim/accel-sim under the working folder).
+    #[arg(long, value_name = "PATH")]
+    pub rtl_sim: Option<std::path::PathBuf>,
     #[command(flatten)]
     pub model: ModelArgs,
     #[command(flatten)]

@@ -1,24 +1,28 @@
 //! Vectors for the whole accelerator of the one-lane build (`hdl-model/rtl/accel_single.v`,
 //! [`Params::SINGLE`]): the model's [`Device`] behind the register driver the firmware uses
-//! (`RegisterAccelerator`), every bus access written down in [`super::regs`]' lines, for the
-//! testbench to make the same accesses on the RTL's AHB-Lite port and compare every read and
-//! the interrupt line. Nothing of the datapath is driven from outside: the rays go in through
-//! RAY_IN, the results come out through RESULT_OUT, and CYCLE and BUSY are read, so the RTL's
-//! answers and its clocks are both compared.
+//! (`RegisterAccelerator`), every bus access and stream port clock written down in
+//! [`super::regs`]' lines, for the testbench to make the same accesses on the RTL's AHB-Lite
+//! port and the same clocks on its stream port, and compare every read, the interrupt line and
+//! every result the port gives. Nothing of the datapath is driven from outside: the rays go in
+//! through RAY_IN or the port, the results come out through RESULT_OUT or the port, and CYCLE
+//! and BUSY are read, so the RTL's answers and its clocks are both compared.
 //!
 //! The workload: the scene loaded by the driver; pass 1's hemispheres at K × K sample points
 //! of every planar slot (results without (u,v)) through RAY_IN and RESULT_OUT; a second round
 //! of hemispheres with (u,v) through the stream port (the driver's way when the build has one);
 //! random rays traced from points inside the scene's box, with (u,v), and directions rotated
-//! alone, through the port; then, register by register, the cases the driver does not make: a ray that rotates
-//! before any frame (NO_FRAME, an ERROR result), frames from pairs, a skipped slot beyond the
-//! build's slots, PATCH_COUNT lowered and restored with rays, and a soft reset with rays in
-//! flight.
+//! alone, through the port; then, register by register, the cases the driver does not make: a
+//! ray that rotates before any frame (NO_FRAME, an ERROR result), frames from pairs, a skipped slot beyond the
+//! build's slots, PATCH_COUNT lowered and restored with rays, the port asked for a result
+//! while RESULT_OUT is part-way into it, APPLY_CONFIG with a frame in the same write, and soft
+//! resets with rays in the rotator, the queue, the set-up pass, the divider and the (u,v)
+//! levels.
 
 use super::regs::{Bench, Counts};
 use crate::rng::XorShift;
 use hemi_hdl_model::accel::RegisterAccelerator;
 use hemi_hdl_model::device::Device;
+use hemi_hdl_model::driver::StreamPort;
 use hemi_hdl_model::regs::{self, ctrl, mode, skip, status};
 use hemi_hdl_model::{ModelConfig, Params};
 use hemi_kernel::accel::{Accelerator, HemiShot, Ray};
@@ -172,11 +176,7 @@ fn counters(b: &mut Bench) {
 /// Reads STATUS until the accelerator is idle (at most `limit` reads), then every result and
 /// the counters.
 fn drain(b: &mut Bench, limit: u32) {
-    for _ in 0..limit {
-        if b.read(regs::STATUS) & status::BUSY == 0 {
-            break;
-        }
-    }
+    drain_busy(b, limit);
     for _ in 0..300 {
         if b.read(regs::STATUS) & status::RESULT_READY == 0 {
             break;
@@ -256,16 +256,27 @@ fn directed(b: &mut Bench, count: u32) {
         push(b, d);
     }
     drain(b, 400);
-    // a soft reset with rays in flight, then the counters and a result read from nothing
-    b.write(regs::CTRL, ctrl::ENABLE | ctrl::FRAME_PAIRS);
-    b.write(regs::MODE, mode::ROTATE_TRACE);
-    for d in dirs.iter().cycle().take(8) {
-        push(b, *d);
+    part_way(b, dirs);
+    applied(b, dirs);
+    // soft resets with rays in every stage: the rotator (86 clocks), the queue, the set-up
+    // pass, the scan, the divider (32) and the (u,v) levels; then rays again, the counters and
+    // a result read from nothing
+    for delay in [30, 90, 110, 125, 140, 160, 190, 230] {
+        b.write(regs::CTRL, ctrl::ENABLE);
+        b.write(regs::MODE, mode::TRACE);
+        for d in dirs.iter().cycle().take(6) {
+            push(b, *d);
+        }
+        b.idle(delay);
+        b.read(regs::STATUS);
+        b.write(regs::CTRL, ctrl::SOFT_RESET);
+        b.write(regs::CTRL, ctrl::ENABLE);
+        b.read(regs::STATUS);
+        for d in dirs {
+            push(b, d);
+        }
+        drain(b, 400);
     }
-    b.idle(30);
-    b.read(regs::STATUS);
-    b.write(regs::CTRL, ctrl::SOFT_RESET);
-    b.idle(100);
     for reg in [
         regs::STATUS,
         regs::ERROR,
@@ -277,4 +288,60 @@ fn directed(b: &mut Bench, count: u32) {
         b.read(reg);
     }
     counters(b);
+}
+
+/// The stream port asked for results while RESULT_OUT is part-way into one (it gives none),
+/// then the rest read through RESULT_OUT, and a ray pushed through the port.
+fn part_way(b: &mut Bench, dirs: [[f64; 3]; 4]) {
+    b.write(regs::MODE, mode::TRACE);
+    for d in dirs {
+        push(b, d);
+    }
+    drain_busy(b, 400);
+    b.read(regs::RESULT_OUT);
+    for k in 0..3 {
+        let got = StreamPort::pop(b);
+        debug_assert!(got.is_none(), "the port gave a result read part-way");
+        if k == 1 {
+            StreamPort::push(b, dir_words(dirs[0]));
+        }
+        StreamPort::clock(b);
+    }
+    drain(b, 400);
+}
+
+/// APPLY_CONFIG (of the configuration in force): the set-up forgotten, so rays from the same
+/// origin set up again; then with a frame command in the same write, the angles read while the
+/// new frame is computed (reset to zero by the apply) and after.
+fn applied(b: &mut Bench, dirs: [[f64; 3]; 4]) {
+    b.write(regs::MODE, mode::TRACE);
+    for d in dirs {
+        push(b, d);
+    }
+    drain(b, 400);
+    b.write(regs::CTRL, ctrl::ENABLE | ctrl::APPLY_CONFIG);
+    for d in dirs {
+        push(b, d);
+    }
+    drain(b, 400);
+    b.write(
+        regs::CTRL,
+        ctrl::ENABLE | ctrl::APPLY_CONFIG | ctrl::FRAME_PAIRS,
+    );
+    for _ in 0..4 {
+        b.read(regs::FRAME_PSI);
+        b.read(regs::FRAME_PHI);
+        b.idle(8);
+    }
+    drain(b, 200);
+    b.read(regs::FRAME_PSI);
+}
+
+/// Reads STATUS until the accelerator is idle (at most `limit` reads).
+fn drain_busy(b: &mut Bench, limit: u32) {
+    for _ in 0..limit {
+        if b.read(regs::STATUS) & status::BUSY == 0 {
+            break;
+        }
+    }
 }

@@ -405,12 +405,20 @@ fn directed(b: &mut Bench) {
     b.write(regs::IRQ_STATUS, 0xF);
 }
 
-/// The driver's bus, written down access by access.
+/// The driver's bus, written down access by access. A stream port clock begun and left for an
+/// access (the driver leaving its stream loop on an ERROR result) ends first, as a clock of
+/// its own, as `RtlBus` sends it.
 impl RegisterAccess for Bench {
     fn read(&mut self, offset: u32) -> u32 {
+        if self.pending.is_some() {
+            StreamPort::clock(self);
+        }
         Bench::read(self, offset)
     }
     fn write(&mut self, offset: u32, value: u32) {
+        if self.pending.is_some() {
+            StreamPort::clock(self);
+        }
         Bench::write(self, offset, value)
     }
     fn stream_port(&mut self) -> Option<&mut dyn StreamPort> {

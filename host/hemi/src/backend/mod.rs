@@ -18,7 +18,7 @@ mod soft;
 mod touched_row;
 
 pub use in_process::{Engines, InProcess};
-pub use model::{CountedModel, Counters, Device, Model, ModelDevice};
+pub use model::{CountedModel, Counters, Model, ModelSite, Site};
 pub use rtl::{RtlBus, RtlSim, DEFAULT_SIM};
 pub use soft::{Soft, SoftEngine, TREE_MIN_BUNDLE, TREE_MIN_SINGLE};
 pub use touched_row::TouchedRow;

@@ -1,6 +1,6 @@
 //! The accelerator behind its register driver as an in-process engine, with the cycles and
 //! rays of all its engines summed and the scene's load counted once: the cycle-level model in
-//! this process ([`ModelDevice`]), or any other implementation behind the same registers (the
+//! this process ([`ModelSite`]), or any other implementation behind the same registers (the
 //! RTL in a simulator, [`super::rtl`]).
 
 use super::in_process::SHOT_BATCH;
@@ -15,8 +15,9 @@ use hemi_kernel::rotation::Rotation;
 use std::ops::Range;
 use std::sync::atomic::{AtomicU64, Ordering::Relaxed};
 
-/// Where an engine's accelerator is: a bus to it for each engine, and what it cannot take.
-pub trait Device: Sync {
+/// Where an engine's accelerator is (the model in this process, the RTL in a simulator): a bus
+/// to it for each engine, and what it cannot take.
+pub trait Site: Sync {
     /// The bus an engine drives it through.
     type Bus: ClockedBus;
     /// The backend's name in errors (`--backend model`).
@@ -31,9 +32,9 @@ pub trait Device: Sync {
 
 /// The cycle-level model in this process.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct ModelDevice;
+pub struct ModelSite;
 
-impl Device for ModelDevice {
+impl Site for ModelSite {
     type Bus = ModelBus;
     const NAME: &'static str = "--backend model";
     fn open(&self, config: &ModelConfig) -> anyhow::Result<ModelBus> {
@@ -48,10 +49,10 @@ impl Device for ModelDevice {
 }
 
 /// The in-process engines of the model backend ([`super::InProcess`]`<Model>`): one
-/// accelerator for each job rayon splits a pass into (the model's, or `D`'s), all adding to one
+/// accelerator for each job rayon splits a pass into (the model's, or `S`'s), all adding to one
 /// set of [`Counters`].
 #[derive(Debug, Default)]
-pub struct Model<D: Device = ModelDevice> {
+pub struct Model<S: Site = ModelSite> {
     /// The accelerator's configuration.
     pub config: ModelConfig,
     /// What its engines did, summed.
@@ -59,44 +60,46 @@ pub struct Model<D: Device = ModelDevice> {
     /// Batches numbered so far ([`Engines::number_batches`]).
     batches: AtomicU64,
     /// Where the accelerator is.
-    device: D,
+    site: S,
 }
 
 impl Model {
     /// Engines of `config`, with fresh counters.
     pub fn new(config: ModelConfig) -> Model {
-        Model::on(ModelDevice, config)
+        Model::on(ModelSite, config)
     }
 }
 
-impl<D: Device> Model<D> {
-    /// Engines of `config` on `device`, with fresh counters.
-    pub fn on(device: D, config: ModelConfig) -> Model<D> {
+impl<S: Site> Model<S> {
+    /// Engines of `config` on `site`'s accelerators, with fresh counters.
+    pub fn on(site: S, config: ModelConfig) -> Model<S> {
         Model {
             config,
             counters: Counters::default(),
             batches: AtomicU64::new(0),
-            device,
+            site,
         }
     }
 }
 
-impl<D: Device> Engines for Model<D> {
+impl<S: Site> Engines for Model<S> {
     const BATCHES: bool = true;
 
     type Engine<'p>
-        = CountedModel<'p, D::Bus>
+        = CountedModel<'p, S::Bus>
     where
-        D: 'p;
+        S: 'p;
 
+    /// The site's own limits, then the model's: the same driver loads the same words on any
+    /// site, so what the model can load the site can (without starting one just to see).
     fn check(&self, patches: &[Patch]) -> anyhow::Result<()> {
-        self.device.supports(patches)?;
-        engine_on(&self.device, patches, self.config).map(drop)
+        self.site.supports(patches)?;
+        engine_on(&ModelSite, patches, self.config).map(drop)
     }
 
-    fn engine<'p>(&'p self, patches: &'p [Patch]) -> CountedModel<'p, D::Bus> {
-        let inner = engine_on(&self.device, patches, self.config)
-            .expect("checked when the backend was made");
+    fn engine<'p>(&'p self, patches: &'p [Patch]) -> CountedModel<'p, S::Bus> {
+        let inner =
+            engine_on(&self.site, patches, self.config).expect("checked when the backend was made");
         CountedModel::new(inner, &self.counters)
     }
 
@@ -114,7 +117,7 @@ impl<D: Device> Engines for Model<D> {
         self.batches.fetch_add(count as u64, Relaxed)
     }
 
-    fn begin_batch(engine: &mut CountedModel<'_, D::Bus>, number: u64) {
+    fn begin_batch(engine: &mut CountedModel<'_, S::Bus>, number: u64) {
         engine.inner.align_to_batch(number);
     }
 }
@@ -234,19 +237,19 @@ impl<B: ClockedBus> Accelerator for CountedModel<'_, B> {
     }
 }
 
-/// An engine over `patches` on `device`'s accelerator, with an error that says what it cannot
+/// An engine over `patches` on `site`'s accelerator, with an error that says what it cannot
 /// load. A scene larger than the accelerator's patch memory is streamed through it in blocks.
-fn engine_on<'p, D: Device>(
-    device: &D,
+fn engine_on<'p, S: Site>(
+    site: &S,
     patches: &'p [Patch],
     config: ModelConfig,
-) -> anyhow::Result<StreamingModel<'p, D::Bus>> {
-    let bus = device.open(&config)?;
+) -> anyhow::Result<StreamingModel<'p, S::Bus>> {
+    let bus = site.open(&config)?;
     StreamingModel::with_bus(patches, config, bus).map_err(|e| match e {
         ModelError::BadGeometry(i) => anyhow::anyhow!(
             "{}: patch {i} does not fit the accelerator's fixed-point formats (non-finite or out of range)",
-            D::NAME
+            S::NAME
         ),
-        other => anyhow::anyhow!("{}: {other:?}", D::NAME),
+        other => anyhow::anyhow!("{}: {other:?}", S::NAME),
     })
 }

@@ -11,7 +11,7 @@
 //! read after the clock), written by [`RtlBus`] and read by `hdl-model/rtl/tb/accel_sim.cpp`.
 //! Commands are buffered until one needs an answer.
 
-use super::model::Device;
+use super::model::Site;
 use anyhow::{bail, Context, Result};
 use hemi_hdl_model::driver::{ClockedBus, RegisterAccess, StreamPort};
 use hemi_hdl_model::{ModelConfig, Params};
@@ -56,7 +56,7 @@ impl RtlSim {
     }
 }
 
-impl Device for RtlSim {
+impl Site for RtlSim {
     type Bus = RtlBus;
     const NAME: &'static str = "--backend rtl";
 
@@ -164,14 +164,25 @@ impl RtlBus {
         out
     }
 
-    /// The simulator stopped answering: there is no bus to go on with, and the trait's
-    /// accesses cannot fail, so the run ends here with what went wrong.
+    /// The simulator stopped answering: there is no bus to go on with, and the driver's
+    /// accesses cannot fail, so the engine stops here with what went wrong (as the model's
+    /// engines stop on a driver error).
     fn lost(&self, e: &std::io::Error) -> ! {
-        eprintln!(
-            "error: --backend rtl: the RTL simulator {} stopped answering ({e})",
+        panic!(
+            "--backend rtl: the RTL simulator {} stopped answering ({e})",
             self.path.display()
-        );
-        std::process::exit(1)
+        )
+    }
+
+    /// A stream port clock begun (a push or a pop taken) and left for a bus access, as the
+    /// driver leaves its stream loop on an ERROR result: sent as a clock of its own first. (The
+    /// model takes the pop and the access in one clock; on this path, which ends the pass with
+    /// the device's errors, the RTL spends one clock more.)
+    fn finish_port_clock(&mut self) {
+        if self.push.is_some() || self.popped {
+            StreamPort::clock(self);
+        }
+        *self.port.get_mut() = None;
     }
 
     /// The stream port as this clock finds it, asked for once a clock.
@@ -193,12 +204,12 @@ impl RtlBus {
 
 impl RegisterAccess for RtlBus {
     fn read(&mut self, offset: u32) -> u32 {
-        *self.port.get_mut() = None;
+        self.finish_port_clock();
         u32::from_le_bytes(self.command::<4>(b'R', offset, 0, &[]))
     }
 
     fn write(&mut self, offset: u32, value: u32) {
-        *self.port.get_mut() = None;
+        self.finish_port_clock();
         self.command::<0>(b'W', offset, value, &[]);
     }
 
@@ -249,6 +260,9 @@ impl StreamPort for RtlBus {
     }
 }
 
+/// The clocks the model would count: the simulator's CYCLE less the address phases it gave a
+/// clock of their own (the first access's, until a soft reset), which the model has no clock
+/// for (CYCLE read through the bus reads that one more).
 impl ClockedBus for RtlBus {
     fn clocks(&self) -> u64 {
         u64::from_le_bytes(self.command::<8>(b'C', 0, 0, &[]))
