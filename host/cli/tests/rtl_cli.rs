@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::{run, run_env, TWO_SQUARES};
+use common::{run, TWO_SQUARES};
 
 const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/cornell.toml");
 const TEAPOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/teapot.toml");
@@ -78,23 +78,17 @@ fn single_rays_on_the_rtl_hit_what_the_model_hits() {
     }
     rays.push_str("278 450 279 0 0 -1\n");
     let rtl_sim = sim();
-    // single rays are shared among engines as the host's threads take them, and each engine
-    // sets up its own origin: one thread, so that both runs cast them the same way
-    let one = [("RAYON_NUM_THREADS", "1")];
     let rtl = ["trace", CORNELL, "--backend", "rtl", "--rtl-sim", &rtl_sim];
-    let (ok, got, got_err) = run_env(&rtl, &rays, &one);
-    assert!(ok, "{got_err}");
-    let model = [&["trace", CORNELL][..], &SINGLE].concat();
-    let (ok, want, want_err) = run_env(&model, &rays, &one);
+    let (ok, got, err) = run(&rtl, &rays);
+    assert!(ok, "{err}");
+    let (ok, want, want_err) = run(&[&["trace", CORNELL][..], &SINGLE].concat(), &rays);
     assert!(ok, "{want_err}");
     assert_eq!(got, want);
     assert!(got.lines().filter(|l| *l != "miss").count() >= 25, "{got}");
-    // the RTL answered, in the model's clocks
-    assert!(
-        got_err.contains("rtl (") && got_err.contains("41 rays"),
-        "{got_err}"
-    );
-    assert_eq!(cycles(&got_err), cycles(&want_err));
+    // the RTL answered. (Not its clocks: `trace` casts the rays in batches as they arrive on
+    // its input, each batch's engine setting up its origin, so a run's clocks depend on how
+    // the pipe delivered them, on the model as on the RTL; pass 1's do not, above.)
+    assert!(err.contains("rtl (") && err.contains("41 rays"), "{err}");
 }
 
 #[test]

@@ -31,23 +31,8 @@ vertices = [[0,0,1],[0,1,1],[1,1,1],[1,0,1]]
     reason = "not every test binary that includes this module feeds stdin"
 )]
 pub fn run(args: &[&str], stdin: impl AsRef<[u8]>) -> (bool, String, String) {
-    run_env(args, stdin, &[])
-}
-
-/// Runs hemi with `args` and the environment variables `env`, feeding `stdin`; returns
-/// (success, stdout, stderr).
-#[allow(
-    dead_code,
-    reason = "not every test binary that includes this module sets variables"
-)]
-pub fn run_env(
-    args: &[&str],
-    stdin: impl AsRef<[u8]>,
-    env: &[(&str, &str)],
-) -> (bool, String, String) {
     let mut child = Command::new(env!("CARGO_BIN_EXE_hemi"))
         .args(args)
-        .envs(env.iter().copied())
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
