@@ -11,7 +11,7 @@
 
 mod common;
 
-use common::{run, TWO_SQUARES};
+use common::{cornell_rays, run, TWO_SQUARES};
 use std::path::PathBuf;
 use std::process::Command;
 use std::sync::OnceLock;
@@ -123,13 +123,7 @@ fn trace_on_a_qemu_board_prints_the_models_hits() {
     // rays from above the Cornell box's blocks in 60 directions (more than one Cast job), and
     // one that leaves through the open front: every line the model's, to the last digit
     let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/cornell.toml");
-    let mut rays = String::new();
-    for i in 0..60 {
-        let a = i as f64 * 0.41;
-        let line = format!("278 450 279 {} {} {}\n", a.cos(), (a * 0.7).sin(), a.sin());
-        rays.push_str(&line);
-    }
-    rays.push_str("278 450 279 0 0 -1\n");
+    let rays = cornell_rays(60);
     let trace = |backend: &[&str]| {
         let mut args = vec!["trace", scene];
         args.extend_from_slice(backend);

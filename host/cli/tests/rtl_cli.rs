@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::{run, TWO_SQUARES};
+use common::{cornell_rays, run, TWO_SQUARES};
 
 const CORNELL: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/cornell.toml");
 const TEAPOT: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/../../scenes/teapot.toml");
@@ -70,13 +70,7 @@ fn pass_1_on_the_rtl_is_the_models_to_the_bit_and_the_clock() {
 #[ignore = "needs the RTL simulator: cargo xtask rtl-sim (the suite's rtl-cosim step runs it)"]
 fn single_rays_on_the_rtl_hit_what_the_model_hits() {
     // rays from above the Cornell box's blocks, with (u,v), and one out through the open front
-    let mut rays = String::new();
-    for i in 0..40 {
-        let a = i as f64 * 0.41;
-        let line = format!("278 450 279 {} {} {}\n", a.cos(), (a * 0.7).sin(), a.sin());
-        rays.push_str(&line);
-    }
-    rays.push_str("278 450 279 0 0 -1\n");
+    let rays = cornell_rays(40);
     let rtl_sim = sim();
     let rtl = ["trace", CORNELL, "--backend", "rtl", "--rtl-sim", &rtl_sim];
     let (ok, got, err) = run(&rtl, &rays);

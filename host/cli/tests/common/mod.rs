@@ -25,6 +25,23 @@ material = "lamp"
 vertices = [[0,0,1],[0,1,1],[1,1,1],[1,0,1]]
 "#;
 
+/// `hemi trace` input: `n` rays from above the Cornell box's blocks in directions spread over
+/// the sphere, then one that leaves through the box's open front.
+#[allow(
+    dead_code,
+    reason = "not every test binary that includes this module traces the Cornell box"
+)]
+pub fn cornell_rays(n: usize) -> String {
+    let mut rays = String::new();
+    for i in 0..n {
+        let a = i as f64 * 0.41;
+        let line = format!("278 450 279 {} {} {}\n", a.cos(), (a * 0.7).sin(), a.sin());
+        rays.push_str(&line);
+    }
+    rays.push_str("278 450 279 0 0 -1\n");
+    rays
+}
+
 /// Runs hemi with `args`, feeding `stdin`; returns (success, stdout, stderr).
 #[allow(
     dead_code,
