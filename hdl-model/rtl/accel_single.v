@@ -16,7 +16,10 @@
 // FIFO, the intersection unit retires in order), so one table of 256 rows, by a ray's place in
 // that order, holds what each ray carries past the units: its MODE and error bit, origin and
 // skipped slot (written at issue), its direction out of the rotator (read when it starts and,
-// for a rotation, into its result). Four counters walk it: issued, rotated, started, retired.
+// for a rotation, into its result). Five counters walk it, issued, rotated, started, retired
+// and popped (out of the result FIFO, whose rows are the table's places too), and their
+// differences are the rays in each part: held (issued − popped, the credits), in the unit
+// (issued − retired, BUSY), in the result FIFO (retired − popped).
 //
 // CONFIG is this build's: the CORDIC pipes' ITER and W and the (u,v) DEPTH are parameters, set
 // to CONFIG's reset value. APPLY_CONFIG of another value is taken by the register file but not
@@ -57,7 +60,7 @@ module accel_single #(
     localparam [31:0] R_HIT = 32'h8000_0000, R_FRONT = 32'h4000_0000, R_ERROR = 32'h2000_0000,
         R_ROTATED = 32'h1000_0000, R_SHORT = 32'h0800_0000;
     localparam [1:0] TRACE = 2'd0, ROTATE = 2'd1;
-    localparam [8:0] CREDITS = 9'd255;
+    localparam [7:0] CREDITS = 8'd255;
 
     // ---- the register file
     wire         entry_valid, entry_pop, enable, frame_ok, apply, soft_reset, invalidate;
@@ -71,7 +74,9 @@ module accel_single #(
     wire [31:0]  psi32 = {psi, {(32 - W){1'b0}}}, theta32 = {theta, {(32 - W){1'b0}}},
         phi32 = {phi, {(32 - W){1'b0}}};
     wire         result_pop, retire;
-    reg  [8:0]   rf_count;
+    // the table's places (below)
+    reg  [7:0]   issued, rotated, started, retired, popped;
+    wire [7:0]   results = retired - popped;
     wire [127:0] rf_head;
     wire [31:0]  raised;
     /* verilator lint_off UNUSEDSIGNAL */ // the units' configuration is this build's
@@ -84,7 +89,7 @@ module accel_single #(
         .entry_valid(entry_valid), .entry(entry), .entry_pop(entry_pop),
         .dp_busy(dp_busy), .frame_busy(frame_busy), .frame_done(frame_done),
         .frame_angles({phi32, theta32, psi32}), .stack_high(8'd0),
-        .result_push(retire), .result_level(rf_count[7:0]), .result_valid(rf_count != 9'd0),
+        .result_push(retire), .result_level(results), .result_valid(results != 8'd0),
         .result_words(rf_head), .result_pop(result_pop), .dp_raise(raised),
         .sp_push(sp_push), .sp_dir(sp_dir), .sp_pop(sp_pop), .sp_full(sp_full),
         .sp_valid(sp_valid),
@@ -101,8 +106,7 @@ module accel_single #(
     wire [1:0] e_kind = entry[1:0];
     wire       e_rotates = e_kind != TRACE;
     // the rays held from the rotator to the result FIFO, less the one a read takes out now
-    reg  [8:0] held;
-    wire       credit = held - {8'd0, result_pop} < CREDITS;
+    wire       credit = issued - popped - {7'd0, result_pop} < CREDITS;
     wire go = enable && entry_valid && !rst;
     wire issue_frame = go && e_frame && !frame_busy;
     wire issue_ray = go && !e_frame && credit && !(e_rotates && frame_busy);
@@ -137,7 +141,6 @@ module accel_single #(
     reg           t_skip_en [0:255];
     reg  [IW-1:0] t_skip [0:255];
     reg  [95:0]   t_dir [0:255];
-    reg  [7:0]    issued, rotated, started, retired;
     // a skipped slot beyond the build's slots skips nothing (the model compares the whole word)
     wire skip_en = entry[159] && entry[151:128+IW] == {(24 - IW){1'b0}};
     always @(posedge hclk) begin
@@ -179,40 +182,29 @@ module accel_single #(
         : r_mode[1:0] == ROTATE ? {r_dir, R_ROTATED}
         : out_hit ? {out_v, out_u, out_t, flags} : {96'd0, short};
 
-    // ---- the result FIFO (255 results, the credits)
+    // ---- the result FIFO (255 results, the credits), a row a place
     reg [127:0] rf [0:255];
-    reg [7:0]   rf_wp, rf_rp;
-    assign rf_head = rf[rf_rp];
+    assign rf_head = rf[popped];
     assign sp_result = rf_head;
-    always @(posedge hclk) if (retire) rf[rf_wp] <= words;
+    always @(posedge hclk) if (retire) rf[retired] <= words;
 
-    // ---- the places, the credits and BUSY (the datapath's, as the clock leaves it)
-    reg  [8:0] in_unit;  // rays issued and not retired
-    wire [8:0] in_unit_next = in_unit + {8'd0, issue_ray} - {8'd0, retire};
-    assign dp_busy = in_unit_next != 9'd0 || issue_frame || (frame_busy && !frame_done);
+    // ---- the places, and BUSY (the datapath's, as the clock leaves it: rays issued and not
+    // retired, or a frame)
+    wire [7:0] in_unit_next = issued + {7'd0, issue_ray} - retired - {7'd0, retire};
+    assign dp_busy = in_unit_next != 8'd0 || issue_frame || (frame_busy && !frame_done);
     always @(posedge hclk) begin
         if (rst) begin
             issued <= 8'd0;
             rotated <= 8'd0;
             started <= 8'd0;
             retired <= 8'd0;
-            held <= 9'd0;
-            in_unit <= 9'd0;
-            rf_wp <= 8'd0;
-            rf_rp <= 8'd0;
-            rf_count <= 9'd0;
+            popped <= 8'd0;
         end else begin
             if (issue_ray) issued <= issued + 8'd1;
             if (rot_valid) rotated <= rotated + 8'd1;
             if (start) started <= started + 8'd1;
-            if (retire) begin
-                retired <= retired + 8'd1;
-                rf_wp <= rf_wp + 8'd1;
-            end
-            if (result_pop) rf_rp <= rf_rp + 8'd1;
-            rf_count <= rf_count + {8'd0, retire} - {8'd0, result_pop};
-            held <= held + {8'd0, issue_ray} - {8'd0, result_pop};
-            in_unit <= in_unit_next;
+            if (retire) retired <= retired + 8'd1;
+            if (result_pop) popped <= popped + 8'd1;
         end
     end
     // (patch_count's bits above the slots: PATCH_COUNT is at most 256; word 0's bits that

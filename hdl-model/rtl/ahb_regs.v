@@ -355,7 +355,7 @@ module ahb_regs #(
     reg [1:0]  n_staged, n_word;
     reg [5:0]  n_count, n_step;
     reg [4:0]  n_tail, tail_b;
-    reg        push_a, push_b;
+    reg        push_a, push_b, overflow;
     // the entries a CTRL write or RAY_IN's third write queues, first (a) and second (b), chosen
     // by the access alone: which of them a bank takes follows from the tail, whether it takes
     // one from the pushes (chosen by the pushes, the 512 multiplexers were their fanout, and
@@ -364,18 +364,17 @@ module ahb_regs #(
         normal[0], 32'h0001_0000};
     wire [255:0] frame_pairs = {32'd0, spin[1], spin[0], theta[1], theta[0], phi[1], phi[0],
         32'h0002_0000};
-    wire [255:0] ray_entry = {hwdata, staging[1], staging[0], skip_reg[31] ? skip_reg : 32'd0,
-        origin[2], origin[1], origin[0], mode};
-    wire [255:0] stream_entry = {sp_dir, skip_reg[31] ? skip_reg : 32'd0, origin[2], origin[1],
+    // a ray's direction: RAY_IN's three words, or the stream port's (never on the same clock)
+    wire [95:0]  ray_dir = sp_push ? sp_dir : {hwdata, staging[1], staging[0]};
+    wire [255:0] ray_entry = {ray_dir, skip_reg[31] ? skip_reg : 32'd0, origin[2], origin[1],
         origin[0], mode};
-    wire [255:0] entry_a = sp_push ? stream_entry : d_ray_in_write ? ray_entry
+    wire [255:0] entry_a = sp_push || d_ray_in_write ? ray_entry
         : hwdata[1] ? frame_normal : frame_pairs;
     wire [255:0] entry_b = frame_pairs;
-    // an entry queued by this clock's access into an empty FIFO is the head already: the
-    // model's access comes before its tick, which may issue it on the same clock
-    wire bypass = count == 6'd0 && ((d_ctrl_write && !d_ctrl_reset && (hwdata[1] || hwdata[2]))
-        || (d_ray_in_write && staged == 2'd2) || sp_push);
-    assign entry_valid = count != 6'd0 || bypass;
+    // an entry queued by this clock's access (or the stream port) into an empty FIFO is the
+    // head already: the model's access comes before its tick, which may issue it on the same
+    // clock
+    assign entry_valid = count != 6'd0 || push_a;
     assign sp_full = count == RAY_DEPTH[5:0];
     assign sp_valid = result_valid && result_word == 2'd0;
     assign entry = count == 6'd0 ? entry_a : head[0] ? head_odd : head_even;
@@ -396,11 +395,26 @@ module ahb_regs #(
     task queue;
         begin
             if (push_a ? count == RAY_DEPTH[5:0] - 6'd1 : count == RAY_DEPTH[5:0])
-                raise(E_RAY_OVERFLOW);
+                overflow = 1'b1;
             else if (!push_a) push_a = 1'b1;
             else push_b = 1'b1;
         end
     endtask
+
+    // the ray FIFO's pushes, from the access decoded in its address phase or from the stream
+    // port, in a block of their own: the datapath's issue reads the head they make and its pop
+    // comes back into the next state below (in one block, a loop to Verilator)
+    always @* begin
+        push_a = 1'b0;
+        push_b = 1'b0;
+        overflow = 1'b0;
+        if (d_ctrl_write && !d_ctrl_reset) begin
+            if (hwdata[1]) queue;
+            if (hwdata[2]) queue;
+        end
+        if (d_ray_in_write && staged == 2'd2) queue;
+        if (sp_push && !sp_full) push_a = 1'b1;
+    end
 
     always @* begin
         n_error = error;
@@ -421,8 +435,6 @@ module ahb_regs #(
         n_step = 6'd0;
         n_cycle_hi = cycle_hi;
         n_busy_hi = busy_hi;
-        push_a = 1'b0;
-        push_b = 1'b0;
         apply = 1'b0;
         invalidate = 1'b0;
         result_pop = 1'b0;
@@ -465,13 +477,7 @@ module ahb_regs #(
                 default: ;
             endcase
         end
-        // the ray FIFO's pushes, from the access decoded in its address phase
-        if (d_ctrl_write && !d_ctrl_reset) begin
-            if (hwdata[1]) queue;
-            if (hwdata[2]) queue;
-        end
-        if (d_ray_in_write && staged == 2'd2) queue;
-        if (sp_push && !sp_full) push_a = 1'b1;
+        if (overflow) raise(E_RAY_OVERFLOW);
         if (sp_pop && sp_valid) result_pop = 1'b1;
         if (d_rd) begin
             case (d_addr)

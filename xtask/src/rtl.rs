@@ -766,8 +766,8 @@ const ACCEL_MUTANT: Mutant = Mutant {
     bench: ACCEL_BENCH,
     extra: &["cordic_rom.vh", "tb/ahb.h"],
     file: "accel_single.v",
-    from: "localparam [8:0] CREDITS = 9'd255;",
-    to: "localparam [8:0] CREDITS = 9'd254;",
+    from: "localparam [7:0] CREDITS = 8'd255;",
+    to: "localparam [7:0] CREDITS = 8'd254;",
     what: "bit 0 of the one-lane accelerator's credits",
 };
 

@@ -139,6 +139,7 @@ impl Bench {
     }
 
     pub(super) fn write(&mut self, addr: u32, data: u32) {
+        self.end_port_clock();
         let (clk, irq) = (self.model_clock(), self.dev.irq_line() as u32);
         let _ = writeln!(self.text, "W {clk} {addr:x} {data:x} {irq}");
         self.dev.write(addr, data);
@@ -150,6 +151,7 @@ impl Bench {
     /// A read; a PATCH_DATA read's wait states first (clocks of counting: the testbench sees
     /// them as HREADYOUT low).
     pub(super) fn read(&mut self, addr: u32) -> u32 {
+        self.end_port_clock();
         let waits = regs::read_waits(addr);
         for _ in 0..waits {
             self.dev.tick();
@@ -405,20 +407,12 @@ fn directed(b: &mut Bench) {
     b.write(regs::IRQ_STATUS, 0xF);
 }
 
-/// The driver's bus, written down access by access. A stream port clock begun and left for an
-/// access (the driver leaving its stream loop on an ERROR result) ends first, as a clock of
-/// its own, as `RtlBus` sends it.
+/// The driver's bus, written down access by access.
 impl RegisterAccess for Bench {
     fn read(&mut self, offset: u32) -> u32 {
-        if self.pending.is_some() {
-            StreamPort::clock(self);
-        }
         Bench::read(self, offset)
     }
     fn write(&mut self, offset: u32, value: u32) {
-        if self.pending.is_some() {
-            StreamPort::clock(self);
-        }
         Bench::write(self, offset, value)
     }
     fn stream_port(&mut self) -> Option<&mut dyn StreamPort> {
@@ -430,6 +424,14 @@ impl RegisterAccess for Bench {
 }
 
 impl Bench {
+    /// A stream port clock begun and left for an access (the driver leaving its stream loop on
+    /// an ERROR result) ends first, as a clock of its own, as `RtlBus` sends it.
+    fn end_port_clock(&mut self) {
+        if self.pending.is_some() {
+            StreamPort::clock(self);
+        }
+    }
+
     /// The stream port's clock being made, begun with the port as it is now.
     fn port_clock(&mut self) -> &mut PortClock {
         let (full, ready) = (self.dev.ray_full(), self.dev.stream_ready());
