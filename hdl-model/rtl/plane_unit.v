@@ -12,9 +12,10 @@
 // - the scan starts on max(lane free, now + 1) and hands the lane one candidate (an active slot,
 //   the skipped one left out) a clock;
 // - the result leaves 37 + DEPTH clocks after the clock following the last candidate, in order,
-//   one a clock; a bypassed entry leaves 38 + DEPTH clocks after it entered.
-// The one case the RTL cannot follow: a ray without any candidate right after a set-up pass
-// (no active slot but the skipped one), which the model retires before that pass ends.
+//   one a clock; a bypassed entry leaves 38 + DEPTH clocks after it entered;
+// - a ray without any candidate (no active slot but the skipped one) takes one clock of the
+//   scan, as a ray with one candidate that misses would (since session 42 the model charges it
+//   so too: before, it let such a ray leave before its origin's set-up pass had ended).
 module plane_unit #(
     parameter integer IW = 8,       // log2 of the patch slots
     parameter integer DEPTH = 16    // (u,v) levels (CONFIG.DEPTH)

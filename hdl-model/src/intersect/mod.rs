@@ -813,7 +813,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
 
     /// The clock from which a ray started on `now` can take its first candidate, and the
     /// earliest it can be done: a compact build's ray waits for its set-up pass even without
-    /// candidates (the wide datapath retires such a ray at once: see `rtl/plane_unit.v`).
+    /// candidates (the wide datapath's lane takes such a ray for a clock: see `lanes`).
     fn first_clock(&self, now: u64) -> (u64, u64) {
         if self.params.compact {
             let t = (now + 1).max(self.clocks.ready_at);
@@ -1146,6 +1146,12 @@ impl<T: Copy + Default> IntersectUnit<T> {
                 .compact_lanes(group, &counts, &exact, inside, first)
                 .max(end);
             return (best, end);
+        }
+        // a ray no lane has a candidate for still takes a clock of its group's first lane: the
+        // lane carries its answer token in order, as `rtl/plane_unit.v`'s empty scan does, and
+        // cannot know the ray has none before its origin's set-up pass has ended
+        if counts[..banks].iter().all(|&n| n == 0) {
+            counts[0] = 1;
         }
         let lanes = &mut self.bank_free[group * banks..(group + 1) * banks];
         for (b, free) in lanes.iter_mut().enumerate() {

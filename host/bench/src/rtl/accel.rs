@@ -7,16 +7,16 @@
 //! through RAY_IN or the port, the results come out through RESULT_OUT or the port, and CYCLE
 //! and BUSY are read, so the RTL's answers and its clocks are both compared.
 //!
-//! The workload: the scene loaded by the driver; pass 1's hemispheres at K × K sample points
-//! of every planar slot (results without (u,v)) through RAY_IN and RESULT_OUT; a second round
-//! of hemispheres with (u,v) through the stream port (the driver's way when the build has one);
-//! random rays traced from points inside the scene's box, with (u,v), and directions rotated
-//! alone, through the port; then, register by register, the cases the driver does not make: a
-//! ray that rotates before any frame (NO_FRAME, an ERROR result), frames from pairs, a skipped slot beyond the
-//! build's slots, PATCH_COUNT lowered and restored with rays, the port asked for a result
-//! while RESULT_OUT is part-way into it, APPLY_CONFIG with a frame in the same write, and soft
-//! resets with rays in the rotator, the queue, the set-up pass, the divider and the (u,v)
-//! levels.
+//! The workload: the scene loaded by the driver; pass 1's hemispheres at K × K sample points of
+//! every planar slot (results without (u,v)) through RAY_IN and RESULT_OUT; a second round of
+//! hemispheres with (u,v) through the stream port (the driver's way when the build has one); random
+//! rays traced from points inside the scene's box, with (u,v), and directions rotated alone,
+//! through the port; then, register by register, the cases the driver does not make: a ray that
+//! rotates before any frame (NO_FRAME, an ERROR result), frames from pairs, a skipped slot beyond
+//! the build's slots, PATCH_COUNT lowered and restored with rays, rays without a candidate
+//! (PATCH_COUNT 0, a single slot skipped), the port asked for a result while RESULT_OUT is part-way
+//! into it, APPLY_CONFIG with a frame in the same write, and soft resets with rays in the rotator,
+//! the queue, the set-up pass, the divider and the (u,v) levels.
 
 use super::regs::{Bench, Counts};
 use crate::rng::XorShift;
@@ -256,6 +256,8 @@ fn directed(b: &mut Bench, count: u32) {
         push(b, d);
     }
     drain(b, 400);
+    without_candidates(b, dirs);
+    b.write(regs::PATCH_COUNT, count);
     part_way(b, dirs);
     applied(b, dirs);
     // soft resets with rays in every stage: the rotator (86 clocks), the queue, the set-up
@@ -288,6 +290,20 @@ fn directed(b: &mut Bench, count: u32) {
         b.read(reg);
     }
     counters(b);
+}
+
+/// Rays without a candidate, each set of them right after its origin's set-up pass: with
+/// PATCH_COUNT 0, then with one slot that every ray skips; then that slot not skipped.
+fn without_candidates(b: &mut Bench, dirs: [[f64; 3]; 4]) {
+    b.write(regs::MODE, mode::TRACE);
+    for (count, skipped) in [(0, 0), (1, skip::ENABLE), (1, 0)] {
+        b.write(regs::PATCH_COUNT, count);
+        b.write(regs::SKIP_PATCH, skipped);
+        for d in dirs {
+            push(b, d);
+        }
+        drain(b, 400);
+    }
 }
 
 /// The stream port asked for results while RESULT_OUT is part-way into one (it gives none),
