@@ -22,8 +22,8 @@
 // (issued − retired, BUSY), in the result FIFO (retired − popped).
 //
 // CONFIG is this build's: the CORDIC pipes' ITER and W and the (u,v) DEPTH are parameters, set
-// to CONFIG's reset value. APPLY_CONFIG of another value is taken by the register file but not
-// by the units here (the model's units follow it).
+// to CONFIG's reset value, and the register file refuses APPLY_CONFIG of another (BAD_CONFIG),
+// as the model's `Device::built_for` does (the model's own units follow any valid CONFIG).
 module accel_single #(
     parameter integer ITER = 24,
     parameter integer W = 32,
@@ -82,7 +82,8 @@ module accel_single #(
     /* verilator lint_off UNUSEDSIGNAL */ // the units' configuration is this build's
     wire [31:0]  config_active, bz_config_active;
     /* verilator lint_on UNUSEDSIGNAL */
-    ahb_regs #(.SLOT_BITS(IW), .CAPS_LANES_VALUE(CAPS_LANES)) regs (
+    localparam [31:0] BUILD_CONFIG = (DEPTH << 16) | (W << 8) | ITER;
+    ahb_regs #(.SLOT_BITS(IW), .CAPS_LANES_VALUE(CAPS_LANES), .BUILD_CONFIG(BUILD_CONFIG)) regs (
         .hclk(hclk), .hresetn(hresetn), .hsel(hsel), .haddr(haddr), .htrans(htrans),
         .hwrite(hwrite), .hsize(hsize), .hwdata(hwdata), .hready(hready), .hrdata(hrdata),
         .hreadyout(hreadyout), .hresp(hresp), .irq(irq),

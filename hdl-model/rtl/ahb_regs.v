@@ -28,7 +28,10 @@ module ahb_regs #(
     // log2 of the patch slots (CAPS 31:16): 1,024 in the default build
     parameter SLOT_BITS = 10,
     // CAPS_LANES of the build (the default build's)
-    parameter [31:0] CAPS_LANES_VALUE = 32'h1320_0204
+    parameter [31:0] CAPS_LANES_VALUE = 32'h1320_0204,
+    // the CONFIG (ITER 4:0, WIDTH 13:8, DEPTH 20:16) the units behind were synthesised with,
+    // the only one APPLY_CONFIG then takes; 0 (never a valid CONFIG) for units that follow it
+    parameter [31:0] BUILD_CONFIG = 32'd0
 ) (
     input  wire         hclk,
     input  wire         hresetn,
@@ -296,7 +299,9 @@ module ahb_regs #(
             configs_ok_of = c_iter >= 5'd4 && c_iter <= 5'd30 && c_width >= 6'd12 &&
                 c_width <= 6'd32 && {1'b0, c_iter} + 6'd2 <= c_width && c_depth >= 5'd1 &&
                 c_depth <= 5'd24 && b_depth >= 5'd1 && b_depth <= 5'd13 && b_width >= 6'd12 &&
-                b_width <= 6'd26;
+                b_width <= 6'd26 && (BUILD_CONFIG == 32'd0 ||
+                {c_depth, c_width, c_iter} == {BUILD_CONFIG[20:16], BUILD_CONFIG[13:8],
+                BUILD_CONFIG[4:0]});
         end
     endfunction
     /* verilator lint_on UNUSEDSIGNAL */

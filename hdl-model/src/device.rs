@@ -118,6 +118,10 @@ pub struct Device {
     frame: FrameUnit,
     frame_valid: bool,
     params: Params,
+    /// The CONFIG whose iterations, width and depth the units were synthesised with, the only
+    /// one APPLY_CONFIG then takes (an RTL build's units are fixed); `None`: the model's units
+    /// follow any valid CONFIG.
+    built_for: Option<u32>,
     rotators: [Rotator<Info>; MAX_RAYS_PER_CLOCK as usize],
     queue: Fifo<RayIn<Info>, QUEUE_DEPTH>,
     intersect: IntersectUnit<Info>,
@@ -173,6 +177,7 @@ impl Device {
             frame: FrameUnit::new(cfg),
             frame_valid: false,
             params,
+            built_for: None,
             rotators: core::array::from_fn(|_| Rotator::new(cfg)),
             queue: Fifo::default(),
             intersect: IntersectUnit::new(params, depth, subdiv, cfg.width),
@@ -181,6 +186,14 @@ impl Device {
             patch_count: 0,
             was_busy: false,
         }
+    }
+
+    /// This device as an RTL build synthesised at CONFIG `config` (its units' iterations, width
+    /// and depth fixed): APPLY_CONFIG of another CONFIG is refused with ERROR.BAD_CONFIG, as
+    /// `rtl/ahb_regs.v` refuses it when built for one (its BUILD_CONFIG).
+    pub fn built_for(mut self, config: u32) -> Self {
+        self.built_for = Some(config);
+        self
     }
 
     /// The interrupt line: any enabled interrupt flag.
@@ -213,7 +226,10 @@ impl Device {
             (self.config_active, self.bz_config_active, self.patch_count);
         let (cfg, depth) = decode_config(config).expect("active configuration is valid");
         let subdiv = decode_bz_config(bz).expect("active configuration is valid");
-        *self = Device::with_params(self.params);
+        *self = Device {
+            built_for: self.built_for,
+            ..Device::with_params(self.params)
+        };
         self.mem = mem;
         self.config_reg = config;
         self.config_active = config;
@@ -234,7 +250,7 @@ impl Device {
             decode_config(self.config_reg),
             decode_bz_config(self.bz_config_reg),
         ) {
-            (Some((cfg, depth)), Some(subdiv)) => {
+            (Some((cfg, depth)), Some(subdiv)) if self.takes(self.config_reg) => {
                 self.config_active = self.config_reg;
                 self.bz_config_active = self.bz_config_reg;
                 self.rotators = core::array::from_fn(|_| Rotator::new(cfg));
@@ -244,6 +260,13 @@ impl Device {
             }
             _ => self.raise(error::BAD_CONFIG),
         }
+    }
+
+    /// Whether this build's units can take CONFIG `v` (a valid one): any, unless they were
+    /// synthesised for one ([`Device::built_for`]).
+    fn takes(&self, v: u32) -> bool {
+        self.built_for
+            .is_none_or(|b| decode_config(b) == decode_config(v))
     }
 
     fn push_entry(&mut self, e: Entry) {

@@ -15,13 +15,14 @@
 //! rotates before any frame (NO_FRAME, an ERROR result), frames from pairs, a skipped slot beyond
 //! the build's slots, PATCH_COUNT lowered and restored with rays, rays without a candidate
 //! (PATCH_COUNT 0, a single slot skipped), the port asked for a result while RESULT_OUT is part-way
-//! into it, APPLY_CONFIG with a frame in the same write, and soft resets with rays in the rotator,
+//! into it, APPLY_CONFIG with a frame in the same write and of a CONFIG the build was not
+//! synthesised with, and soft resets with rays in the rotator,
 //! the queue, the set-up pass, the divider and the (u,v) levels.
 
 use super::regs::{Bench, Counts};
 use crate::rng::XorShift;
 use hemi_hdl_model::accel::RegisterAccelerator;
-use hemi_hdl_model::device::Device;
+use hemi_hdl_model::device::{Device, CONFIG_RESET};
 use hemi_hdl_model::driver::StreamPort;
 use hemi_hdl_model::regs::{self, ctrl, mode, skip, status};
 use hemi_hdl_model::{ModelConfig, Params};
@@ -53,7 +54,7 @@ pub fn vectors(
         params: Params::SINGLE,
         ..ModelConfig::default()
     };
-    let bench = Bench::new(Device::with_params(Params::SINGLE));
+    let bench = Bench::new(Device::with_params(Params::SINGLE).built_for(CONFIG_RESET));
     let mut acc = RegisterAccelerator::with_bus(bench, patches, config)
         .map_err(|e| anyhow::anyhow!("the model refused the scene: {e:?}"))?;
     let hemi = OwnedHemisphere::new(circles, DeltaRule::Band)
@@ -328,7 +329,8 @@ fn part_way(b: &mut Bench, dirs: [[f64; 3]; 4]) {
 
 /// APPLY_CONFIG (of the configuration in force): the set-up forgotten, so rays from the same
 /// origin set up again; then with a frame command in the same write, the angles read while the
-/// new frame is computed (reset to zero by the apply) and after.
+/// new frame is computed (reset to zero by the apply) and after; then APPLY_CONFIG of a CONFIG
+/// the build was not synthesised with (20 iterations), refused, and rays after it.
 fn applied(b: &mut Bench, dirs: [[f64; 3]; 4]) {
     b.write(regs::MODE, mode::TRACE);
     for d in dirs {
@@ -351,6 +353,18 @@ fn applied(b: &mut Bench, dirs: [[f64; 3]; 4]) {
     }
     drain(b, 200);
     b.read(regs::FRAME_PSI);
+    // a CONFIG the build's units were not synthesised with (20 iterations), refused
+    b.write(regs::CONFIG, CONFIG_RESET - 4);
+    b.write(regs::CTRL, ctrl::ENABLE | ctrl::APPLY_CONFIG);
+    for reg in [regs::ERROR, regs::CONFIG, regs::CONFIG_ACTIVE, regs::STATUS] {
+        b.read(reg);
+    }
+    b.write(regs::ERROR, 0xFFFF_FFFF);
+    for d in dirs {
+        push(b, d);
+    }
+    drain(b, 400);
+    b.write(regs::CONFIG, CONFIG_RESET);
 }
 
 /// Reads STATUS until the accelerator is idle (at most `limit` reads).
