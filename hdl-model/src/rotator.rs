@@ -70,9 +70,7 @@ const CHAIN: usize = chain(crate::cordic::MAX_ITERATIONS);
 /// after the other, at the cost of one register shift a clock instead of three.
 #[derive(Clone, Debug)]
 pub struct Rotator<T: Copy + Default> {
-    psi: CordicPipe<Carry>,
-    theta: CordicPipe<Carry>,
-    phi: CordicPipe<Carry>,
+    pipes: Pipes,
     regs: Pipe<CordicSlot<Carry>, CHAIN>,
     side: [Side<T>; SLOTS],
     next_slot: u8,
@@ -85,9 +83,11 @@ impl<T: Copy + Default> Rotator<T> {
     /// A rotator of three pipes built for `cfg`.
     pub fn new(cfg: CordicConfig) -> Self {
         Rotator {
-            psi: CordicPipe::new(Mode::Rotate, cfg),
-            theta: CordicPipe::new(Mode::Rotate, cfg),
-            phi: CordicPipe::new(Mode::Rotate, cfg),
+            pipes: Pipes {
+                psi: CordicPipe::new(Mode::Rotate, cfg),
+                theta: CordicPipe::new(Mode::Rotate, cfg),
+                phi: CordicPipe::new(Mode::Rotate, cfg),
+            },
             regs: Pipe::new(chain(cfg.iterations)),
             side: [Side::default(); SLOTS],
             next_slot: 0,
@@ -97,7 +97,7 @@ impl<T: Copy + Default> Rotator<T> {
 
     /// Latency in clocks.
     pub fn latency(&self) -> u32 {
-        chain(self.psi.config().iterations) as u32
+        chain(self.pipes.psi.config().iterations) as u32
     }
 
     /// Directions in flight.
@@ -122,42 +122,7 @@ impl<T: Copy + Default> Rotator<T> {
             [Unit::ZERO, one, Unit::ZERO],
             [Unit::ZERO, Unit::ZERO, one],
         ];
-        e.map(|d| self.turn(d, angles))
-    }
-
-    /// The three pipes' stages on one direction, as a combinational chain.
-    fn turn(&self, dir: [Unit; 3], angles: [Angle; 3]) -> [Unit; 3] {
-        let s = self.psi.eval(CordicSlot {
-            x: dir[0],
-            y: dir[1],
-            z: angles[0],
-            zero: false,
-            payload: Carry {
-                third: dir[2],
-                slot: 0,
-            },
-        });
-        let s = self.theta.eval(CordicSlot {
-            x: s.payload.third,
-            y: s.x,
-            z: angles[1],
-            zero: false,
-            payload: Carry {
-                third: s.y,
-                slot: 0,
-            },
-        });
-        let s = self.phi.eval(CordicSlot {
-            x: s.y,
-            y: s.payload.third,
-            z: angles[2],
-            zero: false,
-            payload: Carry {
-                third: s.x,
-                slot: 0,
-            },
-        });
-        [s.x, s.y, s.payload.third]
+        e.map(|d| self.pipes.turn(d, angles))
     }
 
     /// One clock; returns the rotated direction leaving the φ pipe with its info.
@@ -194,34 +159,42 @@ impl<T: Copy + Default> Rotator<T> {
         let out = self.regs.shift(input)?;
         self.in_flight -= 1;
         let side = &self.side[out.payload.slot as usize];
-        let s = self.psi.eval(out);
-        // (z, x) turned by θ; y carried
-        let s = self.theta.eval(CordicSlot {
-            x: s.payload.third,
-            y: s.x,
-            z: side.theta,
-            zero: false,
-            payload: Carry {
-                third: s.y,
-                slot: s.payload.slot,
-            },
-        });
-        // (x₁, y) turned by φ; z₁ carried
-        let s = self.phi.eval(CordicSlot {
-            x: s.y,
-            y: s.payload.third,
-            z: side.phi,
-            zero: false,
-            payload: Carry {
-                third: s.x,
-                slot: s.payload.slot,
-            },
-        });
-        let v = if side.bypass {
-            side.original
-        } else {
-            [s.x, s.y, s.payload.third]
+        if side.bypass {
+            return Some((side.original, side.info));
+        }
+        let (dir, angles) = (
+            [out.x, out.y, out.payload.third],
+            [out.z, side.theta, side.phi],
+        );
+        Some((self.pipes.turn(dir, angles), side.info))
+    }
+}
+
+/// The three CORDIC pipes, whose stages are applied together when a direction leaves the
+/// rotator's ring.
+#[derive(Clone, Debug)]
+struct Pipes {
+    psi: CordicPipe<Carry>,
+    theta: CordicPipe<Carry>,
+    phi: CordicPipe<Carry>,
+}
+
+impl Pipes {
+    /// The three pipes' stages on one direction, as a combinational chain: (x, y) turned by ψ,
+    /// z carried; (z, x) turned by θ, y carried; (x₁, y) turned by φ, z₁ carried.
+    fn turn(&self, dir: [Unit; 3], angles: [Angle; 3]) -> [Unit; 3] {
+        let stage = |pipe: &CordicPipe<Carry>, x, y, z, third| {
+            pipe.eval(CordicSlot {
+                x,
+                y,
+                z,
+                zero: false,
+                payload: Carry { third, slot: 0 },
+            })
         };
-        Some((v, side.info))
+        let s = stage(&self.psi, dir[0], dir[1], angles[0], dir[2]);
+        let s = stage(&self.theta, s.payload.third, s.x, angles[1], s.y);
+        let s = stage(&self.phi, s.y, s.payload.third, angles[2], s.x);
+        [s.x, s.y, s.payload.third]
     }
 }
