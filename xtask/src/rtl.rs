@@ -207,6 +207,15 @@ pub const BANK_PASS_BENCH: Bench = Bench {
     report: "bank_pass",
 };
 
+/// A lane's bitmap walk (`bitmap_walk.v`): the bitmaps of pass after pass written through its
+/// port, every ray's candidates compared with the model's in order (answers, not clocks).
+pub const WALK_BENCH: Bench = Bench {
+    top: "bitmap_walk",
+    sources: &["bitmap_walk.v"],
+    cpp: "tb/walk_tb.cpp",
+    report: "walk",
+};
+
 /// A bank's bitmap writer (`bitmap_writer.v`): the set-up answers of pass after pass into the
 /// candidate bitmaps, every copy's rows, every pass's completion and its valid bits compared
 /// with their clocks.
@@ -418,6 +427,7 @@ pub fn lint(cfg: Cordic, depth: u32) -> Result<(), String> {
         lint_top(WRITER_BENCH.top, WRITER_BENCH.sources, &g)?;
     }
     lint_top(MUL_BENCH.top, MUL_BENCH.sources, &[])?;
+    lint_top(WALK_BENCH.top, WALK_BENCH.sources, &[])?;
     lint_top(EXACT_BENCH.top, EXACT_BENCH.sources, &[])?;
     lint_top(GROUP_PLANE_BENCH.top, GROUP_PLANE_BENCH.sources, &[])?;
     lint_top(ACCEL_BENCH.top, ACCEL_BENCH.sources, &[])?;
@@ -461,6 +471,9 @@ pub struct Workload {
     /// Random passes for the bitmap writer (after the scene's bank 0's set-up passes from
     /// `coarse_samples` points a slot).
     pub writer_random: u32,
+    /// Random passes for a lane's bitmap walk, rays of every sector and band each (after the
+    /// scene's bank 0's passes from `coarse_samples` points a slot).
+    pub walk_random: u32,
     /// Random patches for the exact edge unit, five pairs each (after the pairs of the scene's
     /// set-up passes from `coarse_samples` points a slot).
     pub exact_random: u32,
@@ -475,7 +488,8 @@ pub struct Workload {
 
 /// Writes the model's vectors for `cfg` (`cordic_out`) and, if asked, the register file's, the
 /// coarse edge units', the culling unit's, the set-up unit's, the horizon filter's, the bank
-/// front's, the bitmap writer's, the exact edge unit's, the plane unit's and the whole one-lane
+/// front's, the bitmap writer's, the bitmap walk's, the exact edge unit's, the plane unit's and
+/// the whole one-lane
 /// accelerator's (`once`: none depends on CONFIG's
 /// CORDIC words) and the planar unit's at a depth (each into its own file) on the Cornell box,
 /// with the release build of the generator (`release`) or the test suite's debug build.
@@ -484,7 +498,7 @@ pub fn vectors(
     plane: Option<(u32, &Path)>,
     w: Workload,
     release: bool,
-    (cordic_out, once): (&Path, Option<[&Path; 10]>),
+    (cordic_out, once): (&Path, Option<[&Path; 11]>),
 ) -> Result<(), String> {
     let mut c = cargo(["run", "--quiet", "-p", "hemi-bench", "--bin", "rtl_vectors"]);
     if release {
@@ -497,8 +511,9 @@ pub fn vectors(
         .args(["--scene", "scenes/cornell.toml"])
         .args(["--circles", &n(w.circles), "--samples", &n(w.samples)])
         .args(["--random", &n(w.random)]);
-    if let Some([regs, coarse, cull, setup, horizon, bank, writer, exact, group_plane, accel]) =
-        once
+    if let Some(
+        [regs, coarse, cull, setup, horizon, bank, writer, walk, exact, group_plane, accel],
+    ) = once
     {
         c.arg("--regs")
             .arg(regs)
@@ -522,6 +537,9 @@ pub fn vectors(
         c.arg("--writer")
             .arg(writer)
             .args(["--writer-random", &n(w.writer_random)]);
+        c.arg("--walk")
+            .arg(walk)
+            .args(["--walk-random", &n(w.walk_random)]);
         c.arg("--exact")
             .arg(exact)
             .args(["--exact-random", &n(w.exact_random)]);
@@ -717,6 +735,7 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     BANK_MUTANT.caught("mutant-bank", &[], &[file("bank.txt")], opt)?;
     BANK_SETUP_MUTANT.caught("mutant-bank-setup", &[], &[file("bank.txt")], opt)?;
     WRITER_MUTANT.caught("mutant-writer", &[], &[file("writer.txt")], opt)?;
+    WALK_MUTANT.caught("mutant-walk", &[], &[file("walk.txt")], opt)?;
     BANK_PASS_MUTANT.caught("mutant-bank-pass", &[], &[file("bank.txt")], opt)?;
     EXACT_MUTANT.caught("mutant-exact", &[], &[file("exact.txt")], opt)?;
     GROUP_PLANE_MUTANT.caught("mutant-group-plane", &[], &[file("group_plane.txt")], opt)?;
@@ -860,6 +879,17 @@ const WRITER_MUTANT: Mutant = Mutant {
     what: "bit 0 of the bitmap writer's last copy row",
 };
 
+/// The bitmap walk clearing the skipped slot's neighbour too (the constant 1 of the skipped
+/// slot's bit as 3, bit 1), so that a ray loses the candidate next to the one it skips.
+const WALK_MUTANT: Mutant = Mutant {
+    bench: WALK_BENCH,
+    extra: &[],
+    file: "bitmap_walk.v",
+    from: "? 64'd1 << m_skip[5:0]",
+    to: "? 64'd3 << m_skip[5:0]",
+    what: "bit 1 of the bitmap walk's skipped slot's bit",
+};
+
 /// The horizon filter's shift k = bits(U) − 17 with its bit 0 flipped (the leading one's place
 /// plus 1, written out, with bit 0 not inverted), so that its words keep a bit more or less
 /// than the model's.
@@ -891,7 +921,7 @@ fn cosim_run(
         dir.join("coarse.txt"),
         dir.join("cull.txt"),
     );
-    let av = dir.join("accel.txt");
+    let (av, kv) = (dir.join("accel.txt"), dir.join("walk.txt"));
     let (sv, hv, bv, wv, xv, gv) = (
         dir.join("setup.txt"),
         dir.join("horizon.txt"),
@@ -900,8 +930,8 @@ fn cosim_run(
         dir.join("exact.txt"),
         dir.join("group_plane.txt"),
     );
-    let once_out =
-        once.then_some([&rv, &ev, &uv, &sv, &hv, &bv, &wv, &xv, &gv, &av].map(PathBuf::as_path));
+    let once_out = once
+        .then_some([&rv, &ev, &uv, &sv, &hv, &bv, &wv, &kv, &xv, &gv, &av].map(PathBuf::as_path));
     vectors(
         cfg,
         depth.map(|d| (d, pv.as_path())),
@@ -947,6 +977,9 @@ fn cosim_run(
         let exe = build(WRITER_BENCH, &[], &src, &dir.join("writer"), opt)?;
         let r = cosim(WRITER_BENCH, &exe, &[wv.display().to_string()])?;
         out.push(("bitmap writer".to_string(), r));
+        let exe = build(WALK_BENCH, &[], &src, &dir.join("walk"), opt)?;
+        let r = cosim(WALK_BENCH, &exe, &[kv.display().to_string()])?;
+        out.push(("bitmap walk".to_string(), r));
         let exe = build(EXACT_BENCH, &[], &src, &dir.join("exact"), opt)?;
         let r = cosim(EXACT_BENCH, &exe, &[xv.display().to_string()])?;
         out.push(("exact edge unit".to_string(), r));
@@ -995,6 +1028,7 @@ pub fn ci() -> Result<(), String> {
         horizon_random: 5_000,
         bank_random: 40,
         writer_random: 2_000,
+        walk_random: 60,
         exact_random: 2_000,
         group_plane_random: 2_000,
         accel_samples: 1,
@@ -1295,9 +1329,21 @@ pub fn writer_design() -> Design {
     }
 }
 
+/// A lane's bitmap walk's harness, with its bank's bitmaps.
+pub fn walk_design() -> Design {
+    Design {
+        name: "walk".to_string(),
+        top: "syn_walk",
+        files: vec!["bitmap_walk.v", "syn/syn_walk.v"],
+        params: vec![],
+        summed: true,
+        abc9: false,
+    }
+}
+
 /// Every synthesis harness at CORDIC `cfg` and (u,v) depth `depth` (the final line's figures
 /// are theirs: [`datapath`]).
-fn designs(cfg: Cordic, depth: u32) -> [Design; 15] {
+fn designs(cfg: Cordic, depth: u32) -> [Design; 16] {
     [
         rotator_design(cfg),
         plane_design(depth),
@@ -1311,6 +1357,7 @@ fn designs(cfg: Cordic, depth: u32) -> [Design; 15] {
         bank_design(),
         bank_setup_design(),
         writer_design(),
+        walk_design(),
         bank_pass_design(),
         exact_design(),
         group_plane_design(),
@@ -1637,6 +1684,7 @@ fn full(quick: bool, all: bool) -> Result<(), String> {
         horizon_random: 100_000,
         bank_random: 1_000,
         writer_random: 100_000,
+        walk_random: 2_000,
         exact_random: 40_000,
         group_plane_random: 100_000,
         accel_samples: 1,

@@ -129,12 +129,14 @@ fn steps() -> Vec<Step> {
                    clocks, a bank front's corner reads on the model's clocks (the filter \
                    stopping for a full FIFO) and the set-up unit's answers behind it, those \
                    answers into the bank's bitmaps, a bank's bitmap writer's copies and \
-                   completions on the model's clocks, the exact edge unit's verdicts on the \
+                   completions on the model's clocks, a lane's bitmap walk's candidates out \
+                   of those bitmaps for rays of every sector and band, the exact edge unit's \
+                   verdicts on the \
                    Cornell box's undecided pairs and random ones with their clocks, the \
                    plane unit's answers on the Cornell box's rays and random ones with their \
                    clocks, the multipliers against exact products, and the whole one-lane \
                    accelerator through its AHB-Lite bus and stream port (the register \
-                   driver's own accesses, every read and result compared), then fifteen \
+                   driver's own accesses, every read and result compared), then sixteen \
                    one-bit mutants of the RTL shown to be caught, and `hemi --backend rtl` on \
                    the Verilated accelerator against the model of the same build, form factors, \
                    hits and clocks (cargo xtask rtl is the full form, with synthesis)",

@@ -28,13 +28,15 @@
 //!   banks;
 //! - with `--writer OUT9`: a bank's bitmap writer on the set-up answers of the scene's bank 0
 //!   (passes from `--coarse-samples K` lattice points a slot) and `--writer-random N` random
-//!   passes.
+//!   passes;
+//! - with `--walk OUT13`: a lane's bitmap walk on the bitmaps of the same passes (the scene's
+//!   and `--walk-random N` random ones), rays of every sector and band of each.
 
 use anyhow::{bail, Context, Result};
 use hemi_bench::rng::XorShift;
 use hemi_bench::rtl::{
     accel, bank, coarse, cordic, cull, exact, group_plane, horizon, plane, reach, regs, setup,
-    writer,
+    walk, writer,
 };
 use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::intersect::patch_mem::PATCH_WORDS;
@@ -67,6 +69,8 @@ struct Args {
     bank_random: usize,
     writer: Option<String>,
     writer_random: usize,
+    walk: Option<String>,
+    walk_random: usize,
     exact: Option<String>,
     exact_random: usize,
     group_plane: Option<String>,
@@ -105,6 +109,8 @@ fn parse() -> Result<Args> {
         bank_random: 100,
         writer: None,
         writer_random: 1_000,
+        walk: None,
+        walk_random: 200,
         exact: None,
         exact_random: 4_000,
         group_plane: None,
@@ -144,6 +150,8 @@ fn parse() -> Result<Args> {
             "--bank-random" => a.bank_random = value()?.parse()?,
             "--writer" => a.writer = Some(value()?),
             "--writer-random" => a.writer_random = value()?.parse()?,
+            "--walk" => a.walk = Some(value()?),
+            "--walk-random" => a.walk_random = value()?.parse()?,
             "--exact" => a.exact = Some(value()?),
             "--exact-random" => a.exact_random = value()?.parse()?,
             "--group-plane" => a.group_plane = Some(value()?),
@@ -157,7 +165,7 @@ fn parse() -> Result<Args> {
         }
     }
     if a.out.is_empty() || !a.cfg.is_valid() || !(1..=24).contains(&a.depth) {
-        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--bank OUT8 --bank-random N] [--writer OUT9 --writer-random N] [--exact OUT10 --exact-random N] [--group-plane OUT11 --group-plane-random N] [--accel OUT12 --accel-samples K --accel-random N] [--seed S]");
+        bail!("usage: rtl-vectors OUT [--iterations N --width W (valid CORDIC)] [--scene PATH] [--circles R] [--samples K] [--random N] [--plane OUT2 --depth D (1..=24) --plane-samples K --plane-random N --plane-patches P] [--regs OUT3 --regs-steps N] [--coarse OUT4 --coarse-samples K --coarse-random N] [--cull OUT5 --cull-random N] [--setup OUT6 --setup-random N] [--horizon OUT7 --horizon-random N] [--bank OUT8 --bank-random N] [--writer OUT9 --writer-random N] [--walk OUT13 --walk-random N] [--exact OUT10 --exact-random N] [--group-plane OUT11 --group-plane-random N] [--accel OUT12 --accel-samples K --accel-random N] [--seed S]");
     }
     Ok(a)
 }
@@ -197,6 +205,7 @@ fn main() -> Result<()> {
         &a.horizon,
         &a.bank,
         &a.writer,
+        &a.walk,
         &a.exact,
         &a.group_plane,
     ];
@@ -257,6 +266,14 @@ fn main() -> Result<()> {
         println!(
             "rtl-vectors: writer passes={} answers={} copies={} empty={}",
             c.passes, c.answers, c.copies, c.empty
+        );
+    }
+    if let Some(out) = &a.walk {
+        let (text, c) = walk::vectors(&slots, a.coarse_samples, a.walk_random, a.seed);
+        std::fs::write(out, text).with_context(|| format!("writing {out}"))?;
+        println!(
+            "rtl-vectors: walk passes={} rays={} candidates={}",
+            c.passes, c.rays, c.candidates
         );
     }
     if let Some(out) = &a.exact {

@@ -15,6 +15,7 @@
 //! - [`plane`]: the planar intersection unit with (u,v) (one lane, no culling);
 //! - [`regs`]: the register file and its AHB-Lite bus interface;
 //! - [`writer`]: a bank's bitmap writer (the set-up answers into the candidate bitmaps);
+//! - [`walk`]: a lane's bitmap walk (a ray's candidates out of those bitmaps, in slot order);
 //! - [`exact`]: the compact datapath's shared exact edge unit (the pairs the lanes' coarse test
 //!   leaves undecided);
 //! - [`group_plane`]: a compact build's plane unit (a ray group's pairs found inside, each
@@ -34,6 +35,7 @@ pub mod plane;
 pub mod reach;
 pub mod regs;
 pub mod setup;
+pub mod walk;
 pub mod writer;
 
 /// A vector file being written for a bench of the culling unit or the set-up unit: the model's

@@ -33,7 +33,7 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 /// Slots a bank holds in the RTL's default (`bitmap_writer.v`'s SLOT_BITS 9).
-const BANK_SLOTS: usize = 512;
+pub(super) const BANK_SLOTS: usize = 512;
 
 /// What a file holds.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -102,7 +102,7 @@ pub fn vectors(
 /// The answers of a pass from `o` in frame `axes` over `bank`, begun on `start`, and the clock
 /// its end leaves the set-up pipe: a planar slot's set-up a corner a clock, its answer out of
 /// the set-up pipe after its last corner (a slot whose plane holds the origin answers nothing).
-fn scene_pass(
+pub(super) fn scene_pass(
     unit: &CullUnit,
     bank: &[&[u32; PATCH_WORDS]],
     o: [i32; 3],
@@ -140,7 +140,7 @@ enum PassKind {
 
 /// A random pass begun on `start`, of a random [`PassKind`]: its answers and its end's clock,
 /// which comes with the last answer or up to seven clocks after it (slots passed over).
-fn random_pass(rng: &mut XorShift, sectors: u32, start: u64) -> (Vec<Answer>, u64) {
+pub(super) fn random_pass(rng: &mut XorShift, sectors: u32, start: u64) -> (Vec<Answer>, u64) {
     let kind = match (rng.bits() % 64, rng.bits() % 8) {
         (0, _) => PassKind::WholeBank,
         (_, 0) => PassKind::AllBelow,
@@ -186,6 +186,32 @@ fn random_pass(rng: &mut XorShift, sectors: u32, start: u64) -> (Vec<Answer>, u6
     }
     let last = answers.last().map_or(at, |a| a.1);
     (answers, last + rng.bits() % 8)
+}
+
+/// The rows' words a copy of column `col` writes, by row (those with a bit set): every answer
+/// of the column sets its bit in its sectors' and bands' words (sector, mask, band) and its
+/// bands in its sectors' mask words.
+pub(super) fn column_rows(
+    answers: &[Answer],
+    col: u32,
+    sectors: u32,
+) -> BTreeMap<u32, (u64, u64, u64)> {
+    let mut rows: BTreeMap<u32, (u64, u64, u64)> = BTreeMap::new();
+    for (place, _, r) in answers.iter().filter(|a| column(a.0) == col) {
+        let bit = 1u64 << (place % 64);
+        let bands = (r.band_lo..=r.band_hi).fold(0u64, |m, b| m | 1 << b);
+        for s in r.wedge.sectors(sectors) {
+            let w = rows.entry(s).or_default();
+            w.0 |= bit;
+            w.1 |= bands;
+        }
+        if r.wedge != Wedge::Below {
+            for b in r.band_lo..=r.band_hi {
+                rows.entry(b as u32).or_default().2 |= bit;
+            }
+        }
+    }
+    rows
 }
 
 /// A reach of one to three sectors and bands.
@@ -317,22 +343,7 @@ impl WriterVectors {
     /// its bit in its sectors' and bands' words and its bands in its sectors' mask words.
     fn copy_lines(&mut self, clock: u64, col: u32, answers: &[Answer]) {
         let _ = writeln!(self.text, "{}C {clock} {} {col}", self.prefix, self.buffer);
-        let mut rows: BTreeMap<u32, (u64, u64, u64)> = BTreeMap::new();
-        for (place, _, r) in answers.iter().filter(|a| column(a.0) == col) {
-            let bit = 1u64 << (place % 64);
-            let bands = (r.band_lo..=r.band_hi).fold(0u64, |m, b| m | 1 << b);
-            for s in r.wedge.sectors(self.sectors) {
-                let w = rows.entry(s).or_default();
-                w.0 |= bit;
-                w.1 |= bands;
-            }
-            if r.wedge != Wedge::Below {
-                for b in r.band_lo..=r.band_hi {
-                    rows.entry(b as u32).or_default().2 |= bit;
-                }
-            }
-        }
-        for (row, (s, m, b)) in rows {
+        for (row, (s, m, b)) in column_rows(answers, col, self.sectors) {
             let _ = writeln!(self.text, "{}X {row} {s} {m} {b}", self.prefix);
         }
         self.counts.copies += 1;

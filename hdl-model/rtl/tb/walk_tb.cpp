@@ -1,0 +1,220 @@
+// A lane's bitmap walk's testbench: reads the model's vectors (hemi-bench's `rtl-vectors
+// --walk`, host/bench/src/rtl/walk.rs) and drives `bitmap_walk.v` with them. Pass by pass it
+// clears the valid bits of the pass's buffer (`P`), writes each column the model's writer
+// copies (`C`) through the write port a row a clock (`X`: a row's sector, mask and band words;
+// the other rows zero) and sets the column's valid bit after its last row, as
+// `bitmap_writer.v` does; then hands the walk the pass's rays (`Y`: sector, band, the skipped
+// place or -1, and the model's candidates in slot order), while the next pass's columns are
+// written into the other buffer. A pass's writes wait until the rays of the pass before the
+// last (the same buffer) are out. The walk's outputs are taken on three clocks in four, and
+// every ray's candidates are compared with the model's, in order, with its tag and its end.
+// Prints `walk: rays=N vectors=M clocks=C mismatches=K seconds=S` (vectors: the candidates),
+// exits 1 on any mismatch.
+#include "Vbitmap_walk.h"
+#include "tb.h"
+#include "verilated.h"
+#include <deque>
+#include <vector>
+
+struct Row {
+    uint32_t row;
+    uint64_t sector, mask, band;
+};
+
+struct Copy {
+    uint32_t col;
+    std::vector<Row> rows;
+};
+
+struct Ray {
+    uint32_t sector, band;
+    int32_t skip;
+    std::vector<uint32_t> candidates;
+};
+
+struct Pass {
+    uint32_t buf;
+    std::vector<Copy> copies;
+    std::vector<Ray> rays;
+};
+
+static bool read_vectors(const char *path, uint32_t &copy_rows, std::vector<Pass> &passes) {
+    return tb::read_lines("walk", path, [&](const std::string &tag, std::istringstream &in) {
+        if (tag == "L") return bool(in >> copy_rows);
+        if (tag == "P") {
+            passes.push_back(Pass{});
+            return bool(in >> passes.back().buf);
+        }
+        if (passes.empty()) return false;
+        Pass &p = passes.back();
+        if (tag == "C") {
+            p.copies.push_back(Copy{});
+            return bool(in >> p.copies.back().col);
+        }
+        if (tag == "X" && !p.copies.empty()) {
+            Row r;
+            if (!(in >> r.row >> r.sector >> r.mask >> r.band)) return false;
+            p.copies.back().rows.push_back(r);
+            return true;
+        }
+        if (tag == "Y") {
+            Ray r;
+            uint32_t n;
+            if (!(in >> r.sector >> r.band >> r.skip >> n)) return false;
+            r.candidates.resize(n);
+            for (auto &c : r.candidates)
+                if (!(in >> c)) return false;
+            p.rays.push_back(r);
+            return true;
+        }
+        return false;
+    });
+}
+
+// The write port's schedule: every row of every copy of a pass, the column's valid bit after
+// its last row.
+struct Writes {
+    const Pass *pass = nullptr;
+    size_t copy = 0;
+    uint32_t row = 0;
+};
+
+int main(int argc, char **argv) {
+    Verilated::commandArgs(argc, argv);
+    if (argc < 2) {
+        fprintf(stderr, "usage: walk VECTORS\n");
+        return 2;
+    }
+    uint32_t copy_rows = 0;
+    std::vector<Pass> passes;
+    if (!read_vectors(argv[1], copy_rows, passes) || copy_rows == 0) return 2;
+    tb::Stopwatch watch;
+    Vbitmap_walk w;
+    w.rst = 1;
+    w.valid0 = w.valid1 = 0;
+    tb::tick(w);
+    tb::tick(w);
+    w.rst = 0;
+
+    uint64_t clock = 0, bad = 0, rays = 0, candidates = 0;
+    uint32_t valid[2] = {0, 0};
+    size_t written = 0;     // passes whose writes are done
+    size_t cast_pass = 0, cast_ray = 0;  // the next ray to hand the walk
+    std::vector<size_t> out_of(passes.size(), 0);  // each pass's rays whose outputs are done
+    Writes wr;
+    // the rays handed over and not yet out: pass, ray, tag, candidates seen
+    struct Flight {
+        size_t pass, ray;
+        uint32_t tag;
+        size_t seen;
+    };
+    std::deque<Flight> flight;
+    uint32_t next_tag = 0;
+    const uint64_t limit = 400ull * 1000 * 1000;
+    while ((written < passes.size() || cast_pass < passes.size() || !flight.empty()) &&
+           clock < limit) {
+        // the write port: a pass's writes begin once the pass before it is written and the one
+        // that last filled its buffer (two back) is out
+        w.w_valid = 0;
+        if (!wr.pass && written < passes.size() &&
+            (written < 2 || out_of[written - 2] == passes[written - 2].rays.size())) {
+            wr = Writes{&passes[written], 0, 0};
+            valid[wr.pass->buf] = 0;
+        }
+        if (wr.pass && wr.copy < wr.pass->copies.size()) {
+            const Copy &c = wr.pass->copies[wr.copy];
+            Row r{wr.row, 0, 0, 0};
+            for (const Row &x : c.rows)
+                if (x.row == wr.row) r = x;
+            w.w_valid = 1;
+            w.w_buf = wr.pass->buf;
+            w.w_row = r.row;
+            w.w_col = c.col;
+            w.w_sector = r.sector;
+            w.w_mask = (uint32_t)r.mask;
+            w.w_band = r.band;
+        }
+        // the ray on offer
+        w.r_valid = 0;
+        if (cast_pass < written && cast_pass < passes.size()) {
+            const Pass &p = passes[cast_pass];
+            if (cast_ray < p.rays.size()) {
+                const Ray &r = p.rays[cast_ray];
+                w.r_valid = 1;
+                w.r_buf = p.buf;
+                w.r_sector = r.sector;
+                w.r_band = r.band;
+                w.r_skip_en = r.skip >= 0;
+                w.r_skip = r.skip >= 0 ? (uint32_t)r.skip : 0;
+                w.r_tag = next_tag;
+            }
+        }
+        w.o_ready = (clock & 3) != 3;
+        w.eval();
+        // what this clock's edge takes
+        bool took = w.r_valid && w.r_ready;
+        if (w.o_valid && w.o_ready) {
+            if (flight.empty()) {
+                printf("walk: clock %" PRIu64 ": an output with no ray in flight\n", clock);
+                bad++;
+            } else {
+                Flight &f = flight.front();
+                const Ray &r = passes[f.pass].rays[f.ray];
+                bool ok = w.o_tag == f.tag;
+                if (w.o_hit) {
+                    ok = ok && f.seen < r.candidates.size() && w.o_place == r.candidates[f.seen];
+                    f.seen++;
+                    candidates++;
+                }
+                if (w.o_last) ok = ok && f.seen == r.candidates.size();
+                if (!ok) {
+                    if (bad < 20)
+                        printf("walk: pass %zu ray %zu (sector %u band %u skip %d): output %zu: "
+                               "tag %u place %u hit %u last %u, model %zu candidates\n",
+                               f.pass, f.ray, r.sector, r.band, r.skip, f.seen, w.o_tag,
+                               w.o_place, w.o_hit, w.o_last, r.candidates.size());
+                    bad++;
+                }
+                if (w.o_last) {
+                    out_of[f.pass]++;
+                    rays++;
+                    flight.pop_front();
+                }
+            }
+        }
+        tb::tick(w);
+        clock++;
+        if (took) {
+            flight.push_back(Flight{cast_pass, cast_ray, next_tag, 0});
+            next_tag = (next_tag + 1) & 0xFF;
+            if (++cast_ray == passes[cast_pass].rays.size()) {
+                cast_pass++;
+                cast_ray = 0;
+            }
+        }
+        // the row written on this edge; a copy's valid bit after its last row
+        if (wr.pass && wr.copy < wr.pass->copies.size()) {
+            if (++wr.row == copy_rows) {
+                valid[wr.pass->buf] |= 1u << wr.pass->copies[wr.copy].col;
+                wr.copy++;
+                wr.row = 0;
+            }
+        }
+        if (wr.pass && wr.copy == wr.pass->copies.size()) {
+            wr.pass = nullptr;
+            written++;
+        }
+        w.valid0 = valid[0];
+        w.valid1 = valid[1];
+        // a pass's rays skip ahead of no pass: those of a pass with none are done
+        while (cast_pass < written && cast_pass < passes.size() &&
+               passes[cast_pass].rays.empty())
+            cast_pass++;
+    }
+    if (clock >= limit || !flight.empty()) {
+        printf("walk: %zu rays still in flight after %" PRIu64 " clocks\n", flight.size(), clock);
+        bad++;
+    }
+    tb::report("walk", rays, candidates, clock, bad, watch.seconds());
+    return bad ? 1 : 0;
+}
