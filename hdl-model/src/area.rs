@@ -39,7 +39,7 @@ extern crate alloc;
 use crate::cordic::CordicConfig;
 #[cfg(doc)]
 use crate::intersect::bezier::{SERIAL_LEAF_CLOCKS, SERIAL_SLAB_CLOCKS};
-use crate::intersect::bitmap_walk::{mask_row_bits, row_words, BITMAP_WORD};
+use crate::intersect::bitmap_walk::{row_words, BITMAP_WORD};
 use crate::intersect::cull::{BANDS, CULL_CORDIC};
 use crate::intersect::{PLANE_UNITS, UV_UNITS};
 use crate::params::Params;
@@ -197,6 +197,20 @@ pub const ANGLE_UNIT: Placed = Placed {
 pub const BITMAP_WRITER: Placed = Placed {
     luts: 2_350,
     ffs: 812 - 212,
+};
+
+/// A lane's bitmap walk with its bank's bitmaps, `rtl/bitmap_walk.v` (session 42: 2,723 LUT4s
+/// and 973 flip-flops placed, 225 of them its harness's input chain and output register, 978
+/// of the LUT4s the mask words' and the word queue's distributed RAM; its 4 block RAMs, the
+/// sector and band words of two buffers, counted as memories; 106.4 MHz at seeds 1 and 2).
+/// The rules it replaces (the band bit picked from each mask word, the next word and the next
+/// slot found and cleared, the AND, a few registers; the mask words in block RAM) gave 273
+/// LUT4s and 152 flip-flops a lane and 4 block RAMs for the mask words: the placed walk keeps
+/// its word and the word less its first candidate, queues eight words, and reads every mask
+/// word of a row at once from distributed RAM.
+pub const BITMAP_WALK: Placed = Placed {
+    luts: 2_723,
+    ffs: 973 - 225,
 };
 
 /// A bank's set-up pass front, `rtl/bank_front.v` (session 32: 3,911 LUT4s and 3,035
@@ -532,52 +546,43 @@ fn compact_memories(params: &Params) -> Proxy {
     p
 }
 
-/// The bitmap walks of `lanes` lanes ([`crate::intersect::bitmap_walk`]): the ray's band bit
-/// picked from each word's mask (a 16:1 multiplexer, five LUT4s, a word), the next word to
-/// read (a find-first-set and clear on a bit a word: two LUT4s a bit), the AND of the sector
-/// and band words, and the next slot (a find-first-set and clear on the AND: two LUT4s a
-/// bit); registered, the words picked, two words queued and the slot handed on (16 bits).
+/// The bitmap walks of `lanes` lanes ([`crate::intersect::bitmap_walk`]) as placed
+/// ([`BITMAP_WALK`], with the mask words of its bank's bitmaps in distributed RAM; since
+/// session 42, counted by rules before).
 fn walks(p: &mut Proxy, params: &Params, lanes: u64) {
     if params.sectors == 0 {
         return;
     }
-    let words = row_words(params.bank_slots) as u64;
-    let w = BITMAP_WORD as u64;
-    p.add(lanes * words, 5);
-    p.add(lanes * 2, words);
-    p.add(lanes * 3, w);
-    p.reg(lanes * (words + 2 * w + 16));
+    p.placed(lanes, BITMAP_WALK);
 }
 
 /// The set-up's bitmap writers, one a bank ([`crate::intersect::bitmap_write`]), as placed
 /// ([`BITMAP_WRITER`]) with their answers' FIFOs (two entries a slot of 36 bits: the slot's
-/// place, the wedge, the bands and the answer's row writes) counted as memories; and a LUT4 a
-/// word a lane, the walk's read of a column not written this pass as zero (its valid bit). Until
-/// session 34 counted by rules, as the writer had no RTL: 1,707 LUT4s for the default build's
+/// place, the wedge, the bands and the answer's row writes) counted as memories (a LUT4 a word
+/// a lane more until session 42, the walk's read of a column not written this pass as zero by
+/// its valid bit, which is the placed walk's now). Until session 34 counted by rules, as the writer had no RTL: 1,707 LUT4s for the default build's
 /// two banks, where the placed writers take 4,700.
 fn bitmap_writers(p: &mut Proxy, params: &Params, banks: u64) {
     if params.sectors == 0 {
         return;
     }
-    let words = row_words(params.bank_slots) as u64;
     for _ in 0..banks {
         p.mem(2 * params.bank_slots as u64, 36);
     }
     p.placed(banks, BITMAP_WRITER);
-    p.add(params.lanes as u64, words);
 }
 
 /// One bank's candidate bitmaps, `copies` of them (double-buffered or not), as the lane walks
 /// them ([`crate::intersect::bitmap_walk`]): the sector rows and the band rows in words of
-/// [`BITMAP_WORD`] bits, and a mask row beside each sector row ([`BANDS`] bits a word). Before
-/// issue 19's fifth round each row was one word of the bank's width (512 bits: 15 block RAMs a
+/// [`BITMAP_WORD`] bits. The mask row beside each sector row ([`BANDS`] bits a word) is the
+/// placed walk's distributed RAM ([`BITMAP_WALK`]; block RAM until session 42). Before issue
+/// 19's fifth round each row was one word of the bank's width (512 bits: 15 block RAMs a
 /// bitmap whatever its depth).
 fn bitmaps(p: &mut Proxy, params: &Params, copies: u64) {
     let words = row_words(params.bank_slots) as u64;
     let sectors = params.sectors as u64;
     p.mem(copies * sectors * words, BITMAP_WORD as u64);
     p.mem(copies * BANDS as u64 * words, BITMAP_WORD as u64);
-    p.mem(copies * sectors, mask_row_bits(params.bank_slots) as u64);
 }
 
 /// Set-up units, one per bank, a corner per clock (the wide datapath's a patch per clock, its
