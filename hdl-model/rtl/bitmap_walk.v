@@ -20,10 +20,17 @@
 // clocks after it was taken at the earliest; the words come out back to back, a candidate a
 // clock. A word left empty by the skipped slot is dropped, unless it is the ray's last word:
 // then it, or a ray without a column, leaves as a token (o_hit 0) that ends the ray, a clock.
-// So a lane is busy for a ray its candidates' clocks, plus one when it ends on such a token.
+// So the output takes a ray its candidates' clocks, plus one when it ends on such a token, and
+// the reader a clock a column (a middle word the skip emptied costs a read, not an output).
 // The model's lane clock (`WordWalk::clocks`) is the larger of its candidates and its words,
-// the reads overlapped with the previous ray's candidates: answers are co-simulated, the
-// clocks are not yet the model's.
+// the reads overlapped with the previous ray's candidates, and a compact build's lane without
+// a candidate for the ray costs nothing: answers are co-simulated, the clocks are not yet the
+// model's.
+//
+// Whoever hands the walk its rays sets r_skip_en only for a SKIP_PATCH in this bank (r_skip is
+// its place here), as `plane_unit.v` ignores a skip beyond PATCH_COUNT: a slot of another bank
+// or beyond the slots would alias a place of this one. The walk's neighbours are reset with
+// it: it takes no ray and gives no output while `rst` is high.
 //
 // Verilog-2005, accepted by Verilator and Yosys.
 module bitmap_walk #(
@@ -114,7 +121,7 @@ module bitmap_walk #(
     wire       room = q_n + {3'b0, b_v} + {3'b0, c_v} + {3'b0, a_v} < 4'd8;
     wire       read = m_v && room;
     wire       m_done = read && rest == {COLS{1'b0}};
-    assign r_ready = !m_v || m_done;
+    assign r_ready = !rst && (!m_v || m_done);
     wire take = r_valid && r_ready;
 
     always @(posedge clk) begin
@@ -192,7 +199,7 @@ module bitmap_walk #(
                          |(e_low & 64'hFF00_FF00_FF00_FF00), |(e_low & 64'hF0F0_F0F0_F0F0_F0F0),
                          |(e_low & 64'hCCCC_CCCC_CCCC_CCCC), |(e_low & 64'hAAAA_AAAA_AAAA_AAAA)};
     wire e_end = e_rest == 64'd0;  // its last candidate, or a token
-    assign o_valid = e_v;
+    assign o_valid = e_v && !rst;
     assign o_hit = e_word != 64'd0;
     assign o_place = {e_col, e_bit};
     assign o_tag = e_tag;

@@ -189,10 +189,19 @@ impl Device {
     }
 
     /// This device as an RTL build synthesised at CONFIG `config` (its units' iterations, width
-    /// and depth fixed): APPLY_CONFIG of another CONFIG is refused with ERROR.BAD_CONFIG, as
-    /// `rtl/ahb_regs.v` refuses it when built for one (its BUILD_CONFIG).
+    /// and depth fixed), after power-on reset: `config` in force, and APPLY_CONFIG of another
+    /// CONFIG refused with ERROR.BAD_CONFIG, as `rtl/ahb_regs.v` has it when built for one (its
+    /// BUILD_CONFIG). `config` must be a valid CONFIG (a build's, not an input).
     pub fn built_for(mut self, config: u32) -> Self {
+        assert!(
+            decode_config(config).is_some(),
+            "CONFIG {config:#x} is not valid"
+        );
         self.built_for = Some(config);
+        self.config_reg = config;
+        self.config_active = config;
+        // the units rebuilt for it, as a soft reset rebuilds them for the configuration in force
+        self.soft_reset();
         self
     }
 

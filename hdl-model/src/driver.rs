@@ -78,6 +78,11 @@ impl ModelBus {
         }
     }
 
+    /// A bus to `dev` (e.g. a device modelled as an RTL build, [`Device::built_for`]).
+    pub fn with_device(dev: Device) -> Self {
+        ModelBus { dev }
+    }
+
     /// The model (read-only: for its clock and for white-box tests).
     pub fn device(&self) -> &Device {
         &self.dev

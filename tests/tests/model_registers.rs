@@ -1,12 +1,12 @@
 //! Register-level behaviour of the accelerator model, through the bus the driver uses:
 //! handshakes, FIFO overflow and underflow, reset mid-job, refused configurations, interrupts.
 
-use hemi_hdl_model::device::{BZ_CONFIG_RESET, CONFIG_RESET, RAY_FIFO_DEPTH};
+use hemi_hdl_model::device::{Device, BZ_CONFIG_RESET, CONFIG_RESET, RAY_FIFO_DEPTH};
 use hemi_hdl_model::driver::{Driver, ModelBus, RegisterAccess};
 use hemi_hdl_model::format::Unit;
 use hemi_hdl_model::intersect::bezier::{BEZIER_ROWS, CP_WORDS, LEAF_CLOCKS, STACK_ENTRIES};
 use hemi_hdl_model::intersect::patch_mem::{BezierSlot, CP_BASE};
-use hemi_hdl_model::regs::{self, ctrl, error, irq, mode, result, status};
+use hemi_hdl_model::regs::{self, config, ctrl, error, irq, mode, result, status};
 use hemi_hdl_model::Params;
 
 fn w(x: f32) -> u32 {
@@ -179,6 +179,33 @@ fn bad_configuration_is_refused() {
     b.write(regs::MODE, 3);
     assert_ne!(b.read(regs::ERROR) & error::BAD_CONFIG, 0);
     assert_eq!(b.read(regs::MODE), mode::TRACE);
+}
+
+#[test]
+fn a_build_synthesised_for_one_configuration_refuses_another() {
+    // 12 iterations on 16-bit words, 8 (u,v) levels: in force from power-on
+    let built = 12 | 16 << config::WIDTH_SHIFT | 8 << config::DEPTH_SHIFT;
+    let dev = Device::with_params(Params::SINGLE).built_for(built);
+    let mut b = ModelBus::with_device(dev);
+    assert_eq!(b.read(regs::CONFIG_ACTIVE), built);
+    let refused = |b: &mut ModelBus| {
+        b.write(regs::ERROR, u32::MAX);
+        b.write(regs::CONFIG, CONFIG_RESET);
+        b.write(regs::CTRL, ctrl::APPLY_CONFIG);
+        b.read(regs::ERROR) & error::BAD_CONFIG != 0 && b.read(regs::CONFIG_ACTIVE) == built
+    };
+    assert!(
+        refused(&mut b),
+        "a valid CONFIG the units were not built for"
+    );
+    // its own is taken; and a soft reset keeps the build's configuration and its refusal
+    b.write(regs::ERROR, u32::MAX);
+    b.write(regs::CONFIG, built);
+    b.write(regs::CTRL, ctrl::APPLY_CONFIG);
+    assert_eq!(b.read(regs::ERROR), 0);
+    b.write(regs::CTRL, ctrl::SOFT_RESET);
+    assert_eq!(b.read(regs::CONFIG_ACTIVE), built);
+    assert!(refused(&mut b), "after a soft reset");
 }
 
 #[test]

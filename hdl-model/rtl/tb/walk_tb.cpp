@@ -6,10 +6,13 @@
 // `bitmap_writer.v` does; then hands the walk the pass's rays (`Y`: sector, band, the skipped
 // place or -1, and the model's candidates in slot order), while the next pass's columns are
 // written into the other buffer. A pass's writes wait until the rays of the pass before the
-// last (the same buffer) are out. The walk's outputs are taken on three clocks in four, and
-// every ray's candidates are compared with the model's, in order, with its tag and its end.
-// Prints `walk: rays=N vectors=M clocks=C mismatches=K seconds=S` (vectors: the candidates),
-// exits 1 on any mismatch.
+// last (the same buffer) are out. The walk's outputs are taken on three clocks in four, with a
+// stall of up to 60 clocks now and then, and every ray's candidates are compared with the
+// model's, in order, with its tag and its end: a token without a candidate only as a ray's
+// last output, and only for a ray that reads no column or whose last column read holds no
+// candidate once its skip is cleared. Now and then the walk is reset with rays in flight, which
+// are handed to it again. Prints `walk: rays=N vectors=M clocks=C mismatches=K seconds=S`
+// (vectors: the candidates), exits 1 on any mismatch.
 #include "Vbitmap_walk.h"
 #include "tb.h"
 #include "verilated.h"
@@ -30,6 +33,7 @@ struct Ray {
     uint32_t sector, band;
     int32_t skip;
     std::vector<uint32_t> candidates;
+    bool token = false;  // it ends on a token (worked out from its pass's rows)
 };
 
 struct Pass {
@@ -71,6 +75,26 @@ static bool read_vectors(const char *path, uint32_t &copy_rows, std::vector<Pass
     });
 }
 
+// Whether ray `r` of pass `p` ends on a token: it reads no column (none of its pass's copied
+// columns has its band in its sector's mask word), or the last it reads holds no candidate
+// once the skipped slot is cleared.
+static bool ends_on_token(const Pass &p, const Ray &r) {
+    const Copy *last = nullptr;
+    for (const Copy &c : p.copies)
+        for (const Row &x : c.rows)
+            if (x.row == r.sector && (x.mask >> r.band & 1) && (!last || c.col > last->col))
+                last = &c;
+    if (!last) return true;
+    uint64_t sector = 0, band = 0;
+    for (const Row &x : last->rows) {
+        if (x.row == r.sector) sector = x.sector;
+        if (x.row == r.band) band = x.band;
+    }
+    uint64_t word = sector & band;
+    if (r.skip >= 0 && (uint32_t)r.skip / 64 == last->col) word &= ~(1ull << (r.skip % 64));
+    return word == 0;
+}
+
 // The write port's schedule: every row of every copy of a pass, the column's valid bit after
 // its last row.
 struct Writes {
@@ -88,6 +112,8 @@ int main(int argc, char **argv) {
     uint32_t copy_rows = 0;
     std::vector<Pass> passes;
     if (!read_vectors(argv[1], copy_rows, passes) || copy_rows == 0) return 2;
+    for (Pass &p : passes)
+        for (Ray &r : p.rays) r.token = ends_on_token(p, r);
     tb::Stopwatch watch;
     Vbitmap_walk w;
     w.rst = 1;
@@ -96,7 +122,7 @@ int main(int argc, char **argv) {
     tb::tick(w);
     w.rst = 0;
 
-    uint64_t clock = 0, bad = 0, rays = 0, candidates = 0;
+    uint64_t clock = 0, bad = 0, rays = 0, candidates = 0, resets = 0;
     uint32_t valid[2] = {0, 0};
     size_t written = 0;     // passes whose writes are done
     size_t cast_pass = 0, cast_ray = 0;  // the next ray to hand the walk
@@ -113,6 +139,21 @@ int main(int argc, char **argv) {
     const uint64_t limit = 400ull * 1000 * 1000;
     while ((written < passes.size() || cast_pass < passes.size() || !flight.empty()) &&
            clock < limit) {
+        // now and then a reset with rays in flight: a clock of nothing else, then the rays in
+        // flight handed over again, from the oldest (the bitmaps are memories: they stay)
+        if (clock % 7919 == 7918 && !flight.empty()) {
+            w.rst = 1;
+            w.w_valid = w.r_valid = 0;
+            w.o_ready = 0;
+            tb::tick(w);
+            w.rst = 0;
+            clock++;
+            resets++;
+            cast_pass = flight.front().pass;
+            cast_ray = flight.front().ray;
+            flight.clear();
+            continue;
+        }
         // the write port: a pass's writes begin once the pass before it is written and the one
         // that last filled its buffer (two back) is out
         w.w_valid = 0;
@@ -149,7 +190,9 @@ int main(int argc, char **argv) {
                 w.r_tag = next_tag;
             }
         }
-        w.o_ready = (clock & 3) != 3;
+        // three clocks in four, and a stall of up to 60 clocks every 1,009
+        uint64_t stall = clock / 1009 % 61;
+        w.o_ready = (clock & 3) != 3 && clock % 1009 >= stall;
         w.eval();
         // what this clock's edge takes
         bool took = w.r_valid && w.r_ready;
@@ -164,20 +207,23 @@ int main(int argc, char **argv) {
                 if (w.o_hit) {
                     ok = ok && f.seen < r.candidates.size() && w.o_place == r.candidates[f.seen];
                     f.seen++;
-                    candidates++;
                 }
-                if (w.o_last) ok = ok && f.seen == r.candidates.size();
+                // a token ends its ray, and only a ray that ends on one
+                if (w.o_last) ok = ok && f.seen == r.candidates.size() && !w.o_hit == r.token;
+                else ok = ok && w.o_hit;
                 if (!ok) {
                     if (bad < 20)
                         printf("walk: pass %zu ray %zu (sector %u band %u skip %d): output %zu: "
-                               "tag %u place %u hit %u last %u, model %zu candidates\n",
+                               "tag %u place %u hit %u last %u, model %zu candidates%s\n",
                                f.pass, f.ray, r.sector, r.band, r.skip, f.seen, w.o_tag,
-                               w.o_place, w.o_hit, w.o_last, r.candidates.size());
+                               w.o_place, w.o_hit, w.o_last, r.candidates.size(),
+                               r.token ? " and a token" : "");
                     bad++;
                 }
                 if (w.o_last) {
                     out_of[f.pass]++;
                     rays++;
+                    candidates += r.candidates.size();
                     flight.pop_front();
                 }
             }
@@ -215,6 +261,7 @@ int main(int argc, char **argv) {
         printf("walk: %zu rays still in flight after %" PRIu64 " clocks\n", flight.size(), clock);
         bad++;
     }
+    printf("walk: %" PRIu64 " resets with rays in flight\n", resets);
     tb::report("walk", rays, candidates, clock, bad, watch.seconds());
     return bad ? 1 : 0;
 }
