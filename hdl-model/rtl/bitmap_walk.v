@@ -25,7 +25,10 @@
 // The model's lane clock (`WordWalk::clocks`) is the larger of its candidates and its words,
 // the reads overlapped with the previous ray's candidates, and a compact build's lane without
 // a candidate for the ray costs nothing: answers are co-simulated, the clocks are not yet the
-// model's.
+// model's. (A lane sees every ray of its group, so the token's clock is not free: charged in
+// the model, the default build's Cornell box takes 1.03 cycles a ray instead of 0.99,
+// docs/PERFORMANCE.md, "Session 42". A ray without a candidate here should end on a port of
+// its own, without an output clock.)
 //
 // Whoever hands the walk its rays sets r_skip_en only for a SKIP_PATCH in this bank (r_skip is
 // its place here), as `plane_unit.v` ignores a skip beyond PATCH_COUNT: a slot of another bank
