@@ -12,23 +12,24 @@
 //   ray -> M: its sector's mask words read, the ray's band bit of each valid column kept
 //       -> R: a column a clock, the lowest still to read: sector word and band word read
 //       -> B: the block RAMs' read, C: the register after it
-//       -> A: sector & band, the ray's own slot (SKIP_PATCH) cleared, into a queue of words
+//       -> A: sector & band, the ray's own slot (SKIP_PATCH) cleared
+//       -> H: the ray's latest word with a candidate held until the ray's next such word or
+//          its end, so that it goes on marked as the last when it is; into a queue of words
 //       -> E: the word taken from the queue, its lowest slot out a clock, until its last
+//   A ray without a candidate here (no column holds its band, or every word it reads is
+//   empty once its skip is cleared) ends on the z port, in the order of such rays, without an
+//   output clock: a lane sees every ray of its group, and a clock for each such ray would cost
+//   the default build its targets (charged in the model, the Cornell box takes 1.03 cycles a
+//   ray instead of 0.99; docs/PERFORMANCE.md, "Session 42").
 //
 // Clocks: a ray is taken while M is free or leaves it on that clock; it reads its columns one a
-// clock (a ray of no column takes a clock for its token); its first candidate is out six
-// clocks after it was taken at the earliest; the words come out back to back, a candidate a
-// clock. A word left empty by the skipped slot is dropped, unless it is the ray's last word:
-// then it, or a ray without a column, leaves as a token (o_hit 0) that ends the ray, a clock.
-// So the output takes a ray its candidates' clocks, plus one when it ends on such a token, and
-// the reader a clock a column (a middle word the skip emptied costs a read, not an output).
-// The model's lane clock (`WordWalk::clocks`) is the larger of its candidates and its words,
-// the reads overlapped with the previous ray's candidates, and a compact build's lane without
-// a candidate for the ray costs nothing: answers are co-simulated, the clocks are not yet the
-// model's. (A lane sees every ray of its group, so the token's clock is not free: charged in
-// the model, the default build's Cornell box takes 1.03 cycles a ray instead of 0.99,
-// docs/PERFORMANCE.md, "Session 42". A ray without a candidate here should end on a port of
-// its own, without an output clock.)
+// clock (a ray of no column a clock too, for its end); its first candidate is out seven clocks
+// after it was taken at the earliest; the words come out back to back, a candidate a clock. So
+// the output takes a ray its candidates' clocks and the reader a clock a column (a word the
+// skip emptied costs a read, not an output). The model's lane clock (`WordWalk::clocks`) is
+// the larger of its candidates and its words, the reads overlapped with the previous ray's
+// candidates, and a compact build's lane without a candidate for the ray costs nothing:
+// answers are co-simulated, the clocks are not yet the model's.
 //
 // Whoever hands the walk its rays sets r_skip_en only for a SKIP_PATCH in this bank (r_skip is
 // its place here), as `plane_unit.v` ignores a skip beyond PATCH_COUNT: a slot of another bank
@@ -64,14 +65,15 @@ module bitmap_walk #(
     input  wire                 r_skip_en,
     input  wire [SLOT_BITS-1:0] r_skip,
     input  wire [TAG_BITS-1:0]  r_tag,
-    // its candidates, one a clock, in slot order; o_last on its last output (a token without a
-    // candidate, o_hit 0, when it ends on a word the skip emptied or has no word at all)
+    // its candidates, one a clock, in slot order, o_last on its last
     output wire                 o_valid,
     input  wire                 o_ready,
-    output wire                 o_hit,
     output wire [SLOT_BITS-1:0] o_place,
     output wire [TAG_BITS-1:0]  o_tag,
-    output wire                 o_last
+    output wire                 o_last,
+    // a ray without a candidate here: its end, in the order of such rays, with no output clock
+    output reg                  z_valid,
+    output reg  [TAG_BITS-1:0]  z_tag
 );
     localparam integer COL_BITS = SLOT_BITS - 6;
     localparam integer COLS = 1 << COL_BITS;
@@ -121,7 +123,8 @@ module bitmap_walk #(
     reg  [3:0] q_n;
     reg        b_v, c_v, a_v;
     // room in the queue for every word read and not yet in it
-    wire       room = q_n + {3'b0, b_v} + {3'b0, c_v} + {3'b0, a_v} < 4'd8;
+    reg        h_v;
+    wire       room = q_n + {3'b0, b_v} + {3'b0, c_v} + {3'b0, a_v} + {3'b0, h_v} < 4'd8;
     wire       read = m_v && room;
     wire       m_done = read && rest == {COLS{1'b0}};
     assign r_ready = !rst && (!m_v || m_done);
@@ -138,7 +141,7 @@ module bitmap_walk #(
         end else if (read) m_cols <= rest;
     end
 
-    // ---- B: the block RAMs' read (a ray of no column reads nothing: its token) ----
+    // ---- B: the block RAMs' read (a ray of no column reads nothing: its end goes on) ----
     reg [63:0]          b_sec, b_band;
     reg                 b_empty, b_last;
     reg [COL_BITS-1:0]  b_col;
@@ -182,8 +185,32 @@ module bitmap_walk #(
         a_col <= c_col;
         a_tag <= c_tag;
     end
-    // an empty word is kept only as its ray's end
-    wire push = a_v && (a_word != 64'd0 || a_last);
+    // ---- H: a ray's latest word with a candidate held back, so that the word its last
+    // candidate is in knows it is the last: pushed when the ray's next word with a candidate
+    // comes (which is held in its place), when its ray's last word comes empty (pushed as the
+    // last), or the clock after it came if it is its ray's last word. A ray whose last word
+    // comes empty with nothing of it held has no candidate here: its end goes to the z port.
+    reg [63:0]          h_word, h_rest;
+    reg                 h_last;
+    reg [COL_BITS-1:0]  h_col;
+    reg [TAG_BITS-1:0]  h_tag;
+    wire a_some = a_word != 64'd0;
+    wire keep = a_v && a_some;
+    wire ends_empty = a_v && a_last && !a_some;
+    wire push = h_v && (h_last || keep || ends_empty);
+    always @(posedge clk) begin
+        if (rst) begin
+            h_v <= 1'b0;
+            z_valid <= 1'b0;
+        end else begin
+            if (keep) h_v <= 1'b1;
+            else if (push) h_v <= 1'b0;
+            // held and not its ray's last: a word of the ray now ending
+            z_valid <= ends_empty && !(h_v && !h_last);
+        end
+        z_tag <= a_tag;
+        if (keep) {h_word, h_rest, h_last, h_col, h_tag} <= {a_word, a_rest, a_last, a_col, a_tag};
+    end
 
     // ---- the queue of words (eight registers) and E, the word being given out ----
     // E holds its word and the word less its first candidate (`rest`), so that whether this
@@ -201,9 +228,8 @@ module bitmap_walk #(
     wire [5:0]  e_bit = {|(e_low & 64'hFFFF_FFFF_0000_0000), |(e_low & 64'hFFFF_0000_FFFF_0000),
                          |(e_low & 64'hFF00_FF00_FF00_FF00), |(e_low & 64'hF0F0_F0F0_F0F0_F0F0),
                          |(e_low & 64'hCCCC_CCCC_CCCC_CCCC), |(e_low & 64'hAAAA_AAAA_AAAA_AAAA)};
-    wire e_end = e_rest == 64'd0;  // its last candidate, or a token
+    wire e_end = e_rest == 64'd0;  // its last candidate
     assign o_valid = e_v && !rst;
-    assign o_hit = e_word != 64'd0;
     assign o_place = {e_col, e_bit};
     assign o_tag = e_tag;
     assign o_last = e_last && e_end;
@@ -222,7 +248,7 @@ module bitmap_walk #(
             if (push) q_wp <= q_wp + 3'd1;
             if (pop) q_rp <= q_rp + 3'd1;
         end
-        if (push) q[q_wp] <= {a_word, a_rest, a_last, a_col, a_tag};
+        if (push) q[q_wp] <= {h_word, h_rest, h_last || ends_empty, h_col, h_tag};
         if (pop) {e_word, e_rest, e_last, e_col, e_tag} <= q[q_rp];
         else if (out) begin
             e_word <= e_rest;

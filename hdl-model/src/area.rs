@@ -199,20 +199,21 @@ pub const BITMAP_WRITER: Placed = Placed {
     ffs: 812 - 212,
 };
 
-/// A lane's bitmap walk with its bank's bitmaps, `rtl/bitmap_walk.v` (session 42: 2,707 LUT4s
-/// and 973 flip-flops placed, 225 of them its harness's input chain and output register, 978
+/// A lane's bitmap walk with its bank's bitmaps, `rtl/bitmap_walk.v` (session 42, with its
+/// end port for a ray without a candidate and the word held back for its last mark: 2,836 LUT4s
+/// and 1,130 flip-flops placed, 233 of them its harness's input chain and output register, 978
 /// of the LUT4s the mask words' and the word queue's distributed RAM; its 4 block RAMs, the
-/// sector and band words of two buffers, counted as memories; 106.7 and 109.7 MHz at seeds 1
-/// and 2; before its handshakes were held low in reset, 2,723 LUT4s and 106.4 MHz). At 32
-/// sectors, 16 bands and banks of 512 slots, the default build's; other builds are counted
-/// with the same figure. The rules it replaces (the band bit picked from each mask word, the next word and the next
-/// slot found and cleared, the AND, a few registers; the mask words in block RAM) gave 273
+/// sector and band words of two buffers, counted as memories; 105.1 and 104.4 MHz at seeds 1
+/// and 2; the first version, which ended such a ray on a token, 2,707 LUT4s). At 32 sectors,
+/// 16 bands and banks of 512 slots, the default build's; other builds are counted with the same
+/// figure. The rules it replaces (the band bit picked from each mask word, the next word and the
+/// next slot found and cleared, the AND, a few registers; the mask words in block RAM) gave 273
 /// LUT4s and 152 flip-flops a lane and 4 block RAMs for the mask words: the placed walk keeps
 /// its word and the word less its first candidate, queues eight words, and reads every mask
 /// word of a row at once from distributed RAM.
 pub const BITMAP_WALK: Placed = Placed {
-    luts: 2_707,
-    ffs: 973 - 225,
+    luts: 2_836,
+    ffs: 1_130 - 233,
 };
 
 /// A bank's set-up pass front, `rtl/bank_front.v` (session 32: 3,911 LUT4s and 3,035

@@ -6,16 +6,17 @@
 // `bitmap_writer.v` does; then hands the walk the pass's rays (`Y`: sector, band, the skipped
 // place or -1, and the model's candidates in slot order), while the next pass's columns are
 // written into the other buffer. A pass's writes wait until the rays of the pass before the
-// last (the same buffer) are out. The walk's outputs are taken on three clocks in four, with a
-// stall of up to 60 clocks now and then, and every ray's candidates are compared with the
-// model's, in order, with its tag and its end: a token without a candidate only as a ray's
-// last output, and only for a ray that reads no column or whose last column read holds no
-// candidate once its skip is cleared. Now and then the walk is reset with rays in flight, which
-// are handed to it again. Prints `walk: rays=N vectors=M clocks=C mismatches=K seconds=S`
-// (vectors: the candidates), exits 1 on any mismatch.
+// last (the same buffer) are out. The walk's candidates are taken on three clocks in four, with
+// a stall of up to 60 clocks now and then, and every ray's are compared with the model's, in
+// order, with its tag and its last; a ray without a candidate must end on the z port, in the
+// order of such rays. Now and then the walk is reset with rays in flight, which are handed to
+// it again; a run in which no ray comes out for 100,000 clocks stops. Prints `walk: rays=N
+// vectors=M clocks=C mismatches=K seconds=S` (vectors: the candidates), exits 1 on any
+// mismatch.
 #include "Vbitmap_walk.h"
 #include "tb.h"
 #include "verilated.h"
+#include <algorithm>
 #include <deque>
 #include <vector>
 
@@ -33,7 +34,6 @@ struct Ray {
     uint32_t sector, band;
     int32_t skip;
     std::vector<uint32_t> candidates;
-    bool token = false;  // it ends on a token (worked out from its pass's rows)
 };
 
 struct Pass {
@@ -75,26 +75,6 @@ static bool read_vectors(const char *path, uint32_t &copy_rows, std::vector<Pass
     });
 }
 
-// Whether ray `r` of pass `p` ends on a token: it reads no column (none of its pass's copied
-// columns has its band in its sector's mask word), or the last it reads holds no candidate
-// once the skipped slot is cleared.
-static bool ends_on_token(const Pass &p, const Ray &r) {
-    const Copy *last = nullptr;
-    for (const Copy &c : p.copies)
-        for (const Row &x : c.rows)
-            if (x.row == r.sector && (x.mask >> r.band & 1) && (!last || c.col > last->col))
-                last = &c;
-    if (!last) return true;
-    uint64_t sector = 0, band = 0;
-    for (const Row &x : last->rows) {
-        if (x.row == r.sector) sector = x.sector;
-        if (x.row == r.band) band = x.band;
-    }
-    uint64_t word = sector & band;
-    if (r.skip >= 0 && (uint32_t)r.skip / 64 == last->col) word &= ~(1ull << (r.skip % 64));
-    return word == 0;
-}
-
 // The write port's schedule: every row of every copy of a pass, the column's valid bit after
 // its last row.
 struct Writes {
@@ -112,8 +92,6 @@ int main(int argc, char **argv) {
     uint32_t copy_rows = 0;
     std::vector<Pass> passes;
     if (!read_vectors(argv[1], copy_rows, passes) || copy_rows == 0) return 2;
-    for (Pass &p : passes)
-        for (Ray &r : p.rays) r.token = ends_on_token(p, r);
     tb::Stopwatch watch;
     Vbitmap_walk w;
     w.rst = 1;
@@ -128,20 +106,43 @@ int main(int argc, char **argv) {
     size_t cast_pass = 0, cast_ray = 0;  // the next ray to hand the walk
     std::vector<size_t> out_of(passes.size(), 0);  // each pass's rays whose outputs are done
     Writes wr;
-    // the rays handed over and not yet out: pass, ray, tag, candidates seen
+    // the rays handed over and not yet out (pass, ray, tag, candidates seen, hand order), those
+    // with candidates (ended on the candidate port) and those without (on the z port)
     struct Flight {
         size_t pass, ray;
         uint32_t tag;
         size_t seen;
+        uint64_t seq;
     };
-    std::deque<Flight> flight;
+    std::deque<Flight> with_c, without_c;
+    // rays to hand over again after a reset, oldest first (pass, ray, hand order)
+    std::deque<Flight> redo;
+    uint64_t seq = 0;
     uint32_t next_tag = 0;
     const uint64_t limit = 400ull * 1000 * 1000;
-    while ((written < passes.size() || cast_pass < passes.size() || !flight.empty()) &&
-           clock < limit) {
-        // now and then a reset with rays in flight: a clock of nothing else, then the rays in
-        // flight handed over again, from the oldest (the bitmaps are memories: they stay)
-        if (clock % 7919 == 7918 && !flight.empty()) {
+    auto in_flight = [&] { return !with_c.empty() || !without_c.empty(); };
+    uint64_t progress = 0;  // the clock a ray last came out
+    auto done = [&](const Flight &f) {
+        progress = clock;
+        out_of[f.pass]++;
+        rays++;
+        candidates += passes[f.pass].rays[f.ray].candidates.size();
+    };
+    auto complain = [&](const Flight &f, const char *what) {
+        const Ray &r = passes[f.pass].rays[f.ray];
+        if (bad < 20)
+            printf("walk: pass %zu ray %zu (sector %u band %u skip %d, %zu candidates, tag %u): "
+                   "%s: place %u tag %u last %u\n",
+                   f.pass, f.ray, r.sector, r.band, r.skip, r.candidates.size(), f.tag, what,
+                   w.o_place, w.o_tag, w.o_last);
+        bad++;
+    };
+    while ((written < passes.size() || cast_pass < passes.size() || in_flight() ||
+            !redo.empty()) &&
+           clock < limit && clock - progress < 100000) {
+        // now and then a reset with rays in flight: a clock of nothing else, then the rays not
+        // yet out handed over again, in their first order (the bitmaps are memories: they stay)
+        if (clock % 7919 == 7918 && in_flight()) {
             w.rst = 1;
             w.w_valid = w.r_valid = 0;
             w.o_ready = 0;
@@ -149,9 +150,12 @@ int main(int argc, char **argv) {
             w.rst = 0;
             clock++;
             resets++;
-            cast_pass = flight.front().pass;
-            cast_ray = flight.front().ray;
-            flight.clear();
+            for (auto *q : {&with_c, &without_c})
+                for (Flight f : *q) redo.push_back(Flight{f.pass, f.ray, 0, 0, f.seq});
+            with_c.clear();
+            without_c.clear();
+            std::sort(redo.begin(), redo.end(),
+                      [](const Flight &a, const Flight &b) { return a.seq < b.seq; });
             continue;
         }
         // the write port: a pass's writes begin once the pass before it is written and the one
@@ -175,20 +179,30 @@ int main(int argc, char **argv) {
             w.w_mask = (uint32_t)r.mask;
             w.w_band = r.band;
         }
-        // the ray on offer
+        // the ray on offer: one to hand again, or the next
         w.r_valid = 0;
-        if (cast_pass < written && cast_pass < passes.size()) {
-            const Pass &p = passes[cast_pass];
-            if (cast_ray < p.rays.size()) {
-                const Ray &r = p.rays[cast_ray];
-                w.r_valid = 1;
-                w.r_buf = p.buf;
-                w.r_sector = r.sector;
-                w.r_band = r.band;
-                w.r_skip_en = r.skip >= 0;
-                w.r_skip = r.skip >= 0 ? (uint32_t)r.skip : 0;
-                w.r_tag = next_tag;
-            }
+        Flight offer{0, 0, next_tag, 0, seq};
+        bool again = !redo.empty();
+        if (again) {
+            offer = redo.front();
+            offer.tag = next_tag;
+        } else if (cast_pass < written && cast_pass < passes.size() &&
+                   cast_ray < passes[cast_pass].rays.size()) {
+            offer.pass = cast_pass;
+            offer.ray = cast_ray;
+        }
+        bool offered = again || (cast_pass < written && cast_pass < passes.size() &&
+                                 cast_ray < passes[cast_pass].rays.size());
+        if (offered) {
+            const Pass &p = passes[offer.pass];
+            const Ray &r = p.rays[offer.ray];
+            w.r_valid = 1;
+            w.r_buf = p.buf;
+            w.r_sector = r.sector;
+            w.r_band = r.band;
+            w.r_skip_en = r.skip >= 0;
+            w.r_skip = r.skip >= 0 ? (uint32_t)r.skip : 0;
+            w.r_tag = next_tag;
         }
         // three clocks in four, and a stall of up to 60 clocks every 1,009
         uint64_t stall = clock / 1009 % 61;
@@ -197,45 +211,49 @@ int main(int argc, char **argv) {
         // what this clock's edge takes
         bool took = w.r_valid && w.r_ready;
         if (w.o_valid && w.o_ready) {
-            if (flight.empty()) {
-                printf("walk: clock %" PRIu64 ": an output with no ray in flight\n", clock);
+            if (with_c.empty()) {
+                printf("walk: clock %" PRIu64 ": a candidate with no ray in flight\n", clock);
                 bad++;
             } else {
-                Flight &f = flight.front();
+                Flight &f = with_c.front();
                 const Ray &r = passes[f.pass].rays[f.ray];
-                bool ok = w.o_tag == f.tag;
-                if (w.o_hit) {
-                    ok = ok && f.seen < r.candidates.size() && w.o_place == r.candidates[f.seen];
-                    f.seen++;
-                }
-                // a token ends its ray, and only a ray that ends on one
-                if (w.o_last) ok = ok && f.seen == r.candidates.size() && !w.o_hit == r.token;
-                else ok = ok && w.o_hit;
-                if (!ok) {
-                    if (bad < 20)
-                        printf("walk: pass %zu ray %zu (sector %u band %u skip %d): output %zu: "
-                               "tag %u place %u hit %u last %u, model %zu candidates%s\n",
-                               f.pass, f.ray, r.sector, r.band, r.skip, f.seen, w.o_tag,
-                               w.o_place, w.o_hit, w.o_last, r.candidates.size(),
-                               r.token ? " and a token" : "");
-                    bad++;
-                }
+                bool ok = w.o_tag == f.tag && f.seen < r.candidates.size() &&
+                          w.o_place == r.candidates[f.seen];
+                f.seen++;
+                if (!ok || (bool)w.o_last != (f.seen == r.candidates.size()))
+                    complain(f, "candidate");
                 if (w.o_last) {
-                    out_of[f.pass]++;
-                    rays++;
-                    candidates += r.candidates.size();
-                    flight.pop_front();
+                    done(f);
+                    with_c.pop_front();
                 }
+            }
+        }
+        if (w.z_valid) {
+            if (without_c.empty() || w.z_tag != without_c.front().tag) {
+                if (bad < 20)
+                    printf("walk: clock %" PRIu64 ": the end of ray tag %u without a candidate, "
+                           "not the next such ray\n",
+                           clock, w.z_tag);
+                bad++;
+            } else {
+                done(without_c.front());
+                without_c.pop_front();
             }
         }
         tb::tick(w);
         clock++;
         if (took) {
-            flight.push_back(Flight{cast_pass, cast_ray, next_tag, 0});
+            const Ray &r = passes[offer.pass].rays[offer.ray];
+            (r.candidates.empty() ? without_c : with_c).push_back(offer);
             next_tag = (next_tag + 1) & 0xFF;
-            if (++cast_ray == passes[cast_pass].rays.size()) {
-                cast_pass++;
-                cast_ray = 0;
+            if (again) {
+                redo.pop_front();
+            } else {
+                seq++;
+                if (++cast_ray == passes[cast_pass].rays.size()) {
+                    cast_pass++;
+                    cast_ray = 0;
+                }
             }
         }
         // the row written on this edge; a copy's valid bit after its last row
@@ -257,8 +275,9 @@ int main(int argc, char **argv) {
                passes[cast_pass].rays.empty())
             cast_pass++;
     }
-    if (clock >= limit || !flight.empty()) {
-        printf("walk: %zu rays still in flight after %" PRIu64 " clocks\n", flight.size(), clock);
+    if (clock >= limit || in_flight() || !redo.empty()) {
+        printf("walk: %zu rays still in flight after %" PRIu64 " clocks\n",
+               with_c.size() + without_c.size(), clock);
         bad++;
     }
     printf("walk: %" PRIu64 " resets with rays in flight\n", resets);
