@@ -72,7 +72,7 @@ module bitmap_walk #(
     output wire [TAG_BITS-1:0]  o_tag,
     output wire                 o_last,
     // a ray without a candidate here: its end, in the order of such rays, with no output clock
-    output reg                  z_valid,
+    output wire                 z_valid,
     output reg  [TAG_BITS-1:0]  z_tag
 );
     localparam integer COL_BITS = SLOT_BITS - 6;
@@ -198,15 +198,17 @@ module bitmap_walk #(
     wire keep = a_v && a_some;
     wire ends_empty = a_v && a_last && !a_some;
     wire push = h_v && (h_last || keep || ends_empty);
+    reg  z_v;
+    assign z_valid = z_v && !rst;
     always @(posedge clk) begin
         if (rst) begin
             h_v <= 1'b0;
-            z_valid <= 1'b0;
+            z_v <= 1'b0;
         end else begin
             if (keep) h_v <= 1'b1;
             else if (push) h_v <= 1'b0;
             // held and not its ray's last: a word of the ray now ending
-            z_valid <= ends_empty && !(h_v && !h_last);
+            z_v <= ends_empty && !(h_v && !h_last);
         end
         z_tag <= a_tag;
         if (keep) {h_word, h_rest, h_last, h_col, h_tag} <= {a_word, a_rest, a_last, a_col, a_tag};

@@ -275,9 +275,11 @@ int main(int argc, char **argv) {
                passes[cast_pass].rays.empty())
             cast_pass++;
     }
-    if (clock >= limit || in_flight() || !redo.empty()) {
-        printf("walk: %zu rays still in flight after %" PRIu64 " clocks\n",
-               with_c.size() + without_c.size(), clock);
+    size_t total = 0;
+    for (const Pass &p : passes) total += p.rays.size();
+    if (rays != total) {
+        printf("walk: %" PRIu64 " of %zu rays out after %" PRIu64 " clocks (%zu in flight)\n",
+               rays, total, clock, with_c.size() + without_c.size());
         bad++;
     }
     printf("walk: %" PRIu64 " resets with rays in flight\n", resets);
