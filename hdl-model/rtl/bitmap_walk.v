@@ -121,9 +121,8 @@ module bitmap_walk #(
     end
     wire [COLS-1:0] rest = m_cols & (m_cols - 1'b1);
     reg  [3:0] q_n;
-    reg        b_v, c_v, a_v;
+    reg        b_v, c_v, a_v, h_v;
     // room in the queue for every word read and not yet in it
-    reg        h_v;
     wire       room = q_n + {3'b0, b_v} + {3'b0, c_v} + {3'b0, a_v} + {3'b0, h_v} < 4'd8;
     wire       read = m_v && room;
     wire       m_done = read && rest == {COLS{1'b0}};

@@ -205,9 +205,9 @@ pub const BITMAP_WRITER: Placed = Placed {
 /// and output register, 978 of the LUT4s the mask words' and the word queue's distributed RAM;
 /// its 4 block RAMs, the sector and band words of two buffers, counted as memories; 105.7 and
 /// 102.1 MHz at seeds 1 and 2; before the end port was held low in reset 2,836 LUT4s, and the
-/// first version, which ended such a ray on a token, 2,707). At 32 sectors,
-/// 16 bands and banks of 512 slots, the default build's; other builds are counted with the same
-/// figure. The rules it replaces (the band bit picked from each mask word, the next word and the
+/// first version, which ended such a ray on a token, 2,707). At 32 sectors, 16 bands and banks
+/// of 512 slots, the default build's; other builds are counted with the same figure. The rules
+/// it replaces (the band bit picked from each mask word, the next word and the
 /// next slot found and cleared, the AND, a few registers; the mask words in block RAM) gave 273
 /// LUT4s and 152 flip-flops a lane and 4 block RAMs for the mask words: the placed walk keeps
 /// its word and the word less its first candidate, queues eight words, and reads every mask
@@ -564,8 +564,9 @@ fn walks(p: &mut Proxy, params: &Params, lanes: u64) {
 /// ([`BITMAP_WRITER`]) with their answers' FIFOs (two entries a slot of 36 bits: the slot's
 /// place, the wedge, the bands and the answer's row writes) counted as memories (a LUT4 a word
 /// a lane more until session 42, the walk's read of a column not written this pass as zero by
-/// its valid bit, which is the placed walk's now). Until session 34 counted by rules, as the writer had no RTL: 1,707 LUT4s for the default build's
-/// two banks, where the placed writers take 4,700.
+/// its valid bit, which is the placed walk's now). Until session 34 counted by rules, as the
+/// writer had no RTL: 1,707 LUT4s for the default build's two banks, where the placed writers
+/// take 4,700.
 fn bitmap_writers(p: &mut Proxy, params: &Params, banks: u64) {
     if params.sectors == 0 {
         return;

@@ -36,7 +36,7 @@ use super::coarse::is_planar;
 use super::horizon::slot_box;
 use super::reach::{random_axes, scene_frames, Axes};
 use super::setup::{random_slot, set_up, write_answer};
-use super::writer::{Answer, WriterVectors};
+use super::writer::{bank_0, Answer, WriterVectors, BANK_SLOTS};
 use crate::rng::XorShift;
 use hemi_hdl_model::intersect::cull::{CullUnit, Reach};
 use hemi_hdl_model::intersect::horizon::{below, PassTiming, HORIZON_LATENCY};
@@ -54,9 +54,6 @@ pub const CORNER_CLOCKS: u64 = HORIZON_LATENCY + CORNER_READ;
 /// the filter's): the corner's read, the set-up unit's answer latency to the edge that
 /// registers the answer, and the clock after it, on which the writer takes it.
 pub const WRITER_LATENCY: u64 = CORNER_CLOCKS + CULL_SETUP_LATENCY as u64 + 1;
-
-/// Slots a bank holds in the RTL's default (`bank_front.v`'s SLOT_BITS 9).
-const BANK_SLOTS: usize = 512;
 
 /// What a file holds.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -128,12 +125,7 @@ pub fn vectors(
     };
     let mut writer = WriterVectors::new(Params::DEFAULT.sectors, "W");
     out.text.push_str(&writer.take_text());
-    let bank: Vec<Slot> = slots
-        .iter()
-        .step_by(2)
-        .take(BANK_SLOTS)
-        .map(Slot::of)
-        .collect();
+    let bank: Vec<Slot> = bank_0(slots).into_iter().map(Slot::of).collect();
     if !bank.is_empty() {
         let passes: Vec<Pass> = scene_frames(slots, samples)
             .into_iter()

@@ -19,7 +19,7 @@
 //! the pass before the last, which the walk must read as zero.
 
 use super::reach::scene_frames;
-use super::writer::{column_rows, random_pass, scene_pass, Answer, BANK_SLOTS};
+use super::writer::{bank_0, column_rows, random_pass, scene_pass, Answer, BANK_SLOTS};
 use crate::rng::XorShift;
 use hemi_hdl_model::intersect::bitmap_write::{column, copy_clocks};
 use hemi_hdl_model::intersect::cull::{CullUnit, Wedge, BANDS};
@@ -54,7 +54,7 @@ pub fn vectors(
         buffer: 0,
         rng: XorShift::new(seed ^ 0x5be0_cd19_137e_2179),
     };
-    let bank: Vec<&[u32; PATCH_WORDS]> = slots.iter().step_by(2).take(BANK_SLOTS).collect();
+    let bank = bank_0(slots);
     let unit = CullUnit::new(sectors);
     for (o, axes) in scene_frames(slots, samples) {
         let (answers, _) = scene_pass(&unit, &bank, o, &axes, 0);

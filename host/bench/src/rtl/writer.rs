@@ -32,7 +32,8 @@ use hemi_hdl_model::params::Params;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
-/// Slots a bank holds in the RTL's default (`bitmap_writer.v`'s SLOT_BITS 9).
+/// Slots a bank holds in the RTL's default (SLOT_BITS 9 of `bitmap_writer.v`, `bank_front.v` and
+/// `bitmap_walk.v`).
 pub(super) const BANK_SLOTS: usize = 512;
 
 /// What a file holds.
@@ -77,7 +78,7 @@ pub fn vectors(
 ) -> (String, Counts) {
     let sectors = Params::DEFAULT.sectors;
     let mut out = WriterVectors::new(sectors, "");
-    let bank: Vec<&[u32; PATCH_WORDS]> = slots.iter().step_by(2).take(BANK_SLOTS).collect();
+    let bank = bank_0(slots);
     let unit = CullUnit::new(sectors);
     let mut free = 0;
     for (o, axes) in scene_frames(slots, samples) {
@@ -97,6 +98,12 @@ pub fn vectors(
         free = out.pass(start, &answers, end);
     }
     out.into_parts()
+}
+
+/// The scene's bank 0 of two (slot i is at place i / 2 of bank i % 2), as far as a bank of the
+/// RTL's default holds.
+pub(super) fn bank_0(slots: &[[u32; PATCH_WORDS]]) -> Vec<&[u32; PATCH_WORDS]> {
+    slots.iter().step_by(2).take(BANK_SLOTS).collect()
 }
 
 /// The answers of a pass from `o` in frame `axes` over `bank`, begun on `start`, and the clock
