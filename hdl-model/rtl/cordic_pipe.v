@@ -8,7 +8,9 @@
 // the top W bits of 32-bit containers; a W-bit datapath computes exactly those bits, so the
 // co-simulation compares word << (32 - W) with the model's containers.
 // MODE 0 turns (x, y) by z; MODE 1 turns (x, y) onto +x and accumulates z = atan2(y, x).
-// PW bits of payload ride along unchanged (the rotator's carried component and tag).
+// PW bits of payload ride along unchanged (the rotator's carried component and tag), in
+// distributed RAM until their last two clocks (delay_line.v): as registers beside every stage
+// they were most of the pipe's flip-flops.
 module cordic_pipe #(
     parameter integer MODE = 0,
     parameter integer ITER = 24,
@@ -48,7 +50,6 @@ module cordic_pipe #(
     reg signed [W-1:0] x [0:L-1];
     reg signed [W-1:0] y [0:L-1];
     reg signed [W-1:0] z [0:L-1];
-    reg        [PW-1:0] pay [0:L-1];
     reg                 zero [0:L-1];
     reg                 v [0:L-1];
 
@@ -59,12 +60,11 @@ module cordic_pipe #(
     // path (85.3 MHz, session 24). The negations and the shifted angles are formed beside the
     // choice (kept: written inside it, Yosys built them in series with its select)
     reg signed [W-1:0] dx0, dy0, dz0;
-    reg [PW-1:0] dpay;
     reg dv, turn_dn, turn_up, dzero;
     always @(posedge clk) begin
         if (rst) dv <= 1'b0;
         else dv <= in_valid;
-        dx0 <= in_x; dy0 <= in_y; dz0 <= in_z; dpay <= in_payload;
+        dx0 <= in_x; dy0 <= in_y; dz0 <= in_z;
         if (MODE == 0) begin
             turn_dn <= $signed(in_z) > $signed(HALF_PI);
             turn_up <= $signed(in_z) < -$signed(HALF_PI);
@@ -95,7 +95,7 @@ module cordic_pipe #(
     always @(posedge clk) begin
         if (rst) v[0] <= 1'b0;
         else v[0] <= dv;
-        x[0] <= qx; y[0] <= qy; z[0] <= qz; zero[0] <= dzero; pay[0] <= dpay;
+        x[0] <= qx; y[0] <= qy; z[0] <= qz; zero[0] <= dzero;
     end
 
     genvar i;
@@ -122,7 +122,6 @@ module cordic_pipe #(
                 y[i+1] <= ny;
                 z[i+1] <= nz;
                 zero[i+1] <= zero[i];
-                pay[i+1] <= pay[i];
             end
         end
     endgenerate
@@ -141,7 +140,6 @@ module cordic_pipe #(
         else v[ITER+1] <= v[ITER];
         z[ITER+1] <= z[ITER];
         zero[ITER+1] <= zero[ITER];
-        pay[ITER+1] <= pay[ITER];
     end
     always @(posedge clk) begin
         if (rst) v[L-1] <= 1'b0;
@@ -150,14 +148,22 @@ module cordic_pipe #(
         y[L-1] <= gy[2*W-3 -: W];
         z[L-1] <= (MODE == 1 && zero[L-2]) ? {W{1'b0}} : z[L-2];
         zero[L-1] <= zero[L-2];
-        pay[L-1] <= pay[L-2];
+    end
+    // the payload: L − 1 clocks in the delay line, where a chain would have reached register
+    // L − 3 (early2_payload), then the two registers early_payload and out_payload are
+    wire [PW-1:0] pay_early2;
+    reg  [PW-1:0] pay_early, pay_out;
+    delay_line #(.W(PW), .N(L - 1)) payload (.clk(clk), .in(in_payload), .out(pay_early2));
+    always @(posedge clk) begin
+        pay_early <= pay_early2;
+        pay_out <= pay_early;
     end
 
     assign out_valid = v[L-1];
     assign out_x = x[L-1];
     assign out_y = y[L-1];
     assign out_z = z[L-1];
-    assign out_payload = pay[L-1];
-    assign early_payload = pay[L-2];
-    assign early2_payload = pay[L-3];
+    assign out_payload = pay_out;
+    assign early_payload = pay_early;
+    assign early2_payload = pay_early2;
 endmodule

@@ -37,7 +37,6 @@ module plane_divider #(
     reg [RW-1:0] r [0:S-1];
     reg [67:0]   d [0:S-1];
     reg [30:0]   q [0:S-1];
-    reg [PW-1:0] p [0:S-1];
 
     wire [67:0] abs_h = in_h[67] ? -in_h : in_h;
     wire [67:0] abs_d = in_den[67] ? -in_den : in_den;
@@ -49,7 +48,6 @@ module plane_divider #(
         r[0] <= {2'b0, abs_h};
         d[0] <= abs_d;
         q[0] <= 31'd0;
-        p[0] <= in_payload;
     end
 
     genvar i;
@@ -70,7 +68,6 @@ module plane_divider #(
                 r[i] <= {rest, 1'b0};
                 d[i] <= d[i-1];
                 q[i] <= q[i-1] | ({30'd0, take} << B);
-                p[i] <= p[i-1];
             end
         end
     endgenerate
@@ -78,5 +75,6 @@ module plane_divider #(
     assign out_valid = v[S-1];
     assign out_hit = ok[S-1] && q[S-1] != 0;
     assign out_t = q[S-1];
-    assign out_payload = p[S-1];
+    // the payload waits beside the stages in distributed RAM (delay_line.v)
+    delay_line #(.W(PW), .N(S)) payload (.clk(clk), .in(in_payload), .out(out_payload));
 endmodule

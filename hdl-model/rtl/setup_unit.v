@@ -250,7 +250,6 @@ module setup_unit #(
     // waits as the edge unit scaled it to 18 bits (ã, 5 clocks after its edge, which enters 2
     // after the corner): the reach does not scale it again (SCALED)
     reg [DELAY-2:0] d_valid, d_last, d_tag, d_par, d_active;
-    reg [53:0]      u_wait [0:DELAY-8];
     always @(posedge clk) begin
         d_valid <= {d_valid[DELAY-3:0], r_valid};
         d_last <= {d_last[DELAY-3:0], r_last};
@@ -258,12 +257,11 @@ module setup_unit #(
         d_par <= {d_par[DELAY-3:0], r_par};
         d_active <= {d_active[DELAY-3:0], 1'b0};
         d_active[8] <= active[d_par[7]];
-        u_wait[0] <= u18;
-        for (j = 1; j <= DELAY - 8; j = j + 1) u_wait[j] <= u_wait[j-1];
     end
+    wire [53:0] c_u;
+    delay_line #(.W(54), .N(DELAY - 7)) u_wait (.clk(clk), .in(u18), .out(c_u));
     wire        c_valid = d_valid[DELAY-2];
     wire        c_last = d_last[DELAY-2];
-    wire [53:0] c_u = u_wait[DELAY-8];
     wire [98:0] c_a = {{15{c_u[53]}}, c_u[53:36], {15{c_u[35]}}, c_u[35:18], {15{c_u[17]}},
                        c_u[17:0]};
     wire [53:0] c_e = e_wait[DELAY-18];
@@ -279,13 +277,8 @@ module setup_unit #(
         .out_valid(out_p_valid), .out_kind(out_p_kind), .out_lo(out_p_lo), .out_len(out_p_len),
         .out_band_lo(out_p_band_lo), .out_band_hi(out_p_band_hi));
     // the patch's active bit and κ beside the reach
-    reg [4:0] beside [0:REACH-1];
-    always @(posedge clk) begin
-        beside[0] <= {d_active[DELAY-2], c_kappa};
-        for (j = 1; j < REACH; j = j + 1) beside[j] <= beside[j-1];
-    end
-    assign out_p_active = beside[REACH-1][4];
-    assign out_p_kappa = beside[REACH-1][3:0];
+    delay_line #(.W(5), .N(REACH)) beside (
+        .clk(clk), .in({d_active[DELAY-2], c_kappa}), .out({out_p_active, out_p_kappa}));
     // |x| ≥ 2^31 − 2^25 (`top`) or ≥ 2^30 − 2^25, from x's bits: a positive x needs bits 30:25
     // all ones (or bit 30, or bits 29:25 all ones); a negative x at most −2^31 + 2^25 (−2^30 +
     // 2^25) has bits 30:25 clear (bit 30 or bits 29:25 clear), or is that bound itself

@@ -65,6 +65,7 @@ pub const CORDIC_BENCH: Bench = Bench {
     sources: &[
         "const_mul.v",
         "cordic_pipe.v",
+        "delay_line.v",
         "add_sub.v",
         "rotator.v",
         "frame_unit.v",
@@ -81,6 +82,7 @@ pub const PLANE_BENCH: Bench = Bench {
         "plane_unit.v",
         "plane_setup.v",
         "plane_divider.v",
+        "delay_line.v",
         "uv_level.v",
     ],
     cpp: "tb/plane_tb.cpp",
@@ -107,6 +109,7 @@ pub const CULL_BENCH: Bench = Bench {
         "leading_one.v",
         "cull_bin.v",
         "cordic_pipe.v",
+        "delay_line.v",
         "add_sub.v",
         "magnitude.v",
         "const_mul.v",
@@ -129,6 +132,7 @@ pub const SETUP_BENCH: Bench = Bench {
         "leading_one.v",
         "cull_bin.v",
         "cordic_pipe.v",
+        "delay_line.v",
         "add_sub.v",
         "magnitude.v",
         "const_mul.v",
@@ -172,6 +176,7 @@ pub const BANK_SETUP_BENCH: Bench = Bench {
         "leading_one.v",
         "cull_bin.v",
         "cordic_pipe.v",
+        "delay_line.v",
         "add_sub.v",
         "magnitude.v",
         "const_mul.v",
@@ -197,6 +202,7 @@ pub const BANK_PASS_BENCH: Bench = Bench {
         "leading_one.v",
         "cull_bin.v",
         "cordic_pipe.v",
+        "delay_line.v",
         "add_sub.v",
         "magnitude.v",
         "const_mul.v",
@@ -240,7 +246,7 @@ pub const EXACT_BENCH: Bench = Bench {
 /// the minima the unit held before it.
 pub const GROUP_PLANE_BENCH: Bench = Bench {
     top: "group_plane",
-    sources: &["group_plane.v", "plane_divider.v"],
+    sources: &["group_plane.v", "plane_divider.v", "delay_line.v"],
     cpp: "tb/group_plane_tb.cpp",
     report: "group_plane",
 };
@@ -277,6 +283,7 @@ pub const ACCEL_BENCH: Bench = Bench {
         "frame_unit.v",
         "rotator.v",
         "cordic_pipe.v",
+        "delay_line.v",
         "const_mul.v",
         "add_sub.v",
         "plane_unit.v",
@@ -731,6 +738,7 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     CULL_MUTANT.caught("mutant-cull", &[], &[file("cull.txt")], opt)?;
     REACH_MUTANT.caught("mutant-reach", &[], &[file("cull.txt")], opt)?;
     SETUP_MUTANT.caught("mutant-setup", &[], &[file("setup.txt")], opt)?;
+    DELAY_MUTANT.caught("mutant-delay", &[], &[file("setup.txt")], opt)?;
     HORIZON_MUTANT.caught("mutant-horizon", &[], &[file("horizon.txt")], opt)?;
     BANK_MUTANT.caught("mutant-bank", &[], &[file("bank.txt")], opt)?;
     BANK_SETUP_MUTANT.caught("mutant-bank-setup", &[], &[file("bank.txt")], opt)?;
@@ -900,6 +908,19 @@ const HORIZON_MUTANT: Mutant = Mutant {
     from: "h2 ^ h1, ~h1}",
     to: "h2 ^ h1, h1}",
     what: "bit 0 of the horizon filter's shift",
+};
+
+/// The delay line's read one entry nearer its write (`delay_line.v`, its distance K − 1 as
+/// K − 2: bit 0 for the segments of 16 and 14 clocks the set-up unit's CORDIC payloads and its
+/// corners' wait have), so that every word it holds leaves a clock early: those payloads and
+/// corners, and the answers' κ beside the reach.
+const DELAY_MUTANT: Mutant = Mutant {
+    bench: SETUP_BENCH,
+    extra: &["cordic_rom.vh"],
+    file: "delay_line.v",
+    from: "BACK = K - 1;",
+    to: "BACK = K - 2;",
+    what: "bit 0 of the delay line's read distance",
 };
 
 /// Co-simulates the CORDIC units at `cfg` and, if asked, the register file, the coarse edge
@@ -1103,6 +1124,7 @@ pub fn rotator_design(cfg: Cordic) -> Design {
         files: vec![
             "const_mul.v",
             "cordic_pipe.v",
+            "delay_line.v",
             "add_sub.v",
             "rotator.v",
             "syn/syn_rotator.v",
@@ -1122,6 +1144,7 @@ pub fn plane_design(depth: u32) -> Design {
             "plane_unit.v",
             "plane_setup.v",
             "plane_divider.v",
+            "delay_line.v",
             "uv_level.v",
             "syn/syn_plane.v",
         ],
@@ -1139,6 +1162,7 @@ pub fn frame_design(cfg: Cordic) -> Design {
         files: vec![
             "const_mul.v",
             "cordic_pipe.v",
+            "delay_line.v",
             "add_sub.v",
             "frame_unit.v",
             "syn/syn_frame.v",
@@ -1194,6 +1218,7 @@ pub fn cull_design() -> Design {
             "leading_one.v",
             "cull_bin.v",
             "cordic_pipe.v",
+            "delay_line.v",
             "add_sub.v",
             "magnitude.v",
             "const_mul.v",
@@ -1216,6 +1241,7 @@ pub fn reach_design() -> Design {
             "leading_one.v",
             "cull_bin.v",
             "cordic_pipe.v",
+            "delay_line.v",
             "add_sub.v",
             "magnitude.v",
             "const_mul.v",
