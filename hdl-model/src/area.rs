@@ -820,7 +820,7 @@ fn angle_unit(p: &mut Proxy, cfg: CordicConfig) {
 
 /// The units every build has: the angle unit (one vectoring CORDIC pipe, `frame.rs`), the (u,v)
 /// unit and the Bezier subdivision engine (the de Casteljau network on 26-bit control points,
-/// child boxes and slab tests, the leaf's products and three dividers, the node stack and
+/// child boxes and slab tests, the leaf's products and six dividers, the node stack and
 /// control-point memory). The wide datapath (`compact` false) unrolls the (u,v) pipe into
 /// `uv_depth` levels (two 2D side tests of 34 × 34 products each, midpoints) and slab-tests a
 /// step's four children at once; the compact one has [`UV_UNITS`] iterative (u,v) units (one
@@ -858,8 +858,13 @@ pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     }
     // the leaf's products: both triangles' at once, or two a clock (compact)
     p.mul(if compact { 2 } else { 18 }, 34, 34);
-    p.add(3 * 32, 64);
-    p.reg(3 * 32 * 128 + 2 * 1300);
+    // its dividers as the model times them (`bezier::LEAF_CLOCKS`: t, s and r of both triangles at
+    // once, radix-2 restoring, a quotient bit a clock while the engine waits): six, each a
+    // 64-bit subtract, the 64-bit choice of what remains (counted as an adder) and its
+    // remainder, divisor and quotient registers. Until session 43 three dividers of 32
+    // pipelined stages (6,144 adder bits, 12,288 flip-flops), as if a leaf could enter each clock
+    p.add(6 * 2, 64);
+    p.reg(6 * (64 + 64 + 32) + 2 * 1300);
     p.mem(40, 1300);
     p.mem(64 * 48, 32);
     p
