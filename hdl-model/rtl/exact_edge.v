@@ -2,20 +2,25 @@
 // lanes' coarse test left undecided has each undecided edge tested exactly, d . e_k >= 0, the
 // edge normal e_k = a_k x a_(k+1) formed again from the patch's corners as the set-up pass
 // forms it (negated when the origin is behind the patch, truncated towards zero by the
-// origin-wide shift, kept to 64 bits), on two multipliers of 34 x 64 bits.
+// origin-wide shift, kept to 64 bits), on one multiplier of 34 x 64 bits. (Two until session
+// 43: eight DSP tiles more for a unit that sees 0.002 to 0.022 undecided edges a ray, while
+// the set-up units' products were LUT arrays for want of tiles.)
 //
-// Clocks, on a grid of five-clock windows (phase, from 0 after reset):
+// Clocks, on a grid of nine-clock windows (phase, from 0 after reset):
 // - an idle unit (no edge in a window, none to start, none offered) holds phase 1, so a pair
 //   offered to it is taken at once and its clocks do not depend on the clocks since reset;
 // - a pair is taken on phase 1 when the last pair has no edge left to start; the corners of
 //   its next edge are read on phases 2 and 3 (c_addr, a synchronous read: c_data holds the
-//   word a clock later), each less the origin on phases 3 and 4;
-// - an edge's window: its cross product's six products on phases 0 to 2 (two a clock), the
-//   dot product's three on phases 3 and 4 of the next window (the normal two clocks after its
-//   products: the difference with the side, the truncation's bias; its shift as it is taken);
-// - a multiplier takes five clocks (exact_mul.v), the sum of the dot product and its sign one
-//   more: the pair's verdict is out on the fifteenth clock after its last window began
-//   (out_valid for one clock, with the tag it came with).
+//   word a clock later), each less the origin on phases 3 and 4; the edge enters its window on
+//   phase 8;
+// - an edge's window: its cross product's six products on phases 0 to 5, each component's
+//   pair on consecutive clocks (the first product held until the second is out), the dot
+//   product's three on phases 6 to 8 of the next window (each component of the normal two
+//   clocks after its pair: the difference with the side, the truncation's bias; its shift as
+//   it is taken);
+// - the multiplier takes five clocks (exact_mul.v), and the dot product is summed as its
+//   products come out, the last with its sign: the pair's verdict is out on the 23rd clock
+//   after its last window began (out_valid for one clock, with the tag it came with).
 module exact_edge #(
     parameter integer SLOT_BITS = 10,
     parameter integer TW = 10          // the tag's bits
@@ -39,9 +44,10 @@ module exact_edge #(
     output reg                  out_inside,
     output reg  [TW-1:0]        out_tag
 );
-    reg [2:0] phase;
+    localparam [3:0] LAST = 4'd8;   // a window's last phase
+    reg [3:0] phase;
     wire      idle;
-    always @(posedge clk) phase <= rst || phase == 3'd4 ? 3'd0 : idle ? 3'd1 : phase + 3'd1;
+    always @(posedge clk) phase <= rst || phase == LAST ? 4'd0 : idle ? 4'd1 : phase + 4'd1;
 
     // ---- the pair whose edges are being started, and the next edge's reads ----
     reg [SLOT_BITS-1:0] p_slot;
@@ -51,7 +57,7 @@ module exact_edge #(
     reg [TW-1:0]        p_tag;
     reg [3:0]           rem;        // its edges not started yet
     reg                 x_valid, y_valid;   // an edge in a window, an edge's dot product
-    assign in_ready = phase == 3'd1 && rem == 4'd0;
+    assign in_ready = phase == 4'd1 && rem == 4'd0;
     assign idle = in_ready && !in_valid && !x_valid && !y_valid;
     wire take = in_valid && in_ready;
     wire [3:0] pick = take ? in_mask : rem;
@@ -65,14 +71,14 @@ module exact_edge #(
         if (rst) begin
             rem <= 4'd0;
             st_valid <= 1'b0;
-        end else if (phase == 3'd1) begin
+        end else if (phase == 4'd1) begin
             st_valid <= take || rem != 4'd0;
             st_first <= take;
             st_last <= left == 4'd0;
             st_k <= k;
             rem <= take || rem != 4'd0 ? left : 4'd0;
             c_addr <= {take ? in_slot : p_slot, k};
-        end else if (phase == 3'd2) begin
+        end else if (phase == 4'd2) begin
             c_addr <= {p_slot, st_next};
         end
         if (take) begin
@@ -95,7 +101,7 @@ module exact_edge #(
                                           - {o[32 * c + 31], o[32 * c +: 32]};
         end
     endfunction
-    reg [98:0] s_au;
+    reg [98:0] s_au, s_av;
     // the edge in its window (x) and the edge whose dot product is formed in it (y)
     reg              x_first, x_last, x_negate, y_first, y_last;
     reg [2:0]        x_shift, y_shift;
@@ -103,21 +109,22 @@ module exact_edge #(
     reg [95:0]       x_d, y_d;
     reg [TW-1:0]     x_tag, y_tag;
     always @(posedge clk) begin
-        if (phase == 3'd3) s_au <= less_origin(c_data, p_origin);
+        if (phase == 4'd3) s_au <= less_origin(c_data, p_origin);
+        if (phase == 4'd4) s_av <= less_origin(c_data, p_origin);
         if (rst) begin
             x_valid <= 1'b0;
             y_valid <= 1'b0;
-        end else if (phase == 3'd4) begin
+        end else if (phase == LAST) begin
             x_valid <= st_valid;
             y_valid <= x_valid;
         end
-        if (phase == 3'd4) begin
+        if (phase == LAST) begin
             x_first <= st_first;
             x_last <= st_last;
             x_negate <= p_negate;
             x_shift <= p_shift;
             x_au <= s_au;
-            x_av <= less_origin(c_data, p_origin);
+            x_av <= s_av;
             x_d <= p_d;
             x_tag <= p_tag;
             y_first <= x_first;
@@ -128,7 +135,7 @@ module exact_edge #(
         end
     end
 
-    // ---- the multipliers' operands by phase: cross products, then the last edge's dots ----
+    // ---- the multiplier's operands by phase: cross products, then the last edge's dots ----
     function signed [33:0] a34(input [98:0] a, input integer c);
         a34 = {a[33 * c + 32], a[33 * c +: 33]};
     endfunction
@@ -151,80 +158,67 @@ module exact_edge #(
             assign e[g] = e_shifted[g][63:0];
         end
     endgenerate
-    reg signed [33:0] ma_x, mb_x;
-    reg signed [63:0] ma_y, mb_y;
-    // what a product is: 0 none, 1 a cross product's pair (A − B), 2 the dot's first two, 3 its
-    // third; the component, side and shift of a cross product
-    reg        [1:0]  kind;
+    // what a product is: a cross product's first (A) or second (B, then A − B), the dot's
+    // first, middle or last
+    localparam [2:0] NONE = 3'd0, CROSS_A = 3'd1, CROSS_B = 3'd2, DOT_FIRST = 3'd3,
+                     DOT_MID = 3'd4, DOT_LAST = 3'd5;
+    reg signed [33:0] m_x;
+    reg signed [63:0] m_y;
+    reg        [2:0]  kind;
     reg        [1:0]  comp;
+    // component c of a_u x a_v is a_u[c+1] a_v[c+2] − a_u[c+2] a_v[c+1] (indices mod 3): A
+    // on the even phase, B on the odd
     always @(*) begin
-        kind = 2'd0;
+        kind = NONE;
         comp = 2'd0;
-        ma_x = a34(x_au, 1);
-        ma_y = a64(x_av, 2);
-        mb_x = a34(x_au, 2);
-        mb_y = a64(x_av, 1);
+        m_x = d34(y_d, 0);
+        m_y = e[0];
         case (phase)
-            3'd0: kind = x_valid ? 2'd1 : 2'd0;
-            3'd1: begin
-                kind = x_valid ? 2'd1 : 2'd0;
-                comp = 2'd1;
-                ma_x = a34(x_au, 2);
-                ma_y = a64(x_av, 0);
-                mb_x = a34(x_au, 0);
-                mb_y = a64(x_av, 2);
-            end
-            3'd2: begin
-                kind = x_valid ? 2'd1 : 2'd0;
-                comp = 2'd2;
-                ma_x = a34(x_au, 0);
-                ma_y = a64(x_av, 1);
-                mb_x = a34(x_au, 1);
-                mb_y = a64(x_av, 0);
-            end
-            3'd3: begin
-                kind = y_valid ? 2'd2 : 2'd0;
-                ma_x = d34(y_d, 0);
-                ma_y = e[0];
-                mb_x = d34(y_d, 1);
-                mb_y = e[1];
-            end
-            default: begin
-                kind = y_valid ? 2'd3 : 2'd0;
-                ma_x = d34(y_d, 2);
-                ma_y = e[2];
-            end
+            4'd0, 4'd1, 4'd2, 4'd3, 4'd4, 4'd5: kind = x_valid ? (phase[0] ? CROSS_B : CROSS_A)
+                                                               : NONE;
+            4'd6: kind = y_valid ? DOT_FIRST : NONE;
+            4'd7: kind = y_valid ? DOT_MID : NONE;
+            default: kind = y_valid ? DOT_LAST : NONE;
+        endcase
+        case (phase)
+            4'd0: begin m_x = a34(x_au, 1); m_y = a64(x_av, 2); end
+            4'd1: begin m_x = a34(x_au, 2); m_y = a64(x_av, 1); end
+            4'd2: begin m_x = a34(x_au, 2); m_y = a64(x_av, 0); comp = 2'd1; end
+            4'd3: begin m_x = a34(x_au, 0); m_y = a64(x_av, 2); comp = 2'd1; end
+            4'd4: begin m_x = a34(x_au, 0); m_y = a64(x_av, 1); comp = 2'd2; end
+            4'd5: begin m_x = a34(x_au, 1); m_y = a64(x_av, 0); comp = 2'd2; end
+            4'd7: begin m_x = d34(y_d, 1); m_y = e[1]; end
+            4'd8: begin m_x = d34(y_d, 2); m_y = e[2]; end
+            default: ;
         endcase
     end
     // the product's description travels with it: kind, component, side, shift, and the
     // dot's edge (first and last of its pair, tag)
-    localparam integer QW = 2 + 2 + 1 + 3 + 1 + 1 + TW;
+    localparam integer QW = 3 + 2 + 1 + 3 + 1 + 1 + TW;
     wire [QW-1:0] q_in = {kind, comp, x_negate, x_shift, y_first, y_last, y_tag};
-    wire [97:0] pa, pb;
+    wire [97:0] pm;
     wire [QW-1:0] q;
-    exact_mul #(.QW(QW)) mul_a (.clk(clk), .x(ma_x), .y(ma_y), .q_in(q_in), .p(pa), .q(q));
-    /* verilator lint_off PINCONNECTEMPTY */ // mul_a's description is both's
-    exact_mul #(.QW(1)) mul_b (.clk(clk), .x(mb_x), .y(mb_y), .q_in(1'b0), .p(pb), .q());
-    /* verilator lint_on PINCONNECTEMPTY */
-    wire [1:0]    q_kind = q[QW-1 -: 2];
-    wire [1:0]    q_comp = q[QW-3 -: 2];
-    wire          q_negate = q[QW-5];
-    wire [2:0]    q_shift = q[QW-6 -: 3];
+    exact_mul #(.QW(QW)) mul (.clk(clk), .x(m_x), .y(m_y), .q_in(q_in), .p(pm), .q(q));
+    wire [2:0]    q_kind = q[QW-1 -: 3];
+    wire [1:0]    q_comp = q[QW-4 -: 2];
+    wire          q_negate = q[QW-6];
+    wire [2:0]    q_shift = q[QW-7 -: 3];
     wire          q_first = q[TW+1];
     wire          q_last = q[TW];
     wire [TW-1:0] q_tag = q[TW-1:0];
 
     // ---- the edge normal: the difference with the side, then the truncation towards zero ----
+    reg signed [67:0] held;     // a component's first product, until its second is out
     reg               c_valid;
     reg        [1:0]  c_comp;
     reg        [3:0]  c_ones;   // 2^k − 1, the bias a negative x needs (k ≤ 4)
     reg signed [67:0] c_cross;
     always @(posedge clk) begin
-        c_valid <= !rst && q_kind == 2'd1;
+        if (q_kind == CROSS_A) held <= $signed(pm[67:0]);
+        c_valid <= !rst && q_kind == CROSS_B;
         c_comp <= q_comp;
         c_ones <= ~(4'hF << q_shift);
-        c_cross <= q_negate ? $signed(pb[67:0]) - $signed(pa[67:0])
-                            : $signed(pa[67:0]) - $signed(pb[67:0]);
+        c_cross <= q_negate ? $signed(pm[67:0]) - held : held - $signed(pm[67:0]);
     end
     // x / 2^k towards zero: (x + 2^k − 1) >> k for a negative x, the sum kept and shifted as the
     // dot product takes it (the bias a register beside x, not a chain after it: 2^k − 1 formed
@@ -232,24 +226,20 @@ module exact_edge #(
     wire signed [67:0] c_bias = {64'd0, c_cross[67] ? c_ones : 4'd0};
     always @(posedge clk) if (c_valid) e_sum[c_comp] <= c_cross + c_bias;
 
-    // ---- the dot product's sum, its sign, the pair's verdict ----
-    reg               s_valid, s_first, s_last, acc;
-    reg        [TW-1:0] s_tag;
-    reg signed [97:0] s01;
+    // ---- the dot product's sum as its products come out, its sign, the pair's verdict ----
+    reg               acc;
+    reg signed [97:0] s;
     /* verilator lint_off UNUSEDSIGNAL */ // its sign alone
-    wire signed [97:0] total = s01 + $signed(pa);
+    wire signed [97:0] total = s + $signed(pm);
     /* verilator lint_on UNUSEDSIGNAL */
     wire edge_in = !total[97];
-    wire pair_in = (s_first || acc) && edge_in;
+    wire pair_in = (q_first || acc) && edge_in;
     always @(posedge clk) begin
-        s_valid <= !rst && q_kind == 2'd2;
-        s_first <= q_first;
-        s_last <= q_last;
-        s_tag <= q_tag;
-        s01 <= $signed(pa) + $signed(pb);
-        out_valid <= !rst && s_valid && q_kind == 2'd3 && s_last;
+        if (q_kind == DOT_FIRST) s <= $signed(pm);
+        else if (q_kind == DOT_MID) s <= total;
+        out_valid <= !rst && q_kind == DOT_LAST && q_last;
         out_inside <= pair_in;
-        out_tag <= s_tag;
-        if (s_valid && q_kind == 2'd3) acc <= pair_in;
+        out_tag <= q_tag;
+        if (q_kind == DOT_LAST) acc <= pair_in;
     end
 endmodule

@@ -1,4 +1,4 @@
-// The exact edge unit's multiplier (exact_edge.v), two of them in the unit.
+// The exact edge unit's multiplier (exact_edge.v), one in the unit (two until session 43).
 //
 // x · y in five clocks, a carry chain a clock: the operands registered; their eight 18 x 18
 // tile products (x in a 17-bit low half and a signed high half, y in three 16-bit quarters and

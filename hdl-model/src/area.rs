@@ -138,17 +138,18 @@ pub const RAY_SIDE: Placed = Placed {
     ffs: 3_427 - 98,
 };
 
-/// The compact datapath's shared exact edge unit, `rtl/exact_edge.v` (session 40: 2,756 LUT4s
-/// and 3,270 flip-flops placed, 416 of them its harness's input chain, corner word and output
-/// register; 16 DSP tiles for its two 34 × 64 multipliers; 110.1 MHz. Session 39's, before an
-/// idle unit held its grid: 2,754 LUT4s, 108.9 and 111.3 MHz at seeds 1 and 2). The rules it
+/// The compact datapath's shared exact edge unit, `rtl/exact_edge.v` (session 43: 2,401 LUT4s
+/// and 2,596 flip-flops placed, 416 of them its harness's input chain, corner word and output
+/// register; 8 DSP tiles for its one 34 × 64 multiplier; 119.3 and 115.8 MHz at seeds 1 and 2.
+/// Session 40's, on two multipliers: 2,756 LUT4s, 3,270 flip-flops, 16 tiles, 110.1 MHz;
+/// session 39's, before an idle unit held its grid: 2,754 LUT4s, 108.9 and 111.3 MHz). The rules it
 /// replaces (two 34 × 62 multipliers, the cross product's subtraction, the shift, the side, the
 /// dot product's sums) gave 919 LUT4s and 846 flip-flops: the RTL's multipliers take five
 /// clocks each, their tiles' sums in carry chains, and the operands, corners and edge normals
 /// of two edges are registered.
 pub const EXACT_UNIT: Placed = Placed {
-    luts: 2_756,
-    ffs: 3_270 - 416,
+    luts: 2_401,
+    ffs: 2_596 - 416,
 };
 
 /// A compact build's plane unit, one a ray group, `rtl/group_plane.v` (session 40: 6,049 LUT4s
@@ -441,7 +442,7 @@ pub fn ray_datapath(params: &Params, cfg: CordicConfig) -> Proxy {
 /// The compact datapath: per lane the coarse edge test (twelve 18 × 18 products, one DSP tile
 /// each, and the bound's adders and compares); per ray group [`PLANE_UNITS`] plane units
 /// (n · d, divider, running minimum) fed with the pairs its lanes find inside; one shared
-/// exact edge unit (two 34 × 64 multipliers, two products a clock: the six products that
+/// exact edge unit (one 34 × 64 multiplier, a product a clock: the six products that
 /// recompute an edge's normal from the corners, then the three of its dot product with d;
 /// [`EXACT_UNIT`] as placed); one set-up
 /// unit per bank (the wide datapath's); local memory, candidate bitmaps and
@@ -472,11 +473,11 @@ pub fn compact_parts(params: &Params, cfg: CordicConfig) -> Vec<(&'static str, P
     plane.placed(units, GROUP_PLANE_UNIT);
     plane.reg(l * (16 + H_BITS + 8 + 1));
     plane.add(l, 8);
-    // the shared exact edge unit as placed ([`EXACT_UNIT`]), its two 34 × 64 multipliers of
-    // eight tiles each; the queue of undecided pairs before it (with their mask of undecided
-    // edges), which the sequencing holds
+    // the shared exact edge unit as placed ([`EXACT_UNIT`]), its 34 × 64 multiplier of eight
+    // tiles (two until session 43); the queue of undecided pairs before it (with their mask of
+    // undecided edges), which the sequencing holds
     let mut exact = Proxy::default();
-    exact.mul(2, 34, 64);
+    exact.mul(1, 34, 64);
     exact.placed(1, EXACT_UNIT);
     exact.mem(params.ray_slots() as u64, tag_bits(params) + 16 + 4 + 4);
     let mut setup = Proxy::default();

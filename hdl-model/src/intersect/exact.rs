@@ -6,19 +6,23 @@
 //! (`hemi bench lanes`: 0.002 undecided edges a ray on the Cornell box, where a ray has 2.8
 //! candidates; 0.022 on its 1,154-patch subdivision).
 //!
-//! **Its clocks.** Two multipliers (34 × 64 bits, five clocks each: operands, eight 18 × 18
-//! tiles, three levels of their sum) form an edge's nine products in a five-clock window of a
-//! grid ([`Schedule`]): the cross product's six in the window's first three clocks,
-//! the dot product's three in the next window's last two, once the edge normal is through the
-//! difference with the side and the truncation's bias (two clocks; its shift as the dot product
-//! takes it). So edges follow one another every five clocks, a pair's after the last pair's,
-//! and a pair takes five clocks an edge. A pair is taken
-//! on the grid's [`GRID_START`] clock; its first edge's two corners are read on the next two
-//! (a corner a clock, as the set-up units read them; each later edge's in the window before
-//! it), each less the origin a clock later, and its first window begins four clocks after it
-//! was taken. Its verdict is out [`LATENCY`] clocks after the clock the next pair could be
-//! taken. Until session 39 the model charged 5 clocks an edge and 2 for the first reads, with
-//! the verdict at once: the RTL showed the multipliers' and the normal's clocks, and the grid.
+//! **Its clocks.** One multiplier (34 × 64 bits, five clocks: operands, eight 18 × 18 tiles,
+//! three levels of their sum) forms an edge's nine products in a nine-clock window of a grid
+//! ([`Schedule`]): the cross product's six in the window's first six clocks, a component's two
+//! on consecutive clocks, the dot product's three in the next window's last three, once each
+//! component of the normal is through the difference with the side and the truncation's bias
+//! (two clocks; its shift as the dot product takes it), summed as they come out. So edges follow
+//! one another every nine clocks, a pair's after the last pair's, and a pair takes nine clocks
+//! an edge. A pair is taken on the grid's [`GRID_START`] clock; its first edge's two corners are
+//! read on the next two (a corner a clock, as the set-up units read them; each later edge's in
+//! the window before it), each less the origin a clock later, and its first window begins eight
+//! clocks after it was taken. Its verdict is out [`LATENCY`] clocks after the clock the next
+//! pair could be taken. Until session 39 the model charged 5 clocks an edge and 2 for the first
+//! reads, with the verdict at once: the RTL showed the multipliers' and the normal's clocks, and
+//! the grid. Until session 43 two multipliers, a five-clock window: eight DSP tiles more for a
+//! unit that sees 0.002 (Cornell box) to 0.022 (its 1,154-patch subdivision) undecided edges a
+//! ray, while the default build's set-up units had their products in LUT arrays for want of
+//! tiles (docs/PERFORMANCE.md, "Session 43").
 //!
 //! **The grid restarts when the unit is idle.** Kept from reset (session 39), a pair's wait
 //! for the grid depended on every clock since reset, so the model's clock counts moved with the
@@ -26,8 +30,8 @@
 //! its grid on the clock that takes a pair, and a pair offered to an idle unit is taken at
 //! once: the wait depends on the unit's own last pair alone.
 
-/// Clocks an edge takes of the unit: a window of the grid.
-pub const WINDOW: u64 = 5;
+/// Clocks an edge takes of the unit: a window of the grid, a product a clock.
+pub const WINDOW: u64 = 9;
 
 /// The clock of a window on which a pair may be taken, the clock before its first corner's
 /// read (counted modulo [`WINDOW`] from the clock the unit last took a pair when idle, or from
@@ -36,10 +40,10 @@ pub const GRID_START: u64 = 1;
 
 /// Clocks from the clock the next pair could be taken to a pair's verdict. That clock is the
 /// one after its last window's first; the dot product's last product is issued on that
-/// window's tenth clock (the next window's fifth), takes five clocks of multiplier, then a
-/// clock for the sum and its sign, so the verdict register is read on the last window's
-/// fifteenth clock.
-pub const LATENCY: u64 = 14;
+/// window's eighteenth clock (the next window's ninth), takes five clocks of multiplier, then
+/// its sum with the first two and its sign are registered, so the verdict register is read on
+/// the last window's 23rd clock.
+pub const LATENCY: u64 = 22;
 
 /// Clocks from the clock the next pair could be taken to the first clock the unit is idle: its
 /// last edge's cross products take one more window, their dot products the next.
@@ -162,14 +166,14 @@ mod tests {
         assert_eq!(s.begin(0), 1);
         assert_eq!(s.begin(7), 7);
         assert_eq!(s.take(7, 2), 7);
-        // busy: back to back, or the grid's next clock
-        assert_eq!(s.begin(9), 17);
-        assert_eq!(s.begin(18), 22);
-        assert_eq!(s.begin(26), 27);
+        // busy: back to back (two edges, two windows), or the grid's next clock
+        assert_eq!(s.begin(9), 25);
+        assert_eq!(s.begin(26), 34);
+        assert_eq!(s.begin(35), 43);
         // idle two windows after the last pair's
-        assert_eq!(s.begin(28), 28);
-        assert_eq!(s.take(40, 1), 40);
-        assert_eq!(s.verdict(), 45 + LATENCY);
+        assert_eq!(s.begin(43), 43);
+        assert_eq!(s.take(50, 1), 50);
+        assert_eq!(s.verdict(), 59 + LATENCY);
     }
 
     #[test]
