@@ -182,12 +182,11 @@ module group_plane #(
     // which empties it; after a reset the same reads sweep every tag, one a clock.
     localparam integer WAIT = 41;
     reg          q_v [0:WAIT-1];
+    reg [TW-1:0] q_tag [0:WAIT-1];
     reg [TW:0]   sweep;            // the tag the sweep reads, TAGS when done
     assign ready = sweep[TW];
     wire         r_v = ready ? q_v[WAIT-1] : !rst;
-    wire [TW-1:0] q_out;
-    delay_line #(.W(TW), .N(WAIT)) q_tag (.clk(clk), .in(rd_tag), .out(q_out));
-    wire [TW-1:0] r_tag = ready ? q_out : sweep[TW-1:0];
+    wire [TW-1:0] r_tag = ready ? q_tag[WAIT-1] : sweep[TW-1:0];
     reg          a_v, a_read, a_gen;
     reg [TW-1:0] a_tag;
     reg [EW-1:0] a_entry;
@@ -195,8 +194,10 @@ module group_plane #(
     always @(posedge clk) begin
         sweep <= rst ? {(TW + 1){1'b0}} : sweep + {{TW{1'b0}}, !sweep[TW]};
         q_v[0] <= !rst && rd_valid;
+        q_tag[0] <= rd_tag;
         for (r = 1; r < WAIT; r = r + 1) begin
             q_v[r] <= !rst && q_v[r - 1];
+            q_tag[r] <= q_tag[r - 1];
         end
         a_read <= !rst && r_v;
         a_v <= !rst && ready && r_v;
