@@ -104,9 +104,11 @@ pub struct Placed {
     pub ffs: u64,
 }
 
-/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 38: 19,029 LUT4s and
-/// 14,771 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
-/// tiles for its 6 edge products, h's four and the reach's 12; 105.3 MHz. Session 37: 17,248
+/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 43: 17,210 LUT4s and
+/// 12,406 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
+/// tiles for its 6 edge products, h's four and the reach's 12; 105.2 MHz. Session 38, before
+/// its words that only wait did so in distributed RAM (`rtl/delay_line.v`): 19,029 LUT4s and
+/// 14,771 flip-flops, 105.3 MHz. Session 37: 17,248
 /// LUT4s at 100.7 MHz, before its decisions took one carry chain each: each of those changes
 /// alone mapped smaller, together Yosys's LUT mapping took 1,839 LUT4s more, 1,781 as placed
 /// (docs/PERFORMANCE.md, "Session 38"). Session 33: 19,029 LUT4s at 107.2 MHz, before the
@@ -115,8 +117,8 @@ pub struct Placed {
 /// and its shift in two steps; session 29: 19,683, before the reach's ends were compared with 0
 /// by their sign; session 28: 21,372, before the culling bins' two-step count).
 pub const SETUP_UNIT: Placed = Placed {
-    luts: 19_029,
-    ffs: 14_771 - 580,
+    luts: 17_210,
+    ffs: 12_406 - 580,
 };
 
 /// A compact lane's coarse edge test, `rtl/coarse_test.v` (session 30: 1,939 LUT4s and 1,702
@@ -128,65 +130,70 @@ pub const COARSE_TEST: Placed = Placed {
     ffs: 1_702 - 277,
 };
 
-/// The culling unit's ray side for one ray a clock, `rtl/cull_ray.v` (session 37: 3,761 LUT4s
-/// and 3,427 flip-flops placed, 98 of them its harness's, no DSP tile; 125.9 MHz. Session 33:
+/// The culling unit's ray side for one ray a clock, `rtl/cull_ray.v` (session 43: 3,868 LUT4s
+/// and 2,580 flip-flops placed, 98 of them its harness's, no DSP tile; 124.7 MHz. Session 37,
+/// its CORDIC payloads in registers: 3,761 LUT4s, 3,427 flip-flops, 125.9 MHz. Session 33:
 /// 4,597 LUT4s at 122.9 MHz, before `rtl/add_sub.v`; session 29: 4,510 LUT4s and 3,425
 /// flip-flops, before the leading one in windows, which on the ray side's few places costs more
 /// than the two-step shift saves; session 27: 5,250 LUT4s).
 pub const RAY_SIDE: Placed = Placed {
-    luts: 3_761,
-    ffs: 3_427 - 98,
+    luts: 3_868,
+    ffs: 2_580 - 98,
 };
 
-/// The compact datapath's shared exact edge unit, `rtl/exact_edge.v` (session 43: 2,401 LUT4s
-/// and 2,596 flip-flops placed, 416 of them its harness's input chain, corner word and output
-/// register; 8 DSP tiles for its one 34 × 64 multiplier; 119.3 and 115.8 MHz at seeds 1 and 2.
-/// Session 40's, on two multipliers: 2,756 LUT4s, 3,270 flip-flops, 16 tiles, 110.1 MHz;
-/// session 39's, before an idle unit held its grid: 2,754 LUT4s, 108.9 and 111.3 MHz). The rules it
-/// replaces (two 34 × 62 multipliers, the cross product's subtraction, the shift, the side, the
-/// dot product's sums) gave 919 LUT4s and 846 flip-flops: the RTL's multipliers take five
-/// clocks each, their tiles' sums in carry chains, and the operands, corners and edge normals
-/// of two edges are registered.
+/// The compact datapath's shared exact edge unit, `rtl/exact_edge.v` (session 43: 2,401 LUT4s and
+/// 2,596 flip-flops placed, 416 of them its harness's input chain, corner word and output register;
+/// 8 DSP tiles for its one 34 × 64 multiplier; 119.3 and 115.8 MHz at seeds 1 and 2. Session 40's,
+/// on two multipliers: 2,756 LUT4s, 3,270 flip-flops, 16 tiles, 110.1 MHz; session 39's, before an
+/// idle unit held its grid: 2,754 LUT4s, 108.9 and 111.3 MHz). The rules it replaces (two 34 × 62
+/// multipliers, the cross product's subtraction, the shift, the side, the dot product's sums) gave
+/// 919 LUT4s and 846 flip-flops: the RTL's multipliers take five clocks each, their tiles' sums in
+/// carry chains, and the operands, corners and edge normals of two edges are registered.
 pub const EXACT_UNIT: Placed = Placed {
     luts: 2_401,
     ffs: 2_596 - 416,
 };
 
-/// A compact build's plane unit, one a ray group, `rtl/group_plane.v` (session 40: 6,049 LUT4s
-/// and 6,658 flip-flops placed, 305 of them its harness's input chain and output register; 12
-/// DSP tiles for n · d, 14 block RAMs for its normal memory, its minima and their generation
-/// bits, counted as memories; 114.1 MHz at seed 1. Before its minimum dropped the pairs in
-/// flight across a reset, one term more, Yosys mapped it into 5,798 LUT4s: 108.6 and 113.7
-/// MHz at seeds 1 and 2). Its divider is most of it (2,245 LUT4s and 1,217 carry cells in
-/// synthesis, its remainders and divisors 5,478 flip-flops). The rules it replaces (the wide datapath's lane's) gave the default build's
-/// two units, with the lanes' hand-off registers and 10 % for control, 5,552 LUT4s and 13,120
-/// flip-flops, now 12,133 and 13,062: they counted a divider stage's subtract, not the select
-/// of the remainder after it.
+/// A compact build's plane unit, one a ray group, `rtl/group_plane.v` (session 43, its divider's
+/// payload in `rtl/delay_line.v`: 5,907 LUT4s and 6,756 flip-flops placed, 116.8 MHz; session 42's
+/// run, the payload in registers: 5,773 LUT4s, 123.8 MHz. Session 40: 6,049 LUT4s and 6,658
+/// flip-flops placed, 305 of them its harness's input chain and output register; 12 DSP tiles for
+/// n · d, 14 block RAMs for its normal memory, its minima and their generation bits, counted as
+/// memories; 114.1 MHz at seed 1. Before its minimum dropped the pairs in flight across a reset,
+/// one term more, Yosys mapped it into 5,798 LUT4s: 108.6 and 113.7 MHz at seeds 1 and 2). Its
+/// divider is most of it (2,245 LUT4s and 1,217 carry cells in synthesis, its remainders and
+/// divisors 5,478 flip-flops). The rules it replaces (the wide datapath's lane's) gave the default
+/// build's two units, with the lanes' hand-off registers and 10 % for control, 5,552 LUT4s and
+/// 13,120 flip-flops, now 12,133 and 13,062: they counted a divider stage's subtract, not the
+/// select of the remainder after it.
 pub const GROUP_PLANE_UNIT: Placed = Placed {
-    luts: 6_049,
-    ffs: 6_658 - 305,
+    luts: 5_907,
+    ffs: 6_756 - 305,
 };
 
 /// The rotator at the reset CORDIC configuration (24 iterations, 32-bit words), `rtl/rotator.v`
-/// (session 37's place and route, `cargo xtask rtl`: 12,517 LUT4s and 11,055 flip-flops, 195
-/// of them its harness's input chain and output register; 5 block RAMs, its side table, counted
-/// as a memory; 115.8 MHz. Session 33's: 15,904 LUT4s at 121.8 MHz, before the micro-rotations'
-/// adder-subtractors took their inversion into the carry cells, `rtl/add_sub.v`). Until session
-/// 34 counted by the CORDIC rules, which give 20,750 LUT4s for its three pipes with their 10 %
-/// for control at session 33's two LUT4s an adder-subtractor bit.
+/// (session 43's place and route, `cargo xtask rtl`: 12,901 LUT4s and 9,226 flip-flops, 195 of them
+/// its harness's input chain and output register; 5 block RAMs, its side table, counted as a
+/// memory; 118.9 MHz. Session 37's, its pipes' payloads in registers rather than
+/// `rtl/delay_line.v`: 12,517 LUT4s, 11,055 flip-flops, 115.8 MHz. Session 33's: 15,904 LUT4s at
+/// 121.8 MHz, before the micro-rotations' adder-subtractors took their inversion into the carry
+/// cells, `rtl/add_sub.v`). Until session 34 counted by the CORDIC rules, which give 20,750 LUT4s
+/// for its three pipes with their 10 % for control at session 33's two LUT4s an adder-subtractor
+/// bit.
 pub const ROTATOR: Placed = Placed {
-    luts: 12_517,
-    ffs: 11_055 - 195,
+    luts: 12_901,
+    ffs: 9_226 - 195,
 };
 
-/// The angle unit at the reset CORDIC configuration, `rtl/frame_unit.v` (session 37's place and
-/// route, mapped with ABC9: 3,638 LUT4s and 3,159 flip-flops, 195 of them its harness's;
+/// The angle unit at the reset CORDIC configuration, `rtl/frame_unit.v` (session 43's place and
+/// route, mapped with ABC9: 3,657 LUT4s and 3,115 flip-flops, 195 of them its harness's;
+/// 117.6 MHz; session 37's, its pipe's payload in registers: 3,638 LUT4s, 3,159 flip-flops,
 /// 124.3 MHz; session 35's, before `rtl/add_sub.v`, 4,729 LUT4s at 118.1 MHz; session 33's
 /// default mapping gave 4,936 LUT4s at 104.7 MHz): the vectoring pipe with its gain stage, and
 /// its sequencing. Session 33's rules gave 6,098 LUT4s with their 10 % for control.
 pub const ANGLE_UNIT: Placed = Placed {
-    luts: 3_638,
-    ffs: 3_159 - 195,
+    luts: 3_657,
+    ffs: 3_115 - 195,
 };
 
 /// A bank's bitmap writer, `rtl/bitmap_writer.v` (session 34: 2,350 LUT4s and 812 flip-flops
