@@ -147,28 +147,28 @@ pub const RAY_SIDE: Placed = Placed {
 /// on two multipliers: 2,756 LUT4s, 3,270 flip-flops, 16 tiles, 110.1 MHz; session 39's, before an
 /// idle unit held its grid: 2,754 LUT4s, 108.9 and 111.3 MHz). The rules it replaces (two 34 × 62
 /// multipliers, the cross product's subtraction, the shift, the side, the dot product's sums) gave
-/// 919 LUT4s and 846 flip-flops: the RTL's multipliers take five clocks each, their tiles' sums in
-/// carry chains, and the operands, corners and edge normals of two edges are registered.
+/// 919 LUT4s and 846 flip-flops: the RTL's multiplier takes five clocks, its tiles' sums in carry
+/// chains, and the operands, corners and edge normals of two edges are registered.
 pub const EXACT_UNIT: Placed = Placed {
     luts: 2_401,
     ffs: 2_596 - 416,
 };
 
-/// A compact build's plane unit, one a ray group, `rtl/group_plane.v` (session 43, its divider's
-/// payload in `rtl/delay_line.v`: 5,907 LUT4s and 6,756 flip-flops placed, 116.8 MHz; session 42's
-/// run, the payload in registers: 5,773 LUT4s, 123.8 MHz. Session 40: 6,049 LUT4s and 6,658
-/// flip-flops placed, 305 of them its harness's input chain and output register; 12 DSP tiles for
-/// n · d, 14 block RAMs for its normal memory, its minima and their generation bits, counted as
-/// memories; 114.1 MHz at seed 1. Before its minimum dropped the pairs in flight across a reset,
-/// one term more, Yosys mapped it into 5,798 LUT4s: 108.6 and 113.7 MHz at seeds 1 and 2). Its
-/// divider is most of it (2,245 LUT4s and 1,217 carry cells in synthesis, its remainders and
-/// divisors 5,478 flip-flops). The rules it replaces (the wide datapath's lane's) gave the default
-/// build's two units, with the lanes' hand-off registers and 10 % for control, 5,552 LUT4s and
-/// 13,120 flip-flops, now 12,133 and 13,062: they counted a divider stage's subtract, not the
-/// select of the remainder after it.
+/// A compact build's plane unit, one a ray group, `rtl/group_plane.v` (session 43, its chains in
+/// registers as before: 5,768 LUT4s and 6,658 flip-flops placed, 305 of them its harness's input
+/// chain and output register, 112.9 MHz; with its divider's payload in `rtl/delay_line.v`,
+/// 5,907 LUT4s, 6,756 flip-flops, 116.8 MHz; session 42's run: 5,773 LUT4s, 123.8 MHz. Session
+/// 40: 6,049 LUT4s and 6,658 flip-flops; 12 DSP tiles for n · d, 14 block RAMs for its normal
+/// memory, its minima and their generation bits, counted as memories; 114.1 MHz at seed 1.
+/// Before its minimum dropped the pairs in flight across a reset, one term more, Yosys mapped it
+/// into 5,798 LUT4s: 108.6 and 113.7 MHz at seeds 1 and 2). Its divider is most of it (2,245
+/// LUT4s and 1,217 carry cells in synthesis, its remainders and divisors 5,478 flip-flops). The
+/// rules it replaces (the wide datapath's lane's) gave the default build's two units, with the
+/// lanes' hand-off registers and 10 % for control, 5,552 LUT4s and 13,120 flip-flops, now 12,133
+/// and 13,062: they counted a divider stage's subtract, not the select of the remainder after it.
 pub const GROUP_PLANE_UNIT: Placed = Placed {
-    luts: 5_907,
-    ffs: 6_756 - 305,
+    luts: 5_768,
+    ffs: 6_658 - 305,
 };
 
 /// The rotator at the reset CORDIC configuration (24 iterations, 32-bit words), `rtl/rotator.v`

@@ -42,7 +42,7 @@ pub const GRID_START: u64 = 1;
 /// one after its last window's first; the dot product's last product is issued on that
 /// window's eighteenth clock (the next window's ninth), takes five clocks of multiplier, then
 /// its sum with the first two and its sign are registered, so the verdict register is read on
-/// the last window's 23rd clock.
+/// the last window's 24th clock (its 23rd after the window's first).
 pub const LATENCY: u64 = 22;
 
 /// Clocks from the clock the next pair could be taken to the first clock the unit is idle: its

@@ -15,9 +15,10 @@
 //! few parts in 10⁶, and a random ray), the pairs the coarse test leaves undecided with their
 //! masks and one in four of the others with a random mask; and random patches of every size and
 //! distance with their degenerate cases (an edge seen end-on, a corner at the origin), the side
-//! and every truncation, with random masks. Offered back to back, a few clocks after the unit
-//! could take them (waiting for its grid) or a few windows after (an idle unit takes them at
-//! once).
+//! and every truncation (half the pairs at another than their patch's, so that pairs back to
+//! back differ in it), with random masks. Offered back to back, a few clocks after the unit
+//! could take them (waiting for its grid) or about when it falls idle (an idle unit takes them
+//! at once).
 
 use super::coarse::{random_patch, rays_at, set_up_view};
 use super::plane::lattice_origins;
@@ -85,6 +86,13 @@ pub fn vectors(
         let negate = rng.bits() & 1 == 1;
         for d in rays_at(&relative(&corners, origin), &mut rng) {
             let mask = random_mask(&mut rng, corners.len());
+            // half the pairs at another truncation than the patch's: the unit takes it with
+            // each pair, and an edge's normal must be cut by its own pair's, not the next's
+            // (the rays next to an edge are the ones whose verdict its rounding decides)
+            let shift = match rng.bits() & 1 {
+                0 => shift,
+                _ => (rng.bits() % 5) as u32,
+            };
             out.pair(
                 &Pair {
                     corners: corners.clone(),
@@ -159,14 +167,14 @@ impl Vectors {
     }
 
     /// One pair, with the model's clocks and verdict: offered with the last (back to back), or
-    /// a few clocks after the unit could take it (waiting for the grid), or a few windows after
-    /// (an idle unit takes it at once).
+    /// a few clocks after the unit could take it (waiting for the grid), or once the unit is
+    /// idle or about to be (an idle unit takes it at once).
     fn pair(&mut self, p: &Pair, rng: &mut XorShift) {
         let free = self.at.max(self.unit.free());
         self.at = match rng.bits() % 10 {
             0..=4 => self.at,
-            5..=7 => free + 1 + rng.bits() % 6,
-            _ => free + 10 + rng.bits() % 30,
+            5..=7 => free + 1 + rng.bits() % (exact::WINDOW - 1),
+            _ => free + exact::IDLE_AFTER - 4 + rng.bits() % 30,
         };
         let edges = p.mask.count_ones() as u8;
         let begin = self.unit.take(self.at, edges);
