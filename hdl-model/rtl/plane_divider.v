@@ -80,17 +80,6 @@ module plane_divider #(
     assign out_hit = ok[S-1] && q[S-1] != 0;
     assign out_t = q[S-1];
     // the payload waits beside the stages, S clocks
-    generate
-        if (PAY_RAM != 0) begin : in_ram
-            delay_line #(.W(PW), .N(S)) payload (.clk(clk), .in(in_payload), .out(out_payload));
-        end else begin : in_regs
-            reg [PW-1:0] p [0:S-1];
-            integer k;
-            always @(posedge clk) begin
-                p[0] <= in_payload;
-                for (k = 1; k < S; k = k + 1) p[k] <= p[k-1];
-            end
-            assign out_payload = p[S-1];
-        end
-    endgenerate
+    delay_line #(.W(PW), .N(S), .RAM(PAY_RAM)) payload (
+        .clk(clk), .in(in_payload), .out(out_payload));
 endmodule
