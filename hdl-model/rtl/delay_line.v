@@ -13,9 +13,7 @@
 // distance between the pointer's write and its read matters, not where it starts.
 module delay_line #(
     parameter integer W = 8,
-    parameter integer N = 4,
-    // 0: the chain whatever N (a unit where Yosys, flattening, saves more on the chain)
-    parameter integer RAM = 1
+    parameter integer N = 4
 ) (
     input  wire         clk,
     input  wire [W-1:0] in,
@@ -25,7 +23,7 @@ module delay_line #(
     localparam integer SEGS = (N + 15) / 16;
     genvar s;
     generate
-        if (N < 8 || RAM == 0) begin : chain
+        if (N < 8) begin : chain
             reg [W-1:0] r [0:N-1];
             integer k;
             always @(posedge clk) begin

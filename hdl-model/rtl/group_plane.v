@@ -116,7 +116,7 @@ module group_plane #(
     wire           dv_v, dv_hit;
     wire [30:0]    dv_t;
     wire [DPW-1:0] dv_pay;
-    plane_divider #(.PW(DPW), .PAY_RAM(0)) divider (
+    plane_divider #(.PW(DPW)) divider (
         .clk(clk), .rst(rst), .in_valid(lag_v[LAG]), .in_inside(1'b1), .in_h(lag_h), .in_den(den),
         .in_payload({lag_slot, lag_h[67], lag_tag}), .out_valid(dv_v), .out_hit(dv_hit),
         .out_t(dv_t), .out_payload(dv_pay));

@@ -15,11 +15,7 @@
 // stage compared the whole 100-bit numerator with |n . d| shifted to the bit: 17,942 LUT4s
 // where this takes about a third.)
 module plane_divider #(
-    parameter integer PW = 1,
-    // the payload in delay_line.v (1) or in a register beside each stage (0). Measured in
-    // session 43: the one-lane plane unit holds 566 fewer flip-flops with the line; a group plane
-    // unit, flattened, fewer without it (Yosys saves more on the chain than the RAM saves there)
-    parameter integer PAY_RAM = 1
+    parameter integer PW = 1
 ) (
     input  wire               clk,
     input  wire               rst,
@@ -79,7 +75,6 @@ module plane_divider #(
     assign out_valid = v[S-1];
     assign out_hit = ok[S-1] && q[S-1] != 0;
     assign out_t = q[S-1];
-    // the payload waits beside the stages, S clocks
-    delay_line #(.W(PW), .N(S), .RAM(PAY_RAM)) payload (
-        .clk(clk), .in(in_payload), .out(out_payload));
+    // the payload waits beside the stages in distributed RAM (delay_line.v)
+    delay_line #(.W(PW), .N(S)) payload (.clk(clk), .in(in_payload), .out(out_payload));
 endmodule

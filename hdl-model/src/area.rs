@@ -154,12 +154,10 @@ pub const EXACT_UNIT: Placed = Placed {
     ffs: 2_596 - 416,
 };
 
-/// A compact build's plane unit, one a ray group, `rtl/group_plane.v` (session 43, its chains in
-/// registers as before, the divider's in `rtl/delay_line.v`'s chain: 6,165 LUT4s and 6,658
-/// flip-flops placed, 305 of them its harness's input chain and output register, 109.4 MHz; the
-/// same chain written in `plane_divider.v`, 5,768 LUT4s at 112.9 MHz, as Yosys mapped it then;
-/// with its divider's payload in `rtl/delay_line.v`'s RAM,
-/// 5,907 LUT4s, 6,756 flip-flops, 116.8 MHz; session 42's run: 5,773 LUT4s, 123.8 MHz. Session
+/// A compact build's plane unit, one a ray group, `rtl/group_plane.v` (session 43, its divider's
+/// payload in `rtl/delay_line.v`: 5,907 LUT4s and 6,756 flip-flops placed, 305 of them its
+/// harness's input chain and output register, 116.8 MHz; session 42's run, the payload in a chain
+/// written in `rtl/plane_divider.v`: 5,773 LUT4s, 6,658 flip-flops, 123.8 MHz. Session
 /// 40: 6,049 LUT4s and 6,658 flip-flops; 12 DSP tiles for n · d, 14 block RAMs for its normal
 /// memory, its minima and their generation bits, counted as memories; 114.1 MHz at seed 1.
 /// Before its minimum dropped the pairs in flight across a reset, one term more, Yosys mapped it
@@ -169,8 +167,8 @@ pub const EXACT_UNIT: Placed = Placed {
 /// lanes' hand-off registers and 10 % for control, 5,552 LUT4s and 13,120 flip-flops, now 12,133
 /// and 13,062: they counted a divider stage's subtract, not the select of the remainder after it.
 pub const GROUP_PLANE_UNIT: Placed = Placed {
-    luts: 6_165,
-    ffs: 6_658 - 305,
+    luts: 5_907,
+    ffs: 6_756 - 305,
 };
 
 /// The rotator at the reset CORDIC configuration (24 iterations, 32-bit words), `rtl/rotator.v`
