@@ -25,8 +25,8 @@
 // to CONFIG's reset value, and the register file refuses APPLY_CONFIG of another (BAD_CONFIG),
 // as the model's `Device::built_for` does (the model's own units follow any valid CONFIG).
 module accel_single #(
-    parameter integer ITER = 24,
-    parameter integer W = 32,
+    parameter integer ITER = 20,
+    parameter integer W = 24,
     parameter integer DEPTH = 16,
     parameter integer IW = 8
 ) (

@@ -92,7 +92,7 @@ module ahb_regs #(
     localparam [31:0] ID_VALUE = 32'h4845_4D49, VERSION_VALUE = 32'h0001_0004;
     localparam [31:0] CAPS_BEZIER_VALUE = 32'h1028_0040;
     // CONFIG at power-on: the build's, for units synthesised for one (BUILD_CONFIG)
-    localparam [31:0] CONFIG_RESET = BUILD_CONFIG != 32'd0 ? BUILD_CONFIG : 32'h0010_2018,
+    localparam [31:0] CONFIG_RESET = BUILD_CONFIG != 32'd0 ? BUILD_CONFIG : 32'h0010_1814,
         BZ_CONFIG_RESET = 32'h0000_1A0A;
     localparam [31:0] SPIN_C_RESET = 32'h3FFF_FFFF;
     localparam [31:0] SLOTS = 32'd1 << SLOT_BITS;

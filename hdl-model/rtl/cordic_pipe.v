@@ -13,8 +13,8 @@
 // they were most of the pipe's flip-flops.
 module cordic_pipe #(
     parameter integer MODE = 0,
-    parameter integer ITER = 24,
-    parameter integer W = 32,
+    parameter integer ITER = 20,
+    parameter integer W = 24,
     parameter integer PW = 1
 ) (
     input  wire                clk,

@@ -14,8 +14,8 @@
 // angle's register takes its value on the edge that ends the clock its pass leaves. Words are W
 // bits, the top W of the model's 32-bit containers. A start must come while the unit is idle.
 module frame_unit #(
-    parameter integer ITER = 24,
-    parameter integer W = 32
+    parameter integer ITER = 20,
+    parameter integer W = 24
 ) (
     input  wire         clk,
     input  wire         rst,

@@ -9,8 +9,8 @@
 // Ports are the model's 32-bit containers: the pipes take their top W bits, and a bypassed
 // direction (trace mode) leaves exactly as written.
 module rotator #(
-    parameter integer ITER = 24,
-    parameter integer W = 32
+    parameter integer ITER = 20,
+    parameter integer W = 24
 ) (
     input  wire        clk,
     input  wire        rst,

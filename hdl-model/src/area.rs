@@ -171,29 +171,30 @@ pub const GROUP_PLANE_UNIT: Placed = Placed {
     ffs: 6_756 - 305,
 };
 
-/// The rotator at the reset CORDIC configuration (24 iterations, 32-bit words), `rtl/rotator.v`
-/// (session 43's place and route, `cargo xtask rtl`: 12,901 LUT4s and 9,226 flip-flops, 195 of them
-/// its harness's input chain and output register; 5 block RAMs, its side table, counted as a
-/// memory; 118.9 MHz. Session 37's, its pipes' payloads in registers rather than
-/// `rtl/delay_line.v`: 12,517 LUT4s, 11,055 flip-flops, 115.8 MHz. Session 33's: 15,904 LUT4s at
-/// 121.8 MHz, before the micro-rotations' adder-subtractors took their inversion into the carry
-/// cells, `rtl/add_sub.v`). Until session 34 counted by the CORDIC rules, which give 20,750 LUT4s
-/// for its three pipes with their 10 % for control at session 33's two LUT4s an adder-subtractor
-/// bit.
+/// The rotator at the reset CORDIC configuration (20 iterations, 24-bit words), `rtl/rotator.v`
+/// (session 44's place and route, by hand as `cargo xtask rtl` runs it: 7,941 LUT4s and 6,006
+/// flip-flops, 195 of them its harness's input chain and output register; 5 block RAMs, its
+/// side table, counted as a memory; 116.6 MHz). At 24 iterations on 32-bit words, the reset
+/// configuration until session 44: 12,901 LUT4s and 9,226 flip-flops at 118.9 MHz (session 43;
+/// session 37's, its pipes' payloads in registers rather than `rtl/delay_line.v`: 12,517 LUT4s,
+/// 11,055 flip-flops; session 33's: 15,904 LUT4s, before the micro-rotations'
+/// adder-subtractors took their inversion into the carry cells, `rtl/add_sub.v`). Until session
+/// 34 counted by the CORDIC rules, which gave 20,750 LUT4s for its three pipes at 24/32 with
+/// their 10 % for control at session 33's two LUT4s an adder-subtractor bit.
 pub const ROTATOR: Placed = Placed {
-    luts: 12_901,
-    ffs: 9_226 - 195,
+    luts: 7_941,
+    ffs: 6_006 - 195,
 };
 
-/// The angle unit at the reset CORDIC configuration, `rtl/frame_unit.v` (session 43's place and
-/// route, mapped with ABC9: 3,657 LUT4s and 3,115 flip-flops, 195 of them its harness's;
-/// 117.6 MHz; session 37's, its pipe's payload in registers: 3,638 LUT4s, 3,159 flip-flops,
-/// 124.3 MHz; session 35's, before `rtl/add_sub.v`, 4,729 LUT4s at 118.1 MHz; session 33's
-/// default mapping gave 4,936 LUT4s at 104.7 MHz): the vectoring pipe with its gain stage, and
-/// its sequencing. Session 33's rules gave 6,098 LUT4s with their 10 % for control.
+/// The angle unit at the reset CORDIC configuration, `rtl/frame_unit.v` (session 44's place and
+/// route, mapped with ABC9: 2,309 LUT4s and 2,031 flip-flops, 195 of them its harness's;
+/// 130.3 MHz): the vectoring pipe with its gain stage, and its sequencing. At 24 iterations on
+/// 32-bit words (until session 44): 3,657 LUT4s and 3,115 flip-flops at 117.6 MHz (session 43;
+/// session 35's, before `rtl/add_sub.v`, 4,729 LUT4s; session 33's default mapping gave 4,936
+/// LUT4s at 104.7 MHz). Session 33's rules gave 6,098 LUT4s with their 10 % for control.
 pub const ANGLE_UNIT: Placed = Placed {
-    luts: 3_657,
-    ffs: 3_115 - 195,
+    luts: 2_309,
+    ffs: 2_031 - 195,
 };
 
 /// A bank's bitmap writer, `rtl/bitmap_writer.v` (session 34: 2,350 LUT4s and 812 flip-flops

@@ -39,8 +39,11 @@ pub const RESULT_FIFO_DEPTH: usize = 255;
 /// Ray queue between the rotators and the intersection unit (covered by the credits).
 const QUEUE_DEPTH: usize = crate::intersect::RAY_SLOTS;
 
-/// The reset value of CONFIG: 24 iterations, 32-bit words, 16 (u,v) levels.
-pub const CONFIG_RESET: u32 = 24 | (32 << config::WIDTH_SHIFT) | (16 << config::DEPTH_SHIFT);
+/// The reset value of CONFIG: the reset CORDIC configuration ([`CordicConfig::DEFAULT`], 20
+/// iterations on 24-bit words) and 16 (u,v) levels.
+pub const CONFIG_RESET: u32 = CordicConfig::DEFAULT.iterations
+    | (CordicConfig::DEFAULT.width << config::WIDTH_SHIFT)
+    | (16 << config::DEPTH_SHIFT);
 /// The reset value of BZ_CONFIG: depth 10, 26-bit control points.
 pub const BZ_CONFIG_RESET: u32 = SubdivConfig::DEFAULT.depth << bz_config::DEPTH_SHIFT
     | SubdivConfig::DEFAULT.coord_width << bz_config::CWIDTH_SHIFT;

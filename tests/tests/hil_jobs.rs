@@ -416,8 +416,8 @@ fn run_mirror() {
     assert!(format!("{err:#}").contains("cordic"), "{err:#}");
 
     // Pass 2 through the mirror on a small image: whole rows per job, weighted hits back.
-    farm.set_cordic(24, 32).unwrap();
     let make = ModelConfig::default();
+    farm.set_cordic(make.iterations, make.width).unwrap();
     let ff = pass1_on(&model(&scene, &settings, make));
     let grids = solve(&scene, &ff);
     let want = assert_same_small_render(&farm, &scene, &settings, &grids, make, (16, 12));

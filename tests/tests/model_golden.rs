@@ -68,13 +68,6 @@ fn cordic_errors(cfg: CordicConfig, n: usize) -> (f64, f64) {
     (e_rot, e_vec)
 }
 
-/// The textbook bound: residual angle 2^-(n-1), plus about n + 2 truncations of an LSB of the
-/// W-bit word (LSB 2^-(W-2) for vectors, 2^-(W-3) for angles).
-fn bound(cfg: CordicConfig) -> f64 {
-    let n = cfg.iterations as f64;
-    2f64.powf(-(n - 1.0)) + (n + 2.0) * 2f64.powi(-(cfg.width as i32 - 3))
-}
-
 #[test]
 fn cordic_error_stays_within_the_textbook_bound() {
     println!("\nCORDIC error against iterations n and word width W (4096 vectors, full circle)");
@@ -87,7 +80,7 @@ fn cordic_error_stays_within_the_textbook_bound() {
                 continue;
             }
             let (er, ev) = cordic_errors(cfg, 4096);
-            let b = bound(cfg);
+            let b = cfg.error_bound();
             println!(
                 "| {width} | {iterations} | {} | {er:.2e} | {ev:.2e} | {b:.2e} |",
                 cfg.latency()
@@ -129,12 +122,13 @@ fn rotation_matches_the_kernel_on_every_axis_and_skew() {
             .unwrap();
     let view = hemi.view();
     let mut model = ModelAccelerator::new(&[], ModelConfig::default()).unwrap();
+    let tol = turn_tolerance(CordicConfig::DEFAULT);
     let mut worst = 0.0f32;
     for (i, n) in test_normals().into_iter().enumerate() {
         let rot = Rotation::onto_spun(n, spin_for_sample(i as u32));
         // +z lands on the normal
         let z = model.rotate(&rot, Vec3::Z);
-        assert!((z - n).length() < 1e-6, "{n:?} -> {z:?}");
+        assert!((z - n).length() < tol, "{n:?} -> {z:?}");
         for (j, ring) in view.rings().iter().enumerate() {
             for k in 0..ring.count {
                 let d = view.direction(j, k);
@@ -143,8 +137,18 @@ fn rotation_matches_the_kernel_on_every_axis_and_skew() {
             }
         }
     }
-    println!("worst |model − Rotation::apply| over hemisphere rays: {worst:.2e}");
-    assert!(worst < 1e-6, "{worst}");
+    println!(
+        "worst |model − Rotation::apply| over hemisphere rays: {worst:.2e} (tolerance {tol:.2e})"
+    );
+    assert!(worst < tol, "{worst}");
+}
+
+/// What a turned direction may be off at `cfg`: three pipes in series, each within
+/// [`CordicConfig::error_bound`], turning by three angles the angle unit formed, each within it
+/// too (an angle off by δ turns a unit vector by δ). At the reset configuration until session
+/// 44 (24 iterations on 32-bit words) this was 1.0e-6, as the tests had it.
+fn turn_tolerance(cfg: CordicConfig) -> f32 {
+    (6.0 * cfg.error_bound()) as f32
 }
 
 #[test]
@@ -152,6 +156,8 @@ fn frame_from_a_normal_matches_the_kernel_angles() {
     use hemi_hdl_model::driver::{Driver, ModelBus};
     let mut d = Driver::new(ModelBus::new()).unwrap();
     let w = |x: f32| Unit::from_num(x).to_bits() as u32;
+    // one vectoring pipe an angle (θ from a magnitude the first pass formed)
+    let tol = 2.0 * CordicConfig::DEFAULT.error_bound();
     for n in test_normals() {
         let rot = Rotation::onto(n);
         d.frame_from_normal([w(n.x), w(n.y), w(n.z)], [w(1.0 - 1e-9), 0]);
@@ -162,16 +168,16 @@ fn frame_from_a_normal_matches_the_kernel_angles() {
         let wrap = |x: f64| {
             (x + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI
         };
-        assert!(a(psi).abs() < 1e-6);
+        assert!(a(psi).abs() < tol);
         assert!(
-            wrap(a(theta) - theta_ref).abs() < 1e-6,
+            wrap(a(theta) - theta_ref).abs() < tol,
             "{n:?} θ {} vs {theta_ref}",
             a(theta)
         );
         // φ is free when the normal is on the z axis
         if n.x.abs() + n.y.abs() > 1e-6 {
             assert!(
-                wrap(a(phi) - phi_ref).abs() < 1e-6,
+                wrap(a(phi) - phi_ref).abs() < tol,
                 "{n:?} φ {} vs {phi_ref}",
                 a(phi)
             );
@@ -261,7 +267,7 @@ fn soft_and_model_form_factors_agree() {
         }
     }
     println!("worst |F_soft − F_model| = {worst:.2e}");
-    // Rays within ~1e-7 rad of a patch edge may land on the other patch: one ray of R = 16
+    // Rays within the turn's error (turn_tolerance) of a patch edge may land on the other patch: one ray of R = 16
     // carries at most δD ≈ 1/320 of a row, averaged over K² = 4 samples.
     assert!(worst < 2e-3, "{worst}");
 }

@@ -2,8 +2,8 @@
 // `syn_rotator.v` is the rotator's: its inputs from a register chain shifted in from one pin, its
 // outputs folded into one registered pin. Figures: `cargo xtask rtl`.
 module syn_frame #(
-    parameter integer ITER = 24,
-    parameter integer W = 32
+    parameter integer ITER = 20,
+    parameter integer W = 24
 ) (
     input  wire clk,
     input  wire rst,

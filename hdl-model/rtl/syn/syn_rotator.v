@@ -4,8 +4,8 @@
 // input bit and an XOR tree; every register of the unit itself is kept (its inputs are not
 // constant and every output bit reaches the pin). Figures: `cargo xtask rtl`.
 module syn_rotator #(
-    parameter integer ITER = 24,
-    parameter integer W = 32
+    parameter integer ITER = 20,
+    parameter integer W = 24
 ) (
     input  wire clk,
     input  wire rst,

@@ -1,8 +1,8 @@
 // The co-simulation top: the units that have RTL, side by side, each with its own ports, so one
 // Verilated build per CORDIC configuration checks them all (hdl-model/rtl/tb/cosim.cpp).
 module cosim_top #(
-    parameter integer ITER = 24,
-    parameter integer W = 32
+    parameter integer ITER = 20,
+    parameter integer W = 24
 ) (
     input  wire        clk,
     input  wire        rst,

@@ -19,6 +19,7 @@
 //! - `set_origin_patch` becomes the SKIP_PATCH register, latched with every ray, as the soft
 //!   engine applies it to every cast.
 
+use crate::cordic::CordicConfig;
 use crate::driver::{ClockedBus, Driver, DriverError, ModelBus, RegisterAccess};
 use crate::format::{Coord, Unit};
 use crate::intersect::bezier::{BEZIER_ROWS, CP_WORDS};
@@ -58,13 +59,13 @@ pub struct ModelConfig {
 }
 
 impl Default for ModelConfig {
-    /// 24 iterations on 32-bit words, 16 (u,v) levels: about f32's accuracy; Bezier patches as
-    /// the soft engine's default `Subdivision` (depth 10, flatness 1e-4) on 26-bit control
-    /// points.
+    /// The reset CORDIC configuration ([`CordicConfig::DEFAULT`]), 16 (u,v) levels; Bezier
+    /// patches as the soft engine's default `Subdivision` (depth 10, flatness 1e-4) on 26-bit
+    /// control points.
     fn default() -> Self {
         ModelConfig {
-            iterations: 24,
-            width: 32,
+            iterations: CordicConfig::DEFAULT.iterations,
+            width: CordicConfig::DEFAULT.width,
             depth: 16,
             subdivision_depth: 10,
             coord_width: 26,

@@ -14,6 +14,7 @@ use hemi::scene::Scene;
 use hemi::settings::Pass1Settings;
 use hemi::solve::Solver;
 use hemi_boards::FirmwareLog;
+use hemi_hdl_model::cordic::CordicConfig;
 use hemi_hdl_model::{ModelConfig, Params};
 use hemi_kernel::geometry::Vec3;
 use hemi_kernel::hemisphere::DeltaRule;
@@ -173,10 +174,10 @@ pub struct ModelArgs {
     #[arg(long, default_value_t = MEASURED_CLOCK_MHZ)]
     pub clock_mhz: f64,
     /// CORDIC iterations of the modelled accelerator (`--backend model`, and boards' models).
-    #[arg(long, default_value_t = 24)]
+    #[arg(long, default_value_t = CordicConfig::DEFAULT.iterations)]
     pub cordic_iterations: u32,
     /// CORDIC word width in bits of the modelled accelerator (`--backend model`, and boards').
-    #[arg(long, default_value_t = 32)]
+    #[arg(long, default_value_t = CordicConfig::DEFAULT.width)]
     pub cordic_width: u32,
     /// Bezier subdivision depth of the modelled accelerator (`--backend model`; 1..=13 with its
     /// 40-entry stack).

@@ -77,7 +77,15 @@ fn options_out_of_range_are_refused_with_the_option_named() {
     }
     refused(
         "cordic",
-        &["solve", "--backend", "model", "--cordic-iterations", "40"],
+        &[
+            "solve",
+            "--backend",
+            "model",
+            "--cordic-iterations",
+            "40",
+            "--cordic-width",
+            "32",
+        ],
         &["--cordic-iterations 40 --cordic-width 32: the accelerator takes 4..=30 iterations"],
     );
     refused(

@@ -47,7 +47,7 @@ impl RtlSim {
     }
 
     /// The configuration the RTL is built for: the one-lane build, CONFIG's reset value
-    /// (24 CORDIC iterations on 32-bit words, 16 (u,v) levels).
+    /// (the reset CORDIC configuration, 16 (u,v) levels).
     pub fn config() -> ModelConfig {
         ModelConfig {
             params: Params::SINGLE,
