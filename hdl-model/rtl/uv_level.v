@@ -3,7 +3,8 @@
 // and in v likewise, the sides of the point against the two segments pick the sub-cell, and
 // one index bit of u and of v is shifted in. Corners are QW bits, the point PW bits (the
 // model's i64 registers hold no more than that: vertices are 32-bit words, the point is
-// O + t d), and each 2D cross product is exact in 2 PW bits.
+// O + t d); each 2D cross product takes the segment's direction in 18 bits scaled by a power of
+// two of its own, and is exact in SEG + PW + 1 bits.
 module uv_level #(
     parameter integer QW = 34,
     parameter integer PW = 36,
@@ -31,16 +32,49 @@ module uv_level #(
             mid = s[QW:1];
         end
     endfunction
-    // (b - a) x (p - a), the side of p relative to a -> b
+    // the segment's direction in SEG signed bits, as uv.rs's `seg_shift` scales it: both
+    // components shifted right (floored) by how far the bit length of |e_x| OR |e_y| reaches
+    // beyond SEG - 1, so each product of the side test is SEG x (PW + 1) bits
+    localparam integer SEG = 18;
+    function [PW:0] mag(input signed [PW:0] x);
+        mag = x[PW] ? -x : x;
+    endfunction
+    function [5:0] shift_of(input [PW:0] m);
+        integer k;
+        /* verilator lint_off UNUSEDSIGNAL */ // a shift is under 2^6
+        reg [31:0] s;
+        /* verilator lint_on UNUSEDSIGNAL */
+        begin
+            s = 32'd0;
+            for (k = SEG - 1; k <= PW; k = k + 1)
+                if (m[k]) s = k - (SEG - 2);
+            shift_of = s[5:0];
+        end
+    endfunction
+    function signed [SEG-1:0] scaled(input signed [PW:0] e, input [5:0] sh);
+        /* verilator lint_off UNUSEDSIGNAL */ // the shifted word's sign copies above SEG
+        reg signed [PW:0] x;
+        /* verilator lint_on UNUSEDSIGNAL */
+        begin
+            x = e >>> sh;
+            scaled = x[SEG-1:0];
+        end
+    endfunction
+    // ẽ x (p - a), the side of p relative to a -> b
     function signed [2*PW+2:0] side(input signed [QW-1:0] ax, input signed [QW-1:0] ay,
                                   input signed [QW-1:0] bx, input signed [QW-1:0] by);
         reg signed [PW:0] px, py, bax, bay;
+        reg        [5:0]  sh;
+        reg signed [SEG-1:0] ex, ey;
         begin
             bax = $signed({{(PW + 1 - QW){bx[QW-1]}}, bx}) - $signed({{(PW + 1 - QW){ax[QW-1]}}, ax});
             bay = $signed({{(PW + 1 - QW){by[QW-1]}}, by}) - $signed({{(PW + 1 - QW){ay[QW-1]}}, ay});
             px = $signed({in_p[PW-1], in_p[PW-1:0]}) - $signed({{(PW + 1 - QW){ax[QW-1]}}, ax});
             py = $signed({in_p[2*PW-1], in_p[2*PW-1:PW]}) - $signed({{(PW + 1 - QW){ay[QW-1]}}, ay});
-            side = bax * py - bay * px;
+            sh = shift_of(mag(bax) | mag(bay));
+            ex = scaled(bax, sh);
+            ey = scaled(bay, sh);
+            side = ex * py - ey * px;
         end
     endfunction
 

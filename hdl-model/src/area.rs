@@ -831,7 +831,7 @@ fn angle_unit(p: &mut Proxy, cfg: CordicConfig) {
 /// unit and the Bezier subdivision engine (the de Casteljau network on 26-bit control points,
 /// child boxes and slab tests, the leaf's products and six dividers, the node stack and
 /// control-point memory). The wide datapath (`compact` false) unrolls the (u,v) pipe into
-/// `uv_depth` levels (two 2D side tests of 34 × 34 products each, midpoints) and slab-tests a
+/// `uv_depth` levels (two 2D side tests of two 36 × 18 products each, midpoints) and slab-tests a
 /// step's four children at once; the compact one has [`UV_UNITS`] iterative (u,v) units (one
 /// level a clock), one slab tester of two multipliers (an axis a clock, three clocks a child)
 /// and a leaf of two multipliers instead of eighteen (six each until session 24; the clocks:
@@ -845,7 +845,11 @@ pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     } else {
         (d, 4)
     };
-    p.mul(4 * levels as u32, 34, 34);
+    // each level's two side tests, two products each of the segment's 18-bit direction by
+    // the point's 36-bit offset (34 × 34 until session 44), and the direction's scaling: two
+    // magnitudes, their leading one and two shifters of five levels on 37 bits a test
+    p.mul(4 * levels as u32, 36, 18);
+    p.add(levels * 2 * (2 + 1 + 2 * 5), 37);
     p.add(levels * 12, 34);
     p.reg(levels * (4 * 2 * 34 + 2 * 34 + 48));
     if compact {

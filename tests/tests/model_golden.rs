@@ -267,8 +267,9 @@ fn soft_and_model_form_factors_agree() {
         }
     }
     println!("worst |F_soft − F_model| = {worst:.2e}");
-    // Rays within the turn's error (turn_tolerance) of a patch edge may land on the other patch: one ray of R = 16
-    // carries at most δD ≈ 1/320 of a row, averaged over K² = 4 samples.
+    // Rays within the turn's error (`turn_tolerance`) of a patch edge may land on the other
+    // patch: one ray of R = 16 carries at most δD ≈ 1/320 of a row, averaged over K² = 4
+    // samples.
     assert!(worst < 2e-3, "{worst}");
 }
 
@@ -400,7 +401,16 @@ fn uv_of_planar_hits_is_within_the_bisection_depth_of_the_exact_inverse() {
         ];
         let sigma_min = norm(cross) / (norm(pu).powi(2) + norm(pv).powi(2)).sqrt();
         let lsb = 1.0 / (1u64 << 22) as f64;
-        let bound = 1.0 / (1u64 << 17) as f64 + 12.0 * lsb / sigma_min;
+        // The side test takes a segment's direction in 18 bits (`uv::SEG_BITS`), off by
+        // under √2 · 2^-16 of its length, so a point within that fraction of |p − a| of the
+        // segment's line (|p − a| at most the patch's diameter) may be given the wrong side:
+        // an error of that distance in the plane.
+        let diameter = [q0, q1, q2, q3]
+            .iter()
+            .flat_map(|x| [q0, q1, q2, q3].map(|y| norm(core::array::from_fn(|c| x[c] - y[c]))))
+            .fold(0.0f64, f64::max);
+        let seg = 2f64.sqrt() * diameter / (1u64 << 16) as f64;
+        let bound = 1.0 / (1u64 << 17) as f64 + (12.0 * lsb + seg) / sigma_min;
         assert!(
             err < bound,
             "case {cases} ({sides} sides, size {size}): ({}, {}) against ({uu}, {vv}): \

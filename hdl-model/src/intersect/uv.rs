@@ -6,10 +6,11 @@
 //! by P(u₀, v_m)–P(u₁, v_m), and the side of each segment P lies on picks the sub-cell. The side
 //! is the sign of a 2D cross product in the plane of the two axes the patch normal is least
 //! along (its dominant axis is chosen once per hit, from the normal's magnitudes): the patch
-//! projects onto that plane without folding, and the product of two ≤ 34-bit differences is
-//! exact in 68 bits, so the test is right however small the cell gets. (A 3D cross product
-//! dotted with the normal would need 98 bits; truncating it instead loses the side once the
-//! cell is below ~2^-12 of the coordinate range, which an earlier version of this unit did.)
+//! projects onto that plane without folding. The segment's direction enters the product in
+//! 18 bits scaled by a power of two of its own ([`SEG_BITS`]), the point's offset whole, so the
+//! test keeps its relative accuracy however small the cell gets. (A 3D cross product dotted
+//! with the normal would need 98 bits; truncating it instead loses the side once the cell is
+//! below ~2^-12 of the coordinate range, which an earlier version of this unit did.)
 //! Midpoints of a bilinear map are averages of corners: adds and a constant shift by 1. After D
 //! levels (u, v) is the centre of a 2^-D cell, within 2^-(D+1) of the exact inverse up to the
 //! midpoints' rounding (up to ½ LSB of Q8.24 a level). A triangle is the quad collapsed at v = 1, so
@@ -64,11 +65,32 @@ impl Cell {
     }
 }
 
+/// Bits of the segment's direction b − a in the side test's products: both components are
+/// shifted right by the same power of two until the larger fits [`SEG_BITS`] signed bits (a
+/// block floating point of the segment's own), so each product is 18 × 36 bits, two DSP tiles,
+/// where the exact difference made it 36 × 36, four. The direction keeps a relative error under
+/// √2 · 2^-16, so only a point within that fraction of |p − a| of the segment's line can be
+/// given the wrong side, and then either sub-cell holds it to that distance (until session
+/// 44 the difference went in whole).
+pub const SEG_BITS: u32 = 18;
+
+/// The shift that brings the segment direction `e` into [`SEG_BITS`] signed bits: how far the
+/// bit length of |e_x| OR |e_y| reaches beyond SEG_BITS − 1 (the OR has the larger's leading
+/// one, as `rtl/uv_level.v` finds it).
+fn seg_shift(e: [i64; 2]) -> u32 {
+    let m = e[0].unsigned_abs() | e[1].unsigned_abs();
+    (u64::BITS - m.leading_zeros()).saturating_sub(SEG_BITS - 1)
+}
+
 /// The side of p relative to the segment a→b (positive: left, seen from the front): the 2D
-/// cross product (b − a) × (p − a). The differences are < 2^34, so each product is exact in a
-/// 68-bit (here 128-bit) container.
+/// cross product ẽ × (p − a) of the segment's direction in [`SEG_BITS`] ([`seg_shift`],
+/// floored) and the point's offset, whose difference is < 2^35, so each product is exact in a
+/// 53-bit (here 128-bit) container.
 fn side(a: [i64; 2], b: [i64; 2], p: [i64; 2]) -> i128 {
-    (b[0] - a[0]) as i128 * (p[1] - a[1]) as i128 - (b[1] - a[1]) as i128 * (p[0] - a[0]) as i128
+    let e = [b[0] - a[0], b[1] - a[1]];
+    let s = seg_shift(e);
+    let e = [e[0] >> s, e[1] >> s];
+    e[0] as i128 * (p[1] - a[1]) as i128 - e[1] as i128 * (p[0] - a[0]) as i128
 }
 
 /// One bisection level.
@@ -118,4 +140,35 @@ impl UvStage {
 /// The cell centre after `depth` levels as Q2.30: (index + ½)·2^-depth.
 pub fn centre(index: u32, depth: u32) -> Unit {
     Unit::from_bits((((index as i64) * 2 + 1) << (29 - depth)) as i32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_segment_fits_its_bits_after_the_shift() {
+        let top = 1i64 << (SEG_BITS - 1);
+        for e in [
+            [0, 0],
+            [top - 1, 5],
+            [-top, 3],
+            [top, 0],
+            [-top - 1, 7],
+            [(1 << 34) - 1, -(1 << 34)],
+            [12_345_678_901, -3],
+        ] {
+            let s = seg_shift(e);
+            for c in e {
+                let x = c >> s;
+                assert!((-top..top).contains(&x), "{e:?} >> {s}: {x}");
+            }
+            // no more shift than the larger magnitude needs (−2^17 itself takes one bit more
+            // than its two's complement would, as the OR of magnitudes says)
+            if s > 0 {
+                let m = e[0].unsigned_abs().max(e[1].unsigned_abs());
+                assert!(m >> (s - 1) >= top as u64, "{e:?}");
+            }
+        }
+    }
 }
