@@ -860,14 +860,19 @@ pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     // Bezier engine
     p.add(3 * 66, 26);
     p.add(children * 3 * 2 * 15, 26);
+    // the slab products take the reciprocal's leading 18 bits (`bezier::RECIP_BITS`: 26 × 18,
+    // two tiles, where the whole Q32.32 word took eight until session 44), and each bound its
+    // own relative margin (a magnitude and an adder more); the reciprocal's rounding (a leading
+    // one and a mask on 64 bits) is at the serial divider's output, one for the engine
+    p.add(2, 64);
     if compact {
         // an axis's two bounds a clock, folded into the child's running entry and exit
-        p.mul(2, 26, 64);
-        p.add(4, 64);
+        p.mul(2, 26, 18);
+        p.add(4 + 2 * 2, 64);
         p.reg(2 * 64);
     } else {
-        p.mul(children as u32 * 6, 26, 64);
-        p.add(children * 6, 64);
+        p.mul(children as u32 * 6, 26, 18);
+        p.add(children * 6 * 3, 64);
     }
     // the leaf's products: both triangles' at once, or two a clock (compact)
     p.mul(if compact { 2 } else { 18 }, 34, 34);

@@ -25,9 +25,10 @@
 //!   add and a shift by the constant 1, truncating.
 //! - ray: origin Q8.24, direction Q2.30, and per ray the reciprocals 1/d as Q32.32 (computed by
 //!   the ray's reciprocal unit before it starts, see [`RECIP_LATENCY`]).
-//! - slab distances: (box − origin) · 1/d, 34 × 64-bit products truncated to Q8.24 (64-bit
-//!   saturating registers), widened by [`SLAB_MARGIN`] LSBs on each side so that truncation
-//!   never rejects a box the exact test would accept.
+//! - slab distances: (box − origin) · 1/d, products by the reciprocal's leading [`RECIP_BITS`]
+//!   bits truncated to Q8.24 (64-bit saturating registers), widened on each side by
+//!   [`SLAB_MARGIN`] LSBs and 2^-[`SLAB_REL_SHIFT`] of the distance, so that neither the
+//!   truncation nor the reciprocal's rounding rejects a box the exact test would accept.
 //! - flatness: 9·P_rc − Σ w·corners with the integer weights of the bilinear map at (c/3, r/3),
 //!   compared with 9·tol: exact, no rounding.
 //! - leaf: the corner quad as two triangles, Möller–Trumbore in exact integer arithmetic
@@ -87,8 +88,19 @@ pub const SERIAL_SLAB_CLOCKS: u32 = 4 * 3 - 1;
 /// two. Until session 24 six multipliers, eight clocks (6 more).
 pub const SERIAL_LEAF_CLOCKS: u32 = 2 * 24 / 2 - 2;
 
-/// Each slab interval is widened by this (two LSBs of Q8.24).
+/// Each slab interval is widened by this (two LSBs of Q8.24), and by its distance's own
+/// 2^-[`SLAB_REL_SHIFT`] for the reciprocal's rounding ([`RECIP_BITS`]).
 pub const SLAB_MARGIN: Coord64 = Coord64::from_bits(2);
+/// Significant bits of a reciprocal 1/d in the slab test: the divider's Q32.32 quotient is
+/// floored to its leading [`RECIP_BITS`] signed bits (a block floating point of its own), so
+/// a slab product is 26 × 18 bits, two DSP tiles, where the whole word made it 26 × 64, eight
+/// (until session 44). The reciprocal is then off by under 2^-16 of itself, and so is every
+/// distance formed with it.
+pub const RECIP_BITS: u32 = 18;
+/// A distance t formed with a rounded reciprocal is within |t| · 2^-16 / (1 − 2^-16) plus the
+/// product's truncation (an LSB) of the exact one, which |t̃| >> 15, one LSB for that shift's
+/// floor and [`SLAB_MARGIN`] cover, with |t̃| the distance as formed.
+pub const SLAB_REL_SHIFT: u32 = 15;
 /// The barycentric tolerance of the leaf test as a shift of the determinant: 2^-20 ≈ 1e-6, the
 /// kernel's `EPS`, so rays through a leaf edge are not lost between two leaves.
 const BARY_EPS_SHIFT: u32 = 20;
@@ -159,7 +171,8 @@ pub struct RaySetup {
 
 impl RaySetup {
     /// The ray with its reciprocals 1/d, truncated: 2^(32 + 30) / d's bits, the Q32.32
-    /// quotient of the constant 1 by a Q2.30 divisor.
+    /// quotient of the constant 1 by a Q2.30 divisor, floored to [`RECIP_BITS`] significant
+    /// bits.
     pub fn new(origin: [Coord; 3], dir: [Unit; 3]) -> Self {
         let d = dir.map(Unit64::from);
         RaySetup {
@@ -167,7 +180,7 @@ impl RaySetup {
             dir: d,
             inv: d.map(|c| match c.to_bits() {
                 0 => Recip::ZERO,
-                bits => Recip::from_bits((1i64 << 62) / bits),
+                bits => Recip::from_bits(significant((1i64 << 62) / bits)),
             }),
             parallel: d.map(|c| c == Unit64::ZERO),
         }
@@ -215,11 +228,27 @@ impl Box3 {
             let a = mul_q32(self.lo[k] - o, ray.inv[k]);
             let b = mul_q32(self.hi[k] - o, ray.inv[k]);
             let (a, b) = if a < b { (a, b) } else { (b, a) };
-            enter = enter.max(a - SLAB_MARGIN);
-            exit = exit.min(b + SLAB_MARGIN);
+            enter = enter.max(a - margin(a));
+            exit = exit.min(b + margin(b));
         }
         (enter <= exit && exit >= t_min && enter < t_max).then_some(enter.max(t_min))
     }
+}
+
+/// `x` floored to its leading [`RECIP_BITS`] signed bits: the low bits below them cleared, by
+/// how far the bit length of |x| reaches beyond RECIP_BITS − 1 (a leading one and a mask).
+fn significant(x: i64) -> i64 {
+    let len = u64::BITS - x.unsigned_abs().leading_zeros();
+    let s = len.saturating_sub(RECIP_BITS - 1);
+    (x >> s) << s
+}
+
+/// What a slab bound formed with a rounded reciprocal is widened by: its own magnitude shifted
+/// by [`SLAB_REL_SHIFT`], an LSB and [`SLAB_MARGIN`] (a magnitude and an adder a bound).
+#[inline]
+fn margin(t: Coord64) -> Coord64 {
+    let rel = (t.to_bits().unsigned_abs() >> SLAB_REL_SHIFT) as i64 + 1;
+    Coord64::from_bits(rel) + SLAB_MARGIN
 }
 
 /// A distance along the ray: `delta` · 1/d, the 128-bit product truncated back to Q8.24 and
@@ -759,6 +788,67 @@ mod tests {
 
     fn q(x: f64) -> i32 {
         (x * ONE).round() as i32
+    }
+
+    /// The slab test on rounded reciprocals keeps every box the exact interval meets, and
+    /// begins no later than it: random boxes and rays (a small generator of its own), against
+    /// the interval computed in f64 from the same words.
+    #[test]
+    fn rounded_reciprocals_never_reject_a_box_the_exact_test_meets() {
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = |span: f64| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            ((x >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0) * span
+        };
+        let (mut met, mut tested) = (0, 0);
+        while tested < 20_000 {
+            let o: [Coord; 3] = core::array::from_fn(|_| Coord::from_num(next(1.0)));
+            let (c, h): ([f64; 3], [f64; 3]) = (
+                core::array::from_fn(|_| next(1.0)),
+                core::array::from_fn(|_| next(0.3).abs()),
+            );
+            // aimed near the box, one component of every size, some tiny (1/d then has many
+            // bits)
+            let scale = [1.0, 1e-3, 1e-6][tested % 3];
+            let aim: [f64; 3] =
+                core::array::from_fn(|k| c[k] + 1.5 * next(h[k]) - o[k].to_num::<f64>());
+            let len = aim.iter().map(|a| a * a).sum::<f64>().sqrt().max(1e-9);
+            let d: [Unit; 3] = core::array::from_fn(|k| {
+                Unit::from_num(aim[k] / len * if k == tested % 3 { scale } else { 1.0 })
+            });
+            let word = |v: f64| Coord64::from(Coord::from_num(v));
+            let b = Box3 {
+                lo: core::array::from_fn(|k| word(c[k] - h[k])),
+                hi: core::array::from_fn(|k| word(c[k] + h[k])),
+            };
+            let ray = RaySetup::new(o, d);
+            let (mut enter, mut exit) = (f64::MIN, f64::MAX);
+            for k in 0..3 {
+                let (ok, dk) = (o[k].to_num::<f64>(), d[k].to_num::<f64>());
+                let (lo, hi) = (b.lo[k].to_num::<f64>(), b.hi[k].to_num::<f64>());
+                if dk == 0.0 {
+                    if ok < lo || ok > hi {
+                        (enter, exit) = (1.0, 0.0);
+                    }
+                    continue;
+                }
+                let (t0, t1) = ((lo - ok) / dk, (hi - ok) / dk);
+                enter = enter.max(t0.min(t1));
+                exit = exit.min(t0.max(t1));
+            }
+            tested += 1;
+            // within the saturated range the model's registers hold
+            if enter > exit || exit < 0.0 || enter.abs() > 1e9 || exit.abs() > 1e9 {
+                continue;
+            }
+            met += 1;
+            let got = b.slab(&ray, Coord64::ZERO, Coord64::MAX);
+            let got = got.unwrap_or_else(|| panic!("{o:?} {d:?} {b:?}: exact [{enter}, {exit}]"));
+            assert!(got.to_num::<f64>() <= enter.max(0.0), "{got} > {enter}");
+        }
+        assert!(met > 1_000, "only {met} boxes met");
     }
 
     /// A patch from a function of (u, v) sampled at thirds (a bilinear or flat map is exact).
