@@ -21,8 +21,9 @@
 //!   and WIDTH, are tables of the word's hex digits times the constant and a tree of adders
 //!   (`Proxy::const_products`, as `rtl/const_mul.v`; multipliers until session 24);
 //! - a register bit is a flip-flop;
-//! - a memory of depth d and width w is ⌈w/36⌉·⌈d/512⌉ block RAMs (512 × 36 per EBR), or
-//!   ⌈d·w/16⌉ LUT4s of distributed RAM when it holds under 2 kbit;
+//! - a memory of depth d and width w is ⌈w/W⌉·⌈d/D⌉ block RAMs in the EBR's cheapest shape
+//!   D × W (512 × 36, 1,024 × 18, 2,048 × 9, … 16,384 × 1, as Yosys picks among them; 512 × 36
+//!   alone until session 44), or ⌈d·w/16⌉ LUT4s of distributed RAM when it holds under 2 kbit;
 //! - 10 % of the LUTs again for control and multiplexers;
 //! - a unit whose RTL has been placed (the compact set-up unit and the culling unit's ray side,
 //!   since session 28) is counted by its place and route instead: its LUT4s and flip-flops as
@@ -355,7 +356,7 @@ impl Proxy {
             if d * w < 2048 {
                 luts += (d * w).div_ceil(16);
             } else {
-                out.brams += w.div_ceil(36) * d.div_ceil(512);
+                out.brams += block_rams(d, w);
             }
         }
         out.luts = luts + luts / 10 + self.placed.luts;
@@ -363,6 +364,27 @@ impl Proxy {
         out
     }
 }
+
+/// Block RAMs of a memory of depth `d` and width `w` in the ECP5 EBR's cheapest shape (18 kbit:
+/// 512 × 36 with one read and one write port, 1,024 × 18 … 16,384 × 1 with two of either). A
+/// 1,023-deep queue of 16-bit tags is one EBR as 1,024 × 18, where 512 × 36 took two.
+fn block_rams(d: u64, w: u64) -> u64 {
+    EBR_SHAPES
+        .iter()
+        .map(|&(depth, width)| w.div_ceil(width) * d.div_ceil(depth))
+        .min()
+        .unwrap_or(0)
+}
+
+/// The shapes (depth, width) of an ECP5 EBR.
+const EBR_SHAPES: [(u64, u64); 6] = [
+    (512, 36),
+    (1024, 18),
+    (2048, 9),
+    (4096, 4),
+    (8192, 2),
+    (16384, 1),
+];
 
 /// LUT4s of an a × b multiplier without DSP tiles, as `rtl/array_mul.v` builds it with r rows
 /// (the narrower operand) of c + 2 bits (the wider): a carry chain of c + 2 bits a row (two bits
@@ -926,6 +948,18 @@ pub fn compact_parts_on_ecp5(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn block_rams_in_their_cheapest_shape() {
+        // the rotator's side table, 128 × 161: five as 512 × 36 (as placed)
+        assert_eq!(block_rams(128, 161), 5);
+        // a queue of 1,023 tags of 16 bits: one as 1,024 × 18
+        assert_eq!(block_rams(1023, 16), 1);
+        // patch memory, 16,384 words of 32 bits: 32 in any shape
+        assert_eq!(block_rams(16_384, 32), 32);
+        // 1,023 × 224: thirteen as 1,024 × 18, fourteen as 512 × 36
+        assert_eq!(block_rams(1023, 224), 13);
+    }
 
     #[test]
     fn signed_digits() {
