@@ -40,6 +40,7 @@ extern crate alloc;
 use crate::cordic::CordicConfig;
 #[cfg(doc)]
 use crate::intersect::bezier::{SERIAL_LEAF_CLOCKS, SERIAL_SLAB_CLOCKS};
+use crate::intersect::bezier::{STACK_ENTRIES, STACK_WORDS};
 use crate::intersect::bitmap_walk::{row_words, BITMAP_WORD};
 use crate::intersect::cull::{BANDS, CULL_CORDIC};
 use crate::intersect::{PLANE_UNITS, UV_UNITS};
@@ -905,7 +906,9 @@ pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     // pipelined stages (6,144 adder bits, 12,288 flip-flops), as if a leaf could enter each clock
     p.add(6 * 2, 64);
     p.reg(6 * (64 + 64 + 32) + 2 * 1300);
-    p.mem(40, 1300);
+    // the node stack, a node in two words (`bezier::STACK_WORDS`)
+    let words = STACK_WORDS as u64;
+    p.mem(STACK_ENTRIES as u64 * words, 1300 / words);
     p.mem(64 * 48, 32);
     p
 }

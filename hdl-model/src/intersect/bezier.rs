@@ -4,12 +4,12 @@
 //!
 //! ```text
 //!  REPEAT UNTIL STACK IS EMPTY:
-//!    node := working register, or POP                           (1 clock when popped)
+//!    node := working register, or POP              (STACK_WORDS clocks when popped)
 //!    IF node.enter ≥ best_t: drop it                            (1 clock)
 //!    ELSE IF depth = D or (depth ≥ 2 and flat within tol): LEAF  (LEAF_CLOCKS)
 //!    ELSE split into four by midpoint de Casteljau, box and slab-test each child,
 //!         keep the nearest hit child in the working register,
-//!         PUSH the others far-to-near                           (STEP_CLOCKS + 1 per push)
+//!         PUSH the others far-to-near       (STEP_CLOCKS + STACK_WORDS per push)
 //! ```
 //!
 //! The state machine ([`BezierEngine`]) is sequential: one node per step, as in Pulleyblank &
@@ -87,6 +87,11 @@ pub const SERIAL_SLAB_CLOCKS: u32 = 4 * 3 - 1;
 /// clocks, the second triangle after the first, so 24 clocks where eighteen multipliers take
 /// two. Until session 24 six multipliers, eight clocks (6 more).
 pub const SERIAL_LEAF_CLOCKS: u32 = 2 * 24 / 2 - 2;
+
+/// Words of the stack memory a node takes, one a clock: its 1,300 bits (16 control points of
+/// three 26-bit words, the cell, depth and entry distance) as two words of 650, so the 40-entry
+/// stack is 19 block RAMs of 512 × 36 where a 1,300-bit word took 37 (one until session 44).
+pub const STACK_WORDS: u32 = 2;
 
 /// Each slab interval is widened by this (two LSBs of Q8.24), and by its distance's own
 /// 2^-[`SLAB_REL_SHIFT`] for the reciprocal's rounding ([`RECIP_BITS`]).
@@ -700,6 +705,8 @@ impl BezierEngine {
                 Some(n) => {
                     self.work = Some(n);
                     self.state = State::Eval;
+                    // the node's other words
+                    self.wait = STACK_WORDS - 1;
                     None
                 }
                 None => {
@@ -776,7 +783,7 @@ impl BezierEngine {
             self.work = Some(child(h));
             self.state = State::Eval;
         }
-        self.wait = STEP_CLOCKS - 1 + pushes + self.serial_slabs;
+        self.wait = STEP_CLOCKS - 1 + STACK_WORDS * pushes + self.serial_slabs;
     }
 }
 
