@@ -38,9 +38,9 @@
 extern crate alloc;
 
 use crate::cordic::CordicConfig;
+use crate::intersect::bezier::{RECIP_BITS, STACK_ENTRIES, STACK_WORDS};
 #[cfg(doc)]
 use crate::intersect::bezier::{SERIAL_LEAF_CLOCKS, SERIAL_SLAB_CLOCKS};
-use crate::intersect::bezier::{STACK_ENTRIES, STACK_WORDS};
 use crate::intersect::bitmap_walk::{row_words, BITMAP_WORD};
 use crate::intersect::cull::{BANDS, CULL_CORDIC};
 use crate::intersect::{PLANE_UNITS, UV_UNITS};
@@ -766,12 +766,14 @@ fn front_end(p: &mut Proxy, params: &Params, cfg: CordicConfig) {
         p.cordic(cfg, 3 * g);
     }
     // the compact datapath's one divider, a component a clock, and its results for the rays
-    // waiting for the Bezier lane
+    // waiting for the Bezier lane: each reciprocal as the slab tests take it, its leading
+    // `bezier::RECIP_BITS` and the shift below them (six bits; the whole 64-bit quotient until
+    // session 44)
     let dividers = if params.compact { 1 } else { 3 * g };
     p.add(dividers * 33, 64);
     p.reg(dividers * 33 * 128);
     if params.compact {
-        p.mem(params.ray_slots() as u64, 3 * 64);
+        p.mem(params.ray_slots() as u64, 3 * (RECIP_BITS as u64 + 6));
     }
 }
 
