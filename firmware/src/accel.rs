@@ -339,7 +339,8 @@ impl AccelProvider for FwAccel {
         let d = hemi_hdl_model::ModelConfig::default();
         let (it, w) = (u32::from(iterations), u32::from(width));
         if !self.has_hardware() {
-            // f32, no CORDIC to set: only the defaults, which stand for "as exact as f32"
+            // f32, no CORDIC to set: only the reset configuration, which a host asks when its
+            // user chose none
             return if (it, w) == (d.iterations, d.width) {
                 Ok(false)
             } else {

@@ -4,7 +4,8 @@
 // one index bit of u and of v is shifted in. Corners are QW bits, the point PW bits (the
 // model's i64 registers hold no more than that: vertices are 32-bit words, the point is
 // O + t d); each 2D cross product takes the segment's direction in 18 bits scaled by a power of
-// two of its own, and is exact in SEG + PW + 1 bits.
+// two of its own (SEG bits) by the point's offset (PW + 1), and their difference is exact in
+// SEG + PW + 2 bits.
 module uv_level #(
     parameter integer QW = 34,
     parameter integer PW = 36,

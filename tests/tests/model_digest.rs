@@ -434,9 +434,9 @@ fn a_scene_streamed_in_blocks_answers_as_one_memory() {
 // 80,042 → 79,287 clocks, teapot 462,683 → 461,059 (on its shallower subdivision 162,199 →
 // 161,555). The narrow workload, whose CORDIC is set, is unchanged.
 // Session 44, then: the (u,v) unit's side test takes the segment's direction in 18 bits scaled
-// by a power of two of its own (`uv::SEG_BITS`), so a point within 2^-16 of a segment's length
-// of its line may take the other sub-cell: the digest with (u,v) moves, the one without and
-// the clocks do not.
+// by a power of two of its own (`uv::SEG_BITS`), so a point within √2 · 2^-16 of |p − a| of
+// the segment's line may take the other sub-cell: the digest with (u,v) moves, the one
+// without and the clocks do not.
 const PINNED_CORNELL: (u64, u64, u64) = (0x4a11_447f_a5a3_ad7a, 0xcfe6_cb5d_90b1_7918, 0x1_35b7);
 const PINNED_CORNELL_NARROW: (u64, u64, u64) =
     (0x119f_86bb_5b47_1a62, 0x3557_eac0_6b61_85bd, 0x488d);

@@ -33,6 +33,18 @@ fn identifies_itself_and_resets_to_documented_values() {
     assert_eq!(b.read(regs::CAPS) & 0xFF, RAY_FIFO_DEPTH as u32);
 }
 
+/// The kernel names the reset CORDIC configuration for the link (it cannot name the model's):
+/// the two must agree, or a soft engine would refuse what a host asks by default.
+#[test]
+fn the_kernels_reset_cordic_is_the_models() {
+    let d = CordicConfig::DEFAULT;
+    assert_eq!(
+        hemi_kernel::link::RESET_CORDIC,
+        (d.iterations as u8, d.width as u8)
+    );
+    assert_eq!(CONFIG_RESET & 0x1F, d.iterations);
+}
+
 #[test]
 fn start_bits_self_clear_and_busy_ready_handshake() {
     let mut b = bus();

@@ -84,8 +84,8 @@ fn seg_shift(e: [i64; 2]) -> u32 {
 
 /// The side of p relative to the segment a→b (positive: left, seen from the front): the 2D
 /// cross product ẽ × (p − a) of the segment's direction in [`SEG_BITS`] ([`seg_shift`],
-/// floored) and the point's offset, whose difference is < 2^35, so each product is exact in a
-/// 53-bit (here 128-bit) container.
+/// floored) and the point's offset (a 36-bit point less a 34-bit corner: 37 bits), so each
+/// product is exact in 55 bits and their difference in 56 (here a 128-bit container).
 fn side(a: [i64; 2], b: [i64; 2], p: [i64; 2]) -> i128 {
     let e = [b[0] - a[0], b[1] - a[1]];
     let s = seg_shift(e);

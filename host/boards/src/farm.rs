@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 use anyhow::{anyhow, bail, Context, Result};
 use hemi_kernel::link::{
     AccelKind, EngineStats, ErrorCode, Feature, HelloInfo, JobConfig, Request, Response,
-    TraceSettings, TraceStats, MAX_LOBE_CHUNK,
+    TraceSettings, TraceStats, MAX_LOBE_CHUNK, PROTOCOL_2_CORDIC,
 };
 use hemi_kernel::optics::Surface;
 use hemi_kernel::patch::Patch;
@@ -436,9 +436,16 @@ impl Farm {
                 }
             }
             _ => anyhow::ensure!(
-                conn.hello.supports(Feature::Cordic) || cordic.is_none_or(|c| c == (24, 32)),
-                "the board speaks protocol {}: it cannot take CORDIC settings (protocol 3)",
-                conn.hello.protocol
+                conn.hello.supports(Feature::Cordic)
+                    || cordic.is_none_or(|c| c == PROTOCOL_2_CORDIC),
+                "the board speaks protocol {}: it cannot take CORDIC settings (protocol 3) and \
+                 computes with {} iterations on {}-bit words; pass --cordic-iterations {} \
+                 --cordic-width {} to use it",
+                conn.hello.protocol,
+                PROTOCOL_2_CORDIC.0,
+                PROTOCOL_2_CORDIC.1,
+                PROTOCOL_2_CORDIC.0,
+                PROTOCOL_2_CORDIC.1
             ),
         }
         if config_only {

@@ -35,10 +35,10 @@ pub trait AccelProvider {
     }
     /// Sets the CORDIC of the accelerator (iterations, word width) for scenes loaded from now
     /// on; `Ok(true)` if that changed it (the engine then loads its scene again). Engines
-    /// without a CORDIC compute in f32 and accept only the model's defaults (24, 32), which
-    /// stand for "as exact as f32".
+    /// without a CORDIC compute in f32 and accept only the reset configuration
+    /// ([`crate::link::RESET_CORDIC`]), which a host asks when its user chose none.
     fn set_cordic(&mut self, iterations: u8, width: u8) -> Result<bool, ErrorCode> {
-        if (iterations, width) == (24, 32) {
+        if (iterations, width) == crate::link::RESET_CORDIC {
             Ok(false)
         } else {
             Err(ErrorCode::Unsupported)

@@ -36,6 +36,14 @@ pub const PROTOCOL_VERSION: u16 = 5;
 /// The oldest protocol this build still speaks: the handshake settles on the older of the two
 /// sides' versions if it is at least this, and the host sends only that version's messages.
 pub const MIN_PROTOCOL_VERSION: u16 = 2;
+/// The accelerator's reset CORDIC configuration (iterations, word width): hdl-model's
+/// `CordicConfig::DEFAULT`, which a test holds equal (the kernel cannot name it). It is what a
+/// host asks when its user chose none, so an engine without a CORDIC (soft: f32) takes it as
+/// "no particular setting" and refuses any other. 24 and 32 until session 44.
+pub const RESET_CORDIC: (u8, u8) = (20, 24);
+/// The CORDIC a board of protocol 2, which cannot take [`Request::Cordic`], computes with: the
+/// reset configuration of its time.
+pub const PROTOCOL_2_CORDIC: (u8, u8) = (24, 32);
 /// Longest firmware build string in the handshake.
 pub const BUILD_LEN: usize = 48;
 /// Largest data block of the link-test messages ([`Request::Sink`], [`Response::Source`]).
@@ -175,8 +183,8 @@ pub enum Request {
     },
     /// The CORDIC of the board's accelerator model: iterations and word width, as the host's
     /// `--cordic-iterations` and `--cordic-width`. Answered [`Response::Configured`]; refused
-    /// [`ErrorCode::Unsupported`] by an engine that cannot change them (soft: f32, so only the
-    /// defaults 24 and 32 are accepted), [`ErrorCode::OutOfRange`] for values the model refuses.
+    /// [`ErrorCode::Unsupported`] by an engine that cannot change them (soft: f32, so only
+    /// [`RESET_CORDIC`] is accepted), [`ErrorCode::OutOfRange`] for values the model refuses.
     Cordic {
         /// CORDIC iterations.
         iterations: u8,

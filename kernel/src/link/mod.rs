@@ -33,6 +33,7 @@ pub use message::{
     AccelKind, Capacities, CastHit, EngineStats, ErrorCode, Feature, HelloInfo, JobConfig,
     LinkStats, PathHit, PathHits, RayHit, Request, Response, Rows, TraceSettings, TraceStats,
     WeightedHit, WeightedHits, BUILD_LEN, MAX_BULK, MAX_CAST, MAX_HITS, MAX_LOBE_CHUNK, MAX_PATHS,
-    MAX_ROWS, MAX_ROW_ENTRIES, MAX_WEIGHTED, MIN_PROTOCOL_VERSION, PROTOCOL_VERSION,
+    MAX_ROWS, MAX_ROW_ENTRIES, MAX_WEIGHTED, MIN_PROTOCOL_VERSION, PROTOCOL_2_CORDIC,
+    PROTOCOL_VERSION, RESET_CORDIC,
 };
 pub use server::{JobHandler, LinkServer, NoEngine};
