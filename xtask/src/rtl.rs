@@ -751,8 +751,21 @@ fn mutants_caught(cfg: Cordic, dir: &Path, opt: &str) -> Result<(), String> {
     GROUP_PLANE_MUTANT.caught("mutant-group-plane", &[], &[file("group_plane.txt")], opt)?;
     ACCEL_MUTANT.caught("mutant-accel", &[], &[file("accel.txt")], opt)?;
     MUL_MUTANT.caught("mutant-mul", &[], &[MUL_CLOCKS.to_string()], opt)?;
+    let plane = plane_generics(PLANE_DEPTHS[0]);
+    UV_MUTANT.caught("mutant-uv", &plane, &[file("plane.txt")], opt)?;
     Ok(())
 }
+
+/// The (u,v) side test's scaling of a segment's direction one bit further than its 18 bits
+/// need (`uv_level.v`; `uv::SEG_BITS`), which the rays aimed at the bisection's segments show.
+const UV_MUTANT: Mutant = Mutant {
+    bench: PLANE_BENCH,
+    extra: &[],
+    file: "uv_level.v",
+    from: "if (m[k]) s = k - (SEG - 2);",
+    to: "if (m[k]) s = k - (SEG - 3);",
+    what: "the (u,v) side test's scaling constant SEG - 2 (as SEG - 3)",
+};
 
 /// The array multiplier's last row adding a·b where it must subtract it (a's top bit weighs
 /// −2^(A−1)), moved one row up.
@@ -1025,7 +1038,7 @@ fn cosim_run(
     Ok(out)
 }
 
-/// The test suite's step: the default configuration (CORDIC 24/32, (u,v) depth 16) on pass 1
+/// The test suite's step: the default configuration (CORDIC 20/24, (u,v) depth 16) on pass 1
 /// of the Cornell box at R = 8, K = 1 and 2,000 random rays and vectors for the CORDIC units,
 /// R = 4, K = 1 and 1,000 random rays for the planar unit, 20,000 random steps of register
 /// traffic, then the mutants.

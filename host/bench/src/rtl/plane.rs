@@ -268,7 +268,37 @@ fn random_dir(rng: &mut XorShift, slots: &[[u32; PATCH_WORDS]]) -> [i32; 3] {
     }
 }
 
-/// `patches` random slots (at least one) and `rays` random rays against them.
+/// A direction from `origin` at a point of a random slot on one of its (u,v) unit's segments:
+/// u or v a multiple of 2^-k for a level k of the bisection, so that at level k the point is on
+/// the segment the side test halves the cell by and the test's rounding decides its side
+/// (`uv::SEG_BITS`; a direction that misses its slot is still a ray).
+fn aimed_at_a_segment(
+    rng: &mut XorShift,
+    slots: &[[u32; PATCH_WORDS]],
+    origin: [i32; 3],
+) -> [i32; 3] {
+    let w = &slots[(rng.bits() % slots.len() as u64) as usize];
+    let level = 1 + rng.bits() % 12;
+    let on_line = (2 * (rng.bits() % (1 << (level - 1))) + 1) as f64 / (1u64 << level) as f64;
+    let across = rng.f64();
+    let (s, t) = if rng.bits().is_multiple_of(2) {
+        (on_line, across)
+    } else {
+        (across, on_line)
+    };
+    let v = |corner: usize, c: usize| w[1 + 3 * corner + c] as i32 as f64;
+    let p: [f64; 3] = core::array::from_fn(|c| {
+        let bottom = v(0, c) * (1.0 - s) + v(1, c) * s;
+        let top = v(3, c) * (1.0 - s) + v(2, c) * s;
+        bottom * (1.0 - t) + top * t - origin[c] as f64
+    });
+    let l = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt().max(1.0);
+    p.map(|x| q230(x / l))
+}
+
+/// `patches` random slots (at least one) and `rays` random rays against them, one in four
+/// aimed at a point on a segment of the (u,v) bisection (u or v a multiple of 2^-k), where the
+/// side test's rounding decides.
 pub fn random(rng: &mut XorShift, patches: usize, rays: usize) -> Workload {
     let slots: Vec<_> = (0..patches).map(|_| random_slot(rng)).collect();
     let mut origin = random_origin(rng, &slots);
@@ -277,9 +307,14 @@ pub fn random(rng: &mut XorShift, patches: usize, rays: usize) -> Workload {
             if rng.bits().is_multiple_of(24) {
                 origin = random_origin(rng, &slots);
             }
+            let dir = if rng.bits().is_multiple_of(4) {
+                aimed_at_a_segment(rng, &slots, origin)
+            } else {
+                random_dir(rng, &slots)
+            };
             PlaneRay {
                 origin,
-                dir: random_dir(rng, &slots),
+                dir,
                 uv: !rng.bits().is_multiple_of(4),
                 skip: (rng.bits().is_multiple_of(3)).then(|| (rng.bits() % patches as u64) as u32),
                 bypass: rng.bits().is_multiple_of(32),
