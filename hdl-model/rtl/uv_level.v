@@ -33,9 +33,9 @@ module uv_level #(
             mid = s[QW:1];
         end
     endfunction
-    // the segment's direction in SEG signed bits, as uv.rs's `seg_shift` scales it: both
-    // components shifted right (floored) by how far the bit length of |e_x| OR |e_y| reaches
-    // beyond SEG - 1, so each product of the side test is SEG x (PW + 1) bits
+    // the segment's direction in SEG signed bits, as the model's `coarse::top_words` scales
+    // it: both components shifted right (floored) by how far the bit length of |e_x| OR |e_y|
+    // reaches beyond SEG - 1, so each product of the side test is SEG x (PW + 1) bits
     localparam integer SEG = 18;
     function [PW:0] mag(input signed [PW:0] x);
         mag = x[PW] ? -x : x;

@@ -43,6 +43,7 @@ use crate::intersect::bezier::{RECIP_BITS, STACK_ENTRIES, STACK_WORDS};
 use crate::intersect::bezier::{SERIAL_LEAF_CLOCKS, SERIAL_SLAB_CLOCKS};
 use crate::intersect::bitmap_walk::{row_words, BITMAP_WORD};
 use crate::intersect::cull::{BANDS, CULL_CORDIC};
+use crate::intersect::uv::SEG_BITS;
 use crate::intersect::{PLANE_UNITS, UV_UNITS};
 use crate::params::Params;
 use alloc::vec::Vec;
@@ -873,7 +874,7 @@ pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     // each level's two side tests, two products each of the segment's 18-bit direction by
     // the point's 36-bit offset (34 × 34 until session 44), and the direction's scaling: two
     // magnitudes, their leading one and two shifters of five levels on 37 bits a test
-    p.mul(4 * levels as u32, 36, 18);
+    p.mul(4 * levels as u32, 36, SEG_BITS);
     p.add(levels * 2 * (2 + 1 + 2 * 5), 37);
     p.add(levels * 12, 34);
     p.reg(levels * (4 * 2 * 34 + 2 * 34 + 48));
@@ -892,11 +893,11 @@ pub fn fixed_units(cfg: CordicConfig, uv_depth: u32, compact: bool) -> Proxy {
     p.add(2, 64);
     if compact {
         // an axis's two bounds a clock, folded into the child's running entry and exit
-        p.mul(2, 26, 18);
+        p.mul(2, 26, RECIP_BITS);
         p.add(4 + 2 * 2, 64);
         p.reg(2 * 64);
     } else {
-        p.mul(children as u32 * 6, 26, 18);
+        p.mul(children as u32 * 6, 26, RECIP_BITS);
         p.add(children * 6 * 3, 64);
     }
     // the leaf's products: both triangles' at once, or two a clock (compact)

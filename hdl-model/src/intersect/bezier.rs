@@ -43,6 +43,7 @@
 //! depend on where the point is, and the host runs them lane by lane.
 
 use crate::format::{quotient, width_mask, Coord, Coord64, Recip, Unit, Unit64};
+use crate::intersect::coarse::{top_words, WORD_BITS};
 use fixed::types::extra::{LeEqU128, U24, U30, U72, U78};
 use fixed::FixedI128;
 
@@ -100,8 +101,8 @@ pub const SLAB_MARGIN: Coord64 = Coord64::from_bits(2);
 /// floored to its leading [`RECIP_BITS`] signed bits (a block floating point of its own), so
 /// a slab product is 26 × 18 bits, two DSP tiles, where the whole word made it 26 × 64, eight
 /// (until session 44). The reciprocal is then off by under 2^-16 of itself, and so is every
-/// distance formed with it.
-pub const RECIP_BITS: u32 = 18;
+/// distance formed with it. The coarse words' width, scaled as they are ([`top_words`]).
+pub const RECIP_BITS: u32 = WORD_BITS;
 /// A distance t formed with a rounded reciprocal is within |t| · 2^-16 / (1 − 2^-16) plus the
 /// product's truncation (an LSB) of the exact one, which |t̃| >> 15, one LSB for that shift's
 /// floor and [`SLAB_MARGIN`] cover, with |t̃| the distance as formed.
@@ -240,12 +241,11 @@ impl Box3 {
     }
 }
 
-/// `x` floored to its leading [`RECIP_BITS`] signed bits: the low bits below them cleared, by
-/// how far the bit length of |x| reaches beyond RECIP_BITS − 1 (a leading one and a mask).
+/// `x` floored to its leading [`RECIP_BITS`] signed bits, the bits below them cleared
+/// ([`top_words`] and back: a leading one and a mask).
 fn significant(x: i64) -> i64 {
-    let len = u64::BITS - x.unsigned_abs().leading_zeros();
-    let s = len.saturating_sub(RECIP_BITS - 1);
-    (x >> s) << s
+    let ([w], s) = top_words(&[x]);
+    w << s
 }
 
 /// What a slab bound formed with a rounded reciprocal is widened by: its own magnitude shifted

@@ -22,8 +22,9 @@
 /// |d'_c| ≤ 2^16, is an 18-bit signed word.
 pub const COARSE_DIR_SHIFT: u32 = 14;
 
-/// Width of the coarse words and of the set-up's narrow operands (signed).
-const WORD_BITS: u32 = 18;
+/// Width of the coarse words and of the set-up's narrow operands (signed); also of the (u,v)
+/// side test's segment directions and the Bezier slab test's reciprocals ([`top_words`]).
+pub const WORD_BITS: u32 = 18;
 
 /// The κ that says "the coarse words bound nothing": every pair of the patch goes to the exact
 /// unit. A patch's κ is four bits of its lane word (its 284 bits become 288, eight block RAMs
@@ -65,9 +66,26 @@ pub fn coarse_edge(e: &[i64; 3]) -> [i32; 3] {
 
 /// ⌊v / 2^s⌋ as 18-bit words with the least s that brings every component below 2^17, and s.
 fn top18(v: &[i64; 3]) -> ([i32; 3], u32) {
+    let (w, s) = top_words(v);
+    (w.map(|c| c as i32), s)
+}
+
+/// ⌊v / 2^s⌋ with the least s that brings every component of `v` below 2^17 in magnitude,
+/// so into [`WORD_BITS`] signed bits (a block floating point of the vector's own), and s: the
+/// set-up's coarse edge words, the (u,v) side test's segment direction and the Bezier slab
+/// test's reciprocal. The shift is how far the bit length of the largest magnitude reaches
+/// beyond WORD_BITS − 1, a leading one in the RTL (−2^17 itself takes one bit more than its
+/// two's complement needs).
+///
+/// ```
+/// use hemi_hdl_model::intersect::coarse::top_words;
+/// assert_eq!(top_words(&[1 << 20, -3]), ([1 << 16, -1], 4));
+/// assert_eq!(top_words(&[5, -7]), ([5, -7], 0));
+/// ```
+pub fn top_words<const N: usize>(v: &[i64; N]) -> ([i64; N], u32) {
     let m = v.iter().map(|c| c.unsigned_abs()).max().unwrap_or(0);
-    let s = (64 - m.leading_zeros()).saturating_sub(WORD_BITS - 1);
-    (v.map(|c| (c >> s) as i32), s)
+    let s = (u64::BITS - m.leading_zeros()).saturating_sub(WORD_BITS - 1);
+    (v.map(|c| c >> s), s)
 }
 
 /// The compact set-up unit's coarse word of the edge normal e = trunc(±(u × v) / 2^shift) (the
@@ -200,6 +218,34 @@ pub fn coarse_inside(ray: &CoarseRay, coarse: &Coarse, sides: usize) -> Verdict 
 mod tests {
     use super::*;
     use crate::intersect::tests::Rng;
+
+    /// The (u,v) side test's segment directions (two components) fit their bits after the
+    /// shift, and are shifted no further than the larger magnitude needs (moved here from
+    /// `uv.rs` with the shift it tested).
+    #[test]
+    fn the_segment_fits_its_bits_after_the_shift() {
+        let top = 1i64 << (WORD_BITS - 1);
+        for e in [
+            [0, 0],
+            [top - 1, 5],
+            [-top, 3],
+            [top, 0],
+            [-top - 1, 7],
+            [(1 << 34) - 1, -(1 << 34)],
+            [12_345_678_901, -3],
+        ] {
+            let (words, s) = top_words(&e);
+            for x in words {
+                assert!((-top..top).contains(&x), "{e:?} >> {s}: {x}");
+            }
+            // no more shift than the larger magnitude needs (−2^17 itself takes one bit more
+            // than its two's complement would)
+            if s > 0 {
+                let m = e[0].unsigned_abs().max(e[1].unsigned_abs());
+                assert!(m >> (s - 1) >= top as u64, "{e:?}");
+            }
+        }
+    }
 
     fn exact_sign(d: &[i32; 3], e: &[i64; 3]) -> i128 {
         (0..3).map(|c| d[c] as i128 * e[c] as i128).sum()

@@ -17,6 +17,7 @@
 //! it runs the same stages.
 
 use crate::format::Unit;
+use crate::intersect::coarse::{top_words, WORD_BITS};
 
 /// One cell in flight, projected onto the plane of the two axes the patch normal is least along
 /// (the third coordinate never enters a side test, so the unit has no registers for it): its
@@ -71,25 +72,16 @@ impl Cell {
 /// where the exact difference made it 36 × 36, four. The direction keeps a relative error under
 /// √2 · 2^-16, so only a point within that fraction of |p − a| of the segment's line can be
 /// given the wrong side, and then either sub-cell holds it to that distance (until session
-/// 44 the difference went in whole).
-pub const SEG_BITS: u32 = 18;
-
-/// The shift that brings the segment direction `e` into [`SEG_BITS`] signed bits: how far the
-/// bit length of |e_x| OR |e_y| reaches beyond SEG_BITS − 1 (the OR has the larger's leading
-/// one, as `rtl/uv_level.v` finds it).
-fn seg_shift(e: [i64; 2]) -> u32 {
-    let m = e[0].unsigned_abs() | e[1].unsigned_abs();
-    (u64::BITS - m.leading_zeros()).saturating_sub(SEG_BITS - 1)
-}
+/// 44 the difference went in whole). The coarse words' width, scaled as they are
+/// ([`top_words`]; `rtl/uv_level.v` the same).
+pub const SEG_BITS: u32 = WORD_BITS;
 
 /// The side of p relative to the segment a→b (positive: left, seen from the front): the 2D
-/// cross product ẽ × (p − a) of the segment's direction in [`SEG_BITS`] ([`seg_shift`],
+/// cross product ẽ × (p − a) of the segment's direction in [`SEG_BITS`] ([`top_words`],
 /// floored) and the point's offset (a 36-bit point less a 34-bit corner: 37 bits), so each
 /// product is exact in 55 bits and their difference in 56 (here a 128-bit container).
 fn side(a: [i64; 2], b: [i64; 2], p: [i64; 2]) -> i128 {
-    let e = [b[0] - a[0], b[1] - a[1]];
-    let s = seg_shift(e);
-    let e = [e[0] >> s, e[1] >> s];
+    let (e, _) = top_words(&[b[0] - a[0], b[1] - a[1]]);
     e[0] as i128 * (p[1] - a[1]) as i128 - e[1] as i128 * (p[0] - a[0]) as i128
 }
 
@@ -140,35 +132,4 @@ impl UvStage {
 /// The cell centre after `depth` levels as Q2.30: (index + ½)·2^-depth.
 pub fn centre(index: u32, depth: u32) -> Unit {
     Unit::from_bits((((index as i64) * 2 + 1) << (29 - depth)) as i32)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn the_segment_fits_its_bits_after_the_shift() {
-        let top = 1i64 << (SEG_BITS - 1);
-        for e in [
-            [0, 0],
-            [top - 1, 5],
-            [-top, 3],
-            [top, 0],
-            [-top - 1, 7],
-            [(1 << 34) - 1, -(1 << 34)],
-            [12_345_678_901, -3],
-        ] {
-            let s = seg_shift(e);
-            for c in e {
-                let x = c >> s;
-                assert!((-top..top).contains(&x), "{e:?} >> {s}: {x}");
-            }
-            // no more shift than the larger magnitude needs (−2^17 itself takes one bit more
-            // than its two's complement would, as the OR of magnitudes says)
-            if s > 0 {
-                let m = e[0].unsigned_abs().max(e[1].unsigned_abs());
-                assert!(m >> (s - 1) >= top as u64, "{e:?}");
-            }
-        }
-    }
 }
