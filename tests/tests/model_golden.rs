@@ -122,7 +122,7 @@ fn rotation_matches_the_kernel_on_every_axis_and_skew() {
             .unwrap();
     let view = hemi.view();
     let mut model = ModelAccelerator::new(&[], ModelConfig::default()).unwrap();
-    let tol = turn_tolerance(CordicConfig::DEFAULT);
+    let tol = CordicConfig::DEFAULT.turn_bound() as f32;
     let mut worst = 0.0f32;
     for (i, n) in test_normals().into_iter().enumerate() {
         let rot = Rotation::onto_spun(n, spin_for_sample(i as u32));
@@ -141,14 +141,6 @@ fn rotation_matches_the_kernel_on_every_axis_and_skew() {
         "worst |model − Rotation::apply| over hemisphere rays: {worst:.2e} (tolerance {tol:.2e})"
     );
     assert!(worst < tol, "{worst}");
-}
-
-/// What a turned direction may be off at `cfg`: three pipes in series, each within
-/// [`CordicConfig::error_bound`], turning by three angles the angle unit formed, each within it
-/// too (an angle off by δ turns a unit vector by δ). At the reset configuration until session
-/// 44 (24 iterations on 32-bit words) this was 1.0e-6, as the tests had it.
-fn turn_tolerance(cfg: CordicConfig) -> f32 {
-    (6.0 * cfg.error_bound()) as f32
 }
 
 #[test]
@@ -267,7 +259,7 @@ fn soft_and_model_form_factors_agree() {
         }
     }
     println!("worst |F_soft − F_model| = {worst:.2e}");
-    // Rays within the turn's error (`turn_tolerance`) of a patch edge may land on the other
+    // Rays within the turn's error (`CordicConfig::turn_bound`) of a patch edge may land on the other
     // patch: one ray of R = 16 carries at most δD ≈ 1/320 of a row, averaged over K² = 4
     // samples.
     assert!(worst < 2e-3, "{worst}");

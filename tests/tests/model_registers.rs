@@ -85,8 +85,7 @@ fn start_bits_self_clear_and_busy_ready_handshake() {
     assert_eq!(r[0], result::ROTATED);
     let x = Unit::from_bits(r[1] as i32).to_num::<f32>();
     let y = Unit::from_bits(r[2] as i32).to_num::<f32>();
-    // three pipes, by three angles the angle unit formed, each within the textbook bound
-    let tol = (6.0 * CordicConfig::DEFAULT.error_bound()) as f32;
+    let tol = CordicConfig::DEFAULT.turn_bound() as f32;
     assert!((x - 0.5f32.cos()).abs() < tol && (y - 0.5f32.sin()).abs() < tol);
     assert_eq!(
         b.read(regs::STATUS) & (status::BUSY | status::RESULT_READY),
