@@ -84,12 +84,18 @@ pub(super) fn lattice_origins(
 
 /// The point at lattice cell (a, b) of K × K on a slot's bilinear map, in Q8.24 words.
 pub(super) fn lattice_point(w: &[u32; PATCH_WORDS], a: u32, b: u32, k: u32) -> [i32; 3] {
-    let v = |corner: usize, c: usize| w[1 + 3 * corner + c] as i32 as f64;
     let (s, t) = ((a as f64 + 0.5) / k as f64, (b as f64 + 0.5) / k as f64);
+    bilinear_point(w, s, t).map(|x| x.round() as i32)
+}
+
+/// The point (s, t) of a slot's bilinear map (s from corner 0 to 1, t from 0 to 3), in units
+/// of the Q8.24 words.
+fn bilinear_point(w: &[u32; PATCH_WORDS], s: f64, t: f64) -> [f64; 3] {
+    let v = |corner: usize, c: usize| w[1 + 3 * corner + c] as i32 as f64;
     core::array::from_fn(|c| {
         let bottom = v(0, c) * (1.0 - s) + v(1, c) * s;
         let top = v(3, c) * (1.0 - s) + v(2, c) * s;
-        (bottom * (1.0 - t) + top * t).round() as i32
+        bottom * (1.0 - t) + top * t
     })
 }
 
@@ -286,12 +292,8 @@ fn aimed_at_a_segment(
     } else {
         (across, on_line)
     };
-    let v = |corner: usize, c: usize| w[1 + 3 * corner + c] as i32 as f64;
-    let p: [f64; 3] = core::array::from_fn(|c| {
-        let bottom = v(0, c) * (1.0 - s) + v(1, c) * s;
-        let top = v(3, c) * (1.0 - s) + v(2, c) * s;
-        bottom * (1.0 - t) + top * t - origin[c] as f64
-    });
+    let on = bilinear_point(w, s, t);
+    let p: [f64; 3] = core::array::from_fn(|c| on[c] - origin[c] as f64);
     let l = (p[0] * p[0] + p[1] * p[1] + p[2] * p[2]).sqrt().max(1.0);
     p.map(|x| q230(x / l))
 }
