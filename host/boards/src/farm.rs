@@ -435,18 +435,16 @@ impl Farm {
                     other => bail!("unexpected answer to Cordic: {other:?}"),
                 }
             }
-            _ => anyhow::ensure!(
-                conn.hello.supports(Feature::Cordic)
-                    || cordic.is_none_or(|c| c == PROTOCOL_2_CORDIC),
-                "the board speaks protocol {}: it cannot take CORDIC settings (protocol 3) and \
-                 computes with {} iterations on {}-bit words; pass --cordic-iterations {} \
-                 --cordic-width {} to use it",
-                conn.hello.protocol,
-                PROTOCOL_2_CORDIC.0,
-                PROTOCOL_2_CORDIC.1,
-                PROTOCOL_2_CORDIC.0,
-                PROTOCOL_2_CORDIC.1
-            ),
+            _ => {
+                let (it, w) = PROTOCOL_2_CORDIC;
+                anyhow::ensure!(
+                    conn.hello.supports(Feature::Cordic) || cordic.is_none_or(|c| c == (it, w)),
+                    "the board speaks protocol {}: it cannot take CORDIC settings (protocol 3) \
+                     and computes with {it} iterations on {w}-bit words; pass \
+                     --cordic-iterations {it} --cordic-width {w} to use it",
+                    conn.hello.protocol
+                )
+            }
         }
         if config_only {
             return Ok(());
