@@ -90,7 +90,7 @@ module bank_setup #(
         .out_p_band_lo(out_p_band_lo), .out_p_band_hi(out_p_band_hi));
 
     // The slots of the planar patches in the set-up unit, in order, for their answers, which
-    // leave it in the order their last corners entered: at most its answer latency (83 clocks)
+    // leave it in the order their last corners entered: at most its answer latency (84 clocks)
     // over three corners a patch, 28, are in flight, so 32 entries of distributed RAM.
     localparam integer FLIGHT_BITS = 5;
     reg [SLOT_BITS-1:0]   flight [0:(1<<FLIGHT_BITS)-1];

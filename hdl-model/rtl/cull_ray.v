@@ -45,9 +45,9 @@ module cull_ray #(
         .clk(clk), .in_valid(in_valid), .in_x(in_x), .in_y(in_y), .in_z(in_z),
         .in_payload(culled), .out_valid(valid), .out_phi(phi), .out_theta(theta),
         .out_payload(c_angles));
-    cull_bin #(.SECTORS(SECTORS), .PW(1)) bin (
-        .clk(clk), .in_valid(valid), .in_a({{3{phi[W-1]}}, phi, {(32 - W){1'b0}}}),
-        .in_t({{3{theta[W-1]}}, theta, {(32 - W){1'b0}}}), .in_payload(c_angles),
+    cull_bin #(.W(W), .SECTORS(SECTORS), .PW(1)) bin (
+        .clk(clk), .in_valid(valid), .in_a({{3{phi[W-1]}}, phi}),
+        .in_t({{3{theta[W-1]}}, theta}), .in_payload(c_angles),
         .out_valid(out_valid), .out_sector(out_sector), .out_band(out_band),
         .out_payload(out_culled));
 endmodule

@@ -3,8 +3,8 @@
 // in every sector, or in sectors lo .. lo + len − 1 (mod SECTORS) — and its polar bands. The
 // set-up writes the patch's bits in the sector and band rows by it. As the model's set-up unit
 // does, it takes a corner a clock (with the edge that leaves it), so a patch of n corners takes n
-// clocks; the answers come out in order, one a patch, 2 · (ITER + 4) + 26 clocks after its last
-// corner (62 at ITER 14, `cull::REACH_LATENCY`; in the compact set-up unit, `setup_unit.v`, the
+// clocks; the answers come out in order, one a patch, 2 · (ITER + 4) + 27 clocks after its last
+// corner (63 at ITER 14, `cull::REACH_LATENCY`; in the compact set-up unit, `setup_unit.v`, the
 // corners wait for their edges' words first, and the model charges both). The culling bench
 // compares its answers; the set-up unit's bench, their clocks too.
 //
@@ -67,12 +67,17 @@ module cull_reach #(
     output reg         [3:0]  out_band_lo,
     output reg         [3:0]  out_band_hi
 );
-    // π and the margin 2^-7 rad in Q3.29, as cull.rs has them; κ at which the words bound
-    // nothing (`coarse::KAPPA_DECLINE`)
-    localparam signed [34:0] PI = 35'sd1686629713;
-    localparam signed [34:0] MARGIN = 35'sd4194304;
+`include "cordic_rom.vh"
+    // Angles from here on are the vectorings' words, Q3.(W-3), in AW bits (35, on Q3.29, until
+    // session 45): π as those words hold it (cull.rs's PI) and the margin 2^-7 rad, so that every
+    // angle and bound below is on the word's grid; κ at which the words bound nothing
+    // (`coarse::KAPPA_DECLINE`)
+    localparam integer AW = W + 3;
+    localparam [63:0] PI_R = rom_round(2 * HALF_PI_Q62, W - 3);
+    localparam signed [AW-1:0] PI = PI_R[AW-1:0];
+    localparam signed [AW-1:0] MARGIN = 1 << (W - 10);
     // the wedge spans π once hi − lo reaches this
-    localparam signed [34:0] SPAN = PI - 2 * MARGIN;
+    localparam signed [AW-1:0] SPAN = PI - 2 * MARGIN;
     localparam [3:0] KAPPA_DECLINE = 4'd15;
 
     // ---- 1: the corner's block scaling, the axes' narrow words
@@ -310,11 +315,11 @@ module cull_reach #(
         .out_payload(cflags));
 
     // ---- 5: the patch's corners gathered, then its wedge and polar range
-    wire signed [34:0] cphi_w = {{3{cphi[W-1]}}, cphi, {(32 - W){1'b0}}};
-    wire signed [34:0] ctheta_w = {{3{ctheta[W-1]}}, ctheta, {(32 - W){1'b0}}};
+    wire signed [AW-1:0] cphi_w = {{3{cphi[W-1]}}, cphi};
+    wire signed [AW-1:0] ctheta_w = {{3{ctheta[W-1]}}, ctheta};
     reg        [1:0]   cnt;
-    reg signed [34:0]  gphi [0:2];
-    reg signed [34:0]  gtheta [0:2];
+    reg signed [AW-1:0]  gphi [0:2];
+    reg signed [AW-1:0]  gtheta [0:2];
     // the patch's decisions so far, {below, near, +z, −z}: every corner below, any near,
     // every edge allowing +z, every edge allowing −z
     localparam [3:0] NONE_YET = 4'b1011;
@@ -323,8 +328,8 @@ module cull_reach #(
     // edge is from corner 0 to itself: no bulge, no turn, θ_0 again, which changes no minimum
     // or maximum below and lets every edge be k to k + 1 mod 4), its decisions
     reg                rv;
-    reg signed [34:0]  rphi [0:3];
-    reg signed [34:0]  rtheta [0:3];
+    reg signed [AW-1:0]  rphi [0:3];
+    reg signed [AW-1:0]  rtheta [0:3];
     reg        [3:0]   rf;
     always @(posedge clk) begin
         rv <= cv && cflags[4];
@@ -359,11 +364,11 @@ module cull_reach #(
     // maxes, g5 and g6 the polar range, the wedge's ends and the kind, g7 the bands' ends.
     reg                g1v;
     reg        [3:0]   g1f;
-    reg signed [34:0]  g1phi0;
-    reg signed [34:0]  g1d [1:3];
-    reg signed [34:0]  g1e [0:3];
-    reg signed [34:0]  g1tmin [0:3];
-    reg signed [34:0]  g1tmax [0:3];
+    reg signed [AW-1:0]  g1phi0;
+    reg signed [AW-1:0]  g1d [1:3];
+    reg signed [AW-1:0]  g1e [0:3];
+    reg signed [AW-1:0]  g1tmin [0:3];
+    reg signed [AW-1:0]  g1tmax [0:3];
     integer k;
     always @(posedge clk) begin
         g1v <= rv;
@@ -372,17 +377,17 @@ module cull_reach #(
         for (k = 1; k < 4; k = k + 1) g1d[k] <= rphi[k] - rphi[0];
         for (k = 0; k < 4; k = k + 1) begin
             g1e[k] <= rphi[(k + 1) % 4] - rphi[k];
-            g1tmin[k] <= min35(rtheta[k], rtheta[(k + 1) % 4]);
+            g1tmin[k] <= min_a(rtheta[k], rtheta[(k + 1) % 4]);
             g1tmax[k] <= rtheta[k];
         end
     end
     reg                g2v;
     reg        [3:0]   g2f;
-    reg signed [34:0]  g2phi0;
-    reg signed [34:0]  g2d [1:3];
-    reg signed [34:0]  g2e [0:3];
-    reg signed [34:0]  g2tmin [0:3];
-    reg signed [34:0]  g2tmax [0:1];
+    reg signed [AW-1:0]  g2phi0;
+    reg signed [AW-1:0]  g2d [1:3];
+    reg signed [AW-1:0]  g2e [0:3];
+    reg signed [AW-1:0]  g2tmin [0:3];
+    reg signed [AW-1:0]  g2tmax [0:1];
     always @(posedge clk) begin
         g2v <= g1v;
         g2f <= g1f;
@@ -392,39 +397,39 @@ module cull_reach #(
             g2e[k] <= wrap(g1e[k]);
             g2tmin[k] <= g1tmin[k];
         end
-        g2tmax[0] <= max35(g1tmax[0], g1tmax[1]);
-        g2tmax[1] <= max35(g1tmax[2], g1tmax[3]);
+        g2tmax[0] <= max_a(g1tmax[0], g1tmax[1]);
+        g2tmax[1] <= max_a(g1tmax[2], g1tmax[3]);
     end
     reg                g3v;
     reg        [3:0]   g3f;
-    reg signed [34:0]  g3phi0, g3hit;
-    reg signed [34:0]  g3lo [0:1];
-    reg signed [34:0]  g3hi [0:1];
-    reg signed [34:0]  g3loc [0:1];
-    reg signed [34:0]  g3bulge [0:3];
+    reg signed [AW-1:0]  g3phi0, g3hit;
+    reg signed [AW-1:0]  g3lo [0:1];
+    reg signed [AW-1:0]  g3hi [0:1];
+    reg signed [AW-1:0]  g3loc [0:1];
+    reg signed [AW-1:0]  g3bulge [0:3];
     // |e| / 2 of the four ends (the magnitude as a signed word, so that the most negative
     // one's, itself, halves as it did written as (d[34] ? -d : d) >>> 1)
-    wire       [34:0]  g2e_mag [0:3];
+    wire       [AW-1:0] g2e_mag [0:3];
     generate
         for (g = 0; g < 4; g = g + 1) begin : mags_g2e
-            magnitude #(.W(35)) mag (.x(g2e[g]), .m(g2e_mag[g]));
+            magnitude #(.W(AW)) mag (.x(g2e[g]), .m(g2e_mag[g]));
         end
     endgenerate
-    reg signed [34:0]  g3tmin [0:3];
+    reg signed [AW-1:0]  g3tmin [0:3];
     always @(posedge clk) begin
         g3v <= g2v;
         g3f <= g2f;
         g3phi0 <= g2phi0;
-        g3hit <= max35(g2tmax[0], g2tmax[1]);
-        // against 0 by the sign bit alone (as min35 and max35, Yosys compared with a carry
+        g3hit <= max_a(g2tmax[0], g2tmax[1]);
+        // against 0 by the sign bit alone (as min_a and max_a, Yosys compared with a carry
         // chain, and that chain was the set-up unit's critical path, at 99.5 MHz)
-        g3lo[0] <= g2d[1][34] ? g2d[1] : 35'sd0;
-        g3lo[1] <= min35(g2d[2], g2d[3]);
-        g3hi[0] <= g2d[1][34] ? 35'sd0 : g2d[1];
-        g3hi[1] <= max35(g2d[2], g2d[3]);
+        g3lo[0] <= g2d[1][AW-1] ? g2d[1] : {AW{1'b0}};
+        g3lo[1] <= min_a(g2d[2], g2d[3]);
+        g3hi[0] <= g2d[1][AW-1] ? {AW{1'b0}} : g2d[1];
+        g3hi[1] <= max_a(g2d[2], g2d[3]);
         // the same two ends plus SPAN, each sum beside its compare: the span test below is then
         // one compare of registers (hi − lo as a register compared with SPAN placed at 88 MHz)
-        g3loc[0] <= g2d[1][34] ? g2d[1] + SPAN : SPAN;
+        g3loc[0] <= g2d[1][AW-1] ? g2d[1] + SPAN : SPAN;
         g3loc[1] <= g2d[2] < g2d[3] ? g2d[2] + SPAN : g2d[3] + SPAN;
         for (k = 0; k < 4; k = k + 1) begin
             g3bulge[k] <= $signed(g2e_mag[k]) >>> 1;
@@ -433,88 +438,96 @@ module cull_reach #(
     end
     reg                g4v;
     reg        [3:0]   g4f;
-    reg signed [34:0]  g4phi0, g4hit, g4lo, g4hi, g4loc;
-    reg signed [34:0]  g4lt [0:3];
+    reg signed [AW-1:0]  g4phi0, g4hit, g4lo, g4hi, g4loc;
+    reg signed [AW-1:0]  g4lt [0:3];
     always @(posedge clk) begin
         g4v <= g3v;
         g4f <= g3f;
         g4phi0 <= g3phi0;
         g4hit <= g3hit;
-        g4lo <= min35(g3lo[0], g3lo[1]);
+        g4lo <= min_a(g3lo[0], g3lo[1]);
         g4loc <= g3lo[0] < g3lo[1] ? g3loc[0] : g3loc[1];
-        g4hi <= max35(g3hi[0], g3hi[1]);
+        g4hi <= max_a(g3hi[0], g3hi[1]);
         for (k = 0; k < 4; k = k + 1)
             g4lt[k] <= g3tmin[k] - g3bulge[k];
     end
     reg                g5v;
     reg        [3:0]   g5f;
-    reg signed [34:0]  g5hit, g5alo, g5ahi;
-    // hi − lo >= SPAN as hi >= lo + SPAN, in two halves of the carry chain: the top 18 bits
-    // (signed) greater or equal, and the low 17 (unsigned) at least
-    reg                g5top_gt, g5top_eq, g5low_ge;
-    reg signed [34:0]  g5lt [0:1];
+    reg signed [AW-1:0]  g5hit, g5alo, g5ahi;
+    // hi − lo >= SPAN as hi >= lo + SPAN, one compare of registers (on 35-bit words it took
+    // two halves of the carry chain side by side)
+    reg                g5spans;
+    reg signed [AW-1:0]  g5lt [0:1];
     always @(posedge clk) begin
         g5v <= g4v;
         g5f <= g4f;
         g5hit <= g4hit;
-        g5top_gt <= $signed(g4hi[34:17]) > $signed(g4loc[34:17]);
-        g5top_eq <= g4hi[34:17] == g4loc[34:17];
-        g5low_ge <= g4hi[16:0] >= g4loc[16:0];
+        g5spans <= g4hi >= g4loc;
         g5alo <= g4phi0 + g4lo;
         g5ahi <= g4phi0 + g4hi;
-        g5lt[0] <= min35(g4lt[0], g4lt[1]);
-        g5lt[1] <= min35(g4lt[2], g4lt[3]);
+        g5lt[0] <= min_a(g4lt[0], g4lt[1]);
+        g5lt[1] <= min_a(g4lt[2], g4lt[3]);
     end
     // hi − lo + 2·MARGIN >= π
-    wire spans = g5top_gt || g5top_eq && g5low_ge;
+    wire spans = g5spans;
     reg                g6v, g6pos_near;
     reg        [1:0]   g6kind;
-    reg signed [34:0]  g6hit, g6lot, g6alo, g6ahi;
+    reg signed [AW-1:0]  g6hit, g6lot, g6alo, g6ahi;
     always @(posedge clk) begin
         g6v <= g5v;
         g6pos_near <= g5f[1] || g5f[2];
         g6kind <= g5f[3] ? 2'd0 : g5f[2] || g5f[1] || g5f[0] || spans ? 2'd1 : 2'd2;
         g6hit <= g5hit;
-        g6lot <= min35(g5lt[0], g5lt[1]);
+        g6lot <= min_a(g5lt[0], g5lt[1]);
         g6alo <= g5alo - MARGIN;
         g6ahi <= g5ahi + MARGIN;
     end
-    reg                g7v;
+    // g7 puts the low end (the wedge's, and the polar range's less the margin) in the registers
+    // the bin unit reads, and holds the high end (the range's plus the margin), which the same registers take on the next
+    // clock: one cull_bin.v for both ends. A patch has at least three corners, so its ends come
+    // at least three clocks after the last patch's and the unit is free on the second clock.
+    reg                g7v, g7second;
     reg        [1:0]   g7kind;
-    reg signed [34:0]  g7alo, g7ahi, g7tlo, g7thi;
+    reg signed [AW-1:0]  g7a, g7t, g7ahi, g7thi;
     always @(posedge clk) begin
         g7v <= g6v;
+        g7second <= g7v;
         g7kind <= g6kind;
-        g7alo <= g6alo;
+        g7a <= g6v ? g6alo : g7ahi;
+        g7t <= g6v ? (g6pos_near ? {AW{1'b0}} : g6lot) - MARGIN : g7thi;
         g7ahi <= g6ahi;
-        g7tlo <= (g6pos_near ? 35'sd0 : g6lot) - MARGIN;
         g7thi <= g6hit + MARGIN;
     end
     wire       bv;
-    wire [1:0] bkind;
-    wire [5:0] s_lo, s_hi;
-    wire [3:0] b_lo, b_hi;
-    /* verilator lint_off UNUSEDSIGNAL */
-    wire       unused_v;
-    wire [1:0] unused_p;
-    /* verilator lint_on UNUSEDSIGNAL */
-    cull_bin #(.SECTORS(SECTORS), .PW(2)) lo_end (
-        .clk(clk), .in_valid(g7v), .in_a(g7alo), .in_t(g7tlo), .in_payload(g7kind),
-        .out_valid(bv), .out_sector(s_lo), .out_band(b_lo), .out_payload(bkind));
-    cull_bin #(.SECTORS(SECTORS), .PW(2)) hi_end (
-        .clk(clk), .in_valid(g7v), .in_a(g7ahi), .in_t(g7thi), .in_payload(g7kind),
-        .out_valid(unused_v), .out_sector(s_hi), .out_band(b_hi), .out_payload(unused_p));
-    // len = (s_hi − s_lo mod SECTORS) + 1, both candidates beside the compare that picks one
-    wire [6:0] len_same = {1'b0, s_hi} - {1'b0, s_lo} + 7'd1;
-    wire [6:0] len_wrap = {1'b0, s_hi} + (SECTORS[6:0] + 7'd1) - {1'b0, s_lo};
+    wire [2:0] bpay;
+    wire [5:0] s_end;
+    wire [3:0] b_end;
+    cull_bin #(.W(W), .SECTORS(SECTORS), .PW(3)) ends (
+        .clk(clk), .in_valid(g7v || g7second), .in_a(g7a), .in_t(g7t),
+        .in_payload({g7second, g7kind}),
+        .out_valid(bv), .out_sector(s_end), .out_band(b_end), .out_payload(bpay));
+    // the low end's bins wait a clock for the high end's
+    reg        [1:0]   lo_kind;
+    reg        [5:0]   s_lo;
+    reg        [3:0]   b_lo;
     always @(posedge clk) begin
-        out_valid <= bv;
-        out_kind <= bkind;
+        if (bv && !bpay[2]) begin
+            lo_kind <= bpay[1:0];
+            s_lo <= s_end;
+            b_lo <= b_end;
+        end
+    end
+    // len = (s_hi − s_lo mod SECTORS) + 1, both candidates beside the compare that picks one
+    wire [6:0] len_same = {1'b0, s_end} - {1'b0, s_lo} + 7'd1;
+    wire [6:0] len_wrap = {1'b0, s_end} + (SECTORS[6:0] + 7'd1) - {1'b0, s_lo};
+    always @(posedge clk) begin
+        out_valid <= bv && bpay[2];
+        out_kind <= lo_kind;
         out_lo <= s_lo;
-        out_len <= s_hi >= s_lo ? len_same : len_wrap;
+        out_len <= s_end >= s_lo ? len_same : len_wrap;
         // below the horizon: every band (`Reach::ALL`)
-        out_band_lo <= bkind == 2'd0 ? 4'd0 : b_lo;
-        out_band_hi <= bkind == 2'd0 ? 4'd15 : b_hi;
+        out_band_lo <= lo_kind == 2'd0 ? 4'd0 : b_lo;
+        out_band_hi <= lo_kind == 2'd0 ? 4'd15 : b_end;
     end
 
     // ---- helpers
@@ -535,14 +548,14 @@ module cull_reach #(
             max3_38 = st && su ? s : !st && tu ? t : u;
         end
     endfunction
-    function signed [34:0] min35(input signed [34:0] s, input signed [34:0] t);
-        min35 = s < t ? s : t;
+    function signed [AW-1:0] min_a(input signed [AW-1:0] s, input signed [AW-1:0] t);
+        min_a = s < t ? s : t;
     endfunction
-    function signed [34:0] max35(input signed [34:0] s, input signed [34:0] t);
-        max35 = s > t ? s : t;
+    function signed [AW-1:0] max_a(input signed [AW-1:0] s, input signed [AW-1:0] t);
+        max_a = s > t ? s : t;
     endfunction
     // an angle difference into (−π, π]
-    function signed [34:0] wrap(input signed [34:0] d);
+    function signed [AW-1:0] wrap(input signed [AW-1:0] d);
         wrap = d > PI ? d - 2 * PI : d <= -PI ? d + 2 * PI : d;
     endfunction
     // the leading one of m as a one-hot word (bit 0 if none)

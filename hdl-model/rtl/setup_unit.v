@@ -13,7 +13,7 @@
 // - the reach takes a corner with its edge's words and the patch's κ, the largest of its
 //   edges': the corners wait DELAY clocks (21: a quad's closing edge is out of the edge unit 17
 //   clocks after its last corner, and its κ is registered), so the patch's answer comes
-//   LATENCY = DELAY + the reach's 2 · (ITER + 4) + 26 clocks (83 at ITER 14) after its last
+//   LATENCY = DELAY + the reach's 2 · (ITER + 4) + 27 clocks (84 at ITER 14) after its last
 //   corner, which the model charges as the set-up pipe's latency (`intersect::setup_latency`).
 //
 // A patch's corners come on consecutive clocks (the fixed delays count on it); patches may have
@@ -68,7 +68,7 @@ module setup_unit #(
     output wire        [3:0]  out_p_band_hi
 );
     localparam integer DELAY = 21;
-    localparam integer REACH = 2 * (ITER + 4) + 26;
+    localparam integer REACH = 2 * (ITER + 4) + 27;
     // PLANE_EPS: an origin within 2^34 of h's scale of the plane sets nothing up
     localparam integer EPS_SHIFT = 34;
 

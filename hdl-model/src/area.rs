@@ -107,9 +107,11 @@ pub struct Placed {
     pub ffs: u64,
 }
 
-/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 43: 17,210 LUT4s and
-/// 12,406 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
-/// tiles for its 6 edge products, h's four and the reach's 12; 105.2 MHz. Session 38, before
+/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 45: 15,776 LUT4s and
+/// 12,033 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
+/// tiles for its 6 edge products, h's four and the reach's 12; 105.7 MHz. Session 43, before
+/// the reach binned both ends of a patch in one `rtl/cull_bin.v` and took its angles in the
+/// vectorings' 23 bits: 17,210 LUT4s, 12,406 flip-flops, 105.2 MHz. Session 38, before
 /// its words that only wait did so in distributed RAM (`rtl/delay_line.v`): 19,029 LUT4s and
 /// 14,771 flip-flops, 105.3 MHz. Session 37: 17,248
 /// LUT4s at 100.7 MHz, before its decisions took one carry chain each: each of those changes
@@ -120,8 +122,8 @@ pub struct Placed {
 /// and its shift in two steps; session 29: 19,683, before the reach's ends were compared with 0
 /// by their sign; session 28: 21,372, before the culling bins' two-step count).
 pub const SETUP_UNIT: Placed = Placed {
-    luts: 17_210,
-    ffs: 12_406 - 580,
+    luts: 15_776,
+    ffs: 12_033 - 580,
 };
 
 /// A compact lane's coarse edge test, `rtl/coarse_test.v` (session 30: 1,939 LUT4s and 1,702
@@ -133,15 +135,17 @@ pub const COARSE_TEST: Placed = Placed {
     ffs: 1_702 - 277,
 };
 
-/// The culling unit's ray side for one ray a clock, `rtl/cull_ray.v` (session 43: 3,868 LUT4s
-/// and 2,580 flip-flops placed, 98 of them its harness's, no DSP tile; 124.7 MHz. Session 37,
+/// The culling unit's ray side for one ray a clock, `rtl/cull_ray.v` (session 45: 3,919 LUT4s
+/// and 2,571 flip-flops placed, 98 of them its harness's, no DSP tile; 116.6 MHz. Session 43,
+/// its bins on the angles' Q3.29 containers, whose constant low bits Yosys had already left
+/// out: 3,868 LUT4s, 2,580 flip-flops, 124.7 MHz. Session 37,
 /// its CORDIC payloads in registers: 3,761 LUT4s, 3,427 flip-flops, 125.9 MHz. Session 33:
 /// 4,597 LUT4s at 122.9 MHz, before `rtl/add_sub.v`; session 29: 4,510 LUT4s and 3,425
 /// flip-flops, before the leading one in windows, which on the ray side's few places costs more
 /// than the two-step shift saves; session 27: 5,250 LUT4s).
 pub const RAY_SIDE: Placed = Placed {
-    luts: 3_868,
-    ffs: 2_580 - 98,
+    luts: 3_919,
+    ffs: 2_571 - 98,
 };
 
 /// The compact datapath's shared exact edge unit, `rtl/exact_edge.v` (session 43: 2,401 LUT4s and

@@ -51,8 +51,9 @@
 //! out by B. The corners' direction error is then at most B/ρ ≤ 2^-7.8 rad in azimuth (|ã|∞ ≥
 //! 2^16, ρ ≥ 2^-4 |f|∞) and less in θ, the vectorings (14 iterations on 20 bits, [`CULL_CORDIC`],
 //! each input scaled by a power of two of its own, [`NORM_TOP`]) add at most [`VECTOR_ERROR`]
-//! = 2^-12 each, a corner's and a ray's 2^-11, and [`MARGIN`] is 2^-7 rad: 2^-9 (the exact
-//! products' margin, which covers the rotator) + 2^-7.8 + 2^-11 = 6.9·10⁻³ < 7.8·10⁻³. (Until
+//! = 2^-12 each, a corner's and a ray's 2^-11, the wrap of a wedge across ±π by the word's 2π
+//! (`PI`) at most 2^-17, and [`MARGIN`] is 2^-7 rad: 2^-9 (the exact products' margin, which
+//! covers the rotator) + 2^-7.8 + 2^-11 + 2^-17 = 6.9·10⁻³ < 7.8·10⁻³. (Until
 //! session 26 the vectorings were 18 iterations on 24 bits, fed the corner scaled by its largest
 //! component, so that a corner 2^-4 from the axis lost 4 bits: 14 on 20 did not fit the margin
 //! that way.) A test (`narrow_reach_holds_the_wide_one`) checks
@@ -70,6 +71,7 @@
 
 use super::angle_memo::AngleMemo;
 use super::coarse::{block18, Coarse, KAPPA_DECLINE};
+use crate::cordic::rom::HALF_PI_Q62;
 use crate::cordic::{CordicConfig, CordicPipe, CordicSlot, Mode};
 use crate::format::{Angle, Unit};
 
@@ -88,10 +90,12 @@ pub const CULL_CORDIC: CordicConfig = CordicConfig {
 /// pipelines them for 100 MHz: the corner's block scaling (3), its products and bounds (2), its
 /// decisions (3), the two vectorings ([`CULL_CORDIC`]) each after a normalisation of 3 clocks
 /// (`cull_angles.v`), the patch gathered (1), its wedge and polar range (7), the ends' sectors
-/// and bands (3, `cull_bin.v`) and the answer's register (1): 62. (Until session 27 the model
-/// charged two vectorings and 5 clocks, 41 in all, before the RTL existed.) In the compact
+/// and bands (3, one `cull_bin.v` for both ends, the high end a clock after the low) and the
+/// answer's register (1): 63. (62 until session 45, with a bin unit for each end; until
+/// session 27 the model charged two vectorings and 5 clocks, 41 in all, before the RTL
+/// existed.) In the compact
 /// set-up unit a corner first waits for its edge's words: `intersect::CULL_SETUP_LATENCY`.
-pub const REACH_LATENCY: u32 = 2 * crate::cordic::pipe_latency(CULL_CORDIC.iterations) + 26;
+pub const REACH_LATENCY: u32 = 2 * crate::cordic::pipe_latency(CULL_CORDIC.iterations) + 27;
 /// Clocks from a reference direction to its sector and band, as the RTL (`cull_ray.v`) takes
 /// them: the two vectorings ([`CULL_CORDIC`]) each after a normalisation of 3 clocks, and the
 /// bins (3): 45. The unit runs beside the rotator from the clock the direction enters it, so a
@@ -111,8 +115,13 @@ const AXIS_SHIFT: u32 = 14;
 /// A corner that may lie within 2^-NEAR_AXIS (of |f|∞) of the axis puts the patch in every
 /// sector.
 const NEAR_AXIS: u32 = 4;
-/// π in Q3.29.
-const PI: i64 = 1_686_629_713;
+/// π in Q3.29 as the vectorings' words hold it (Q3.17 at [`CULL_CORDIC`]'s 20 bits): every
+/// angle the reach and the bins meet is then on that word's grid (the vectorings' angles are,
+/// and so are [`MARGIN`] and this), so the RTL takes them in 23 bits, not 35 (session 45; π
+/// to the container's last bit before). Rays and patches are binned by the same π, so the
+/// sectors and bands still partition the circle; the wrap's 2π is off the true one by under
+/// 2^-17 rad, which the margin's account covers.
+const PI: i64 = crate::format::rom_round(2 * HALF_PI_Q62, CULL_CORDIC.width - 3, 29) as i64;
 /// Polar bands of θ over [0, π/2].
 pub const BANDS: u32 = 16;
 /// Narrowest CORDIC word (CONFIG.WIDTH) with which the unit culls: below it, the rotator's own

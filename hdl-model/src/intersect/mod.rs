@@ -324,8 +324,8 @@ pub const EDGE_SETUP_LATENCY: u32 = 18;
 /// waits 21.
 pub const REACH_DELAY: u32 = 21;
 /// Clocks from a planar patch's last corner to its reach in the compact set-up unit:
-/// [`REACH_DELAY`] + [`cull::REACH_LATENCY`] = 83, as `rtl/setup_unit.v` takes them (until
-/// session 28 the model charged the reach's 62 alone, as if the edge words were there at once).
+/// [`REACH_DELAY`] + [`cull::REACH_LATENCY`] = 84, as `rtl/setup_unit.v` takes them (until
+/// session 28 the model charged the reach alone, as if the edge words were there at once).
 pub const CULL_SETUP_LATENCY: u32 = REACH_DELAY + cull::REACH_LATENCY;
 
 /// Clocks from a compact set-up unit taking a patch to the patch's first corner at its input:
