@@ -136,7 +136,7 @@ fn steps() -> Vec<Step> {
                    plane unit's answers on the Cornell box's rays and random ones with their \
                    clocks, the multipliers against exact products, and the whole one-lane \
                    accelerator through its AHB-Lite bus and stream port (the register \
-                   driver's own accesses, every read and result compared), then eighteen \
+                   driver's own accesses, every read and result compared), then nineteen \
                    one-bit mutants of the RTL shown to be caught, and `hemi --backend rtl` on \
                    the Verilated accelerator against the model of the same build, form factors, \
                    hits and clocks (cargo xtask rtl is the full form, with synthesis)",
