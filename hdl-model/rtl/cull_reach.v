@@ -318,8 +318,8 @@ module cull_reach #(
     wire signed [AW-1:0] cphi_w = {{3{cphi[W-1]}}, cphi};
     wire signed [AW-1:0] ctheta_w = {{3{ctheta[W-1]}}, ctheta};
     reg        [1:0]   cnt;
-    reg signed [AW-1:0]  gphi [0:2];
-    reg signed [AW-1:0]  gtheta [0:2];
+    reg signed [AW-1:0] gphi [0:2];
+    reg signed [AW-1:0] gtheta [0:2];
     // the patch's decisions so far, {below, near, +z, −z}: every corner below, any near,
     // every edge allowing +z, every edge allowing −z
     localparam [3:0] NONE_YET = 4'b1011;
@@ -328,8 +328,8 @@ module cull_reach #(
     // edge is from corner 0 to itself: no bulge, no turn, θ_0 again, which changes no minimum
     // or maximum below and lets every edge be k to k + 1 mod 4), its decisions
     reg                rv;
-    reg signed [AW-1:0]  rphi [0:3];
-    reg signed [AW-1:0]  rtheta [0:3];
+    reg signed [AW-1:0] rphi [0:3];
+    reg signed [AW-1:0] rtheta [0:3];
     reg        [3:0]   rf;
     always @(posedge clk) begin
         rv <= cv && cflags[4];
@@ -364,11 +364,11 @@ module cull_reach #(
     // maxes, g5 and g6 the polar range, the wedge's ends and the kind, g7 the bands' ends.
     reg                g1v;
     reg        [3:0]   g1f;
-    reg signed [AW-1:0]  g1phi0;
-    reg signed [AW-1:0]  g1d [1:3];
-    reg signed [AW-1:0]  g1e [0:3];
-    reg signed [AW-1:0]  g1tmin [0:3];
-    reg signed [AW-1:0]  g1tmax [0:3];
+    reg signed [AW-1:0] g1phi0;
+    reg signed [AW-1:0] g1d [1:3];
+    reg signed [AW-1:0] g1e [0:3];
+    reg signed [AW-1:0] g1tmin [0:3];
+    reg signed [AW-1:0] g1tmax [0:3];
     integer k;
     always @(posedge clk) begin
         g1v <= rv;
@@ -383,11 +383,11 @@ module cull_reach #(
     end
     reg                g2v;
     reg        [3:0]   g2f;
-    reg signed [AW-1:0]  g2phi0;
-    reg signed [AW-1:0]  g2d [1:3];
-    reg signed [AW-1:0]  g2e [0:3];
-    reg signed [AW-1:0]  g2tmin [0:3];
-    reg signed [AW-1:0]  g2tmax [0:1];
+    reg signed [AW-1:0] g2phi0;
+    reg signed [AW-1:0] g2d [1:3];
+    reg signed [AW-1:0] g2e [0:3];
+    reg signed [AW-1:0] g2tmin [0:3];
+    reg signed [AW-1:0] g2tmax [0:1];
     always @(posedge clk) begin
         g2v <= g1v;
         g2f <= g1f;
@@ -402,20 +402,20 @@ module cull_reach #(
     end
     reg                g3v;
     reg        [3:0]   g3f;
-    reg signed [AW-1:0]  g3phi0, g3hit;
-    reg signed [AW-1:0]  g3lo [0:1];
-    reg signed [AW-1:0]  g3hi [0:1];
-    reg signed [AW-1:0]  g3loc [0:1];
-    reg signed [AW-1:0]  g3bulge [0:3];
+    reg signed [AW-1:0] g3phi0, g3hit;
+    reg signed [AW-1:0] g3lo [0:1];
+    reg signed [AW-1:0] g3hi [0:1];
+    reg signed [AW-1:0] g3loc [0:1];
+    reg signed [AW-1:0] g3bulge [0:3];
     // |e| / 2 of the four ends (the magnitude as a signed word, so that the most negative
-    // one's, itself, halves as it did written as (d[34] ? -d : d) >>> 1)
+    // one's, itself, halves as it did written as (d[AW-1] ? -d : d) >>> 1)
     wire       [AW-1:0] g2e_mag [0:3];
     generate
         for (g = 0; g < 4; g = g + 1) begin : mags_g2e
             magnitude #(.W(AW)) mag (.x(g2e[g]), .m(g2e_mag[g]));
         end
     endgenerate
-    reg signed [AW-1:0]  g3tmin [0:3];
+    reg signed [AW-1:0] g3tmin [0:3];
     always @(posedge clk) begin
         g3v <= g2v;
         g3f <= g2f;
@@ -438,8 +438,8 @@ module cull_reach #(
     end
     reg                g4v;
     reg        [3:0]   g4f;
-    reg signed [AW-1:0]  g4phi0, g4hit, g4lo, g4hi, g4loc;
-    reg signed [AW-1:0]  g4lt [0:3];
+    reg signed [AW-1:0] g4phi0, g4hit, g4lo, g4hi, g4loc;
+    reg signed [AW-1:0] g4lt [0:3];
     always @(posedge clk) begin
         g4v <= g3v;
         g4f <= g3f;
@@ -453,11 +453,11 @@ module cull_reach #(
     end
     reg                g5v;
     reg        [3:0]   g5f;
-    reg signed [AW-1:0]  g5hit, g5alo, g5ahi;
+    reg signed [AW-1:0] g5hit, g5alo, g5ahi;
     // hi − lo >= SPAN as hi >= lo + SPAN, one compare of registers (on 35-bit words it took
     // two halves of the carry chain side by side)
     reg                g5spans;
-    reg signed [AW-1:0]  g5lt [0:1];
+    reg signed [AW-1:0] g5lt [0:1];
     always @(posedge clk) begin
         g5v <= g4v;
         g5f <= g4f;
@@ -472,7 +472,7 @@ module cull_reach #(
     wire spans = g5spans;
     reg                g6v, g6pos_near;
     reg        [1:0]   g6kind;
-    reg signed [AW-1:0]  g6hit, g6lot, g6alo, g6ahi;
+    reg signed [AW-1:0] g6hit, g6lot, g6alo, g6ahi;
     always @(posedge clk) begin
         g6v <= g5v;
         g6pos_near <= g5f[1] || g5f[2];
@@ -488,7 +488,7 @@ module cull_reach #(
     // at least three clocks after the last patch's and the unit is free on the second clock.
     reg                g7v, g7second;
     reg        [1:0]   g7kind;
-    reg signed [AW-1:0]  g7a, g7t, g7ahi, g7thi;
+    reg signed [AW-1:0] g7a, g7t, g7ahi, g7thi;
     always @(posedge clk) begin
         g7v <= g6v;
         g7second <= g7v;
