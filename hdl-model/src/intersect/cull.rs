@@ -93,8 +93,8 @@ pub const CULL_CORDIC: CordicConfig = CordicConfig {
 /// and bands (3, one `cull_bin.v` for both ends, the high end a clock after the low) and the
 /// answer's register (1): 63. (62 until session 45, with a bin unit for each end; until
 /// session 27 the model charged two vectorings and 5 clocks, 41 in all, before the RTL
-/// existed.) In the compact
-/// set-up unit a corner first waits for its edge's words: `intersect::CULL_SETUP_LATENCY`.
+/// existed.) In the compact set-up unit a corner first waits for its edge's words:
+/// `intersect::CULL_SETUP_LATENCY`.
 pub const REACH_LATENCY: u32 = 2 * crate::cordic::pipe_latency(CULL_CORDIC.iterations) + 27;
 /// Clocks from a reference direction to its sector and band, as the RTL (`cull_ray.v`) takes
 /// them: the two vectorings ([`CULL_CORDIC`]) each after a normalisation of 3 clocks, and the
