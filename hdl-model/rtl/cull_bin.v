@@ -76,11 +76,12 @@ module cull_bin #(
     /* verilator lint_on UNUSEDSIGNAL */
     // The count of thresholds at or below the angle in two steps of one clock each, rather than
     // every threshold compared at once (46 compares of 32 or 35 bits at 32 sectors, 812 carry
-    // cells a unit, on Q3.29): first the coarse thresholds k = 4m (m >= 1), whose count c puts the angle
-    // between thresholds 4c and 4c + 4; then the three thresholds 4c + 1 .. 4c + 3, chosen by c
-    // from constant tables, whose count f gives the bin 4c + f. The thresholds increase, so this
-    // is the same count. Each fine compare has its own copy of c (kept: one copy fanned out to
-    // every table LUT4 was the set-up unit's critical path), and t goes in clamped to W − 2 bits.
+    // cells a unit, on Q3.29): first the coarse thresholds k = 4m (m >= 1), whose count c puts
+    // the angle between thresholds 4c and 4c + 4; then the three thresholds 4c + 1 .. 4c + 3,
+    // chosen by c from constant tables, whose count f gives the bin 4c + f. The thresholds
+    // increase, so this is the same count. Each fine compare has its own copy of c (kept: one
+    // copy fanned out to every table LUT4 was the set-up unit's critical path), and t goes in
+    // clamped to W − 2 bits.
     localparam integer SC = SECTORS / 4, BC = BANDS / 4;
     wire [15:0] ts;
     wire [3:0]  tb;

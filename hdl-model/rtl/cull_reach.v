@@ -483,9 +483,10 @@ module cull_reach #(
         g6ahi <= g5ahi + MARGIN;
     end
     // g7 puts the low end (the wedge's, and the polar range's less the margin) in the registers
-    // the bin unit reads, and holds the high end (the range's plus the margin), which the same registers take on the next
-    // clock: one cull_bin.v for both ends. A patch has at least three corners, so its ends come
-    // at least three clocks after the last patch's and the unit is free on the second clock.
+    // the bin unit reads, and holds the high end (the range's plus the margin), which the same
+    // registers take on the next clock: one cull_bin.v for both ends. A patch has at least
+    // three corners, so its ends come at least three clocks after the last patch's and the unit
+    // is free on the second clock.
     reg                g7v, g7second;
     reg        [1:0]   g7kind;
     reg signed [AW-1:0] g7a, g7t, g7ahi, g7thi;
