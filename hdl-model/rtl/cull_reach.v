@@ -22,7 +22,7 @@
 // 4. its azimuth and polar angle by the unit's vectorings (`cull_angles.v`).
 // Per patch, once its corners' angles are in:
 // 5. the wedge's ends: the corners' azimuths against the first's, wrapped into (−π, π]; the
-//    polar range: below, min(θ_k, θ_k+1) − |Δφ|/2 over the edges, above, the largest θ;
+//    polar range: below, min(θ_k, θ_k+1) − ⌈|Δφ|/2⌉ over the edges, above, the largest θ;
 // 6. below the horizon if every corner is; every sector if the axis may be inside (every edge
 //    allows it, or κ bounds nothing), a corner is near the axis, or the wedge with its margins
 //    spans π; the ends' sectors and bands, each widened by the margin 2^-7 rad (`cull_bin.v`).
@@ -407,8 +407,9 @@ module cull_reach #(
     reg signed [AW-1:0] g3hi [0:1];
     reg signed [AW-1:0] g3loc [0:1];
     reg signed [AW-1:0] g3bulge [0:3];
-    // |e| / 2 of the four ends (the magnitude as a signed word, so that the most negative
-    // one's, itself, halves as it did written as (d[AW-1] ? -d : d) >>> 1)
+    // |e| / 2 of the four ends, rounded up (`cull::half_up`: the bulge at least half the turn,
+    // on the words' grid; the magnitude as a signed word, which a wrapped turn, within ±π, never
+    // makes the most negative)
     wire       [AW-1:0] g2e_mag [0:3];
     generate
         for (g = 0; g < 4; g = g + 1) begin : mags_g2e
@@ -432,7 +433,7 @@ module cull_reach #(
         g3loc[0] <= g2d[1][AW-1] ? g2d[1] + SPAN : SPAN;
         g3loc[1] <= g2d[2] < g2d[3] ? g2d[2] + SPAN : g2d[3] + SPAN;
         for (k = 0; k < 4; k = k + 1) begin
-            g3bulge[k] <= $signed(g2e_mag[k]) >>> 1;
+            g3bulge[k] <= ($signed(g2e_mag[k]) + 1) >>> 1;
             g3tmin[k] <= g2tmin[k];
         end
     end

@@ -138,8 +138,8 @@ pub const COARSE_TEST: Placed = Placed {
 /// The culling unit's ray side for one ray a clock, `rtl/cull_ray.v` (session 45: 3,919 LUT4s
 /// and 2,571 flip-flops placed, 98 of them its harness's, no DSP tile; 116.6 MHz. Session 43,
 /// its bins on the angles' Q3.29 containers, whose constant low bits Yosys had already left
-/// out: 3,868 LUT4s, 2,580 flip-flops, 124.7 MHz. Session 37,
-/// its CORDIC payloads in registers: 3,761 LUT4s, 3,427 flip-flops, 125.9 MHz. Session 33:
+/// out: 3,868 LUT4s, 2,580 flip-flops, 124.7 MHz. Session 37, its CORDIC payloads in
+/// registers: 3,761 LUT4s, 3,427 flip-flops, 125.9 MHz. Session 33:
 /// 4,597 LUT4s at 122.9 MHz, before `rtl/add_sub.v`; session 29: 4,510 LUT4s and 3,425
 /// flip-flops, before the leading one in windows, which on the ray side's few places costs more
 /// than the two-step shift saves; session 27: 5,250 LUT4s).

@@ -53,11 +53,10 @@
 //! each input scaled by a power of two of its own, [`NORM_TOP`]) add at most [`VECTOR_ERROR`]
 //! = 2^-12 each, a corner's and a ray's 2^-11, the wrap of a wedge across ±π by the word's 2π
 //! (`PI`) at most 2^-17, and [`MARGIN`] is 2^-7 rad: 2^-9 (the exact products' margin, which
-//! covers the rotator) + 2^-7.8 + 2^-11 + 2^-17 = 6.9·10⁻³ < 7.8·10⁻³. (Until
-//! session 26 the vectorings were 18 iterations on 24 bits, fed the corner scaled by its largest
-//! component, so that a corner 2^-4 from the axis lost 4 bits: 14 on 20 did not fit the margin
-//! that way.) A test (`narrow_reach_holds_the_wide_one`) checks
-//! on random patches, origins and frames that the reach holds the one the exact products and
+//! covers the rotator) + 2^-7.8 + 2^-11 + 2^-17 = 6.9·10⁻³ < 7.8·10⁻³. (Until session 26 the
+//! vectorings were 18 iterations on 24 bits, fed the corner scaled by its largest component, so
+//! that a corner 2^-4 from the axis lost 4 bits: 14 on 20 did not fit the margin that way.) A
+//! test (`narrow_reach_holds_the_wide_one`) checks on random patches, origins and frames that the reach holds the one the exact products and
 //! the 32-bit vectorings give (with the same polar bound and near-axis bands, at the old
 //! margin and near-axis threshold), and (`culled_rays_inside_a_patch_are_handed_it`) that a
 //! ray inside a patch's pyramid is in its reach.
@@ -90,8 +89,8 @@ pub const CULL_CORDIC: CordicConfig = CordicConfig {
 /// pipelines them for 100 MHz: the corner's block scaling (3), its products and bounds (2), its
 /// decisions (3), the two vectorings ([`CULL_CORDIC`]) each after a normalisation of 3 clocks
 /// (`cull_angles.v`), the patch gathered (1), its wedge and polar range (7), the ends' sectors
-/// and bands (3, one `cull_bin.v` for both ends, the high end a clock after the low) and the
-/// answer's register (1): 63. (62 until session 45, with a bin unit for each end; until
+/// and bands (4: one `cull_bin.v`'s 3 for both ends, the high end a clock after the low) and
+/// the answer's register (1): 63. (62 until session 45, with a bin unit for each end; until
 /// session 27 the model charged two vectorings and 5 clocks, 41 in all, before the RTL
 /// existed.) In the compact set-up unit a corner first waits for its edge's words:
 /// `intersect::CULL_SETUP_LATENCY`.
@@ -115,10 +114,10 @@ const AXIS_SHIFT: u32 = 14;
 /// A corner that may lie within 2^-NEAR_AXIS (of |f|∞) of the axis puts the patch in every
 /// sector.
 const NEAR_AXIS: u32 = 4;
-/// π in Q3.29 as the vectorings' words hold it (Q3.17 at [`CULL_CORDIC`]'s 20 bits): every
-/// angle the reach and the bins meet is then on that word's grid (the vectorings' angles are,
-/// and so are [`MARGIN`] and this), so the RTL takes them in 23 bits, not 35 (session 45; π
-/// to the container's last bit before). Rays and patches are binned by the same π, so the
+/// π in Q3.29 rounded to the vectorings' grid (Q3.17 at [`CULL_CORDIC`]'s 20 bits): every
+/// angle the reach and the bins meet is then on that grid (the vectorings' angles are, and so
+/// are [`MARGIN`], this and the bulges, [`ANGLE_GRID`]), so the RTL takes them in 23 bits, not
+/// 35 (session 45; π to the container's last bit before). Rays and patches are binned by the same π, so the
 /// sectors and bands still partition the circle; the wrap's 2π is off the true one by under
 /// 2^-17 rad, which the margin's account covers.
 const PI: i64 = crate::format::rom_round(2 * HALF_PI_Q62, CULL_CORDIC.width - 3, 29) as i64;
@@ -425,11 +424,24 @@ fn polar_range(phi: &[i64], theta: &[i64]) -> (i64, i64) {
     let (mut lo_t, mut hi_t) = (i64::MAX, i64::MIN);
     for k in 0..phi.len() {
         let j = (k + 1) % phi.len();
-        let bulge = wrap(phi[j] - phi[k]).abs() / 2;
+        let bulge = half_up(wrap(phi[j] - phi[k]).abs());
         lo_t = lo_t.min(theta[k].min(theta[j]) - bulge);
         hi_t = hi_t.max(theta[k]);
     }
     (lo_t, hi_t)
+}
+
+/// Bits of Q3.29 below the culling vectorings' angle word ([`CULL_CORDIC`]'s Q3.17): the grid
+/// every angle of the reach is on.
+const ANGLE_GRID: u32 = 32 - CULL_CORDIC.width;
+
+/// Half of a nonnegative angle (Q3.29 bits), rounded up to the vectorings' grid
+/// ([`ANGLE_GRID`]): ⌈⌈a⌉/2⌉ in the grid's units, at least a/2, so a bulge stays conservative
+/// and the RTL's halving of a word (`cull_reach.v`, (|e| + 1) >>> 1) is the same. (a/2 on
+/// Q3.29, half a word's LSB below it for an odd word, until the review of session 45.)
+fn half_up(a: i64) -> i64 {
+    let words = (a + (1 << ANGLE_GRID) - 1) >> ANGLE_GRID;
+    ((words + 1) >> 1) << ANGLE_GRID
 }
 
 /// An angle difference (Q3.29 bits) into (−π, π].

@@ -31,9 +31,10 @@ const ADD_SUB_TO: &str = ".CI(1'b0)";
 
 /// Widths the RTL instantiates `add_sub` at besides CONFIGS' CORDIC widths: the culling's
 /// CORDIC (`cull_reach.v`'s and `cull_ray.v`'s W, the model's `cull::CULL_CORDIC`: 20 bits),
-/// and the magnitudes (`magnitude.v`) of the reach (`cull_reach.v`: 18, 33, 35, 38 bits) and
-/// of the culling's normalisations (`cull_angles.v`: 33, 35, 39, 66).
-const OTHER_WIDTHS: [u32; 7] = [18, 20, 33, 35, 38, 39, 66];
+/// and the magnitudes (`magnitude.v`) of the reach (`cull_reach.v`: 18, 23, 33, 38 bits; its
+/// per-patch angles 35 bits wide until session 45) and of the culling's normalisations
+/// (`cull_angles.v`: 33, 35, 39, 66).
+const OTHER_WIDTHS: [u32; 8] = [18, 20, 23, 33, 35, 38, 39, 66];
 
 /// Whether Yosys's `script`, run in `dir` with its log `log` there, succeeds (a proof's
 /// `sat -verify` fails the script when the proof fails).

@@ -320,7 +320,9 @@ mod tests {
     #[test]
     fn the_random_banks_fill_the_fifo_and_fall_idle() {
         let (text, c) = vectors(&[], 1, 20, 3);
-        assert_eq!(text.lines().next(), Some("L 11 9 83"));
+        let latencies = format!("L {CORNER_CLOCKS} {HORIZON_LATENCY} {CULL_SETUP_LATENCY}");
+        assert_eq!(text.lines().next(), Some(latencies.as_str()));
+        assert_eq!(latencies, "L 11 9 84");
         assert!(c.passes >= 80 && c.corners > 1000, "{c:?}");
         // the filter stood still: runs of kept quads filled the FIFO
         assert!(c.stalls > 100, "{c:?}");
