@@ -107,9 +107,9 @@ pub struct Placed {
     pub ffs: u64,
 }
 
-/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 45: 15,776 LUT4s and
-/// 12,033 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
-/// tiles for its 6 edge products, h's four and the reach's 12; 105.7 MHz. Session 43, before
+/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 45: 15,621 LUT4s and
+/// 12,037 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
+/// tiles for its 6 edge products, h's four and the reach's 12; 109.3 MHz. Session 43, before
 /// the reach binned both ends of a patch in one `rtl/cull_bin.v` and took its angles in the
 /// vectorings' 23 bits: 17,210 LUT4s, 12,406 flip-flops, 105.2 MHz. Session 38, before
 /// its words that only wait did so in distributed RAM (`rtl/delay_line.v`): 19,029 LUT4s and
@@ -122,8 +122,8 @@ pub struct Placed {
 /// and its shift in two steps; session 29: 19,683, before the reach's ends were compared with 0
 /// by their sign; session 28: 21,372, before the culling bins' two-step count).
 pub const SETUP_UNIT: Placed = Placed {
-    luts: 15_776,
-    ffs: 12_033 - 580,
+    luts: 15_621,
+    ffs: 12_037 - 580,
 };
 
 /// A compact lane's coarse edge test, `rtl/coarse_test.v` (session 30: 1,939 LUT4s and 1,702

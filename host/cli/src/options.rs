@@ -166,14 +166,14 @@ impl ModelArgs {
 /// joined to its bitmap writer; 97.4 in session 35; 101.2, the culling unit's patch side, in
 /// session 33; 92.8, a bank's whole set-up pass, in session 32; 103.0, the register file's, in
 /// session 31), where the model's reports had assumed 100 MHz.
-pub const MEASURED_CLOCK_MHZ: f64 = 102.4;
+pub const MEASURED_CLOCK_MHZ: f64 = 101.0;
 
 /// The modelled accelerator (`--backend model`, and the CORDIC of boards' models).
 #[derive(Args, Clone, Debug, PartialEq)]
 pub struct ModelArgs {
     /// Accelerator clock at which `--backend model` reports time: by default the slowest unit's
     /// clock as `cargo xtask rtl` places each unit on an ECP5-85k (docs/PERFORMANCE.md, session
-    /// 45: the joined set-up pass, 102.4 MHz). The whole datapath has not been placed.
+    /// 45: the joined set-up pass, 101.0 MHz). The whole datapath has not been placed.
     #[arg(long, default_value_t = MEASURED_CLOCK_MHZ)]
     pub clock_mhz: f64,
     /// CORDIC iterations of the modelled accelerator (`--backend model`, and boards' models).
