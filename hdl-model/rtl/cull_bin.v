@@ -6,9 +6,9 @@
 // the ends of a patch's reach (`cull_reach.v`).
 //
 // Angles are the culling vectorings' words, Q3.(W-3), sign-extended to W + 3 bits: a in
-// [-3π, 3π) and t of either sign. π is π as those words hold it (cull.rs's PI, which is that
-// word shifted into Q3.29), so every threshold and every angle here is on the word's grid and
-// the compares are W + 3 bits wide (35, on Q3.29, until session 45). Three clocks: (a + π) mod
+// [-3π, 3π) and t of either sign. π is π rounded to those words' grid (cull.rs's PI, that word
+// shifted into Q3.29), so every threshold and every angle here is on the word's grid and the
+// compares are W + 3 bits wide (35, on Q3.29, until session 45). Three clocks: (a + π) mod
 // 2π and t as words, the coarse thresholds compared and counted, the fine ones (below). (As one
 // clock of 64-bit compares counted by a chain of incrementers, the ray side placed at 10 MHz.)
 // PW bits of payload ride along.

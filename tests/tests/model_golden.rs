@@ -259,8 +259,8 @@ fn soft_and_model_form_factors_agree() {
         }
     }
     println!("worst |F_soft − F_model| = {worst:.2e}");
-    // Rays within the turn's error (`CordicConfig::turn_bound`) of a patch edge may land on the other
-    // patch: one ray of R = 16 carries at most δD ≈ 1/320 of a row, averaged over K² = 4
+    // Rays within the turn's error (`CordicConfig::turn_bound`) of a patch edge may land on the
+    // other patch: one ray of R = 16 carries at most δD ≈ 1/320 of a row, averaged over K² = 4
     // samples.
     assert!(worst < 2e-3, "{worst}");
 }

@@ -56,10 +56,11 @@
 //! covers the rotator) + 2^-7.8 + 2^-11 + 2^-17 = 6.9·10⁻³ < 7.8·10⁻³. (Until session 26 the
 //! vectorings were 18 iterations on 24 bits, fed the corner scaled by its largest component, so
 //! that a corner 2^-4 from the axis lost 4 bits: 14 on 20 did not fit the margin that way.) A
-//! test (`narrow_reach_holds_the_wide_one`) checks on random patches, origins and frames that the reach holds the one the exact products and
-//! the 32-bit vectorings give (with the same polar bound and near-axis bands, at the old
-//! margin and near-axis threshold), and (`culled_rays_inside_a_patch_are_handed_it`) that a
-//! ray inside a patch's pyramid is in its reach.
+//! test (`narrow_reach_holds_the_wide_one`) checks on random patches, origins and frames that
+//! the reach holds the one the exact products and the 32-bit vectorings give (with the same
+//! polar bound and near-axis bands, at the old margin and near-axis threshold), and
+//! (`culled_rays_inside_a_patch_are_handed_it`) that a ray inside a patch's pyramid is in its
+//! reach.
 //!
 //! Why the margin is safe against the rotator: everything the test compares is within about
 //! 2^-21 rad of exact (the rotator's truncation, the axes'), and an azimuth error is at most the
@@ -117,9 +118,9 @@ const NEAR_AXIS: u32 = 4;
 /// π in Q3.29 rounded to the vectorings' grid (Q3.17 at [`CULL_CORDIC`]'s 20 bits): every
 /// angle the reach and the bins meet is then on that grid (the vectorings' angles are, and so
 /// are [`MARGIN`], this and the bulges, [`ANGLE_GRID`]), so the RTL takes them in 23 bits, not
-/// 35 (session 45; π to the container's last bit before). Rays and patches are binned by the same π, so the
-/// sectors and bands still partition the circle; the wrap's 2π is off the true one by under
-/// 2^-17 rad, which the margin's account covers.
+/// 35 (session 45; π to the container's last bit before). Rays and patches are binned by the
+/// same π, so the sectors and bands still partition the circle; the wrap's 2π is off the true
+/// one by under 2^-17 rad, which the margin's account covers.
 const PI: i64 = crate::format::rom_round(2 * HALF_PI_Q62, CULL_CORDIC.width - 3, 29) as i64;
 /// Polar bands of θ over [0, π/2].
 pub const BANDS: u32 = 16;

@@ -162,10 +162,9 @@ impl ModelArgs {
 /// the horizon filter with the slot boxes' write path, once the set-up unit's waiting words had
 /// moved into LUT RAM; 100.1 in session 38, a bank's set-up pass, its front and set-up unit, at
 /// the first placement seed; 99.9 in session 37, the same pass, the best of three seeds; 101.1
-/// in session 36, the same pass
-/// joined to its bitmap writer; 97.4 in session 35; 101.2, the culling unit's patch side, in
-/// session 33; 92.8, a bank's whole set-up pass, in session 32; 103.0, the register file's, in
-/// session 31), where the model's reports had assumed 100 MHz.
+/// in session 36, the same pass joined to its bitmap writer; 97.4 in session 35; 101.2, the
+/// culling unit's patch side, in session 33; 92.8, a bank's whole set-up pass, in session 32;
+/// 103.0, the register file's, in session 31), where the model's reports had assumed 100 MHz.
 pub const MEASURED_CLOCK_MHZ: f64 = 101.0;
 
 /// The modelled accelerator (`--backend model`, and the CORDIC of boards' models).
