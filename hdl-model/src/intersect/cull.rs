@@ -435,6 +435,8 @@ fn polar_range(phi: &[i64], theta: &[i64]) -> (i64, i64) {
 /// Bits of Q3.29 below the culling vectorings' angle word ([`CULL_CORDIC`]'s Q3.17): the grid
 /// every angle of the reach is on.
 const ANGLE_GRID: u32 = 32 - CULL_CORDIC.width;
+// the RTL carries the reach's angles without these bits: its constants must be on the grid
+const _: () = assert!(MARGIN % (1 << ANGLE_GRID) == 0 && PI % (1 << ANGLE_GRID) == 0);
 
 /// Half of a nonnegative angle (Q3.29 bits), rounded up to the vectorings' grid
 /// ([`ANGLE_GRID`]): ⌈⌈a⌉/2⌉ in the grid's units, at least a/2, so a bulge stays conservative
