@@ -182,18 +182,20 @@ module coarse_edge #(
     assign out_u18 = {s5_u[2], s5_u[1], s5_u[0]};
 
     // 6: the six products u~_j delta~_k, and the words' magnitudes
-    reg signed [35:0] s6_p [0:5];
+    // each product on a tile with its output register (`mul18.v`): u~_j delta~_k for the
+    // pairs (j, k) = (1, 2), (2, 1), (2, 0), (0, 2), (0, 1), (1, 0)
+    wire signed [35:0] s6_p [0:5];
+    mul18 mul0 (.clk(clk), .ce(1'b1), .a(s5_u[1]), .b(s5_d[2]), .p(s6_p[0]));
+    mul18 mul1 (.clk(clk), .ce(1'b1), .a(s5_u[2]), .b(s5_d[1]), .p(s6_p[1]));
+    mul18 mul2 (.clk(clk), .ce(1'b1), .a(s5_u[2]), .b(s5_d[0]), .p(s6_p[2]));
+    mul18 mul3 (.clk(clk), .ce(1'b1), .a(s5_u[0]), .b(s5_d[2]), .p(s6_p[3]));
+    mul18 mul4 (.clk(clk), .ce(1'b1), .a(s5_u[0]), .b(s5_d[1]), .p(s6_p[4]));
+    mul18 mul5 (.clk(clk), .ce(1'b1), .a(s5_u[1]), .b(s5_d[0]), .p(s6_p[5]));
     reg [19:0]        s6_mu [0:2];
     reg [19:0]        s6_md [0:2];
     reg signed [7:0]  s6_pq;
     always @(posedge clk) begin
         s6_pq <= s5_pq;
-        s6_p[0] <= s5_u[1] * s5_d[2];
-        s6_p[1] <= s5_u[2] * s5_d[1];
-        s6_p[2] <= s5_u[2] * s5_d[0];
-        s6_p[3] <= s5_u[0] * s5_d[2];
-        s6_p[4] <= s5_u[0] * s5_d[1];
-        s6_p[5] <= s5_u[1] * s5_d[0];
         for (i = 0; i < 3; i = i + 1) begin
             s6_mu[i] <= mag18(s5_u[i]);
             s6_md[i] <= mag18(s5_d[i]);

@@ -182,8 +182,17 @@ module cull_reach #(
     // ---- 2: the products, the bounds: b_k = Σ|ã_c| + Σ(|x̃_kc| + 1), B = (Σ(|w̃_c| + 1) << κ)
     // + Σ|e_c|, the axis test's threshold (|e|∞ + 2^κ) 2^6
     reg                v3, l3;
-    reg signed [35:0]  p3 [0:8];
-    reg signed [35:0]  q3 [0:2];
+    // each product on a tile with its output register (`mul18.v`)
+    wire signed [35:0] p3 [0:8];
+    wire signed [35:0] q3 [0:2];
+    generate
+        for (g = 0; g < 9; g = g + 1) begin : corner_products
+            mul18 mul (.clk(clk), .ce(1'b1), .a(w2[g % 3]), .b(x2[g]), .p(p3[g]));
+        end
+        for (g = 0; g < 3; g = g + 1) begin : axis_products
+            mul18 mul (.clk(clk), .ce(1'b1), .a(e2[g]), .b(x2[6 + g]), .p(q3[g]));
+        end
+    endgenerate
     reg        [17:0]  wa3 [0:2];
     wire       [17:0]  w2_mag [0:2];
     generate
@@ -198,9 +207,7 @@ module cull_reach #(
     always @(posedge clk) begin
         v3 <= v2;
         l3 <= l2;
-        for (i = 0; i < 9; i = i + 1) p3[i] <= w2[i % 3] * x2[i];
         for (i = 0; i < 3; i = i + 1) begin
-            q3[i] <= e2[i] * x2[6 + i];
             xs3[i] <= xs2[i];
             wa3[i] <= w2_mag[i];
         end

@@ -89,6 +89,7 @@ module horizon_filter (
     wire       [95:0] w_all = in_w;
     /* verilator lint_on UNUSEDSIGNAL */
     integer c;
+    genvar gc;
     always @(posedge clk) if (en) begin
         s1_valid <= in_valid;
         s1_boxed <= in_boxed;
@@ -167,14 +168,19 @@ module horizon_filter (
     // up, no negation's carry chain) and the count of the negative ones; W and the margin
     // (U' + 1) 2^9 added
     reg               s5_valid, s5_boxed;
-    reg signed [35:0] s5_p [0:2];
+    // each product on a tile with its output register (`mul18.v`)
+    wire signed [35:0] s5_p [0:2];
+    generate
+        for (gc = 0; gc < 3; gc = gc + 1) begin : products
+            mul18 mul (.clk(clk), .ce(en), .a(s4_q[gc]), .b(s4_w[gc]), .p(s5_p[gc]));
+        end
+    endgenerate
     reg        [19:0] s5_qx;
     reg        [1:0]  s5_neg;
     reg        [26:0] s5_k;
     always @(posedge clk) if (en) begin
         s5_valid <= s4_valid;
         s5_boxed <= s4_boxed;
-        for (c = 0; c < 3; c = c + 1) s5_p[c] <= s4_q[c] * s4_w[c];
         s5_qx <= {2'd0, s4_q[0] ^ {18{s4_q[0][17]}}} + {2'd0, s4_q[1] ^ {18{s4_q[1][17]}}}
             + {2'd0, s4_q[2] ^ {18{s4_q[2][17]}}};
         s5_neg <= {1'b0, s4_q[0][17]} + {1'b0, s4_q[1][17]} + {1'b0, s4_q[2][17]};

@@ -93,7 +93,12 @@ pub const PLANE_BENCH: Bench = Bench {
 /// The compact datapath's coarse edge units: the set-up unit's edge words and a lane's test.
 pub const COARSE_BENCH: Bench = Bench {
     top: "coarse_top",
-    sources: &["coarse_edge.v", "coarse_test.v", "tb/coarse_top.v"],
+    sources: &[
+        "coarse_edge.v",
+        "mul18.v",
+        "coarse_test.v",
+        "tb/coarse_top.v",
+    ],
     cpp: "tb/coarse_tb.cpp",
     report: "coarse",
 };
@@ -106,6 +111,7 @@ pub const CULL_BENCH: Bench = Bench {
     sources: &[
         "cull_ray.v",
         "cull_reach.v",
+        "mul18.v",
         "cull_angles.v",
         "leading_one.v",
         "cull_bin.v",
@@ -128,6 +134,7 @@ pub const SETUP_BENCH: Bench = Bench {
     sources: &[
         "setup_unit.v",
         "coarse_edge.v",
+        "mul18.v",
         "cull_reach.v",
         "cull_angles.v",
         "leading_one.v",
@@ -147,7 +154,12 @@ pub const SETUP_BENCH: Bench = Bench {
 /// the verdicts' clocks.
 pub const HORIZON_BENCH: Bench = Bench {
     top: "horizon_top",
-    sources: &["slot_box.v", "horizon_filter.v", "tb/horizon_top.v"],
+    sources: &[
+        "slot_box.v",
+        "horizon_filter.v",
+        "mul18.v",
+        "tb/horizon_top.v",
+    ],
     cpp: "tb/horizon_tb.cpp",
     report: "horizon",
 };
@@ -157,7 +169,7 @@ pub const HORIZON_BENCH: Bench = Bench {
 /// with its clock.
 pub const BANK_BENCH: Bench = Bench {
     top: "bank_front",
-    sources: &["horizon_filter.v", "bank_front.v"],
+    sources: &["horizon_filter.v", "mul18.v", "bank_front.v"],
     cpp: "tb/bank_tb.cpp",
     report: "bank",
 };
@@ -168,6 +180,7 @@ pub const BANK_SETUP_BENCH: Bench = Bench {
     top: "bank_setup",
     sources: &[
         "horizon_filter.v",
+        "mul18.v",
         "bank_front.v",
         "bank_setup.v",
         "setup_unit.v",
@@ -194,6 +207,7 @@ pub const BANK_PASS_BENCH: Bench = Bench {
     top: "bank_pass",
     sources: &[
         "horizon_filter.v",
+        "mul18.v",
         "bank_front.v",
         "bank_setup.v",
         "setup_unit.v",
@@ -1264,6 +1278,7 @@ pub fn reach_design() -> Design {
         top: "syn_reach",
         files: vec![
             "cull_reach.v",
+            "mul18.v",
             "cull_angles.v",
             "leading_one.v",
             "cull_bin.v",
@@ -1298,7 +1313,12 @@ pub fn horizon_design() -> Design {
     Design {
         name: "horizon".to_string(),
         top: "syn_horizon",
-        files: vec!["slot_box.v", "horizon_filter.v", "syn/syn_horizon.v"],
+        files: vec![
+            "slot_box.v",
+            "horizon_filter.v",
+            "mul18.v",
+            "syn/syn_horizon.v",
+        ],
         params: vec![],
         summed: true,
         abc9: false,
@@ -1311,7 +1331,12 @@ pub fn bank_design() -> Design {
     Design {
         name: "bank".to_string(),
         top: "syn_bank",
-        files: vec!["horizon_filter.v", "bank_front.v", "syn/syn_bank.v"],
+        files: vec![
+            "horizon_filter.v",
+            "mul18.v",
+            "bank_front.v",
+            "syn/syn_bank.v",
+        ],
         params: vec![],
         summed: false,
         abc9: false,
@@ -1473,8 +1498,13 @@ fn yosys_synth(d: &Design, synth: &str, dir: &Path) -> Result<String, String> {
         true => String::new(),
         false => format!("chparam {} {}; ", params.join(" "), d.top),
     };
+    // the ECP5's multiplier tiles with their output registers (`mul18.v`); no other flow has them
+    let tiles = match synth.starts_with("synth_ecp5") {
+        true => "-DHEMI_ECP5 ",
+        false => "",
+    };
     let script = format!(
-        "read_verilog -icells -I{RTL_FROM_WORK_DIR} {}; {chparam}{synth}; stat",
+        "read_verilog {tiles}-icells -I{RTL_FROM_WORK_DIR} {}; {chparam}{synth}; stat",
         files.join(" ")
     );
     let mut y = Command::new(yosys());

@@ -5,7 +5,13 @@
 //! - the adder-subtractor (`rtl/add_sub.v`: the CORDIC's, and `rtl/magnitude.v`'s), whose
 //!   synthesis form (Yosys's `$alu` cell, the inversion in the carry cells' LUT4s) is not the
 //!   form Verilator co-simulates: mapped to the ECP5's cells and proved equal to a + b and
-//!   a − b (`rtl/tb/add_sub_check.v`) at each width the RTL instantiates it with.
+//!   a − b (`rtl/tb/add_sub_check.v`) at each width the RTL instantiates it with;
+//! - the registered product on a multiplier tile (`rtl/mul18.v`), whose synthesis form
+//!   instantiates the ECP5's MULT18X18D with its output register. Yosys has no simulation
+//!   model of the tile, so this is a check of its wiring, not a proof: the tile's inputs, sign
+//!   and source pins must be connected exactly as Yosys connects them when it maps the written
+//!   form (`ecp5/dsp_map.v`), and its output register must be on the unit's clock and enable
+//!   with its 36 products on the unit's output.
 //!
 //! Each proof is then run on a mutant, which must fail, so that a proof that cannot fail is
 //! caught. Yosys runs in the work dir on relative paths, as synthesis does
@@ -35,6 +41,10 @@ const ADD_SUB_TO: &str = ".CI(1'b0)";
 /// per-patch angles 35 bits wide until session 45) and of the culling's normalisations
 /// (`cull_angles.v`: 33, 35, 39, 66).
 const OTHER_WIDTHS: [u32; 8] = [18, 20, 23, 33, 35, 38, 39, 66];
+
+/// The tile check's mutant: the second operand taken unsigned.
+const TILE_FROM: &str = ".SIGNEDB(1'b1)";
+const TILE_TO: &str = ".SIGNEDB(1'b0)";
 
 /// Whether Yosys's `script`, run in `dir` with its log `log` there, succeeds (a proof's
 /// `sat -verify` fails the script when the proof fails).
@@ -168,9 +178,78 @@ fn add_sub(dir: &Path) -> Result<(), String> {
     Ok(())
 }
 
+/// The connections and parameters of the one MULT18X18D `synth_ecp5` makes of `mul18` (as
+/// `unit`, relative to `dir`), read with `defines`: Yosys's `dump` lines, trimmed.
+fn tile_lines(dir: &Path, unit: &str, defines: &str, log: &str) -> Result<Vec<String>, String> {
+    let script = format!(
+        "read_verilog {defines}-icells {unit}; synth_ecp5 -top mul18; \
+         select -module mul18 t:MULT18X18D; tee -o {log}.dump dump"
+    );
+    if !yosys_ok(dir, &script, log)? {
+        return Err(format!(
+            "{unit} did not synthesise ({})",
+            dir.join(log).display()
+        ));
+    }
+    let path = dir.join(format!("{log}.dump"));
+    let text = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+    Ok(text
+        .lines()
+        .map(str::trim)
+        .filter(|l| l.starts_with("connect ") || l.starts_with("parameter "))
+        .map(str::to_string)
+        .collect())
+}
+
+/// Whether the tile form of `mul18.v` (as `unit`) is wired as Yosys maps its written form,
+/// with the output register on the unit's clock, enable and output.
+fn tile_wired(dir: &Path, unit: &str, log: &str) -> Result<bool, String> {
+    let written = tile_lines(dir, unit, "", &format!("written-{log}"))?;
+    let tile = tile_lines(dir, unit, "-DHEMI_ECP5 ", &format!("tile-{log}"))?;
+    // the operands, the unused third input, signs and sources: every pin but the products
+    // and the register's (18 + 18 + 18 + 4)
+    let operand = |l: &&String| {
+        let pin = l
+            .strip_prefix("connect \\")
+            .and_then(|rest| rest.split(' ').next())
+            .unwrap_or("");
+        let product = pin.starts_with('P') && pin[1..].parse::<u32>().is_ok();
+        !pin.is_empty() && !product && !["CLK0", "CE0", "RST0"].contains(&pin)
+    };
+    let w: Vec<&String> = written.iter().filter(operand).collect();
+    let t: Vec<&String> = tile.iter().filter(operand).collect();
+    let register = [
+        "parameter \\REG_OUTPUT_CLK \"CLK0\"",
+        "connect \\CLK0 \\clk",
+        "connect \\CE0 \\ce",
+        "connect \\RST0 1'0",
+    ];
+    let products = (0..36).all(|i| tile.contains(&format!("connect \\P{i} \\p36 [{i}]")));
+    Ok(w.len() == 58 && w == t && register.iter().all(|r| tile.iter().any(|l| l == r)) && products)
+}
+
+/// Checks the tile's wiring, and shows the mutant's check failing.
+fn tile(dir: &Path) -> Result<(), String> {
+    let unit_in_dir = format!("{RTL_FROM_WORK_DIR}/mul18.v");
+    if !tile_wired(dir, &unit_in_dir, "mul18.log")? {
+        return Err(format!(
+            "mul18.v's tile is not wired as Yosys maps its written form ({})",
+            dir.display()
+        ));
+    }
+    say("mul18.v's tile wired as Yosys maps its written form, its output register on the clock");
+    mutant(dir, "mul18.v", TILE_FROM, TILE_TO, "mul18_mutant.v")?;
+    if tile_wired(dir, "mul18_mutant.v", "mul18-mutant.log")? {
+        return Err("the tile's mutant (its second operand unsigned) passed the wiring check: the check cannot fail".to_string());
+    }
+    say("mul18.v's mutant (its second operand unsigned) caught by the same check");
+    Ok(())
+}
+
 /// Every proof, each with its mutant.
 pub fn all() -> Result<(), String> {
     let dir = work_dir("prove")?;
     leading_one(&dir)?;
-    add_sub(&dir)
+    add_sub(&dir)?;
+    tile(&dir)
 }
