@@ -107,9 +107,11 @@ pub struct Placed {
     pub ffs: u64,
 }
 
-/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 45: 15,621 LUT4s and
-/// 12,037 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
-/// tiles for its 6 edge products, h's four and the reach's 12; 109.3 MHz. Session 43, before
+/// The compact set-up unit with culling, `rtl/setup_unit.v` (session 46: 15,580 LUT4s and
+/// 11,389 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
+/// tiles for its 6 edge products, h's four and the reach's 12; 110.1 MHz. Session 45, before
+/// the edge products and the reach's took their registers in their tiles (`rtl/mul18.v`):
+/// 15,621 LUT4s, 12,037 flip-flops, 109.3 MHz. Session 43, before
 /// the reach binned both ends of a patch in one `rtl/cull_bin.v` and took its angles in the
 /// vectorings' 23 bits: 17,210 LUT4s, 12,406 flip-flops, 105.2 MHz. Session 38, before
 /// its words that only wait did so in distributed RAM (`rtl/delay_line.v`): 19,029 LUT4s and
@@ -122,8 +124,8 @@ pub struct Placed {
 /// and its shift in two steps; session 29: 19,683, before the reach's ends were compared with 0
 /// by their sign; session 28: 21,372, before the culling bins' two-step count).
 pub const SETUP_UNIT: Placed = Placed {
-    luts: 15_621,
-    ffs: 12_037 - 580,
+    luts: 15_580,
+    ffs: 11_389 - 580,
 };
 
 /// A compact lane's coarse edge test, `rtl/coarse_test.v` (session 30: 1,939 LUT4s and 1,702
@@ -233,16 +235,16 @@ pub const BITMAP_WALK: Placed = Placed {
     ffs: 1_130 - 233,
 };
 
-/// A bank's set-up pass front, `rtl/bank_front.v` (session 32: 3,911 LUT4s and 3,035
-/// flip-flops placed, 576 of them its harness's input chain and output register; 3 DSP tiles
-/// for the horizon filter's three 18 × 18 products; 105.0 MHz): the box read, the horizon
-/// filter (`rtl/horizon_filter.v`), the FIFO of slot numbers (in LUT RAM), the corner and
-/// normal reads and the pass's tag. Its block RAMs are counted as memories. Session 31 counted
-/// the filter alone as placed with the write path below (3,009 LUT4s, 1,126 flip-flops), and
-/// the FIFO as a memory.
+/// A bank's set-up pass front, `rtl/bank_front.v` (session 46: 3,628 LUT4s and 2,928 flip-flops
+/// placed, 576 of them its harness's input chain and output register; 3 DSP tiles for the horizon
+/// filter's three 18 × 18 products, each with its register in the tile, `rtl/mul18.v`; 110.9 MHz.
+/// Session 32: 3,911 LUT4s, 3,035 flip-flops, 105.0 MHz): the box read, the horizon filter
+/// (`rtl/horizon_filter.v`), the FIFO of slot numbers (in LUT RAM), the corner and normal reads and
+/// the pass's tag. Its block RAMs are counted as memories. Session 31 counted the filter alone as
+/// placed with the write path below (3,009 LUT4s, 1,126 flip-flops), and the FIFO as a memory.
 pub const BANK_FRONT: Placed = Placed {
-    luts: 3_911,
-    ffs: 3_035 - 576,
+    luts: 3_628,
+    ffs: 2_928 - 576,
 };
 
 /// The slot boxes' write path, `rtl/slot_box.v`, one a build (session 32, placed in a harness
