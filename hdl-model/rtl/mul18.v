@@ -13,6 +13,7 @@
 // form. Yosys has no simulation model of the tile, so the two forms are not proved equal: the
 // instance is Yosys's own mapping of a signed product (`ecp5/dsp_map.v`, the same ports and
 // signs) with the output register's three parameters added.
+// AW and BW are at most 18: the tile form takes each operand into 18 bits.
 module mul18 #(
     parameter integer AW = 18,
     parameter integer BW = 18

@@ -10,8 +10,8 @@
 //!   instantiates the ECP5's MULT18X18D with its output register. Yosys has no simulation
 //!   model of the tile, so this is a check of its wiring, not a proof: the tile's inputs, sign
 //!   and source pins must be connected exactly as Yosys connects them when it maps the written
-//!   form (`ecp5/dsp_map.v`), and its output register must be on the unit's clock and enable
-//!   with its 36 products on the unit's output.
+//!   form (`ecp5/dsp_map.v`), its output register must be on the unit's clock and enable
+//!   with its 36 products on the unit's output, and it must have no other register.
 //!
 //! Each proof is then run on a mutant, which must fail, so that a proof that cannot fail is
 //! caught. Yosys runs in the work dir on relative paths, as synthesis does
@@ -216,16 +216,35 @@ fn tile_wired(dir: &Path, unit: &str, log: &str) -> Result<bool, String> {
         let product = pin.starts_with('P') && pin[1..].parse::<u32>().is_ok();
         !pin.is_empty() && !product && !["CLK0", "CE0", "RST0"].contains(&pin)
     };
-    let w: Vec<&String> = written.iter().filter(operand).collect();
-    let t: Vec<&String> = tile.iter().filter(operand).collect();
-    let register = [
+    let mut w: Vec<&String> = written.iter().filter(operand).collect();
+    let mut t: Vec<&String> = tile.iter().filter(operand).collect();
+    w.sort();
+    t.sort();
+    // the output register on the unit's clock and enable, and no other register of the tile's
+    // (an input or pipeline register would add a clock the written form does not have)
+    let mut params: Vec<&str> = tile
+        .iter()
+        .filter(|l| l.starts_with("parameter "))
+        .map(String::as_str)
+        .collect();
+    params.sort_unstable();
+    let register_params = [
+        "parameter \\REG_OUTPUT_CE \"CE0\"",
         "parameter \\REG_OUTPUT_CLK \"CLK0\"",
+        "parameter \\REG_OUTPUT_RST \"RST0\"",
+    ];
+    let register_pins = [
         "connect \\CLK0 \\clk",
         "connect \\CE0 \\ce",
         "connect \\RST0 1'0",
     ];
+    // its 36 products on `p36`, which is the unit's output `p` at AW + BW = 36
     let products = (0..36).all(|i| tile.contains(&format!("connect \\P{i} \\p36 [{i}]")));
-    Ok(w.len() == 58 && w == t && register.iter().all(|r| tile.iter().any(|l| l == r)) && products)
+    Ok(w.len() == 58
+        && w == t
+        && params == register_params
+        && register_pins.iter().all(|r| tile.iter().any(|l| l == r))
+        && products)
 }
 
 /// Checks the tile's wiring, and shows the mutant's check failing.
