@@ -110,7 +110,8 @@ pub struct Placed {
 
 /// The compact set-up unit with culling, `rtl/setup_unit.v` (session 46: 15,580 LUT4s and
 /// 11,389 flip-flops placed, 580 of them its harness's input chain and output register, 22 DSP
-/// tiles for its 6 edge products, h's four and the reach's 12; 110.1 MHz. Session 45, before
+/// tiles for its 6 edge products, h's four and the reach's 12; 107.1 MHz in `cargo xtask rtl`,
+/// 110.1 placed by hand. Session 45, before
 /// the edge products and the reach's took their registers in their tiles (`rtl/mul18.v`):
 /// 15,621 LUT4s, 12,037 flip-flops, 109.3 MHz. Session 43, before
 /// the reach binned both ends of a patch in one `rtl/cull_bin.v` and took its angles in the

@@ -156,25 +156,25 @@ impl ModelArgs {
     }
 }
 
-/// The slowest placed unit's clock (`cargo xtask rtl`'s commands, session 46 by hand: the set-up
-/// pass joined to its bitmap writer at its first placement seed, once the set-up family's products
-/// took their registers in their DSP tiles, `rtl/mul18.v`; 101.0 in session 45, the same pass at
-/// its sixth seed, after its reach's bins were shared and narrowed; 101.8 at that session's start,
-/// the same pass at its third seed; 102.5 in session 43, the horizon filter with the slot boxes'
-/// write path, once the set-up unit's waiting words had moved into LUT RAM; 100.1 in session 38, a
-/// bank's set-up pass, its front and set-up unit, at the first placement seed; 99.9 in session 37,
-/// the same pass, the best of three seeds; 101.1 in session 36, the same pass joined to its bitmap
-/// writer; 97.4 in session 35; 101.2, the culling unit's patch side, in session 33; 92.8, a bank's
-/// whole set-up pass, in session 32; 103.0, the register file's, in session 31), where the model's
-/// reports had assumed 100 MHz.
-pub const MEASURED_CLOCK_MHZ: f64 = 102.9;
+/// The slowest placed unit's clock (`cargo xtask rtl`'s Fmax, session 46: the set-up pass joined to
+/// its bitmap writer at its first placement seed, where every unit met 100 MHz, once the set-up
+/// family's products took their registers in their DSP tiles, `rtl/mul18.v`; 101.0 in session 45,
+/// the same pass at its sixth seed, after its reach's bins were shared and narrowed; 101.8 at that
+/// session's start, the same pass at its third seed; 102.5 in session 43, the horizon filter with
+/// the slot boxes' write path, once the set-up unit's waiting words had moved into LUT RAM; 100.1
+/// in session 38, a bank's set-up pass, its front and set-up unit, at the first placement seed;
+/// 99.9 in session 37, the same pass, the best of three seeds; 101.1 in session 36, the same pass
+/// joined to its bitmap writer; 97.4 in session 35; 101.2, the culling unit's patch side, in
+/// session 33; 92.8, a bank's whole set-up pass, in session 32; 103.0, the register file's, in
+/// session 31), where the model's reports had assumed 100 MHz.
+pub const MEASURED_CLOCK_MHZ: f64 = 100.9;
 
 /// The modelled accelerator (`--backend model`, and the CORDIC of boards' models).
 #[derive(Args, Clone, Debug, PartialEq)]
 pub struct ModelArgs {
     /// Accelerator clock at which `--backend model` reports time: by default the slowest unit's
     /// clock as `cargo xtask rtl` places each unit on an ECP5-85k (docs/PERFORMANCE.md, session
-    /// 46: the joined set-up pass, 102.9 MHz). The whole datapath has not been placed.
+    /// 46: the joined set-up pass, 100.9 MHz). The whole datapath has not been placed.
     #[arg(long, default_value_t = MEASURED_CLOCK_MHZ)]
     pub clock_mhz: f64,
     /// CORDIC iterations of the modelled accelerator (`--backend model`, and boards' models).
