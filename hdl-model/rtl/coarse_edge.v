@@ -181,9 +181,8 @@ module coarse_edge #(
 
     assign out_u18 = {s5_u[2], s5_u[1], s5_u[0]};
 
-    // 6: the six products u~_j delta~_k, and the words' magnitudes
-    // each product on a tile with its output register (`mul18.v`): u~_j delta~_k for the
-    // pairs (j, k) = (1, 2), (2, 1), (2, 0), (0, 2), (0, 1), (1, 0)
+    // 6: the six products u~_j delta~_k, (j, k) = (1, 2), (2, 1), (2, 0), (0, 2), (0, 1),
+    // (1, 0), each on a tile with its output register (`mul18.v`), and the words' magnitudes
     wire signed [35:0] s6_p [0:5];
     mul18 mul0 (.clk(clk), .ce(1'b1), .a(s5_u[1]), .b(s5_d[2]), .p(s6_p[0]));
     mul18 mul1 (.clk(clk), .ce(1'b1), .a(s5_u[2]), .b(s5_d[1]), .p(s6_p[1]));
