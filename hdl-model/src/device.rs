@@ -60,6 +60,14 @@ pub struct Info {
     dir_ref: [Unit; 3],
 }
 
+/// What a ray carries past the rotator to its result: the rest of its [`Info`] is in the ray's
+/// own fields by then, and a copy of it in each queue and buffer slot was time the model spent.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Tag {
+    mode: u32,
+    error: bool,
+}
+
 /// A ray FIFO entry: a ray (with its latched mode and origin) or a frame command, kept in order.
 #[derive(Clone, Copy, Debug, Default)]
 struct Entry {
@@ -126,8 +134,8 @@ pub struct Device {
     /// follow any valid CONFIG.
     built_for: Option<u32>,
     rotators: [Rotator<Info>; MAX_RAYS_PER_CLOCK as usize],
-    queue: Fifo<RayIn<Info>, QUEUE_DEPTH>,
-    intersect: IntersectUnit<Info>,
+    queue: Fifo<RayIn<Tag>, QUEUE_DEPTH>,
+    intersect: IntersectUnit<Tag>,
     mem: PatchMem,
     patch_addr: u32,
     patch_count: u32,
@@ -488,15 +496,15 @@ impl Device {
         }
     }
 
-    fn result_words(r: &RayOut<Info>) -> [u32; 4] {
-        if r.ray.info.error {
+    fn result_words(r: &RayOut<Tag>) -> [u32; 4] {
+        if r.info.error {
             return [result::ERROR, 0, 0, 0];
         }
-        if r.ray.info.mode & mode::KIND_MASK == mode::ROTATE {
-            let d = r.ray.dir.map(|c| c.to_bits() as u32);
+        if r.info.mode & mode::KIND_MASK == mode::ROTATE {
+            let d = r.dir.map(|c| c.to_bits() as u32);
             return [result::ROTATED, d[0], d[1], d[2]];
         }
-        let short = if r.ray.uv { 0 } else { result::SHORT };
+        let short = if r.uv { 0 } else { result::SHORT };
         match r.hit {
             Some(h) => [
                 result::HIT | if h.front { result::FRONT } else { 0 } | short | h.patch,
@@ -703,7 +711,10 @@ impl Device {
                 bin_at: self.cycles + (cull::RAY_LATENCY as u64).saturating_sub(turned),
                 frame: info.frame,
                 dir_ref: info.dir_ref,
-                info,
+                info: Tag {
+                    mode: info.mode,
+                    error: info.error,
+                },
             });
             debug_assert!(pushed.is_ok(), "queue credit accounting");
         }

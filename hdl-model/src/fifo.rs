@@ -1,6 +1,18 @@
 //! A bounded FIFO (a ring of N registers with read and write pointers): the ray FIFO and the
 //! result FIFO of the register file.
 
+/// `i` (below 2N) wrapped into the ring: a compare, not the division `% N` is for a depth that is
+/// not a power of two (the intersection unit's 1,023 slots; a division each push and pop was a
+/// few per cent of the model's time).
+#[inline(always)]
+fn wrap<const N: usize>(i: usize) -> usize {
+    if i >= N {
+        i - N
+    } else {
+        i
+    }
+}
+
 /// Up to `N` entries.
 #[derive(Clone, Debug)]
 pub struct Fifo<T: Copy + Default, const N: usize> {
@@ -40,7 +52,7 @@ impl<T: Copy + Default, const N: usize> Fifo<T, N> {
         if self.is_full() {
             return Err(v);
         }
-        self.buf[(self.head + self.len) % N] = v;
+        self.buf[wrap::<N>(self.head + self.len)] = v;
         self.len += 1;
         Ok(())
     }
@@ -53,14 +65,14 @@ impl<T: Copy + Default, const N: usize> Fifo<T, N> {
     /// Removes the oldest entry.
     pub fn pop(&mut self) -> Option<T> {
         let v = *self.front()?;
-        self.head = (self.head + 1) % N;
+        self.head = wrap::<N>(self.head + 1);
         self.len -= 1;
         Some(v)
     }
 
     /// The entries, oldest first.
     pub fn iter(&self) -> impl Iterator<Item = &T> + '_ {
-        (0..self.len).map(move |i| &self.buf[(self.head + i) % N])
+        (0..self.len).map(move |i| &self.buf[wrap::<N>(self.head + i)])
     }
 
     /// Empties it.

@@ -79,7 +79,7 @@ use bitmap_write::{column, copy_clocks, row_writes, ColumnWriter};
 use coarse::{
     coarse_edge, coarse_inside, narrow_patch, Coarse, CoarseRay, Verdict, COARSE_DIR_SHIFT,
 };
-use cull::{CullUnit, Reach, Wedge};
+use cull::{CullUnit, Reach, Wedge, BANDS};
 use fixed::types::extra::U24;
 use horizon::{PassTiming, HORIZON_LATENCY};
 use patch_mem::{
@@ -187,11 +187,17 @@ pub struct HitOut {
     pub front: bool,
 }
 
-/// A finished ray.
+/// A finished ray: what the result FIFO's words are made of, not the whole [`RayIn`] (the
+/// retirement buffer holds up to [`RAY_SLOTS`] of these and copies each in and out once; the
+/// whole ray made that a tenth of the model's time).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RayOut<T: Copy + Default> {
-    /// The ray as it came in.
-    pub ray: RayIn<T>,
+    /// Its direction as it came in (a rotate-only entry's answer).
+    pub dir: [Unit; 3],
+    /// Whether the caller wanted the hit's (u,v).
+    pub uv: bool,
+    /// Carried from the ray.
+    pub info: T,
     /// Its nearest hit.
     pub hit: Option<HitOut>,
 }
@@ -419,75 +425,81 @@ fn plane_take(units: &mut [u64; PLANE_UNITS], at: u64) -> u64 {
 /// What the set-up pass was computed for: the origin, and the frame if it culled.
 type SetupKey = ([Coord; 3], Option<[Angle; 3]>);
 
-/// The candidate lists the lanes' bitmaps stand for: per sector, the planar patches that can be
-/// met in it; every active planar patch (unculled rays); every Bezier slot. In index order.
+/// The candidates the lanes' bitmaps stand for, kept as bitmaps as the lanes keep them: per
+/// sector and per polar band, a bit a slot (the planar patches that can be met there); every
+/// active planar patch (unculled rays); every Bezier slot. A culled ray's candidates are its
+/// sector's bits AND its band's, in slot order. (Until session 47 the model kept a list a
+/// sector and tested each entry's bands: a ray of `scenes/cornell-8x8.toml` read 55 entries
+/// for its 10 candidates, the model's costliest loop.)
 #[derive(Clone, Debug)]
 struct Candidates {
-    /// `slots` entries per sector
-    sector: Table<u16, { MAX_SECTORS as usize * PATCH_CAPACITY }>,
-    sector_len: [u16; MAX_SECTORS as usize],
-    slots: usize,
+    /// `words` words a sector, then `words` a band
+    sector: Table<u64, { MAX_SECTORS as usize * PATCH_CAPACITY / 64 }>,
+    band: Table<u64, { BANDS as usize * PATCH_CAPACITY / 64 }>,
+    words: usize,
     active: Table<u16, PATCH_CAPACITY>,
     active_len: usize,
-    /// each slot's polar bands (first, last)
-    bands: Table<(u8, u8), PATCH_CAPACITY>,
     bezier: Table<u16, PATCH_CAPACITY>,
     bezier_len: usize,
 }
 
 impl Candidates {
-    /// Lists for `slots` patch slots in `sectors` sectors.
+    /// Bitmaps and lists for `slots` patch slots in `sectors` sectors.
     fn new(slots: usize, sectors: u32) -> Self {
         let active = Table::new(0, slots);
-        let slots = active.len();
+        let (slots, words) = (active.len(), active.len().div_ceil(64));
         Candidates {
-            sector: Table::new(0, sectors as usize * slots),
-            sector_len: [0; MAX_SECTORS as usize],
-            slots,
+            sector: Table::new(0, sectors as usize * words),
+            band: Table::new(0, BANDS as usize * words),
+            words,
             active,
             active_len: 0,
-            bands: Table::new((0, 0), slots),
             bezier: Table::new(0, slots),
             bezier_len: 0,
         }
     }
 
     fn clear(&mut self) {
-        self.sector_len = [0; MAX_SECTORS as usize];
+        self.sector.fill(0);
+        self.band.fill(0);
         self.active_len = 0;
         self.bezier_len = 0;
-    }
-
-    fn add_to_sector(&mut self, s: u32, i: u16) {
-        let n = &mut self.sector_len[s as usize];
-        self.sector[s as usize * self.slots + *n as usize] = i;
-        *n += 1;
     }
 
     fn add(&mut self, i: u16, reach: Reach, sectors: u32) {
         self.active[self.active_len] = i;
         self.active_len += 1;
-        self.bands[i as usize] = (reach.band_lo, reach.band_hi);
-        reach
-            .wedge
-            .sectors(sectors)
-            .for_each(|s| self.add_to_sector(s, i));
-    }
-
-    /// Whether slot `i` can be met in band `band`.
-    fn in_band(&self, i: u16, band: u32) -> bool {
-        let (lo, hi) = self.bands[i as usize];
-        (lo as u32..=hi as u32).contains(&band)
-    }
-
-    fn list(&self, sector: Option<u32>) -> &[u16] {
-        match sector {
-            Some(s) => {
-                let base = s as usize * self.slots;
-                &self.sector[base..base + self.sector_len[s as usize] as usize]
-            }
-            None => &self.active[..self.active_len],
+        let (word, bit) = (i as usize / 64, 1u64 << (i % 64));
+        let words = self.words;
+        for s in reach.wedge.sectors(sectors) {
+            self.sector[s as usize * words + word] |= bit;
         }
+        for b in reach.band_lo..=reach.band_hi {
+            self.band[b as usize * words + word] |= bit;
+        }
+    }
+
+    /// A ray's candidates into `out`, in slot order: those of sector and band `bin`, or every
+    /// active planar patch. Returns how many.
+    fn gather(&self, bin: Option<(u32, u32)>, out: &mut [u16]) -> usize {
+        let Some((s, b)) = bin else {
+            out[..self.active_len].copy_from_slice(&self.active[..self.active_len]);
+            return self.active_len;
+        };
+        let words = self.words;
+        let rows = self.sector[s as usize * words..][..words]
+            .iter()
+            .zip(&self.band[b as usize * words..][..words]);
+        let mut n = 0;
+        for (w, (sector, band)) in rows.enumerate() {
+            let mut m = sector & band;
+            while m != 0 {
+                out[n] = (w * 64) as u16 + m.trailing_zeros() as u16;
+                n += 1;
+                m &= m - 1;
+            }
+        }
+        n
     }
 }
 
@@ -523,8 +535,10 @@ pub struct IntersectUnit<T: Copy + Default> {
     stats: LaneStats,
     /// The compact datapath's clocks, cleared with the rest on a flush.
     clocks: CompactClocks,
-    /// the current ray's pairs found inside (scratch of [`IntersectUnit::lanes`])
+    /// the current ray's pairs found inside, and its candidates (scratch of
+    /// [`IntersectUnit::lanes`])
     inside: Table<InsidePair, PATCH_CAPACITY>,
+    listed: Table<u16, PATCH_CAPACITY>,
 }
 
 /// Where the compact datapath's shared resources stand.
@@ -621,6 +635,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             stats: LaneStats::default(),
             clocks: CompactClocks::default(),
             inside: Table::new(InsidePair::default(), params.capacity() as usize),
+            listed: Table::new(0, params.capacity() as usize),
         }
     }
 
@@ -1011,7 +1026,15 @@ impl<T: Copy + Default> IntersectUnit<T> {
             .retire_clock(finish, group, wants_uv_unit)
             .max(self.last_ready);
         self.last_ready = ready;
-        let pushed = self.retire.push((ready, RayOut { ray, hit }));
+        let pushed = self.retire.push((
+            ready,
+            RayOut {
+                dir: ray.dir,
+                uv: ray.uv,
+                info: ray.info,
+                hit,
+            },
+        ));
         debug_assert!(pushed.is_ok(), "ray slots");
     }
 
@@ -1062,14 +1085,11 @@ impl<T: Copy + Default> IntersectUnit<T> {
         let mut best: Option<Best> = None;
         let compact = self.params.compact;
         let dc = CoarseRay::new(ray.dir.map(|c| c.to_bits() >> COARSE_DIR_SHIFT));
-        let c = &self.candidates;
+        let listed = self.candidates.gather(bin, &mut self.listed);
         let mut inside = 0;
         // a culled ray's lanes walk its sector's bitmaps word by word
         let mut walk = bin.map(|_| WordWalk::default());
-        for &i in c.list(bin.map(|b| b.0)) {
-            if bin.is_some_and(|b| !c.in_band(i, b.1)) {
-                continue;
-            }
+        for &i in &self.listed[..listed] {
             let (bank, place) = (i as usize % banks, i as usize / banks);
             if let Some(walk) = walk.as_mut() {
                 walk.see(bank, place);
