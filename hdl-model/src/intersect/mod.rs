@@ -130,7 +130,10 @@ pub fn plane_distance(n: [i32; 3], a0: [i64; 3]) -> Option<PlaneDist> {
 pub struct LocalPatch {
     /// Edge normals a_i × a_{i+1}: integers whose scale follows the origin (an origin-wide
     /// truncation, see `setup`), so they have no fixed binary point; only the signs of d · e_i
-    /// are used.
+    /// are used. The wide datapath's set-up forms them; the compact one's does not (its lanes
+    /// test the coarse words), and its exact unit forms a pair's from the patch's corners
+    /// ([`IntersectUnit::with_edges`]), so the model forms them only for those pairs (every
+    /// patch's, every pass, were 7 % of its time on `scenes/cornell-8x8.toml`).
     e: [[i64; 3]; 4],
     /// The edge normals as the coarse test's 18-bit words ([`coarse`]): truncated from `e`
     /// on the wide datapath, from the set-up's narrow products on the compact one.
@@ -141,6 +144,8 @@ pub struct LocalPatch {
     active: bool,
     /// a Bezier slot with a valid row (its root box is in the unit's `bez_root`)
     bezier: bool,
+    /// its slot (where the compact datapath's exact unit reads its corners)
+    slot: u16,
 }
 
 /// A ray for the unit, with the info the device carries through.
@@ -411,6 +416,16 @@ pub fn corner_clocks(kind: u32) -> u64 {
 /// A patch's corners relative to origin `o` (Q8.24 words): a_k = v_k − O, exact in 33 bits.
 fn corner_vectors(p: &PatchWords, o: [i64; 3]) -> [[i64; 3]; 4] {
     core::array::from_fn(|k| core::array::from_fn(|c| p.v[k][c].to_bits() as i64 - o[c]))
+}
+
+/// A patch's exact edge normals from its corner vectors `a` (the first `sides`), each flipped to
+/// the origin's side (`negate`) and truncated by the origin-wide `shift`.
+fn exact_edges(a: &[[i64; 3]; 4], sides: usize, negate: bool, shift: u32) -> [[i64; 3]; 4] {
+    let mut e = [[0; 3]; 4];
+    for k in 0..sides {
+        e[k] = exact::edge_normal(&a[k], &a[(k + 1) % sides], negate, shift);
+    }
+    e
 }
 
 /// One pair offered to a ray group's plane units (the clocks each is free) on clock `at`: the
@@ -896,6 +911,19 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.cull.reach(&a[..sides], &coarse, axes).wedge == Wedge::Below
     }
 
+    /// `lp` with its exact edge normals, as the compact datapath's exact unit forms them from
+    /// the patch's corners in patch memory and the set-up's origin (patch memory is not written
+    /// while a set-up stands: a write drops it).
+    fn with_edges(&self, mem: &PatchMem, lp: &LocalPatch) -> LocalPatch {
+        let Some((origin, _)) = self.key.filter(|_| lp.active) else {
+            return *lp;
+        };
+        let o = origin.map(|c| c.to_bits() as i64);
+        let a = corner_vectors(&mem.patch(lp.slot as usize), o);
+        let e = exact_edges(&a, lp.sides as usize, !lp.h.is_positive(), origin_shift(o));
+        LocalPatch { e, ..*lp }
+    }
+
     fn setup(
         &mut self,
         mem: &PatchMem,
@@ -940,11 +968,12 @@ impl<T: Copy + Default> IntersectUnit<T> {
         };
         let shift = origin_shift(o);
         let negate = !h.is_positive();
-        for k in 0..sides {
-            lp.e[k] = exact::edge_normal(&a[k], &a[(k + 1) % sides], negate, shift);
+        lp.slot = i as u16;
+        lp.sides = sides as u8;
+        if !self.params.compact {
+            lp.e = exact_edges(&a, sides, negate, shift);
         }
         lp.coarse = self.coarse_words(&a[..sides], &lp.e[..sides], shift, negate);
-        lp.sides = sides as u8;
         lp.n = n;
         lp.h = h;
         lp.active = true;
@@ -1013,7 +1042,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             let g = self.clocks.next_group as usize;
             self.clocks.next_group = (self.clocks.next_group + 1) % self.params.ray_groups.max(1);
             group = Some(g);
-            let (planar, end) = self.lanes(&ray, g, bin, at);
+            let (planar, end) = self.lanes(mem, &ray, g, bin, at);
             let (curved, bez_end) = self.bezier_lane(mem, &ray, now);
             finish = end.max(bez_end);
             let used = &mut self.clocks.release[self.clocks.buffer];
@@ -1073,6 +1102,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
     /// pairs found inside go to the group's plane units (`compact_lanes`).
     fn lanes(
         &mut self,
+        mem: &PatchMem,
         ray: &RayIn<T>,
         group: usize,
         bin: Option<(u32, u32)>,
@@ -1106,7 +1136,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
                     Verdict::Decided(inside) => {
                         debug_assert_eq!(
                             inside,
-                            EdgeStage.eval(&ray.dir, lp).inside,
+                            EdgeStage.eval(&ray.dir, &self.with_edges(mem, lp)).inside,
                             "coarse bound"
                         );
                         EdgeStage.decided(&ray.dir, lp, inside)
@@ -1117,10 +1147,12 @@ impl<T: Copy + Default> IntersectUnit<T> {
                         self.stats.exact_edges += edges as u64;
                         // the exact unit tests the masked edges alone: the others are positive
                         let d = ray.dir.map(|c| c.to_bits());
-                        let inside = exact::inside_masked(&d, mask, lp.sides as usize, |k| lp.e[k]);
+                        let full = self.with_edges(mem, lp);
+                        let inside =
+                            exact::inside_masked(&d, mask, lp.sides as usize, |k| full.e[k]);
                         debug_assert_eq!(
                             inside,
-                            EdgeStage.eval(&ray.dir, lp).inside,
+                            EdgeStage.eval(&ray.dir, &full).inside,
                             "the undecided edges decide"
                         );
                         EdgeStage.decided(&ray.dir, lp, inside)
