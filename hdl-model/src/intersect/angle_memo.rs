@@ -60,6 +60,17 @@ impl AngleMemo {
         Self::with_slots(Self::SLOTS)
     }
 
+    /// Entries for a hemisphere's reference directions on hosts: more than the 10,300 rays of
+    /// the host's default hemisphere (R = 64, `--circles 64`), which thrashed a memo of
+    /// [`AngleMemo::SLOTS`].
+    pub const RAY_SLOTS: usize = 1 << 15;
+
+    /// An empty memo for rays' angles ([`AngleMemo::RAY_SLOTS`] entries, or one without an
+    /// allocator).
+    pub fn for_rays() -> Self {
+        Self::with_slots(Self::RAY_SLOTS)
+    }
+
     /// A memo of no entries, which remembers nothing (for a single patch's reach or ray's bin;
     /// an empty table allocates nothing).
     pub(crate) fn none() -> Self {

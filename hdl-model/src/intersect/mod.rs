@@ -636,7 +636,7 @@ impl<T: Copy + Default> IntersectUnit<T> {
             params,
             cull: CullUnit::new(params.sectors),
             angles: AngleMemo::new(),
-            ray_angles: AngleMemo::new(),
+            ray_angles: AngleMemo::for_rays(),
             cull_ok: width >= cull::MIN_CULL_WIDTH,
             bank_free: [0; MAX_LANES as usize],
             bezier_free: 0,
