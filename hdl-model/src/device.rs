@@ -63,7 +63,7 @@ pub struct Info {
 /// What a ray carries past the rotator to its result: the rest of its [`Info`] is in the ray's
 /// own fields by then, and a copy of it in each queue and buffer slot was time the model spent.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Tag {
+struct Tag {
     mode: u32,
     error: bool,
 }

@@ -1,11 +1,11 @@
 //! A bounded FIFO (a ring of N registers with read and write pointers): the ray FIFO and the
 //! result FIFO of the register file.
 
-/// `i` (below 2N) wrapped into the ring: a compare, not the division `% N` is for a depth that is
-/// not a power of two (the intersection unit's 1,023 slots; a division each push and pop was a
-/// few per cent of the model's time).
+/// `i` (below 2N) wrapped into the ring by a compare, for any depth (the intersection unit's is
+/// 1,023).
 #[inline(always)]
 fn wrap<const N: usize>(i: usize) -> usize {
+    debug_assert!(i < 2 * N, "a ring index past its second turn");
     if i >= N {
         i - N
     } else {

@@ -8,9 +8,10 @@
 //! keyed by f cannot change an answer or a clock: it only saves host time (a quarter of the
 //! model's time on `scenes/cornell-8x8.toml` went to the vectorings before it).
 //!
-//! Direct-mapped, [`AngleMemo::SLOTS`] entries on hosts; without an allocator (the firmware) a
-//! memo of one entry, which costs nothing and rarely hits. `CullUnit::reach` and `ray_bin` alone
-//! use a memo of none, which allocates nothing.
+//! Direct-mapped: on hosts [`AngleMemo::SLOTS`] entries for the corners and
+//! [`AngleMemo::RAY_ENTRIES`] for a hemisphere's reference directions; without an allocator
+//! (the firmware) a memo of one entry, which costs nothing and rarely hits. `CullUnit::reach`
+//! and `ray_bin` alone use a memo of none, which allocates nothing.
 //!
 //! ```
 //! use hemi_hdl_model::intersect::angle_memo::AngleMemo;
@@ -63,12 +64,12 @@ impl AngleMemo {
     /// Entries for a hemisphere's reference directions on hosts: more than the 10,300 rays of
     /// the host's default hemisphere (R = 64, `--circles 64`), which thrashed a memo of
     /// [`AngleMemo::SLOTS`].
-    pub const RAY_SLOTS: usize = 1 << 15;
+    pub const RAY_ENTRIES: usize = 1 << 15;
 
-    /// An empty memo for rays' angles ([`AngleMemo::RAY_SLOTS`] entries, or one without an
+    /// An empty memo for rays' angles ([`AngleMemo::RAY_ENTRIES`] entries, or one without an
     /// allocator).
     pub fn for_rays() -> Self {
-        Self::with_slots(Self::RAY_SLOTS)
+        Self::with_slots(Self::RAY_ENTRIES)
     }
 
     /// A memo of no entries, which remembers nothing (for a single patch's reach or ray's bin;

@@ -12,8 +12,8 @@
 //! ray's band exactly when some slot of the word is in both rows, so every word read holds a
 //! candidate (or only the ray's own patch, which the lane skips): a lane is busy for a ray as
 //! long as the longer of its candidates and its words read, and the words are almost never
-//! the longer. [`WordWalk`] counts the words read, bank by bank, from the slots of the sector
-//! list the ray walks that are in its band (in slot order).
+//! the longer. [`WordWalk`] counts the words read, bank by bank, from the ray's candidates (the
+//! slots in both its rows, in slot order).
 //!
 //! The set-up's writes into the rows are [`super::bitmap_write`]'s, charged since session 33
 //! (a column of a pass not written reads as zero there, by its valid bit). Not charged: the two
@@ -40,9 +40,9 @@ pub fn mask_row_bits(bank_slots: u32) -> u32 {
 /// No word open in a bank yet.
 const NONE: u32 = u32::MAX;
 
-/// One ray's walk: the words each bank's lane reads, counted from the slots of the ray's
-/// sector list that are in its band (a word is read when one of its slots is in both rows,
-/// which is what its mask says), in slot order. Small and cleared per ray: the model walks
+/// One ray's walk: the words each bank's lane reads, counted from the ray's candidates, the
+/// slots in both its sector row and its band row (a word is read when one of its slots is in
+/// both, which is what its mask says), in slot order. Small and cleared per ray: the model walks
 /// every culled ray through it.
 #[derive(Clone, Copy, Debug)]
 pub struct WordWalk {
@@ -70,7 +70,7 @@ impl WordWalk {
         };
         debug_assert!(
             *open == NONE || *open <= word,
-            "a sector list out of slot order"
+            "candidates out of slot order"
         );
         if *open != word {
             *open = word;

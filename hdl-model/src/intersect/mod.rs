@@ -132,8 +132,8 @@ pub struct LocalPatch {
     /// truncation, see `setup`), so they have no fixed binary point; only the signs of d · e_i
     /// are used. The wide datapath's set-up forms them; the compact one's does not (its lanes
     /// test the coarse words), and its exact unit forms a pair's from the patch's corners
-    /// ([`IntersectUnit::with_edges`]), so the model forms them only for those pairs (every
-    /// patch's, every pass, were 7 % of its time on `scenes/cornell-8x8.toml`).
+    /// ([`exact::verdict`]), so the model forms them only for those pairs (every patch's,
+    /// every pass, were 7 % of its time on `scenes/cornell-8x8.toml`): they stay zero there.
     e: [[i64; 3]; 4],
     /// The edge normals as the coarse test's 18-bit words ([`coarse`]): truncated from `e`
     /// on the wide datapath, from the set-up's narrow products on the compact one.
@@ -144,8 +144,6 @@ pub struct LocalPatch {
     active: bool,
     /// a Bezier slot with a valid row (its root box is in the unit's `bez_root`)
     bezier: bool,
-    /// its slot (where the compact datapath's exact unit reads its corners)
-    slot: u16,
 }
 
 /// A ray for the unit, with the info the device carries through.
@@ -194,7 +192,7 @@ pub struct HitOut {
 
 /// A finished ray: what the result FIFO's words are made of, not the whole [`RayIn`] (the
 /// retirement buffer holds up to [`RAY_SLOTS`] of these and copies each in and out once; the
-/// whole ray made that a tenth of the model's time).
+/// slimmer entry and the FIFO's wrap together took 3 % off the model's time).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RayOut<T: Copy + Default> {
     /// Its direction as it came in (a rotate-only entry's answer).
@@ -428,6 +426,21 @@ fn exact_edges(a: &[[i64; 3]; 4], sides: usize, negate: bool, shift: u32) -> [[i
     e
 }
 
+/// Slot `i`'s corners less origin `o` (Q8.24 words), as the compact datapath's exact unit
+/// reads them from patch memory, with the origin-wide shift of its edge normals.
+fn exact_corners(mem: &PatchMem, i: usize, o: [Coord; 3]) -> ([[i64; 3]; 4], u32) {
+    let o = o.map(|c| c.to_bits() as i64);
+    (corner_vectors(&mem.patch(i), o), origin_shift(o))
+}
+
+/// A compact build's `lp` (slot `i`, set up from origin `o`) with the exact edge normals its
+/// set-up did not form, for the debug build's checks of the lanes' verdicts.
+fn with_exact_edges(mem: &PatchMem, i: usize, o: [Coord; 3], lp: &LocalPatch) -> LocalPatch {
+    let (a, shift) = exact_corners(mem, i, o);
+    let e = exact_edges(&a, lp.sides as usize, !lp.h.is_positive(), shift);
+    LocalPatch { e, ..*lp }
+}
+
 /// One pair offered to a ray group's plane units (the clocks each is free) on clock `at`: the
 /// clock the first free one takes it.
 fn plane_take(units: &mut [u64; PLANE_UNITS], at: u64) -> u64 {
@@ -444,13 +457,15 @@ type SetupKey = ([Coord; 3], Option<[Angle; 3]>);
 /// sector and per polar band, a bit a slot (the planar patches that can be met there); every
 /// active planar patch (unculled rays); every Bezier slot. A culled ray's candidates are its
 /// sector's bits AND its band's, in slot order. (Until session 47 the model kept a list a
-/// sector and tested each entry's bands: a ray of `scenes/cornell-8x8.toml` read 55 entries
-/// for its 10 candidates, the model's costliest loop.)
+/// sector and tested each entry's bands: a culled ray of `scenes/cornell-8x8.toml` read 5.5
+/// entries for each slot in its band, in the model's costliest loop.)
 #[derive(Clone, Debug)]
 struct Candidates {
-    /// `words` words a sector, then `words` a band
-    sector: Table<u64, { MAX_SECTORS as usize * PATCH_CAPACITY / 64 }>,
-    band: Table<u64, { BANDS as usize * PATCH_CAPACITY / 64 }>,
+    /// `words` words a sector, sector after sector
+    sector: Table<u64, { (MAX_SECTORS as usize * PATCH_CAPACITY).div_ceil(64) }>,
+    /// `words` words a band, band after band
+    band: Table<u64, { (BANDS as usize * PATCH_CAPACITY).div_ceil(64) }>,
+    /// words a row: the slots over 64, rounded up
     words: usize,
     active: Table<u16, PATCH_CAPACITY>,
     active_len: usize,
@@ -550,9 +565,9 @@ pub struct IntersectUnit<T: Copy + Default> {
     stats: LaneStats,
     /// The compact datapath's clocks, cleared with the rest on a flush.
     clocks: CompactClocks,
-    /// the current ray's pairs found inside, and its candidates (scratch of
-    /// [`IntersectUnit::lanes`])
+    /// the current ray's pairs found inside (scratch of [`IntersectUnit::lanes`])
     inside: Table<InsidePair, PATCH_CAPACITY>,
+    /// the current ray's candidates, in slot order (scratch of [`IntersectUnit::lanes`])
     listed: Table<u16, PATCH_CAPACITY>,
 }
 
@@ -594,7 +609,8 @@ pub struct LaneStats {
     pub bezier_candidates: u64,
     /// Rays traced (bypassing rotations not counted).
     pub rays: u64,
-    /// Rays handed their sector's list (the others got every active patch).
+    /// Rays handed their sector's and band's candidates (the others got every active
+    /// patch).
     pub culled_rays: u64,
     /// Set-up passes.
     pub setups: u64,
@@ -911,19 +927,6 @@ impl<T: Copy + Default> IntersectUnit<T> {
         self.cull.reach(&a[..sides], &coarse, axes).wedge == Wedge::Below
     }
 
-    /// `lp` with its exact edge normals, as the compact datapath's exact unit forms them from
-    /// the patch's corners in patch memory and the set-up's origin (patch memory is not written
-    /// while a set-up stands: a write drops it).
-    fn with_edges(&self, mem: &PatchMem, lp: &LocalPatch) -> LocalPatch {
-        let Some((origin, _)) = self.key.filter(|_| lp.active) else {
-            return *lp;
-        };
-        let o = origin.map(|c| c.to_bits() as i64);
-        let a = corner_vectors(&mem.patch(lp.slot as usize), o);
-        let e = exact_edges(&a, lp.sides as usize, !lp.h.is_positive(), origin_shift(o));
-        LocalPatch { e, ..*lp }
-    }
-
     fn setup(
         &mut self,
         mem: &PatchMem,
@@ -968,7 +971,6 @@ impl<T: Copy + Default> IntersectUnit<T> {
         };
         let shift = origin_shift(o);
         let negate = !h.is_positive();
-        lp.slot = i as u16;
         lp.sides = sides as u8;
         if !self.params.compact {
             lp.e = exact_edges(&a, sides, negate, shift);
@@ -1006,7 +1008,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
 
     /// Starts a ray (when [`IntersectUnit::ready`]) at clock `now`, over the first `count`
     /// slots of `mem`. `axes` turns a frame's x̂, ŷ, ẑ through the rotator, for the culling
-    /// unit's set-up.
+    /// unit's set-up. Kept out of line: inlined into `Device::tick`, as the compiler chose once
+    /// its body shrank in session 47, the model ran 3 % slower on `scenes/cornell-8x8.toml`.
+    #[inline(never)]
     pub fn start(
         &mut self,
         mem: &PatchMem,
@@ -1136,7 +1140,9 @@ impl<T: Copy + Default> IntersectUnit<T> {
                     Verdict::Decided(inside) => {
                         debug_assert_eq!(
                             inside,
-                            EdgeStage.eval(&ray.dir, &self.with_edges(mem, lp)).inside,
+                            EdgeStage
+                                .eval(&ray.dir, &with_exact_edges(mem, i as usize, ray.origin, lp))
+                                .inside,
                             "coarse bound"
                         );
                         EdgeStage.decided(&ray.dir, lp, inside)
@@ -1147,12 +1153,14 @@ impl<T: Copy + Default> IntersectUnit<T> {
                         self.stats.exact_edges += edges as u64;
                         // the exact unit tests the masked edges alone: the others are positive
                         let d = ray.dir.map(|c| c.to_bits());
-                        let full = self.with_edges(mem, lp);
-                        let inside =
-                            exact::inside_masked(&d, mask, lp.sides as usize, |k| full.e[k]);
+                        let (a, shift) = exact_corners(mem, i as usize, ray.origin);
+                        let (sides, negate) = (lp.sides as usize, !lp.h.is_positive());
+                        let inside = exact::verdict(&a[..sides], mask, negate, shift, &d);
                         debug_assert_eq!(
                             inside,
-                            EdgeStage.eval(&ray.dir, &full).inside,
+                            EdgeStage
+                                .eval(&ray.dir, &with_exact_edges(mem, i as usize, ray.origin, lp))
+                                .inside,
                             "the undecided edges decide"
                         );
                         EdgeStage.decided(&ray.dir, lp, inside)

@@ -1,9 +1,9 @@
 //! Vectors for a lane's bitmap walk (`hdl-model/rtl/bitmap_walk.v`): the bitmaps of a bank's
 //! passes as the model's writer copies them, and rays of every sector and band of each pass with
 //! their candidates in slot order, the slots set in both the ray's sector row and band row (the
-//! lane's list in `intersect::IntersectUnit::lanes`, less the slot the ray skips). They are
-//! worked out from the pass's answers by the rule the model builds its candidate lists by (a
-//! slot is in the rows of its reach's sectors and bands), not read from those lists.
+//! lane's candidates in `intersect::IntersectUnit::lanes`, less the slot the ray skips). They
+//! are worked out from the pass's answers by the rule the model builds its candidate bitmaps by
+//! (a slot is in the rows of its reach's sectors and bands), not read from those bitmaps.
 //!
 //! File lines (decimal): first `L rows` (the rows a column's copy writes, the more of the
 //! sectors and bands); then, pass by pass, `P buffer` (the pass fills that buffer: its valid
