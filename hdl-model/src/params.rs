@@ -15,7 +15,7 @@
 //! - `ray_groups`: lanes in groups of banks, each group taking every `ray_groups`-th ray over
 //!   its own copy of the local memory (patch memory has `lanes / ray_groups` banks).
 //! - `compact`: the datapath sized for an ECP5-85k (docs/PERFORMANCE.md, "Area proxy against
-//!   lanes"): local memory and candidate lists double-buffered, so the next origin's set-up pass
+//!   lanes"): local memory and candidate bitmaps double-buffered, so the next origin's set-up pass
 //!   runs while the lanes still scan the last one's rays. Without it (the wide datapath, whose
 //!   one-lane build `hdl-model/rtl/plane_unit.v` mirrors) a set-up pass waits for every lane to
 //!   be idle.

@@ -1,4 +1,4 @@
-//! The model's large memories (patch memory, local memory, candidate lists), sized by the build
+//! The model's large memories (patch memory, local memory, candidate bitmaps), sized by the build
 //! parameters when the model is built.
 //!
 //! With the `alloc` feature (hosts) a table is allocated at its size, so a build of thousands of
